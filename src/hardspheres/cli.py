@@ -1,0 +1,79 @@
+"""Command-line programs: ``spheres`` (the assignment's) and ``hardspheres``.
+
+Everything here is at the edge: arguments, stdin, stdout, exit codes.  Bad
+input gives one line on stderr and exit status 1, never a traceback; Ctrl-C
+exits 130 and a closed stdout (``| head``) exits quietly.
+"""
+
+import math
+import os
+import sys
+
+from .report import PROMPT, TextReport
+from .scenario import ScenarioError, check_scenario, parse_scenario
+
+USAGE = "usage: spheres RADIUS END_TIME < scenario.txt"
+
+
+class UsageError(ValueError):
+    """Bad command-line arguments."""
+
+
+def _positive_number(token, what, allow_zero):
+    try:
+        x = float(token)
+    except ValueError:
+        x = math.nan
+    if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise UsageError(f"{what} must be a finite number {bound}, got {token!r}")
+    return x
+
+
+def parse_spheres_args(argv):
+    """``(container_radius, end_time)`` from the two arguments of ``spheres``."""
+    if len(argv) != 2:
+        raise UsageError(f"expected 2 arguments (RADIUS END_TIME), got {len(argv)}")
+    return (_positive_number(argv[0], "argument 1 (RADIUS)", False),
+            _positive_number(argv[1], "argument 2 (END_TIME)", True))
+
+
+def run_spheres(argv, stdin, stdout):
+    """The assignment's program on given streams; returns the exit status."""
+    stdout.write(PROMPT)
+    stdout.flush()
+    try:
+        container, end = parse_spheres_args(argv)
+        scn = parse_scenario(stdin.read())
+        check_scenario(scn, container)
+    except (UsageError, ScenarioError) as e:
+        print(f"spheres: {e}", file=sys.stderr)
+        if isinstance(e, UsageError):
+            print(USAGE, file=sys.stderr)
+        return 1
+    from .assignment import write_report
+    write_report(scn, container, end, stdout)
+    stdout.flush()
+    return 0
+
+
+def _guarded(main):
+    """Run ``main()`` mapping Ctrl-C to 130 and a closed stdout to a quiet exit."""
+    try:
+        status = main()
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        status = 130
+    except BrokenPipeError:
+        # stdout's reader went away (e.g. `| head`): stop quietly, and keep
+        # Python from complaining again when it flushes stdout at exit
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        status = 141
+    return status
+
+
+def spheres_main(argv=None):
+    """Entry point of the ``spheres`` console script."""
+    argv = sys.argv[1:] if argv is None else argv
+    sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout)))

@@ -1,0 +1,76 @@
+"""The assignment's text report (``shared/conformance/README.md``'s layout).
+
+Numbers print with ``:g``; the container radius and end time print as
+``str(float(x))``.  Writers take positions and velocities as sequences of
+``[x, y, z]`` (lists, or numpy arrays, which are converted once per block).
+"""
+
+PROMPT = ("Please enter the mass, radius, x/y/z position, x/y/z velocity\n"
+          "and name of each sphere\n"
+          "When complete, use EOF / Ctrl-D to stop entering\n")
+
+_VECS = "%g,%g,%g) v=(%g,%g,%g)\n"
+
+
+class TextReport:
+    """Writes the assignment's report to a text stream.
+
+    Args:
+        names, masses, radii: the spheres, in input order.
+        out: a text stream (``write`` is called with large chunks).
+
+    Example:
+        >>> import io
+        >>> out = io.StringIO()
+        >>> rep = TextReport(["a"], [2.0], [1.0], out)
+        >>> rep.initial(10.0, 5.0, [[0.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]])
+        >>> print(out.getvalue(), end="")
+        <BLANKLINE>
+        Here are the initial conditions.
+        universe radius 10.0
+        end simulation 5.0
+        a m=2 R=1 p=(0,0,0) v=(1,0,0)
+        energy: 1
+        momentum: (2,0,0)
+        <BLANKLINE>
+        Here are the events.
+    """
+
+    def __init__(self, names, masses, radii, out):
+        self.names = list(names)
+        self.masses = [float(m) for m in masses]
+        self.out = out
+        self._prefix = [f"{nm} m={m:g} R={r:g} p=(" for nm, m, r in
+                        zip(self.names, self.masses, radii)]
+
+    def _block(self, positions, velocities):
+        if hasattr(positions, "tolist"):
+            positions = positions.tolist()
+        if hasattr(velocities, "tolist"):
+            velocities = velocities.tolist()
+        parts = []
+        e = px = py = pz = 0.0
+        for pre, m, p, v in zip(self._prefix, self.masses, positions, velocities):
+            parts.append(pre)
+            parts.append(_VECS % (p[0], p[1], p[2], v[0], v[1], v[2]))
+            vx, vy, vz = v
+            e += 0.5 * m * (vx * vx + vy * vy + vz * vz)
+            px += m * vx
+            py += m * vy
+            pz += m * vz
+        parts.append(f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n")
+        return "".join(parts)
+
+    def initial(self, container, end, positions, velocities):
+        """The initial conditions, through ``Here are the events.``"""
+        self.out.write(
+            f"\nHere are the initial conditions.\nuniverse radius {float(container)}\n"
+            f"end simulation {float(end)}\n" + self._block(positions, velocities)
+            + "\nHere are the events.\n")
+
+    def event(self, t, kind, i, j, positions, velocities):
+        """One event (``kind`` 0: reflection of ``i``; 1: collision of ``i``, ``j``)."""
+        what = (f"reflecting {self.names[i]}" if kind == 0 else
+                f"colliding {self.names[i]} {self.names[j]}")
+        self.out.write(f"\ntime of event: {t:g}\n{what}\n"
+                       + self._block(positions, velocities))

@@ -1,0 +1,190 @@
+"""Scenarios: spheres as the assignment's input text describes them.
+
+One sphere per line, nine whitespace-separated fields::
+
+    mass radius x y z vx vy vz name
+
+in SI units (kg, m, m/s).  Blank lines are ignored; the name is an ID and
+must be unique.  :func:`parse_scenario` reads such text and
+:func:`check_scenario` checks it against a container; both raise
+:class:`ScenarioError`, whose message names the offending line.
+
+Pure Python (no numpy), so that the assignment's program starts fast.
+"""
+
+import math
+from dataclasses import dataclass, field
+
+#: Relative tolerance for "touching within rounding": two spheres overlap only
+#: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
+#: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
+#: times the container radius.
+TOUCH_TOL = 1e-9
+
+FIELDS = ("mass", "radius", "x", "y", "z", "vx", "vy", "vz", "name")
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be simulated; the message says where and why.
+
+    Attributes:
+        line: 1-based input line the problem is on, or ``None``.
+    """
+
+    def __init__(self, message, line=None):
+        self.line = line
+        super().__init__(f"line {line}: {message}" if line is not None else message)
+
+
+@dataclass
+class Scenario:
+    """Spheres in input order; plain lists, one entry per sphere.
+
+    Attributes:
+        masses: [mass], each > 0.
+        radii: [length], each >= 0.
+        positions: ``[x, y, z]`` lists [length].
+        velocities: ``[vx, vy, vz]`` lists [length/time].
+        names: unique IDs.
+        lines: input line of each sphere (1-based), for messages.
+    """
+
+    masses: list = field(default_factory=list)
+    radii: list = field(default_factory=list)
+    positions: list = field(default_factory=list)
+    velocities: list = field(default_factory=list)
+    names: list = field(default_factory=list)
+    lines: list = field(default_factory=list)
+
+    def __len__(self):
+        return len(self.masses)
+
+
+def _number(token, what, lineno):
+    try:
+        x = float(token)
+    except ValueError:
+        raise ScenarioError(f"{what} is not a number: {token!r}", lineno) from None
+    if not math.isfinite(x):
+        raise ScenarioError(f"{what} is not a finite number: {token!r}", lineno)
+    return x
+
+
+def _decode(data):
+    if isinstance(data, str):
+        return data
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        lineno = data.count(b"\n", 0, e.start) + 1
+        raise ScenarioError(
+            f"input is not UTF-8 text (byte 0x{data[e.start]:02x}); "
+            "save the scenario as UTF-8", lineno) from None
+
+
+def parse_scenario(data):
+    """Parse scenario text (``str`` or UTF-8 ``bytes``) into a :class:`Scenario`.
+
+    Raises:
+        ScenarioError: a line without exactly nine fields, a field that is
+            not a finite number, mass <= 0, radius < 0, a repeated name, or
+            bytes that are not UTF-8.
+
+    Example:
+        >>> s = parse_scenario("20 1 0 0 0 0 0 1 one\\n\\n2 5 0 1 100 0 0 0 two\\n")
+        >>> s.names, s.lines
+        (['one', 'two'], [1, 3])
+    """
+    text = _decode(data)
+    scn = Scenario()
+    seen = {}
+    for lineno, line in enumerate(text.split("\n"), start=1):
+        tokens = line.split()
+        if not tokens:
+            continue
+        if len(tokens) != 9:
+            raise ScenarioError(
+                f"expected 9 fields (mass radius x y z vx vy vz name), got {len(tokens)}",
+                lineno)
+        m, r, x, y, z, vx, vy, vz = (
+            _number(tok, what, lineno) for tok, what in zip(tokens[:8], FIELDS))
+        name = tokens[8]
+        if m <= 0.0:
+            raise ScenarioError(f"mass must be > 0, got {tokens[0]}", lineno)
+        if r < 0.0:
+            raise ScenarioError(f"radius must be >= 0, got {tokens[1]}", lineno)
+        if name in seen:
+            raise ScenarioError(
+                f"name {name!r} is already used on line {seen[name]}; names are IDs",
+                lineno)
+        seen[name] = lineno
+        scn.masses.append(m)
+        scn.radii.append(r)
+        scn.positions.append([x, y, z])
+        scn.velocities.append([vx, vy, vz])
+        scn.names.append(name)
+        scn.lines.append(lineno)
+    return scn
+
+
+def check_scenario(scn, container):
+    """Check that every sphere is inside the container and none overlap.
+
+    Args:
+        scn: the spheres.
+        container: radius of the spherical container [length].
+
+    Raises:
+        ScenarioError: naming the first offending line.
+    """
+    slack = TOUCH_TOL * container
+    for i, (p, r, v) in enumerate(zip(scn.positions, scn.radii, scn.velocities)):
+        dist = math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
+        if dist + r > container + slack:
+            raise ScenarioError(
+                f"sphere {scn.names[i]!r} is not wholly inside the container: "
+                f"|p| + R = {dist + r:g} > {container:g}", scn.lines[i])
+        if r >= container and (v[0] or v[1] or v[2]):
+            raise ScenarioError(
+                f"sphere {scn.names[i]!r} fills the container and cannot move; "
+                "give it zero velocity or a smaller radius", scn.lines[i])
+    pair = find_overlap(scn.positions, scn.radii)
+    if pair is not None:
+        i, j = pair
+        raise ScenarioError(
+            f"sphere {scn.names[j]!r} overlaps sphere {scn.names[i]!r} "
+            f"(line {scn.lines[i]}); move them apart", scn.lines[j])
+
+
+def find_overlap(positions, radii):
+    """First overlapping pair ``(i, j)`` with ``i < j`` (by ``j``), or ``None``.
+
+    Spheres are hashed into cubic cells as wide as the largest diameter, so
+    the check is O(N) for any packing.
+    """
+    n = len(positions)
+    if n < 2:
+        return None
+    cell = 2.0 * max(radii)
+    if cell == 0.0:
+        return None  # point particles never overlap
+    grid = {}
+    for j in range(n):
+        pj, rj = positions[j], radii[j]
+        cx, cy, cz = (math.floor(pj[0] / cell), math.floor(pj[1] / cell),
+                      math.floor(pj[2] / cell))
+        first = None
+        for ox in (-1, 0, 1):
+            for oy in (-1, 0, 1):
+                for oz in (-1, 0, 1):
+                    for i in grid.get((cx + ox, cy + oy, cz + oz), ()):
+                        pi = positions[i]
+                        sigma = (radii[i] + rj) * (1.0 - TOUCH_TOL)
+                        dx, dy, dz = pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]
+                        if dx * dx + dy * dy + dz * dz < sigma * sigma and (
+                                first is None or i < first):
+                            first = i
+        if first is not None:
+            return first, j
+        grid.setdefault((cx, cy, cz), []).append(j)
+    return None
