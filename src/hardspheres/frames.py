@@ -1,0 +1,56 @@
+"""Frames: a run sampled at fixed times, the common currency of writers and pictures.
+
+Trajectory readers (:mod:`hardspheres.trajectory`) produce :class:`Frames`;
+the viewer, renderer and plots (:mod:`hardspheres.viewer`,
+:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Frames:
+    """Snapshots of all spheres at increasing times.
+
+    Attributes:
+        times: ``(F,)`` frame times [time].
+        positions: ``(F, N, 3)`` centres [length].
+        velocities: ``(F, N, 3)`` [length/time].
+        radii: ``(N,)`` [length].
+        masses: ``(N,)`` [mass].
+        names: ``N`` sphere names.
+        container: radius of the spherical container [length], or ``None``.
+        box: edge of the periodic cubic box [length] (centred on the
+            origin), or ``None``.
+        event_times: ``(E,)`` times of events [time] (may be empty).
+        event_kinds: ``(E,)`` 0 = reflection off the container, 1 = collision.
+        event_i, event_j: ``(E,)`` spheres involved (``j = -1`` for reflections).
+    """
+
+    times: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    radii: np.ndarray
+    masses: np.ndarray
+    names: list
+    container: float | None = None
+    box: float | None = None
+    event_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    event_kinds: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
+    event_i: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    event_j: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+
+    @property
+    def n(self):
+        """Number of spheres."""
+        return len(self.radii)
+
+    def energy(self):
+        """``(F,)`` kinetic energy of each frame [mass*length^2/time^2]."""
+        return 0.5 * np.einsum("n,fnk,fnk->f", self.masses, self.velocities, self.velocities)
+
+    def momentum(self):
+        """``(F, 3)`` total momentum of each frame [mass*length/time]."""
+        return np.einsum("n,fnk->fk", self.masses, self.velocities)
