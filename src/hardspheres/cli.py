@@ -77,3 +77,10 @@ def spheres_main(argv=None):
     """Entry point of the ``spheres`` console script."""
     argv = sys.argv[1:] if argv is None else argv
     sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout)))
+
+
+def hardspheres_main(argv=None):
+    """Entry point of the ``hardspheres`` console script (subcommands)."""
+    from .commands import main
+    argv = sys.argv[1:] if argv is None else argv
+    sys.exit(_guarded(lambda: main(argv)))
