@@ -14,5 +14,5 @@ def write_report(scn, container, end, out):
     rep = TextReport(scn.names, scn.masses, scn.radii, out)
     p, v = scn.positions, scn.velocities
     rep.initial(container, end, p, v)
-    for t, kind, i, j in reference.events(scn.masses, scn.radii, p, v, container, end):
-        rep.event(t, kind, i, j, p, v)
+    for t, kind, i, j, state in reference.events(scn.masses, scn.radii, p, v, container, end):
+        rep.event(t, kind, i, j, state(), v)

@@ -1,18 +1,23 @@
 """The brute-force reference event loop: simple, obviously right, O(N^2) per event.
 
-After every event it predicts every wall and every pair afresh from the
-current positions, takes the earliest, and advances *all* spheres to it.  It
-is the definition the fast engine (:mod:`hardspheres._core`) is tested
-against, and it runs the assignment's program for small inputs, where it is
-faster than importing and loading the compiled core.
+After every event it predicts every wall and every pair afresh, takes the
+earliest, and processes it.  It is the definition the fast engine
+(:mod:`hardspheres._core`) is tested against, and it runs the assignment's
+program for small inputs, where it is faster than loading the compiled core.
+
+Arithmetic shared with the engine, so that both give bit-identical results:
+
+* each sphere is kept as its centre ``p`` at its own time ``tloc`` (the time
+  of its last event); its centre at ``t`` is ``p + v * (t - tloc)``;
+* a pair is predicted from the later of its two spheres' times, a wall from
+  the sphere's own time, so a prediction does not depend on when it is made.
 
 Rules of the assignment (``shared/conformance/README.md``):
 
-* an event less than :data:`SIMULTANEOUS` after the current time happens now:
-  the clock and the positions do not move;
-* among events happening at the same time, reflections go before
-  collisions, lower input index first, pairs ``(i, j)`` with ``i < j`` in
-  input order;
+* an event less than :data:`SIMULTANEOUS` after the last event (the clock)
+  happens now, at the clock;
+* among events at the same time, reflections go before collisions, lower
+  input index first, pairs ``(i, j)`` with ``i < j`` in input order;
 * events at times ``<= end`` are reported, none after.
 
 Pure Python floats throughout (no numpy): see :mod:`hardspheres.physics`.
@@ -28,35 +33,59 @@ REFLECTION = 0
 COLLISION = 1
 
 
-def next_event(p, v, radii, container):
-    """Earliest event from now as ``(dt, kind, i, j)`` (``j = -1`` for walls).
+def next_event(p, v, tloc, radii, container, clock, window=SIMULTANEOUS):
+    """Earliest event as ``(t, kind, i, j)`` (``j = -1`` for walls).
 
-    ``dt`` is 0 for events within :data:`SIMULTANEOUS` of now; returns
+    Events before ``clock + window`` are put at ``clock``; returns
     ``(inf, -1, -1, -1)`` when nothing will ever happen.
     """
     n = len(p)
+    soon = clock + window
     best = INF
     best_kind, best_i, best_j = -1, -1, -1
-    now_found = False
     for i in range(n):
         pi, vi = p[i], v[i]
-        dt = wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], container - radii[i])
-        if dt < SIMULTANEOUS:
-            return 0.0, REFLECTION, i, -1
-        if dt < best:
-            best, best_kind, best_i, best_j = dt, REFLECTION, i, -1
+        te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2],
+                                 container - radii[i])
+        if te < soon:
+            te = clock
+        if te < best:
+            best, best_kind, best_i, best_j = te, REFLECTION, i, -1
     for i in range(n):
-        pi, vi, ri = p[i], v[i], radii[i]
+        pi, vi, ri, ti = p[i], v[i], radii[i], tloc[i]
         for j in range(i + 1, n):
-            pj, vj = p[j], v[j]
-            dt = pair_time(pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2],
-                           vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2], ri + radii[j])
-            if dt < SIMULTANEOUS and not now_found:
-                now_found = True
-                best, best_kind, best_i, best_j = 0.0, COLLISION, i, j
-            elif dt < best:
-                best, best_kind, best_i, best_j = dt, COLLISION, i, j
+            pj, vj, tj = p[j], v[j], tloc[j]
+            t0 = ti if ti > tj else tj
+            di, dj = t0 - ti, t0 - tj
+            te = t0 + pair_time(
+                (pi[0] + vi[0] * di) - (pj[0] + vj[0] * dj),
+                (pi[1] + vi[1] * di) - (pj[1] + vj[1] * dj),
+                (pi[2] + vi[2] * di) - (pj[2] + vj[2] * dj),
+                vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2], ri + radii[j])
+            if te < soon:
+                te = clock
+            if te < best:
+                best, best_kind, best_i, best_j = te, COLLISION, i, j
     return best, best_kind, best_i, best_j
+
+
+def advance(p, v, tloc, i, t):
+    """Move sphere ``i`` along its line to time ``t``."""
+    pi, vi = p[i], v[i]
+    dt = t - tloc[i]
+    pi[0] += vi[0] * dt
+    pi[1] += vi[1] * dt
+    pi[2] += vi[2] * dt
+    tloc[i] = t
+
+
+def positions_at(p, v, tloc, t):
+    """Centres of all spheres at time ``t``, as a new list of lists."""
+    out = []
+    for pi, vi, ti in zip(p, v, tloc):
+        dt = t - ti
+        out.append([pi[0] + vi[0] * dt, pi[1] + vi[1] * dt, pi[2] + vi[2] * dt])
+    return out
 
 
 def apply_event(kind, i, j, p, v, masses):
@@ -85,11 +114,13 @@ def apply_event(kind, i, j, p, v, masses):
     return -masses[i] * k1 * (dx * dx + dy * dy + dz * dz) ** 0.5
 
 
-def events(masses, radii, positions, velocities, container, end):
-    """Run the brute-force loop, yielding ``(t, kind, i, j)`` after each event.
+def events(masses, radii, positions, velocities, container, end,
+           window=SIMULTANEOUS):
+    """Run the brute-force loop, yielding ``(t, kind, i, j, state)`` per event.
 
-    ``positions`` and ``velocities`` are lists of ``[x, y, z]`` lists, updated
-    in place: when an event is yielded they hold the state just after it.
+    ``positions`` and ``velocities`` are lists of ``[x, y, z]`` lists at time
+    0, changed in place; ``state()`` returns the centres of all spheres at
+    the event's time (``velocities`` then hold the velocities just after it).
 
     Example:
         >>> p = [[-5.0, 0.0, 0.0], [5.0, 0.0, 0.0]]
@@ -99,17 +130,16 @@ def events(masses, radii, positions, velocities, container, end):
         >>> v
         [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
     """
-    t = 0.0
     p, v = positions, velocities
+    tloc = [0.0] * len(p)
+    clock = 0.0
     while True:
-        dt, kind, i, j = next_event(p, v, radii, container)
-        if kind < 0 or t + dt > end:
+        t, kind, i, j = next_event(p, v, tloc, radii, container, clock, window)
+        if kind < 0 or t > end:
             return
-        if dt > 0.0:
-            t += dt
-            for pk, vk in zip(p, v):
-                pk[0] += vk[0] * dt
-                pk[1] += vk[1] * dt
-                pk[2] += vk[2] * dt
+        clock = t
+        advance(p, v, tloc, i, t)
+        if j >= 0:
+            advance(p, v, tloc, j, t)
         apply_event(kind, i, j, p, v, masses)
-        yield t, kind, i, j
+        yield t, kind, i, j, lambda: positions_at(p, v, tloc, t)
