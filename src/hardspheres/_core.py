@@ -563,3 +563,41 @@ def rebase(pos, vel, tloc, ev_t, f):
     f[F_ANCHOR] -= t
     f[F_CLOCK] = 0.0
     return t
+
+
+@_jit
+def max_overlap(x, rad, cc, head, nxt, nc, box):
+    """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
+
+    ``x`` are the centres at one time; neighbours are found through the
+    engine's cells.
+    """
+    n = x.shape[0]
+    worst = 0.0
+    for i in range(n):
+        for oz in range(-1, 2):
+            nz = cc[i, 2] + oz
+            for oy in range(-1, 2):
+                ny = cc[i, 1] + oy
+                for ox in range(-1, 2):
+                    nx = cc[i, 0] + ox
+                    if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or
+                                       nx >= nc or ny >= nc or nz >= nc):
+                        continue
+                    j = head[((nz % nc) * nc + (ny % nc)) * nc + (nx % nc)]
+                    while j >= 0:
+                        if j > i:
+                            dx = x[i, 0] - x[j, 0]
+                            dy = x[i, 1] - x[j, 1]
+                            dz = x[i, 2] - x[j, 2]
+                            if box != 0.0:
+                                dx -= box * np.round(dx / box)
+                                dy -= box * np.round(dy / box)
+                                dz -= box * np.round(dz / box)
+                            sigma = rad[i] + rad[j]
+                            if sigma > 0.0:
+                                ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma
+                                if ov > worst:
+                                    worst = ov
+                        j = nxt[j]
+    return worst
