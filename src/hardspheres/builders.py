@@ -105,10 +105,10 @@ def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.
         else:
             sites = _fcc(k, box / k)
     if len(sites) < n:
-        frac = packing * len(sites) / max(n, 1)
+        hint = (f" (about {packing * len(sites) / n:.3g} fits)" if len(sites) else "")
         raise BuildError(
             f"only {len(sites)} lattice sites fit for {n} spheres at packing {packing}; "
-            f"lower the packing (about {frac:.3g} fits), the radius ratio, or raise N")
+            f"lower the packing{hint} or the radius ratio, or raise N")
     chosen = rng.choice(len(sites), size=n, replace=False) if n else np.zeros(0, int)
     positions = sites[np.sort(chosen)]
     if mass_ratio == 1.0:
