@@ -78,6 +78,7 @@ class Engine:
                      np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
         self._since_rebase = 0
         self._rebase_on = rebase
+        self.last_reason, self.last_done = 0, 0
         self._build()
 
     @property
@@ -168,12 +169,46 @@ class Engine:
                 break
             if reason == 1 and done_total >= max_events:
                 break
+        self.last_reason = reason
+        self.last_done = done_total
         if chunks:
             cols = [np.concatenate(parts) for parts in zip(*chunks)]
         else:
             cols = [a[:0].copy() for a in rec]
         return {"t": cols[0], "kind": cols[1], "i": cols[2], "j": cols[3],
                 "impulse": cols[4]}
+
+    # ---- checkpoints -------------------------------------------------------
+    _SAVED = ("mass", "rad", "pos", "vel", "tloc", "count", "cc", "cell", "nxt", "prv",
+              "ev_t", "ev_key", "ev_kind", "ev_partner", "ev_pcount", "heap", "hpos",
+              "fresh", "f", "c", "head")
+
+    def checkpoint(self):
+        """Everything needed to resume bit for bit, as a dict of arrays."""
+        out = {k: getattr(self, k) for k in self._SAVED}
+        out["meta"] = np.array([self.offset, float(self._since_rebase),
+                                float(self._rebase_on),
+                                np.nan if self.container is None else self.container,
+                                np.nan if self.box is None else self.box])
+        return out
+
+    @classmethod
+    def restore(cls, data):
+        """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state."""
+        eng = cls.__new__(cls)
+        for k in cls._SAVED:
+            setattr(eng, k, np.array(data[k]))
+        offset, since, rebase_on, container, box = data["meta"].tolist()
+        eng.offset = offset
+        eng._since_rebase = int(since)
+        eng._rebase_on = bool(rebase_on)
+        eng.container = None if np.isnan(container) else container
+        eng.box = None if np.isnan(box) else box
+        eng.stack = np.zeros(2 * eng.n + 2, np.int64)
+        eng._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
+                    np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        eng.last_reason, eng.last_done = 0, 0
+        return eng
 
     # ---- state ------------------------------------------------------------
     def positions_at(self, t=None, out=None):
