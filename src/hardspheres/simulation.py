@@ -134,6 +134,11 @@ class Simulation:
         """Run until time ``until`` or until so many collisions or events, whichever first.
 
         Writers in :attr:`writers` are called at their times on the way.
+        A writer has a ``next_time`` [time], ``attach(sim)`` (called as
+        each run starts), ``write(sim, t)`` (called with the clock at ``t``;
+        it advances ``next_time``) and, if its ``wants_events`` is true,
+        ``observe(events)`` with each batch of events as :meth:`advance
+        <hardspheres.engine.Engine.advance>` returns them.
 
         Returns:
             self
@@ -159,6 +164,9 @@ class Simulation:
         eng = self._engine
         for w in self.writers:
             w.attach(self)
+        listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
+        keep = record
+        record = record or bool(listeners)
         while coll_left > 0 and ev_left > 0 and not self._interrupted():
             stop = until
             for w in self.writers:
@@ -168,14 +176,13 @@ class Simulation:
             ev = eng.advance(until=stop, events=step,
                              collisions=None if coll_left == np.inf else coll_left,
                              record=record)
-            done = len(ev["t"]) if record else None
             coll = eng.counters["collisions"] - c0
             coll_left -= coll
-            if record:
-                ev_left -= done
+            ev_left -= eng.last_done
+            for w in listeners:
+                w.observe(ev)
+            if keep:
                 yield ev
-            else:
-                ev_left -= eng.last_done
             if eng.last_reason == 0:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
