@@ -9,7 +9,7 @@ arithmetic (:mod:`hardspheres.reference`), so their reports are identical;
 import os
 
 from . import reference
-from .report import TextReport
+from .report import JSONLReport, TextReport
 
 #: Up to this many spheres the reference loop runs (its O(N^2) prediction
 #: per event costs less than loading the compiled core).
@@ -24,9 +24,12 @@ def choose_engine(n):
     return "reference" if n <= SMALL else "compiled"
 
 
-def write_report(scn, container, end, out):
-    """Simulate ``scn`` in a sphere of radius ``container`` until ``end``, writing the report."""
-    rep = TextReport(scn.names, scn.masses, scn.radii, out)
+def write_report(scn, container, end, out, fmt="text"):
+    """Simulate ``scn`` in a sphere of radius ``container`` until ``end``, writing the report.
+
+    ``fmt`` is ``"text"`` (the assignment's layout) or ``"jsonl"``.
+    """
+    rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
     p, v = scn.positions, scn.velocities
     rep.initial(container, end, p, v)
     if choose_engine(len(scn)) == "reference":

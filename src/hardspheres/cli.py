@@ -12,7 +12,8 @@ import sys
 from .report import PROMPT, TextReport
 from .scenario import ScenarioError, check_scenario, parse_scenario
 
-USAGE = "usage: spheres RADIUS END_TIME < scenario.txt"
+USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
+FORMATS = ("text", "jsonl")
 
 
 class UsageError(ValueError):
@@ -31,28 +32,52 @@ def _positive_number(token, what, allow_zero):
 
 
 def parse_spheres_args(argv):
-    """``(container_radius, end_time)`` from the two arguments of ``spheres``."""
+    """``(container_radius, end_time, format)`` from the arguments of ``spheres``.
+
+    Two positional arguments, and optionally ``--format text|jsonl``
+    (``--format=jsonl``) anywhere: the default is the assignment's report.
+    """
+    argv = list(argv)
+    fmt = "text"
+    for k, arg in enumerate(argv):
+        if arg == "--format" or arg.startswith("--format="):
+            if "=" in arg:
+                value = arg.split("=", 1)[1]
+                del argv[k]
+            elif k + 1 < len(argv):
+                value = argv[k + 1]
+                del argv[k:k + 2]
+            else:
+                raise UsageError("--format needs a value: text or jsonl")
+            if value not in FORMATS:
+                raise UsageError(f"--format must be text or jsonl, got {value!r}")
+            fmt = value
+            break
     if len(argv) != 2:
         raise UsageError(f"expected 2 arguments (RADIUS END_TIME), got {len(argv)}")
     return (_positive_number(argv[0], "argument 1 (RADIUS)", False),
-            _positive_number(argv[1], "argument 2 (END_TIME)", True))
+            _positive_number(argv[1], "argument 2 (END_TIME)", True), fmt)
 
 
 def run_spheres(argv, stdin, stdout):
     """The assignment's program on given streams; returns the exit status."""
-    stdout.write(PROMPT)
-    stdout.flush()
     try:
-        container, end = parse_spheres_args(argv)
+        container, end, fmt = parse_spheres_args(argv)
+    except UsageError:
+        fmt = "text"
+    if fmt == "text":  # a machine-readable stream has no prompt
+        stdout.write(PROMPT)
+        stdout.flush()
+    try:
+        container, end, fmt = parse_spheres_args(argv)
         scn = parse_scenario(stdin.read())
         check_scenario(scn, container)
     except (UsageError, ScenarioError) as e:
-        print(f"spheres: {e}", file=sys.stderr)
-        if isinstance(e, UsageError):
-            print(USAGE, file=sys.stderr)
+        hint = f" ({USAGE})" if isinstance(e, UsageError) else ""
+        print(f"spheres: {e}{hint}", file=sys.stderr)
         return 1
     from .assignment import write_report
-    write_report(scn, container, end, stdout)
+    write_report(scn, container, end, stdout, fmt)
     stdout.flush()
     return 0
 

@@ -57,6 +57,23 @@ def cmd_bench(args):
     return 0
 
 
+def cmd_validate(args):
+    from .validate import PACKINGS, validate
+    rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
+                    n=args.n, collisions=args.collisions, equilibrate=args.equilibrate,
+                    seed=args.seed)
+    print(f"wrote {args.csv}")
+    worst_z = max(abs(r.rel_diff) for r in rows)
+    worst_g = max(abs(r.gamma_rel_diff) for r in rows)
+    print(f"largest |Z/Z_CS - 1| = {worst_z:.3%}, largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}")
+    return 0
+
+
+def cmd_run(args):
+    from .runner import run_command
+    return run_command(args)
+
+
 def build_parser():
     p = _Parser(prog="hardspheres",
                 description="Exact event-driven simulation of perfectly elastic spheres.")
@@ -88,13 +105,33 @@ def build_parser():
                    help="periodic box instead of the spherical container")
     b.set_defaults(func=cmd_bench)
 
-    for extra in _EXTRA:
-        extra(sub)
+    r = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
+    r.add_argument("scenario", nargs="?",
+                   help="scenario file in the assignment's format ('-' for stdin)")
+    where = r.add_mutually_exclusive_group()
+    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
+    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    r.add_argument("--until", type=_positive, required=True, help="end time [s]")
+    r.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
+    r.add_argument("--every", type=_positive, help="time between frames [s]")
+    r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
+    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
+    r.set_defaults(func=cmd_run)
+
+    v = sub.add_parser("validate",
+                       help="equation of state and collision rate against theory")
+    v.add_argument("--n", type=_count, default=4000, help="spheres (default 4000)")
+    v.add_argument("--collisions", type=_count, default=500,
+                   help="collisions per sphere measured at each packing (default 500)")
+    v.add_argument("--equilibrate", type=_count, default=50,
+                   help="collisions per sphere before measuring (default 50)")
+    v.add_argument("--packings", type=lambda t: [float(x) for x in t.split(",")],
+                   default=None, help="comma-separated packing fractions "
+                   "(default 0.1,0.2,0.3,0.4,0.45)")
+    v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
+    v.add_argument("--seed", type=int, default=0)
+    v.set_defaults(func=cmd_validate)
     return p
-
-
-#: Functions adding further subcommands: ``f(subparsers)``.
-_EXTRA = []
 
 
 def main(argv):

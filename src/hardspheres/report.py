@@ -74,3 +74,45 @@ class TextReport:
                 f"colliding {self.names[i]} {self.names[j]}")
         self.out.write(f"\ntime of event: {t:g}\n{what}\n"
                        + self._block(positions, velocities))
+
+
+class JSONLReport:
+    r"""The same run as one JSON object per line, every digit kept.
+
+    The first line describes the start (``"kind": "initial"``, container
+    radius, end time, every sphere); then one line per event with its time,
+    kind (``"collision"`` or ``"reflection"``), the names of the spheres
+    involved, and their positions and velocities just after it.
+
+    Example:
+        >>> import io
+        >>> out = io.StringIO()
+        >>> rep = JSONLReport(["a"], [2.0], [1.0], out)
+        >>> rep.event(1.5, 0, 0, -1, [[9.0, 0.0, 0.0]], [[-1.0, 0.0, 0.0]])
+        >>> out.getvalue()
+        '{"time": 1.5, "kind": "reflection", "spheres": ["a"], "p": [[9.0, 0.0, 0.0]], "v": [[-1.0, 0.0, 0.0]]}\n'
+    """
+
+    def __init__(self, names, masses, radii, out):
+        import json
+        self._dumps = json.dumps
+        self.names = list(names)
+        self.masses = [float(m) for m in masses]
+        self.radii = [float(r) for r in radii]
+        self.out = out
+
+    def initial(self, container, end, positions, velocities):
+        spheres = [{"name": nm, "m": m, "R": r, "p": list(map(float, p)),
+                    "v": list(map(float, v))}
+                   for nm, m, r, p, v in zip(self.names, self.masses, self.radii,
+                                             positions, velocities)]
+        self.out.write(self._dumps({"kind": "initial", "radius": float(container),
+                                    "end": float(end), "spheres": spheres}) + "\n")
+
+    def event(self, t, kind, i, j, positions, velocities):
+        who = [i] if kind == 0 else [i, j]
+        self.out.write(self._dumps({
+            "time": float(t), "kind": "reflection" if kind == 0 else "collision",
+            "spheres": [self.names[k] for k in who],
+            "p": [list(map(float, positions[k])) for k in who],
+            "v": [list(map(float, velocities[k])) for k in who]}) + "\n")
