@@ -7,25 +7,34 @@ Private: use :class:`hardspheres.engine.Engine` (or the public
 Design (the classic one-event-per-sphere scheme of Rapaport and
 Lubachevsky, as in the fastest public codes):
 
-* **Local times.**  Sphere ``i`` is stored as ``pos[i]`` at its own time
-  ``tloc[i]``; its centre at time ``t`` is ``pos[i] + vel[i] * (t - tloc[i])``.
-  An event touches only the spheres involved.
-* **Cells.**  A cubic grid of ``nc^3`` cells of width ``w >= `` the largest
-  contact distance covers the container (or the periodic box); a sphere is
-  predicted only against the spheres in the 27 cells around its own, and
-  leaving a cell is an event of its own (kind :data:`CROSS`).
-* **Calendar.**  Each sphere keeps its earliest event (time, kind, partner);
-  an indexed binary heap over spheres orders them.  Each sphere counts its
-  velocity changes; an event with a partner whose count has moved on since
-  the prediction is stale, and is re-predicted when it reaches the top.
+* **Local times.**  Sphere ``i`` is stored as its centre at its own time
+  ``t_i`` (the time of its last collision or reflection); its centre at time
+  ``t`` is ``x_i + v_i (t - t_i)``.  An event touches only the spheres
+  involved.  Each sphere's record is one 64-byte row of ``S``:
+  ``x y z vx vy vz t_i R_i``.
+* **Cells.**  A cubic grid of ``nc^3`` cells, each at least as wide as the
+  largest contact distance, covers the container (or the periodic box); a
+  sphere is predicted only against the spheres in the 27 cells around its
+  own.  Leaving a cell is an event of its own; after it, only the 9 cells
+  that came into reach are searched.
+* **Calendar.**  Each sphere keeps its earliest collision or reflection
+  (time, kind, partner, the partner's event count) and its next cell
+  crossing; an indexed binary heap orders the spheres by the earlier of
+  the two.  A prediction whose partner has had an event since is stale: it
+  is dropped, and the sphere predicted afresh, when it reaches the top.
+* **Predictions that do not depend on when they are made.**  A pair is
+  predicted from the later of its two spheres' own times, a wall from the
+  sphere's own time, with the lower index's centre minus the higher's: the
+  brute-force reference (:mod:`hardspheres.reference`) does the same, so
+  the two agree bit for bit.
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first.  With a simultaneity ``window > 0`` (the
-  assignment's 1e-8 s), after each event every sphere whose event falls
-  within ``window`` of the clock is predicted afresh, and events closer than
-  ``window`` happen *now*, at the clock; see :func:`refresh_window`.
+  assignment's 1e-8 s), events less than ``window`` after the last one
+  happen *at* its time, and after each event every sphere whose event falls
+  in the window is predicted afresh (:func:`refresh_window`), so the tie
+  order decides among them exactly as in the reference.
 * **Time origin.**  :func:`rebase` moves the time origin to the clock, so
-  long runs keep the precision of short ones (the engine calls it
-  periodically; times reported add the offset back).
+  long runs keep the precision of short ones.
 """
 
 import numpy as np
@@ -33,7 +42,8 @@ from numba import njit
 
 from . import physics
 
-_jit = njit(cache=True, nogil=True)
+# error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
+_jit = njit(cache=True, nogil=True, error_model="numpy")
 
 pair_time = _jit(physics.pair_time)
 wall_time = _jit(physics.wall_time)
@@ -46,9 +56,18 @@ COLLISION = 1
 CROSS = 2
 NONE = 3
 
+# columns of S (float64 per sphere)
+X, Y, Z, VX, VY, VZ, TL, RAD = 0, 1, 2, 3, 4, 5, 6, 7
+# columns of T (float64 per sphere)
+EV_T, CR_T, HK_T = 0, 1, 2
+# columns of K (int64 per sphere)
+(COUNT, CX, CY, CZ, CELL, EV_KEY, EV_KIND, EV_PARTNER, EV_PCOUNT, CR_CODE, HK_KEY,
+ FRESH, HPOS) = range(13)
+K_COLS = 13
+
 # indices into the float64 array `f` of scalars
 F_CLOCK = 0      # time of the last processed event (relative to the origin)
-F_ANCHOR = 1     # time of the last real event (collision or reflection)
+F_ANCHOR = 1     # time of the last collision or reflection
 F_CONTAINER = 2  # container radius (0 for a periodic box)
 F_BOX = 3        # periodic box edge (0 for a spherical container)
 F_LO = 4         # grid origin (lower corner) per axis
@@ -64,72 +83,79 @@ C_COLL = 1       # collisions processed
 C_WALL = 2       # reflections processed
 C_CROSS = 3      # cell crossings processed
 C_STALE = 4      # stale predictions discarded
-C_SERIAL = 5     # real events processed (for freshness stamps)
+C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
 C_NC_ = 6
 
 
+# ---- the calendar: an indexed binary heap over spheres -------------------------
+
 @_jit
-def _less(ev_t, ev_key, a, b):
-    ta, tb = ev_t[a], ev_t[b]
-    return ta < tb or (ta == tb and ev_key[a] < ev_key[b])
+def _less(T, K, a, b):
+    ta, tb = T[a, HK_T], T[b, HK_T]
+    return ta < tb or (ta == tb and K[a, HK_KEY] < K[b, HK_KEY])
 
 
 @_jit
-def _sift_up(heap, hpos, ev_t, ev_key, k):
+def _sift_up(heap, T, K, k):
     i = heap[k]
     while k > 0:
         parent = (k - 1) >> 1
         p = heap[parent]
-        if _less(ev_t, ev_key, i, p):
+        if _less(T, K, i, p):
             heap[k] = p
-            hpos[p] = k
+            K[p, HPOS] = k
             k = parent
         else:
             break
     heap[k] = i
-    hpos[i] = k
+    K[i, HPOS] = k
 
 
 @_jit
-def _sift_down(heap, hpos, ev_t, ev_key, k, n):
+def _sift_down(heap, T, K, k, n):
     i = heap[k]
     while True:
         child = 2 * k + 1
         if child >= n:
             break
-        if child + 1 < n and _less(ev_t, ev_key, heap[child + 1], heap[child]):
+        if child + 1 < n and _less(T, K, heap[child + 1], heap[child]):
             child += 1
         cidx = heap[child]
-        if _less(ev_t, ev_key, cidx, i):
+        if _less(T, K, cidx, i):
             heap[k] = cidx
-            hpos[cidx] = k
+            K[cidx, HPOS] = k
             k = child
         else:
             break
     heap[k] = i
-    hpos[i] = k
+    K[i, HPOS] = k
 
 
 @_jit
-def heap_update(heap, hpos, ev_t, ev_key, i):
-    """Restore heap order after sphere ``i``'s event changed."""
-    k = hpos[i]
+def _schedule(heap, T, K, i):
+    """Sphere ``i``'s heap key is the earlier of its event and its crossing."""
     n = heap.shape[0]
-    if k > 0 and _less(ev_t, ev_key, i, heap[(k - 1) >> 1]):
-        _sift_up(heap, hpos, ev_t, ev_key, k)
+    cross_key = _key(CROSS, i, -1, n)
+    if T[i, CR_T] < T[i, EV_T] or (T[i, CR_T] == T[i, EV_T] and cross_key < K[i, EV_KEY]):
+        T[i, HK_T] = T[i, CR_T]
+        K[i, HK_KEY] = cross_key
     else:
-        _sift_down(heap, hpos, ev_t, ev_key, k, n)
+        T[i, HK_T] = T[i, EV_T]
+        K[i, HK_KEY] = K[i, EV_KEY]
+    k = K[i, HPOS]
+    if k > 0 and _less(T, K, i, heap[(k - 1) >> 1]):
+        _sift_up(heap, T, K, k)
+    else:
+        _sift_down(heap, T, K, k, n)
 
 
 @_jit
-def heap_build(heap, hpos, ev_t, ev_key):
-    n = heap.shape[0]
-    for k in range(n):
-        heap[k] = k
-        hpos[k] = k
-    for k in range(n // 2 - 1, -1, -1):
-        _sift_down(heap, hpos, ev_t, ev_key, k, n)
+def _key(kind, a, b, n):
+    # tie order at equal times: kind, then first sphere, then second
+    return (kind * (n + 1) + a) * (n + 1) + (b + 1)
 
+
+# ---- cells ---------------------------------------------------------------------
 
 @_jit
 def cell_of(x, lo, w, nc):
@@ -143,8 +169,8 @@ def cell_of(x, lo, w, nc):
 
 
 @_jit
-def _cell_insert(head, nxt, prv, cell, i, c):
-    cell[i] = c
+def _cell_insert(head, nxt, prv, K, i, c):
+    K[i, CELL] = c
     h = head[c]
     nxt[i] = h
     prv[i] = -1
@@ -154,8 +180,8 @@ def _cell_insert(head, nxt, prv, cell, i, c):
 
 
 @_jit
-def _cell_remove(head, nxt, prv, cell, i):
-    c = cell[i]
+def _cell_remove(head, nxt, prv, K, i):
+    c = K[i, CELL]
     a, b = prv[i], nxt[i]
     if a >= 0:
         nxt[a] = b
@@ -165,62 +191,19 @@ def _cell_remove(head, nxt, prv, cell, i):
         prv[b] = a
 
 
-@_jit
-def _key(kind, a, b, n):
-    # tie order at equal times: kind, then first sphere, then second
-    return (kind * (n + 1) + a) * (n + 1) + (b + 1)
-
+# ---- predictions ---------------------------------------------------------------
 
 @_jit
-def predict(pos, vel, tloc, rad, count, cc, head, nxt,
-            ev_t, ev_key, ev_kind, ev_partner, ev_pcount, f, c, i, t):
-    """Find sphere ``i``'s earliest event from time ``t`` and store it.
-
-    A collision or reflection less than the simultaneity window after the
-    anchor (the last real event) is put at the anchor itself: it happens
-    now.  Does not touch the heap.
-    """
-    n = pos.shape[0]
-    nc = c[C_NC]
+def _crossing(S, K, T, f, nc, i, t):
+    """Store the time sphere ``i`` leaves its cell, from time ``t``."""
     lo, w, box = f[F_LO], f[F_W], f[F_BOX]
-    dt_i = t - tloc[i]
-    xi = pos[i, 0] + vel[i, 0] * dt_i
-    yi = pos[i, 1] + vel[i, 1] * dt_i
-    zi = pos[i, 2] + vel[i, 2] * dt_i
-    vxi, vyi, vzi = vel[i, 0], vel[i, 1], vel[i, 2]
-    ri = rad[i]
-    now = f[F_ANCHOR]
-    soon = now + f[F_WINDOW]
-    clock = f[F_CLOCK]
-
-    best_t = np.inf
-    best_key = _key(NONE, n, n - 1, n)
-    best_kind = NONE
-    best_p = -1
-
-    # the container
-    if box == 0.0:
-        # predicted from the sphere's own time: independent of `t`
-        dt = wall_time(pos[i, 0], pos[i, 1], pos[i, 2], vxi, vyi, vzi, f[F_CONTAINER] - ri)
-        if dt < np.inf:
-            te = tloc[i] + dt
-            if te < soon:
-                te = now
-            if te < clock:
-                te = clock  # a root rounded into the past
-            best_t, best_key, best_kind, best_p = te, _key(WALL, i, -1, n), WALL, -1
-
-    # leaving the cell: code = 2 * axis + (1 if upward)
-    cx0, cy0, cz0 = cc[i, 0], cc[i, 1], cc[i, 2]
-    dtc = np.inf
+    dt_i = t - S[i, TL]
+    best = np.inf
     code = -1
     for ax in range(3):
-        if ax == 0:
-            x, v, k = xi, vxi, cx0
-        elif ax == 1:
-            x, v, k = yi, vyi, cy0
-        else:
-            x, v, k = zi, vzi, cz0
+        v = S[i, VX + ax]
+        k = K[i, CX + ax]
+        x = S[i, X + ax] + v * dt_i
         if v > 0.0:
             if box == 0.0 and k == nc - 1:
                 continue
@@ -235,17 +218,32 @@ def predict(pos, vel, tloc, rad, count, cc, head, nxt,
             continue
         if d < 0.0:
             d = 0.0
-        if d < dtc:
-            dtc = d
+        if d < best:
+            best = d
             code = 2 * ax + up
-    if code >= 0:
-        te = t + dtc
-        kk = _key(CROSS, i, -1, n)
-        if te < best_t or (te == best_t and kk < best_key):
-            best_t, best_key, best_kind, best_p = te, kk, CROSS, code
+    T[i, CR_T] = t + best
+    K[i, CR_CODE] = code
 
-    # the neighbours in the 27 cells around
-    for oz in range(-1, 2):
+
+@_jit
+def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
+    """Improve sphere ``i``'s stored event with the pairs in a block of cells.
+
+    The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
+    axis for the full 27 cells.
+    """
+    n = S.shape[0]
+    nc = c[C_NC]
+    box = f[F_BOX]
+    now = f[F_ANCHOR]
+    soon = now + f[F_WINDOW]
+    clock = f[F_CLOCK]
+    best_t = T[i, EV_T]
+    best_key = K[i, EV_KEY]
+    best_p = -1
+    ti = S[i, TL]
+    cx0, cy0, cz0 = K[i, CX], K[i, CY], K[i, CZ]
+    for oz in range(zlo, zhi + 1):
         nz = cz0 + oz
         sz = 0.0
         if nz < 0:
@@ -258,7 +256,7 @@ def predict(pos, vel, tloc, rad, count, cc, head, nxt,
                 continue
             nz -= nc
             sz = box
-        for oy in range(-1, 2):
+        for oy in range(ylo, yhi + 1):
             ny = cy0 + oy
             sy = 0.0
             if ny < 0:
@@ -271,7 +269,7 @@ def predict(pos, vel, tloc, rad, count, cc, head, nxt,
                     continue
                 ny -= nc
                 sy = box
-            for ox in range(-1, 2):
+            for ox in range(xlo, xhi + 1):
                 nx = cx0 + ox
                 sx = 0.0
                 if nx < 0:
@@ -287,24 +285,21 @@ def predict(pos, vel, tloc, rad, count, cc, head, nxt,
                 j = head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
-                        # predicted from the later of the two spheres' own
-                        # times, lower index minus higher: the same bits
-                        # whoever predicts it, and whenever
-                        ti, tj = tloc[i], tloc[j]
+                        tj = S[j, TL]
                         t0 = ti if ti > tj else tj
-                        di, dj = t0 - ti, t0 - tj
                         if i < j:
-                            a, b, sa, sb = i, j, 0.0, 1.0
+                            a, b, ga, gb = i, j, 0.0, 1.0
                         else:
-                            a, b, sa, sb = j, i, 1.0, 0.0
-                        da = di if a == i else dj
-                        db = dj if b == j else di
+                            a, b, ga, gb = j, i, 1.0, 0.0
+                        da = t0 - S[a, TL]
+                        db = t0 - S[b, TL]
+                        # lower index minus higher, each from its own time
                         dt = pair_time(
-                            (pos[a, 0] + vel[a, 0] * da + sx * sa) - (pos[b, 0] + vel[b, 0] * db + sx * sb),
-                            (pos[a, 1] + vel[a, 1] * da + sy * sa) - (pos[b, 1] + vel[b, 1] * db + sy * sb),
-                            (pos[a, 2] + vel[a, 2] * da + sz * sa) - (pos[b, 2] + vel[b, 2] * db + sz * sb),
-                            vel[a, 0] - vel[b, 0], vel[a, 1] - vel[b, 1], vel[a, 2] - vel[b, 2],
-                            rad[a] + rad[b])
+                            (S[a, X] + S[a, VX] * da + sx * ga) - (S[b, X] + S[b, VX] * db + sx * gb),
+                            (S[a, Y] + S[a, VY] * da + sy * ga) - (S[b, Y] + S[b, VY] * db + sy * gb),
+                            (S[a, Z] + S[a, VZ] * da + sz * ga) - (S[b, Z] + S[b, VZ] * db + sz * gb),
+                            S[a, VX] - S[b, VX], S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ],
+                            S[a, RAD] + S[b, RAD])
                         if dt < np.inf:
                             te = t0 + dt
                             if te < soon:
@@ -312,53 +307,82 @@ def predict(pos, vel, tloc, rad, count, cc, head, nxt,
                             if te < clock:
                                 te = clock  # a root rounded into the past
                             if te <= best_t:
-                                kk = _key(COLLISION, min(i, j), max(i, j), n)
+                                kk = _key(COLLISION, a, b, n)
                                 if te < best_t or kk < best_key:
-                                    best_t, best_key, best_kind, best_p = te, kk, COLLISION, j
+                                    best_t, best_key, best_p = te, kk, j
                     j = nxt[j]
-
-    ev_t[i] = best_t
-    ev_key[i] = best_key
-    ev_kind[i] = best_kind
-    ev_partner[i] = best_p
-    if best_kind == COLLISION:
-        ev_pcount[i] = count[best_p]
-
-
-@_jit
-def _advance(pos, vel, tloc, i, t):
-    dt = t - tloc[i]
-    pos[i, 0] += vel[i, 0] * dt
-    pos[i, 1] += vel[i, 1] * dt
-    pos[i, 2] += vel[i, 2] * dt
-    tloc[i] = t
+    if best_p >= 0:
+        T[i, EV_T] = best_t
+        K[i, EV_KEY] = best_key
+        K[i, EV_KIND] = COLLISION
+        K[i, EV_PARTNER] = best_p
+        K[i, EV_PCOUNT] = K[best_p, COUNT]
 
 
 @_jit
-def build(pos, vel, tloc, rad, count, cc, cell, head, nxt, prv,
-          ev_t, ev_key, ev_kind, ev_partner, ev_pcount, heap, hpos, f, c):
+def predict(S, K, T, head, nxt, f, c, i, t):
+    """Find sphere ``i``'s earliest collision or reflection and its next crossing.
+
+    A collision or reflection less than the simultaneity window after the
+    anchor (the last collision or reflection) is put at the anchor itself:
+    it happens now.  Does not touch the heap.
+    """
+    n = S.shape[0]
+    T[i, EV_T] = np.inf
+    K[i, EV_KEY] = _key(NONE, n, n - 1, n)
+    K[i, EV_KIND] = NONE
+    K[i, EV_PARTNER] = -1
+    if f[F_BOX] == 0.0:
+        # the wall, from the sphere's own time
+        dt = wall_time(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
+                       f[F_CONTAINER] - S[i, RAD])
+        if dt < np.inf:
+            te = S[i, TL] + dt
+            if te < f[F_ANCHOR] + f[F_WINDOW]:
+                te = f[F_ANCHOR]
+            if te < f[F_CLOCK]:
+                te = f[F_CLOCK]
+            T[i, EV_T] = te
+            K[i, EV_KEY] = _key(WALL, i, -1, n)
+            K[i, EV_KIND] = WALL
+    _scan(S, K, T, head, nxt, f, c, i, -1, 1, -1, 1, -1, 1)
+    _crossing(S, K, T, f, c[C_NC], i, t)
+
+
+@_jit
+def _advance(S, i, t):
+    dt = t - S[i, TL]
+    S[i, X] += S[i, VX] * dt
+    S[i, Y] += S[i, VY] * dt
+    S[i, Z] += S[i, VZ] * dt
+    S[i, TL] = t
+
+
+@_jit
+def build(S, K, T, head, nxt, prv, heap, f, c):
     """Fill the cells, predict every sphere from the clock, build the heap."""
-    n = pos.shape[0]
+    n = S.shape[0]
     nc = c[C_NC]
     lo, w = f[F_LO], f[F_W]
     head[:] = -1
     t = f[F_CLOCK]
     for i in range(n):
-        _advance(pos, vel, tloc, i, t)
-        cc[i, 0] = cell_of(pos[i, 0], lo, w, nc)
-        cc[i, 1] = cell_of(pos[i, 1], lo, w, nc)
-        cc[i, 2] = cell_of(pos[i, 2], lo, w, nc)
-        _cell_insert(head, nxt, prv, cell, i, (cc[i, 2] * nc + cc[i, 1]) * nc + cc[i, 0])
+        _advance(S, i, t)
+        K[i, CX] = cell_of(S[i, X], lo, w, nc)
+        K[i, CY] = cell_of(S[i, Y], lo, w, nc)
+        K[i, CZ] = cell_of(S[i, Z], lo, w, nc)
+        _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
     for i in range(n):
-        predict(pos, vel, tloc, rad, count, cc, head, nxt,
-                ev_t, ev_key, ev_kind, ev_partner, ev_pcount, f, c, i, t)
-    heap_build(heap, hpos, ev_t, ev_key)
+        predict(S, K, T, head, nxt, f, c, i, t)
+    for k in range(n):
+        heap[k] = k
+        K[k, HPOS] = k
+    for i in range(n):
+        _schedule(heap, T, K, i)
 
 
 @_jit
-def refresh_window(pos, vel, tloc, rad, count, cc, head, nxt,
-                   ev_t, ev_key, ev_kind, ev_partner, ev_pcount, heap, hpos, f, c,
-                   fresh, stack):
+def refresh_window(S, K, T, head, nxt, heap, f, c, stack):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -375,7 +399,7 @@ def refresh_window(pos, vel, tloc, rad, count, cc, head, nxt,
     serial = c[C_SERIAL]
     top = 0
     found = 0
-    if ev_t[heap[0]] < limit:
+    if T[heap[0], HK_T] < limit:
         stack[0] = 0
         top = 1
     while top > 0:
@@ -384,41 +408,40 @@ def refresh_window(pos, vel, tloc, rad, count, cc, head, nxt,
         stack[n + found] = heap[k]
         found += 1
         for child in (2 * k + 1, 2 * k + 2):
-            if child < n and ev_t[heap[child]] < limit:
+            if child < n and T[heap[child], HK_T] < limit:
                 stack[top] = child
                 top += 1
     for q in range(found):
         i = stack[n + q]
-        if fresh[i] != serial:
-            fresh[i] = serial
-            predict(pos, vel, tloc, rad, count, cc, head, nxt,
-                    ev_t, ev_key, ev_kind, ev_partner, ev_pcount, f, c, i, t)
-            heap_update(heap, hpos, ev_t, ev_key, i)
+        if K[i, FRESH] != serial:
+            K[i, FRESH] = serial
+            predict(S, K, T, head, nxt, f, c, i, t)
+            _schedule(heap, T, K, i)
 
+
+# ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(pos, vel, tloc, mass, rad, count, cc, cell, head, nxt, prv,
-        ev_t, ev_key, ev_kind, ev_partner, ev_pcount, heap, hpos, f, c,
-        fresh, stack, until, max_events, max_collisions,
-        rec_t, rec_kind, rec_i, rec_j, rec_imp):
+def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
+        max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp):
     """Process events in order until one of the limits.
 
-    Stops before the first event after ``until``, after ``max_events`` real
-    events (collisions and reflections), or after ``max_collisions``
-    collisions, whichever comes first; up to ``len(rec_t)`` real events are
-    recorded (time, kind, i, j, impulse magnitude), and the run also stops
-    when the record is full.
+    Stops before the first event after ``until``, after ``max_events``
+    collisions and reflections, or after ``max_collisions`` collisions,
+    whichever comes first; up to ``len(rec_t)`` collisions and reflections
+    are recorded (time, kind, i, j, impulse magnitude), and the run also
+    stops when the record is full.
 
     Returns:
         ``(recorded, reason)``: reason 0 = ``until`` reached (or nothing will
         ever happen), 1 = ``max_events``, 2 = ``max_collisions``,
         3 = record full.
     """
-    n = pos.shape[0]
+    n = S.shape[0]
     if n == 0:
         return 0, 0
     nc = c[C_NC]
-    lo, w, box = f[F_LO], f[F_W], f[F_BOX]
+    box = f[F_BOX]
     window = f[F_WINDOW]
     cap = rec_t.shape[0]
     done = 0
@@ -431,142 +454,146 @@ def run(pos, vel, tloc, mass, rad, count, cc, cell, head, nxt, prv,
         if done >= cap:
             return done, 3
         i = heap[0]
-        te = ev_t[i]
+        te = T[i, HK_T]
         if te > until or te == np.inf:
             return done, 0
-        kind = ev_kind[i]
+        if K[i, HK_KEY] != K[i, EV_KEY]:
+            # leaving the cell: not an event of the physics (the clock
+            # moves, the anchor of the simultaneity window does not)
+            f[F_CLOCK] = te
+            code = K[i, CR_CODE]
+            ax = code >> 1
+            step = 1 if (code & 1) else -1
+            k = K[i, CX + ax] + step
+            if k < 0 or k >= nc:
+                # periodic wrap: shift the stored centre by one box edge
+                k = (k + nc) % nc
+                S[i, X + ax] -= step * box
+            K[i, CX + ax] = k
+            _cell_remove(head, nxt, prv, K, i)
+            _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
+            c[C_CROSS] += 1
+            # only the 9 cells that came into reach can hold new partners
+            zl = step if ax == 2 else -1
+            yl = step if ax == 1 else -1
+            xl = step if ax == 0 else -1
+            zh = step if ax == 2 else 1
+            yh = step if ax == 1 else 1
+            xh = step if ax == 0 else 1
+            _scan(S, K, T, head, nxt, f, c, i, zl, zh, yl, yh, xl, xh)
+            _crossing(S, K, T, f, nc, i, te)
+            _schedule(heap, T, K, i)
+            continue
+        kind = K[i, EV_KIND]
         if kind == COLLISION:
-            j = ev_partner[i]
-            if count[j] != ev_pcount[i]:
+            j = K[i, EV_PARTNER]
+            if K[j, COUNT] != K[i, EV_PCOUNT]:
                 # stale: the partner has changed course since
                 c[C_STALE] += 1
-                predict(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key, ev_kind,
-                        ev_partner, ev_pcount, f, c, i, f[F_CLOCK])
-                heap_update(heap, hpos, ev_t, ev_key, i)
+                predict(S, K, T, head, nxt, f, c, i, f[F_CLOCK])
+                _schedule(heap, T, K, i)
                 continue
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
-            _advance(pos, vel, tloc, i, te)
-            _advance(pos, vel, tloc, j, te)
+            _advance(S, i, te)
+            _advance(S, j, te)
             a, b = (i, j) if i < j else (j, i)
-            dx = pos[a, 0] - pos[b, 0]
-            dy = pos[a, 1] - pos[b, 1]
-            dz = pos[a, 2] - pos[b, 2]
+            dx = S[a, X] - S[b, X]
+            dy = S[a, Y] - S[b, Y]
+            dz = S[a, Z] - S[b, Z]
             if box != 0.0:
                 # the partner may be an image across the box
                 dx -= box * np.round(dx / box)
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
-            k1, k2 = collide(mass[a], mass[b], dx, dy, dz,
-                             vel[a, 0] - vel[b, 0], vel[a, 1] - vel[b, 1], vel[a, 2] - vel[b, 2])
-            vel[a, 0] -= k1 * dx
-            vel[a, 1] -= k1 * dy
-            vel[a, 2] -= k1 * dz
-            vel[b, 0] += k2 * dx
-            vel[b, 1] += k2 * dy
-            vel[b, 2] += k2 * dz
+            k1, k2 = collide(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
+                             S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ])
+            S[a, VX] -= k1 * dx
+            S[a, VY] -= k1 * dy
+            S[a, VZ] -= k1 * dz
+            S[b, VX] += k2 * dx
+            S[b, VY] += k2 * dy
+            S[b, VZ] += k2 * dz
             d2 = dx * dx + dy * dy + dz * dz
             f[F_VIRIAL] -= mass[a] * k1 * d2
-            count[a] += 1
-            count[b] += 1
+            K[a, COUNT] += 1
+            K[b, COUNT] += 1
             c[C_COLL] += 1
             c[C_SERIAL] += 1
-            fresh[a] = c[C_SERIAL]
-            fresh[b] = c[C_SERIAL]
-            predict(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key, ev_kind,
-                    ev_partner, ev_pcount, f, c, a, te)
-            heap_update(heap, hpos, ev_t, ev_key, a)
-            predict(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key, ev_kind,
-                    ev_partner, ev_pcount, f, c, b, te)
-            heap_update(heap, hpos, ev_t, ev_key, b)
+            K[a, FRESH] = c[C_SERIAL]
+            K[b, FRESH] = c[C_SERIAL]
+            predict(S, K, T, head, nxt, f, c, a, te)
+            _schedule(heap, T, K, a)
+            predict(S, K, T, head, nxt, f, c, b, te)
+            _schedule(heap, T, K, b)
             rec_t[done] = te
             rec_kind[done] = COLLISION
             rec_i[done] = a
             rec_j[done] = b
             rec_imp[done] = -mass[a] * k1 * np.sqrt(d2)
             done += 1
-            if window > 0.0:
-                refresh_window(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key,
-                               ev_kind, ev_partner, ev_pcount, heap, hpos, f, c, fresh, stack)
         elif kind == WALL:
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
-            _advance(pos, vel, tloc, i, te)
-            px, py, pz = pos[i, 0], pos[i, 1], pos[i, 2]
-            k = reflect(px, py, pz, vel[i, 0], vel[i, 1], vel[i, 2])
-            vel[i, 0] -= k * px
-            vel[i, 1] -= k * py
-            vel[i, 2] -= k * pz
+            _advance(S, i, te)
+            px, py, pz = S[i, X], S[i, Y], S[i, Z]
+            k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
+            S[i, VX] -= k * px
+            S[i, VY] -= k * py
+            S[i, VZ] -= k * pz
             imp = mass[i] * k * np.sqrt(px * px + py * py + pz * pz)
             f[F_WALL_IMPULSE] += imp
-            count[i] += 1
+            K[i, COUNT] += 1
             c[C_WALL] += 1
             c[C_SERIAL] += 1
-            fresh[i] = c[C_SERIAL]
-            predict(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key, ev_kind,
-                    ev_partner, ev_pcount, f, c, i, te)
-            heap_update(heap, hpos, ev_t, ev_key, i)
+            K[i, FRESH] = c[C_SERIAL]
+            predict(S, K, T, head, nxt, f, c, i, te)
+            _schedule(heap, T, K, i)
             rec_t[done] = te
             rec_kind[done] = WALL
             rec_i[done] = i
             rec_j[done] = -1
             rec_imp[done] = imp
             done += 1
-            if window > 0.0:
-                refresh_window(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key,
-                               ev_kind, ev_partner, ev_pcount, heap, hpos, f, c, fresh, stack)
-        elif kind == CROSS:
-            # not an event of the physics: the clock moves, the anchor of
-            # the simultaneity window does not
-            f[F_CLOCK] = te
-            code = ev_partner[i]
-            ax = code >> 1
-            step = 1 if (code & 1) else -1
-            k = cc[i, ax] + step
-            if k < 0 or k >= nc:
-                # periodic wrap: shift the stored position by one box edge
-                k = (k + nc) % nc
-                pos[i, ax] -= step * box
-            cc[i, ax] = k
-            _cell_remove(head, nxt, prv, cell, i)
-            _cell_insert(head, nxt, prv, cell, i, (cc[i, 2] * nc + cc[i, 1]) * nc + cc[i, 0])
-            c[C_CROSS] += 1
-            predict(pos, vel, tloc, rad, count, cc, head, nxt, ev_t, ev_key, ev_kind,
-                    ev_partner, ev_pcount, f, c, i, te)
-            heap_update(heap, hpos, ev_t, ev_key, i)
         else:
             return done, 0
+        if window > 0.0:
+            refresh_window(S, K, T, head, nxt, heap, f, c, stack)
 
+
+# ---- state and checks ------------------------------------------------------------
 
 @_jit
-def positions_at(pos, vel, tloc, t, out, box):
+def positions_at(S, t, out, box):
     """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box)."""
-    n = pos.shape[0]
+    n = S.shape[0]
     for i in range(n):
-        dt = t - tloc[i]
+        dt = t - S[i, TL]
         for k in range(3):
-            x = pos[i, k] + vel[i, k] * dt
+            x = S[i, X + k] + S[i, VX + k] * dt
             if box != 0.0:
                 x -= box * np.floor(x / box + 0.5)
             out[i, k] = x
 
 
 @_jit
-def rebase(pos, vel, tloc, ev_t, f):
+def rebase(S, T, f):
     """Move the time origin to the clock: advance everyone, shift all times."""
     t = f[F_CLOCK]
-    n = pos.shape[0]
+    n = S.shape[0]
     for i in range(n):
-        _advance(pos, vel, tloc, i, t)
-        tloc[i] = 0.0
-        ev_t[i] -= t
+        _advance(S, i, t)
+        S[i, TL] = 0.0
+        T[i, EV_T] -= t
+        T[i, CR_T] -= t
+        T[i, HK_T] -= t
     f[F_ANCHOR] -= t
     f[F_CLOCK] = 0.0
     return t
 
 
 @_jit
-def max_overlap(x, rad, cc, head, nxt, nc, box):
+def max_overlap(x, S, K, head, nxt, nc, box):
     """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
 
     ``x`` are the centres at one time; neighbours are found through the
@@ -576,11 +603,11 @@ def max_overlap(x, rad, cc, head, nxt, nc, box):
     worst = 0.0
     for i in range(n):
         for oz in range(-1, 2):
-            nz = cc[i, 2] + oz
+            nz = K[i, CZ] + oz
             for oy in range(-1, 2):
-                ny = cc[i, 1] + oy
+                ny = K[i, CY] + oy
                 for ox in range(-1, 2):
-                    nx = cc[i, 0] + ox
+                    nx = K[i, CX] + ox
                     if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or
                                        nx >= nc or ny >= nc or nz >= nc):
                         continue
@@ -594,7 +621,7 @@ def max_overlap(x, rad, cc, head, nxt, nc, box):
                                 dx -= box * np.round(dx / box)
                                 dy -= box * np.round(dy / box)
                                 dz -= box * np.round(dz / box)
-                            sigma = rad[i] + rad[j]
+                            sigma = S[i, RAD] + S[j, RAD]
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma
                                 if ov > worst:

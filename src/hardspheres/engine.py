@@ -49,23 +49,16 @@ class Engine:
             raise ValueError("give exactly one of container (radius) and box (edge)")
         self.mass = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
         n = self.mass.shape[0]
-        self.rad = np.ascontiguousarray(radii, dtype=np.float64).reshape(n)
-        self.pos = np.array(positions, dtype=np.float64).reshape(n, 3)
-        self.vel = np.array(velocities, dtype=np.float64).reshape(n, 3)
-        self.tloc = np.zeros(n)
-        self.count = np.zeros(n, np.int64)
-        self.cc = np.zeros((n, 3), np.int64)
-        self.cell = np.zeros(n, np.int64)
+        # one 64-byte row per sphere: x y z vx vy vz t_own radius
+        self.S = np.zeros((n, 8))
+        self.S[:, 0:3] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
+        self.S[:, 3:6] = np.asarray(velocities, dtype=np.float64).reshape(n, 3)
+        self.S[:, 7] = np.asarray(radii, dtype=np.float64).reshape(n)
+        self.K = np.zeros((n, core.K_COLS), np.int64)
+        self.T = np.zeros((n, 3))
         self.nxt = np.zeros(n, np.int64)
         self.prv = np.zeros(n, np.int64)
-        self.ev_t = np.zeros(n)
-        self.ev_key = np.zeros(n, np.int64)
-        self.ev_kind = np.zeros(n, np.int64)
-        self.ev_partner = np.zeros(n, np.int64)
-        self.ev_pcount = np.zeros(n, np.int64)
         self.heap = np.zeros(n, np.int64)
-        self.hpos = np.zeros(n, np.int64)
-        self.fresh = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
@@ -85,6 +78,16 @@ class Engine:
     def n(self):
         """Number of spheres."""
         return self.mass.shape[0]
+
+    @property
+    def vel(self):
+        """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
+        return self.S[:, 3:6]
+
+    @property
+    def rad(self):
+        """``(N,)`` radii [length] (a view)."""
+        return self.S[:, 7]
 
     def _grid(self, n):
         sigma = 2.0 * float(self.rad.max()) if n else 0.0
@@ -109,16 +112,9 @@ class Engine:
         self.f[core.F_W] = span / nc
         self.head = np.full(nc ** 3, -1, np.int64)
 
-    def _args(self):
-        return (self.pos, self.vel, self.tloc, self.mass, self.rad, self.count, self.cc,
-                self.cell, self.head, self.nxt, self.prv, self.ev_t, self.ev_key,
-                self.ev_kind, self.ev_partner, self.ev_pcount, self.heap, self.hpos,
-                self.f, self.c)
-
     def _build(self):
-        core.build(self.pos, self.vel, self.tloc, self.rad, self.count, self.cc, self.cell,
-                   self.head, self.nxt, self.prv, self.ev_t, self.ev_key, self.ev_kind,
-                   self.ev_partner, self.ev_pcount, self.heap, self.hpos, self.f, self.c)
+        core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
+                   self.f, self.c)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -127,7 +123,7 @@ class Engine:
         return self.offset + self.f[core.F_CLOCK]
 
     def _rebase(self):
-        self.offset += core.rebase(self.pos, self.vel, self.tloc, self.ev_t, self.f)
+        self.offset += core.rebase(self.S, self.T, self.f)
         self._since_rebase = 0
 
     # ---- running ----------------------------------------------------------
@@ -156,7 +152,8 @@ class Engine:
                           else np.iinfo(np.int64).max)
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
-            done, reason = core.run(*self._args(), self.fresh, self.stack,
+            done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
+                                    self.prv, self.heap, self.f, self.c, self.stack,
                                     until - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -179,9 +176,7 @@ class Engine:
                 "impulse": cols[4]}
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "rad", "pos", "vel", "tloc", "count", "cc", "cell", "nxt", "prv",
-              "ev_t", "ev_key", "ev_kind", "ev_partner", "ev_pcount", "heap", "hpos",
-              "fresh", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "f", "c", "head")
 
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -218,8 +213,7 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.positions_at(self.pos, self.vel, self.tloc, t - self.offset, out,
-                          0.0 if self.box is None else self.box)
+        core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
         return out
 
     @property
@@ -243,7 +237,7 @@ class Engine:
     def max_overlap(self, t=None):
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         x = self.positions_at(t)  # pairs across the box compare by minimum image
-        return float(core.max_overlap(x, self.rad, self.cc, self.head, self.nxt,
+        return float(core.max_overlap(x, self.S, self.K, self.head, self.nxt,
                                       int(self.c[core.C_NC]),
                                       0.0 if self.box is None else self.box))
 
