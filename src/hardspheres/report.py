@@ -42,12 +42,11 @@ class TextReport:
         self.out = out
         self._prefix = [f"{nm} m={m:g} R={r:g} p=(" for nm, m, r in
                         zip(self.names, self.masses, radii)]
+        self._fmt = None
 
     def _block(self, positions, velocities):
-        if hasattr(positions, "tolist"):
-            positions = positions.tolist()
-        if hasattr(velocities, "tolist"):
-            velocities = velocities.tolist()
+        if hasattr(positions, "shape"):
+            return self._block_arrays(positions, velocities)
         parts = []
         e = px = py = pz = 0.0
         for pre, m, p, v in zip(self._prefix, self.masses, positions, velocities):
@@ -60,6 +59,31 @@ class TextReport:
             pz += m * vz
         parts.append(f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n")
         return "".join(parts)
+
+    def _block_arrays(self, positions, velocities):
+        """The same block from numpy arrays, one formatting call for all lines.
+
+        Sums accumulate in input order (``cumsum`` is sequential), so the
+        totals are bit-identical to the list path's.
+        """
+        import numpy as np
+        if self._fmt is None:
+            self._fmt = "".join(pre.replace("%", "%%") + _VECS for pre in self._prefix)
+            self._m = np.array(self.masses)
+        n = len(self.masses)
+        if n == 0:
+            return "energy: 0\nmomentum: (0,0,0)\n"
+        both = np.empty((n, 6))
+        both[:, :3] = positions
+        both[:, 3:] = velocities
+        m = self._m
+        vx, vy, vz = both[:, 3], both[:, 4], both[:, 5]
+        e = float(np.cumsum(0.5 * m * (vx * vx + vy * vy + vz * vz))[-1])
+        px = float(np.cumsum(m * vx)[-1])
+        py = float(np.cumsum(m * vy)[-1])
+        pz = float(np.cumsum(m * vz)[-1])
+        return (self._fmt % tuple(both.ravel().tolist())
+                + f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n")
 
     def initial(self, container, end, positions, velocities):
         """The initial conditions, through ``Here are the events.``"""
