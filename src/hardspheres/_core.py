@@ -45,10 +45,13 @@ from . import physics
 # error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 
-pair_time = _jit(physics.pair_time)
-wall_time = _jit(physics.wall_time)
-collide = _jit(physics.collide)
-reflect = _jit(physics.reflect)
+# the kernels are inlined into the loops that call them (numba IR inlining)
+_kernel = njit(cache=True, nogil=True, error_model="numpy", inline="always")
+pair_time = _kernel(physics.pair_time)
+pair_time_within = _kernel(physics.pair_time_within)
+wall_time = _kernel(physics.wall_time)
+collide = _kernel(physics.collide)
+reflect = _kernel(physics.reflect)
 
 #: Event kinds (also the tie order at equal times).
 WALL = 0
@@ -59,11 +62,11 @@ NONE = 3
 # columns of S (float64 per sphere)
 X, Y, Z, VX, VY, VZ, TL, RAD = 0, 1, 2, 3, 4, 5, 6, 7
 # columns of T (float64 per sphere)
-EV_T, CR_T, HK_T = 0, 1, 2
+EV_T, CR_T = 0, 1
 # columns of K (int64 per sphere)
-(COUNT, CX, CY, CZ, CELL, EV_KEY, EV_KIND, EV_PARTNER, EV_PCOUNT, CR_CODE, HK_KEY,
- FRESH, HPOS) = range(13)
-K_COLS = 13
+(COUNT, CX, CY, CZ, CELL, EV_KEY, EV_KIND, EV_PARTNER, EV_PCOUNT, CR_CODE,
+ FRESH, HPOS) = range(12)
+K_COLS = 12
 
 # indices into the float64 array `f` of scalars
 F_CLOCK = 0      # time of the last processed event (relative to the origin)
@@ -88,65 +91,66 @@ C_NC_ = 6
 
 
 # ---- the calendar: an indexed binary heap over spheres -------------------------
+# The heap keeps each entry's time and tie key beside the sphere's index
+# (arrays HT, HKEY, heap by heap position), so sifting reads contiguous memory.
 
 @_jit
-def _less(T, K, a, b):
-    ta, tb = T[a, HK_T], T[b, HK_T]
-    return ta < tb or (ta == tb and K[a, HK_KEY] < K[b, HK_KEY])
-
-
-@_jit
-def _sift_up(heap, T, K, k):
-    i = heap[k]
+def _sift_up(heap, HT, HKEY, K, k):
+    i, t, key = heap[k], HT[k], HKEY[k]
     while k > 0:
         parent = (k - 1) >> 1
-        p = heap[parent]
-        if _less(T, K, i, p):
-            heap[k] = p
+        tp = HT[parent]
+        if t < tp or (t == tp and key < HKEY[parent]):
+            p = heap[parent]
+            heap[k], HT[k], HKEY[k] = p, tp, HKEY[parent]
             K[p, HPOS] = k
             k = parent
         else:
             break
-    heap[k] = i
+    heap[k], HT[k], HKEY[k] = i, t, key
     K[i, HPOS] = k
 
 
 @_jit
-def _sift_down(heap, T, K, k, n):
-    i = heap[k]
+def _sift_down(heap, HT, HKEY, K, k, n):
+    i, t, key = heap[k], HT[k], HKEY[k]
     while True:
         child = 2 * k + 1
         if child >= n:
             break
-        if child + 1 < n and _less(T, K, heap[child + 1], heap[child]):
-            child += 1
-        cidx = heap[child]
-        if _less(T, K, cidx, i):
-            heap[k] = cidx
-            K[cidx, HPOS] = k
+        tc, kc = HT[child], HKEY[child]
+        if child + 1 < n:
+            t2, k2 = HT[child + 1], HKEY[child + 1]
+            if t2 < tc or (t2 == tc and k2 < kc):
+                child += 1
+                tc, kc = t2, k2
+        if tc < t or (tc == t and kc < key):
+            c = heap[child]
+            heap[k], HT[k], HKEY[k] = c, tc, kc
+            K[c, HPOS] = k
             k = child
         else:
             break
-    heap[k] = i
+    heap[k], HT[k], HKEY[k] = i, t, key
     K[i, HPOS] = k
 
 
 @_jit
-def _schedule(heap, T, K, i):
-    """Sphere ``i``'s heap key is the earlier of its event and its crossing."""
+def _schedule(heap, HT, HKEY, T, K, i):
+    """Sphere ``i``'s heap entry becomes the earlier of its event and its crossing."""
     n = heap.shape[0]
     cross_key = _key(CROSS, i, -1, n)
     if T[i, CR_T] < T[i, EV_T] or (T[i, CR_T] == T[i, EV_T] and cross_key < K[i, EV_KEY]):
-        T[i, HK_T] = T[i, CR_T]
-        K[i, HK_KEY] = cross_key
+        t, key = T[i, CR_T], cross_key
     else:
-        T[i, HK_T] = T[i, EV_T]
-        K[i, HK_KEY] = K[i, EV_KEY]
+        t, key = T[i, EV_T], K[i, EV_KEY]
     k = K[i, HPOS]
-    if k > 0 and _less(T, K, i, heap[(k - 1) >> 1]):
-        _sift_up(heap, T, K, k)
+    HT[k] = t
+    HKEY[k] = key
+    if k > 0 and (t < HT[(k - 1) >> 1] or (t == HT[(k - 1) >> 1] and key < HKEY[(k - 1) >> 1])):
+        _sift_up(heap, HT, HKEY, K, k)
     else:
-        _sift_down(heap, T, K, k, n)
+        _sift_down(heap, HT, HKEY, K, k, n)
 
 
 @_jit
@@ -287,19 +291,22 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                     if j != i:
                         tj = S[j, TL]
                         t0 = ti if ti > tj else tj
-                        if i < j:
-                            a, b, ga, gb = i, j, 0.0, 1.0
-                        else:
-                            a, b, ga, gb = j, i, 1.0, 0.0
-                        da = t0 - S[a, TL]
-                        db = t0 - S[b, TL]
-                        # lower index minus higher, each from its own time
-                        dt = pair_time(
-                            (S[a, X] + S[a, VX] * da + sx * ga) - (S[b, X] + S[b, VX] * db + sx * gb),
-                            (S[a, Y] + S[a, VY] * da + sy * ga) - (S[b, Y] + S[b, VY] * db + sy * gb),
-                            (S[a, Z] + S[a, VZ] * da + sz * ga) - (S[b, Z] + S[b, VZ] * db + sz * gb),
-                            S[a, VX] - S[b, VX], S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ],
-                            S[a, RAD] + S[b, RAD])
+                        di = t0 - ti
+                        dj = t0 - tj
+                        # i minus j, each from its own time.  IEEE subtraction
+                        # is exactly antisymmetric and pair_time even in
+                        # (dr, dv), so this is bit for bit what the lower
+                        # index minus the higher gives: the same result
+                        # whichever sphere predicts the pair.
+                        # pairs that surely meet after the best event so far
+                        # are not solved (the window's "now" is never later)
+                        horizon = best_t - t0 if best_t >= soon else np.inf
+                        dt = pair_time_within(
+                            (S[i, X] + S[i, VX] * di) - (S[j, X] + S[j, VX] * dj + sx),
+                            (S[i, Y] + S[i, VY] * di) - (S[j, Y] + S[j, VY] * dj + sy),
+                            (S[i, Z] + S[i, VZ] * di) - (S[j, Z] + S[j, VZ] * dj + sz),
+                            S[i, VX] - S[j, VX], S[i, VY] - S[j, VY], S[i, VZ] - S[j, VZ],
+                            S[i, RAD] + S[j, RAD], horizon)
                         if dt < np.inf:
                             te = t0 + dt
                             if te < soon:
@@ -307,7 +314,7 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                             if te < clock:
                                 te = clock  # a root rounded into the past
                             if te <= best_t:
-                                kk = _key(COLLISION, a, b, n)
+                                kk = _key(COLLISION, min(i, j), max(i, j), n)
                                 if te < best_t or kk < best_key:
                                     best_t, best_key, best_p = te, kk, j
                     j = nxt[j]
@@ -359,7 +366,7 @@ def _advance(S, i, t):
 
 
 @_jit
-def build(S, K, T, head, nxt, prv, heap, f, c):
+def build(S, K, T, head, nxt, prv, heap, HT, HKEY, f, c):
     """Fill the cells, predict every sphere from the clock, build the heap."""
     n = S.shape[0]
     nc = c[C_NC]
@@ -374,15 +381,20 @@ def build(S, K, T, head, nxt, prv, heap, f, c):
         _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
     for i in range(n):
         predict(S, K, T, head, nxt, f, c, i, t)
-    for k in range(n):
-        heap[k] = k
-        K[k, HPOS] = k
     for i in range(n):
-        _schedule(heap, T, K, i)
+        heap[i] = i
+        K[i, HPOS] = i
+        cross_key = _key(CROSS, i, -1, n)
+        if T[i, CR_T] < T[i, EV_T] or (T[i, CR_T] == T[i, EV_T] and cross_key < K[i, EV_KEY]):
+            HT[i], HKEY[i] = T[i, CR_T], cross_key
+        else:
+            HT[i], HKEY[i] = T[i, EV_T], K[i, EV_KEY]
+    for k in range(n // 2 - 1, -1, -1):
+        _sift_down(heap, HT, HKEY, K, k, n)
 
 
 @_jit
-def refresh_window(S, K, T, head, nxt, heap, f, c, stack):
+def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -399,7 +411,7 @@ def refresh_window(S, K, T, head, nxt, heap, f, c, stack):
     serial = c[C_SERIAL]
     top = 0
     found = 0
-    if T[heap[0], HK_T] < limit:
+    if HT[0] < limit:
         stack[0] = 0
         top = 1
     while top > 0:
@@ -408,7 +420,7 @@ def refresh_window(S, K, T, head, nxt, heap, f, c, stack):
         stack[n + found] = heap[k]
         found += 1
         for child in (2 * k + 1, 2 * k + 2):
-            if child < n and T[heap[child], HK_T] < limit:
+            if child < n and HT[child] < limit:
                 stack[top] = child
                 top += 1
     for q in range(found):
@@ -416,13 +428,13 @@ def refresh_window(S, K, T, head, nxt, heap, f, c, stack):
         if K[i, FRESH] != serial:
             K[i, FRESH] = serial
             predict(S, K, T, head, nxt, f, c, i, t)
-            _schedule(heap, T, K, i)
+            _schedule(heap, HT, HKEY, T, K, i)
 
 
 # ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
+def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_events,
         max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp):
     """Process events in order until one of the limits.
 
@@ -454,10 +466,10 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
         if done >= cap:
             return done, 3
         i = heap[0]
-        te = T[i, HK_T]
+        te = HT[0]
         if te > until or te == np.inf:
             return done, 0
-        if K[i, HK_KEY] != K[i, EV_KEY]:
+        if HKEY[0] != K[i, EV_KEY]:
             # leaving the cell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not)
             f[F_CLOCK] = te
@@ -482,7 +494,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
             xh = step if ax == 0 else 1
             _scan(S, K, T, head, nxt, f, c, i, zl, zh, yl, yh, xl, xh)
             _crossing(S, K, T, f, nc, i, te)
-            _schedule(heap, T, K, i)
+            _schedule(heap, HT, HKEY, T, K, i)
             continue
         kind = K[i, EV_KIND]
         if kind == COLLISION:
@@ -491,7 +503,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
                 # stale: the partner has changed course since
                 c[C_STALE] += 1
                 predict(S, K, T, head, nxt, f, c, i, f[F_CLOCK])
-                _schedule(heap, T, K, i)
+                _schedule(heap, HT, HKEY, T, K, i)
                 continue
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
@@ -523,9 +535,9 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
             K[a, FRESH] = c[C_SERIAL]
             K[b, FRESH] = c[C_SERIAL]
             predict(S, K, T, head, nxt, f, c, a, te)
-            _schedule(heap, T, K, a)
+            _schedule(heap, HT, HKEY, T, K, a)
             predict(S, K, T, head, nxt, f, c, b, te)
-            _schedule(heap, T, K, b)
+            _schedule(heap, HT, HKEY, T, K, b)
             rec_t[done] = te
             rec_kind[done] = COLLISION
             rec_i[done] = a
@@ -548,7 +560,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
             c[C_SERIAL] += 1
             K[i, FRESH] = c[C_SERIAL]
             predict(S, K, T, head, nxt, f, c, i, te)
-            _schedule(heap, T, K, i)
+            _schedule(heap, HT, HKEY, T, K, i)
             rec_t[done] = te
             rec_kind[done] = WALL
             rec_i[done] = i
@@ -558,7 +570,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, f, c, stack, until, max_events,
         else:
             return done, 0
         if window > 0.0:
-            refresh_window(S, K, T, head, nxt, heap, f, c, stack)
+            refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
 
 
 # ---- state and checks ------------------------------------------------------------
@@ -577,7 +589,7 @@ def positions_at(S, t, out, box):
 
 
 @_jit
-def rebase(S, T, f):
+def rebase(S, T, HT, f):
     """Move the time origin to the clock: advance everyone, shift all times."""
     t = f[F_CLOCK]
     n = S.shape[0]
@@ -586,7 +598,7 @@ def rebase(S, T, f):
         S[i, TL] = 0.0
         T[i, EV_T] -= t
         T[i, CR_T] -= t
-        T[i, HK_T] -= t
+        HT[i] -= t
     f[F_ANCHOR] -= t
     f[F_CLOCK] = 0.0
     return t

@@ -139,6 +139,8 @@ def main(argv):
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
+    except BrokenPipeError:
+        raise  # the caller exits quietly
     except (ValueError, OSError) as e:
         print(f"hardspheres {args.command}: {e}", file=sys.stderr)
         return 1

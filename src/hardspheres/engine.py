@@ -55,10 +55,12 @@ class Engine:
         self.S[:, 3:6] = np.asarray(velocities, dtype=np.float64).reshape(n, 3)
         self.S[:, 7] = np.asarray(radii, dtype=np.float64).reshape(n)
         self.K = np.zeros((n, core.K_COLS), np.int64)
-        self.T = np.zeros((n, 3))
+        self.T = np.zeros((n, 2))
         self.nxt = np.zeros(n, np.int64)
         self.prv = np.zeros(n, np.int64)
         self.heap = np.zeros(n, np.int64)
+        self.HT = np.zeros(n)
+        self.HKEY = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
@@ -114,7 +116,7 @@ class Engine:
 
     def _build(self):
         core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
-                   self.f, self.c)
+                   self.HT, self.HKEY, self.f, self.c)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -123,7 +125,7 @@ class Engine:
         return self.offset + self.f[core.F_CLOCK]
 
     def _rebase(self):
-        self.offset += core.rebase(self.S, self.T, self.f)
+        self.offset += core.rebase(self.S, self.T, self.HT, self.f)
         self._since_rebase = 0
 
     # ---- running ----------------------------------------------------------
@@ -153,7 +155,8 @@ class Engine:
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
-                                    self.prv, self.heap, self.f, self.c, self.stack,
+                                    self.prv, self.heap, self.HT, self.HKEY, self.f,
+                                    self.c, self.stack,
                                     until - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -176,7 +179,7 @@ class Engine:
                 "impulse": cols[4]}
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
 
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
