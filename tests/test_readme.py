@@ -1,0 +1,37 @@
+"""README's claims, run: its Python example and its commands."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+
+
+def test_readme_python_example_runs(tmp_path, monkeypatch):
+    block = re.search(r"```python\n(.*?)```", README, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    assert (tmp_path / "run.npz").exists()
+
+
+def test_readme_first_command_output():
+    """`spheres 120 105 < examples/three.txt` prints the assignment text's example events."""
+    out = subprocess.run([sys.executable, "spheres.py", "120", "105"],
+                         stdin=open(ROOT / "examples" / "three.txt"), capture_output=True,
+                         text=True, cwd=ROOT, check=True).stdout
+    assert "time of event: 94.0839\ncolliding one two\n" in out
+    assert "time of event: 102.539\nreflecting two\n" in out
+    assert out.rstrip().endswith("momentum: (0,-0.217836,12.8993)")
+
+
+def test_readme_commands_run(tmp_path):
+    cmds = re.search(r"## Commands\n\n```sh\n(.*?)```", README, re.S).group(1)
+    for line in cmds.strip().splitlines():
+        line = line.replace("--collisions 2000000", "--collisions 20000")
+        line = line.replace("hardspheres validate --csv validation.csv",
+                            "hardspheres validate --n 500 --collisions 20 --equilibrate 5 "
+                            "--packings 0.2 --csv validation.csv")
+        res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
+        assert res.returncode == 0, (line, res.stderr)
