@@ -69,6 +69,65 @@ def cmd_validate(args):
     return 0
 
 
+def _frames(args):
+    """Frames from a trajectory file, or from a scenario run on the spot."""
+    from .trajectory import frames_from_simulation, read_trajectory
+    path = args.input
+    if path.endswith((".gsd", ".xyz", ".extxyz")):
+        if args.container or args.box or args.until:
+            raise ValueError("--container/--box/--until are for scenarios, not trajectories")
+        return read_trajectory(path)
+    from .containers import PeriodicBox, SphericalContainer
+    from .simulation import Simulation
+    if args.until is None or (args.container is None and args.box is None):
+        raise ValueError(f"{path!r} is a scenario: give --container R (or --box L) "
+                         "and --until T")
+    container = (SphericalContainer(args.container) if args.container is not None
+                 else PeriodicBox(args.box))
+    sim = Simulation.from_scenario(path, container)
+    return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
+
+
+def cmd_view(args):
+    from .viewer import write_viewer
+    frames = _frames(args)
+    write_viewer(frames, args.output, title=args.title or args.input)
+    print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
+    return 0
+
+
+def cmd_render(args):
+    from .render import render_movie
+    frames = _frames(args)
+    render_movie(frames, args.output, fps=args.fps)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_plot(args):
+    from . import plots
+    if args.what == "eos":
+        plots.plot_eos(args.input, args.output)
+    else:
+        frames = _frames(args)
+        if args.what == "conservation":
+            plots.plot_conservation(frames, args.output)
+        else:
+            plots.plot_speeds(frames, args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def _picture_args(q, output_default):
+    q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
+    q.add_argument("-o", "--output", default=output_default)
+    where = q.add_mutually_exclusive_group()
+    where.add_argument("--container", type=_positive, help="scenario: container radius [m]")
+    where.add_argument("--box", type=_positive, help="scenario: periodic box edge [m]")
+    q.add_argument("--until", type=_positive, help="scenario: end time [s]")
+    q.add_argument("--every", type=_positive, help="scenario: time between frames [s]")
+
+
 def cmd_run(args):
     from .runner import run_command
     return run_command(args)
@@ -131,6 +190,23 @@ def build_parser():
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
     v.add_argument("--seed", type=int, default=0)
     v.set_defaults(func=cmd_validate)
+
+    w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
+    _picture_args(w, "viewer.html")
+    w.add_argument("--title")
+    w.set_defaults(func=cmd_view)
+
+    m = sub.add_parser("render", help="render an animation (.mp4 or .gif), headless")
+    _picture_args(m, "movie.gif")
+    m.add_argument("--fps", type=int, default=20)
+    m.set_defaults(func=cmd_render)
+
+    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos"],
+                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, or "
+                    "the validate CSV vs Carnahan-Starling")
+    _picture_args(pl, "plot.png")
+    pl.set_defaults(func=cmd_plot)
     return p
 
 
