@@ -222,7 +222,7 @@ class Simulation:
         """
         tmp = f"{path}.tmp"
         with open(tmp, "wb") as fh:
-            np.savez(fh, names=np.array(self.names, dtype=object),
+            np.savez(fh, names=np.array(self.names, dtype=str).reshape(-1),
                      container=np.array([type(self.container).__name__,
                                          repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
@@ -233,7 +233,7 @@ class Simulation:
     @classmethod
     def load(cls, path):
         """Resume a checkpoint written by :meth:`save`."""
-        with np.load(path, allow_pickle=True) as z:
+        with np.load(path, allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}
         kind, size = data.pop("container")
         container = (SphericalContainer if kind == "SphericalContainer" else PeriodicBox)(
