@@ -1,0 +1,259 @@
+"""Diagnostic plots (PNG, matplotlib Agg, no display needed).
+
+::
+
+    from hardspheres import plots
+    plots.plot_conservation(frames, "conservation.png")  # energy, momentum
+    plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
+    plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
+
+Each function writes a PNG of ``size`` pixels (default 960 x 720) and returns
+its path.
+"""
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+SIZE = (960, 720)
+
+
+def _figure(size, dpi):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(size[0] / dpi, size[1] / dpi), dpi=dpi, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _save(fig, path, dpi):
+    path = Path(path)
+    fig.savefig(path, dpi=dpi, format="png")
+    return path
+
+
+def carnahan_starling(phi):
+    """Carnahan-Starling ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.
+
+    >>> round(float(carnahan_starling(0.3)), 4)
+    3.9738
+    """
+    phi = np.asarray(phi, dtype=float)
+    return (1.0 + phi + phi ** 2 - phi ** 3) / (1.0 - phi) ** 3
+
+
+def maxwell_speed_density(v, kT, m):
+    """Maxwell-Boltzmann density of speeds ``v`` for mass ``m`` at ``kT``.
+
+    ``f(v) = 4 pi v^2 (m / (2 pi kT))^{3/2} exp(-m v^2 / (2 kT))``.
+    """
+    v = np.asarray(v, dtype=float)
+    return 4.0 * np.pi * v ** 2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v ** 2 / (2.0 * kT))
+
+
+def maxwell_reduced_density(x):
+    """Density of ``x = v sqrt(m / kT)``: ``sqrt(2/pi) x^2 exp(-x^2 / 2)``, any masses."""
+    x = np.asarray(x, dtype=float)
+    return math.sqrt(2.0 / math.pi) * x ** 2 * np.exp(-0.5 * x ** 2)
+
+
+def plot_conservation(frames, path, *, size=SIZE, dpi=100):
+    """Energy and momentum over time, and their deviations from the first frame.
+
+    Top: kinetic energy ``E(t)`` and ``(E - E0) / E0``.  Bottom: the total
+    momentum's components and the deviation of the conserved vector,
+    relative to its natural scale: the linear momentum ``P`` in a periodic
+    box or open space (scale ``sum m |v|``), the angular momentum ``L``
+    about the centre in a spherical container (scale ``sum m |r| |v|``),
+    where the walls change ``P`` but exert no torque.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    times = np.asarray(frames.times, float)
+    if len(times) == 0:
+        raise ValueError("plot_conservation: no frames")
+    masses = np.asarray(frames.masses, float)
+    pos = np.asarray(frames.positions, float)
+    vel = np.asarray(frames.velocities, float)
+    energy = np.asarray(frames.energy(), float)
+    momentum = np.asarray(frames.momentum(), float)
+    e0 = energy[0]
+    rel_e = (energy - e0) / e0 if e0 != 0 else energy - e0
+
+    in_container = frames.container is not None
+    if in_container:
+        vector = np.einsum("n,fnk->fk", masses, np.cross(pos, vel))
+        scale = float(np.sum(masses * np.linalg.norm(pos[0], axis=1) * np.linalg.norm(vel[0], axis=1)))
+        name, symbol = "L about centre", "L"
+    else:
+        vector = momentum
+        scale = float(np.sum(masses * np.linalg.norm(vel[0], axis=1)))
+        name, symbol = "momentum P", "P"
+    scale = scale if scale > 0 else 1.0
+    dev = (vector - vector[0]) / scale
+
+    fig = _figure(size, dpi)
+    axes = fig.subplots(2, 2, sharex=True)
+    ax = axes[0, 0]
+    ax.plot(times, energy, color="C3", marker="." if len(times) < 60 else None)
+    ax.set_ylabel("kinetic energy E")
+    ax.set_title("energy")
+    ax.ticklabel_format(axis="y", useOffset=False)
+    ax = axes[0, 1]
+    ax.plot(times, rel_e, color="C3")
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.set_ylabel("(E - E0) / E0" if e0 != 0 else "E - E0")
+    ax.set_title(f"energy: max |dev| = {np.max(np.abs(rel_e)):.1e}", loc="right")
+    ax = axes[1, 0]
+    for k, c in enumerate("xyz"):
+        ax.plot(times, momentum[:, k], label=f"P{c}", color=f"C{k}")
+    ax.legend(loc="best", fontsize="small")
+    ax.set_ylabel("total momentum P")
+    ax.set_title("momentum" + (" (changed by the wall)" if in_container else ""))
+    ax.set_xlabel("time")
+    ax = axes[1, 1]
+    for k, c in enumerate("xyz"):
+        ax.plot(times, dev[:, k], label=f"{symbol}{c}", color=f"C{k}")
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_ylabel(f"({symbol} - {symbol}0) / {'sum m|r||v|' if in_container else 'sum m|v|'}")
+    ax.set_title(f"{name}: max |dev| = {np.max(np.abs(dev)):.1e}", loc="right")
+    ax.set_xlabel("time")
+    where = (f"spherical container R = {frames.container:g}" if in_container
+             else f"periodic box L = {frames.box:g}" if frames.box is not None else "open space")
+    fig.suptitle(f"Conservation: {frames.n} spheres, {where}, {len(times)} frames")
+    return _save(fig, path, dpi)
+
+
+def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100):
+    """Histogram of the speeds over all frames against Maxwell-Boltzmann.
+
+    Equal masses ``m``: the density of ``v`` against
+    ``f(v) = 4 pi v^2 (m/(2 pi kT))^{3/2} exp(-m v^2/(2 kT))``.  Unequal
+    masses: the density of ``x = v sqrt(m/kT)`` against
+    ``sqrt(2/pi) x^2 exp(-x^2/2)``, which every species shares.
+
+    Args:
+        frames: a :class:`hardspheres.frames.Frames`.
+        path: the PNG to write.
+        kT: temperature [energy]; default ``(2/3)`` of the mean kinetic
+            energy per sphere over the frames used.
+        start: first frame used (to leave out an equilibration).
+        bins: histogram bins (default from the sample size).
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    masses = np.asarray(frames.masses, float)
+    vel = np.asarray(frames.velocities, float)[start:]
+    if vel.shape[0] == 0 or vel.shape[1] == 0:
+        raise ValueError("plot_speeds: no speeds to plot")
+    speeds = np.linalg.norm(vel, axis=2)                      # (F, N)
+    kinetic = 0.5 * masses[None, :] * speeds ** 2
+    measured_kT = float(2.0 / 3.0 * kinetic.mean())
+    if kT is None:
+        kT = measured_kT
+    if not kT > 0:
+        raise ValueError("plot_speeds: kT must be positive (all spheres at rest?)")
+    equal = bool(np.allclose(masses, masses[0], rtol=1e-12, atol=0.0))
+    count = speeds.size
+    bins = bins or int(np.clip(2.0 * count ** (1 / 3), 10, 120))
+
+    fig = _figure(size, dpi)
+    ax = fig.subplots()
+    if equal:
+        m = float(masses[0])
+        sample = speeds.ravel()
+        scale = math.sqrt(kT / m)
+        top = max(float(np.percentile(sample, 99.9)), 4.2 * scale)
+        grid = np.linspace(0.0, top, 400)
+        curve = maxwell_speed_density(grid, kT, m)
+        xlabel = "speed v"
+        curve_label = f"Maxwell-Boltzmann, m = {m:g}, kT = {kT:.4g}"
+    else:
+        sample = (speeds * np.sqrt(masses / kT)[None, :]).ravel()
+        top = max(float(np.percentile(sample, 99.9)), 4.2)
+        grid = np.linspace(0.0, top, 400)
+        curve = maxwell_reduced_density(grid)
+        xlabel = "v sqrt(m / kT)"
+        curve_label = f"Maxwell-Boltzmann, reduced (kT = {kT:.4g})"
+    ax.hist(sample, bins=bins, range=(0.0, top), density=True, color="C0", alpha=0.6,
+            edgecolor="C0", label=f"{count} speeds ({vel.shape[0]} frames x {vel.shape[1]} spheres)")
+    ax.plot(grid, curve, color="C3", lw=2, label=curve_label)
+    ax.set_xlim(0.0, top)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("probability density")
+    ax.legend(loc="upper right")
+    note = "kT from the mean kinetic energy" if kT == measured_kT else f"kT given; measured {measured_kT:.4g}"
+    kinds = "equal masses" if equal else f"{len(np.unique(masses))} masses"
+    ax.set_title(f"Speed distribution: {frames.n} spheres, {kinds}; {note}")
+    return _save(fig, path, dpi)
+
+
+def read_eos_csv(csv_path):
+    """Columns of an equation-of-state CSV as float arrays, keyed by header."""
+    with open(csv_path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        raise ValueError(f"{csv_path}: no rows")
+    missing = [c for c in ("phi", "Z", "Z_err") if c not in rows[0]]
+    if missing:
+        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)}")
+    out = {}
+    for key in rows[0]:
+        try:
+            out[key] = np.array([float(r[key]) for r in rows])
+        except (TypeError, ValueError):
+            continue
+    order = np.argsort(out["phi"], kind="stable")
+    return {k: v[order] for k, v in out.items()}
+
+
+def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
+    """Compressibility factor ``Z`` against Carnahan-Starling, from a CSV.
+
+    The CSV has the columns ``phi,Z,Z_err,Z_CS,rel_diff,gamma,gamma_from_Z,
+    gamma_rel_diff`` (as ``hardspheres validate --csv`` writes; only
+    ``phi,Z,Z_err`` are required).  Left: ``Z`` with error bars and the
+    curve ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.  Right: the
+    relative deviations ``Z / Z_CS - 1`` and, when present,
+    ``Gamma / Gamma(Z) - 1``, in percent.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    d = read_eos_csv(csv_path)
+    phi, z, z_err = d["phi"], d["Z"], d["Z_err"]
+    z_cs = carnahan_starling(phi)
+
+    fig = _figure(size, dpi)
+    ax, dx = fig.subplots(1, 2, width_ratios=[3, 2])
+    grid = np.linspace(0.0, min(0.6, max(float(phi.max()) * 1.08, 0.05)), 300)
+    ax.plot(grid, carnahan_starling(grid), color="C3", lw=1.5, label="Carnahan-Starling")
+    ax.errorbar(phi, z, yerr=z_err, fmt="o", color="C0", ms=5, capsize=3, label="simulation")
+    ax.set_xlabel("packing fraction phi")
+    ax.set_ylabel("Z = PV / (N kT)")
+    ax.set_xlim(0.0, grid[-1])
+    ax.set_ylim(bottom=0.9)
+    ax.legend(loc="upper left")
+    ax.set_title("Equation of state")
+    ax.grid(alpha=0.3)
+
+    dx.axhline(0.0, color="0.5", lw=0.8)
+    dx.errorbar(phi, 100.0 * (z / z_cs - 1.0), yerr=100.0 * z_err / z_cs, fmt="o", color="C0",
+                capsize=3, label="Z / Z_CS - 1")
+    if "gamma" in d and "gamma_from_Z" in d:
+        g, gz = d["gamma"], d["gamma_from_Z"]
+        gerr = 100.0 * d["gamma_err"] / gz if "gamma_err" in d else None
+        dx.errorbar(phi + 0.004, 100.0 * (g / gz - 1.0), yerr=gerr, fmt="s", color="C2", ms=4,
+                    capsize=3, label="Gamma / Gamma(Z) - 1")
+    dx.set_xlabel("packing fraction phi")
+    dx.set_ylabel("relative deviation [%]")
+    dx.legend(loc="best", fontsize="small")
+    dx.set_title("Deviations")
+    dx.grid(alpha=0.3)
+    return _save(fig, path, dpi)

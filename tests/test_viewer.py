@@ -1,0 +1,161 @@
+"""The HTML viewer in a real headless Chromium: it starts, draws, plays.
+
+Needs Debian's ``chromium`` (``/usr/bin/chromium``) and the Python
+``playwright`` package (its own browser downloads are not used); skipped with
+the reason when either is missing.  The screenshot is kept in
+``test-artifacts/viewer.png`` for a person to look at.
+"""
+
+import base64
+import json
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hardspheres.frames import Frames
+from hardspheres.viewer import frame_indices, write_viewer
+
+CHROMIUM = "/usr/bin/chromium"
+ARTIFACTS = Path(__file__).resolve().parent.parent / "test-artifacts"
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                 "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+
+
+def synthetic_frames(n=80, n_frames=40, container=10.0, box=None, seed=3):
+    """Spheres on straight lines inside a container (or box), with fake events."""
+    rng = np.random.default_rng(seed)
+    radii = rng.uniform(0.4, 1.0, n)
+    masses = rng.choice([1.0, 2.0, 4.0], n)
+    size = container if container else 0.5 * box
+    direction = rng.normal(size=(n, 3))
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    start = direction * (rng.uniform(0, 1, (n, 1)) ** (1 / 3) * 0.6 * size)
+    velocities = rng.normal(size=(n, 3)) / np.sqrt(masses)[:, None]
+    times = np.linspace(0.0, 2.0, n_frames)
+    positions = start[None] + times[:, None, None] * velocities[None]
+    vel = np.broadcast_to(velocities, (n_frames, n, 3)).copy()
+    e = 300
+    event_times = np.sort(rng.uniform(0.0, 2.0, e))
+    kinds = rng.integers(0, 2, e).astype(np.int8)
+    ei = rng.integers(0, n, e)
+    ej = np.where(kinds == 1, (ei + 1 + rng.integers(0, n - 1, e)) % n, -1)
+    return Frames(times=times, positions=positions, velocities=vel, radii=radii, masses=masses,
+                  names=[f"s{i}" for i in range(n)], container=container, box=box,
+                  event_times=event_times, event_kinds=kinds, event_i=ei, event_j=ej)
+
+
+def embedded_data(html):
+    m = re.search(r'<script id="hs-data" type="application/json">(.*?)</script>', html, re.S)
+    return json.loads(m.group(1))
+
+
+def test_frame_indices_subsample():
+    assert frame_indices(10, 5, max_frames=600).tolist() == list(range(10))
+    idx = frame_indices(5000, 5, max_frames=600)
+    assert len(idx) == 600 and idx[0] == 0 and idx[-1] == 4999 and np.all(np.diff(idx) > 0)
+    # Many spheres: the value budget keeps fewer frames, never fewer than two.
+    assert len(frame_indices(600, 1_000_000, max_frames=600, max_values=12_000_000)) == 3
+    assert len(frame_indices(600, 10**9)) == 2
+    assert frame_indices(1, 10**9).tolist() == [0]
+
+
+def test_html_is_self_contained(tmp_path):
+    frames = synthetic_frames(n=7, n_frames=1000, container=None, box=20.0)
+    path = write_viewer(frames, tmp_path / "v.html", title="a <b> & c", max_frames=50)
+    html = path.read_text(encoding="utf-8")
+    # Nothing fetched from anywhere: no http(s) URL in src/href, scripts inline.
+    assert not re.search(r'(src|href)\s*=\s*"(https?:)?//', html)
+    assert "a &lt;b&gt; &amp; c" in html
+    data = embedded_data(html)
+    assert data["nframes"] == 50 and data["nframes_total"] == 1000 and data["n"] == 7
+    pos = np.frombuffer(base64.b64decode(data["positions"]), "<f4").reshape(50, 7, 3)
+    keep = frame_indices(1000, 7, 50)
+    wrapped = frames.positions[keep] - 20.0 * np.floor(frames.positions[keep] / 20.0 + 0.5)
+    assert np.allclose(pos, wrapped, atol=1e-5)
+    assert np.all(np.abs(pos) <= 10.0 + 1e-5)
+    assert data["events"]["n"] == 300 and data["box"] == 20.0 and data["container"] is None
+
+
+def _launch():
+    if not os.path.exists(CHROMIUM):
+        pytest.skip(f"{CHROMIUM} is missing (apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Python playwright is missing (pip install playwright)")
+    return sync_api
+
+
+def test_viewer_in_chromium(tmp_path):
+    sync_api = _launch()
+    from PIL import Image
+
+    frames = synthetic_frames()
+    path = write_viewer(frames, tmp_path / "viewer.html", title="synthetic spheres")
+    errors = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(viewport={"width": 1000, "height": 700})
+            page.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
+            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
+            page.goto(path.as_uri())
+            page.wait_for_function("window.viewerReady === true", timeout=30_000)
+            page.wait_for_timeout(300)
+            assert page.locator("#view canvas").count() == 1
+            assert page.locator("#message").is_hidden()
+
+            shot = tmp_path / "shot.png"
+            page.screenshot(path=str(shot))
+            img = np.asarray(Image.open(shot).convert("RGB"))
+            assert img.shape == (700, 1000, 3)
+            canvas_box = page.locator("#view canvas").bounding_box()
+            x0, y0 = int(canvas_box["x"]), int(canvas_box["y"])
+            region = img[y0:y0 + int(canvas_box["height"]), x0:x0 + int(canvas_box["width"])]
+            colours = np.unique(region.reshape(-1, 3), axis=0)
+            assert len(colours) > 200, f"canvas looks blank: {len(colours)} colours"
+            assert region.std() > 5
+
+            state0 = page.evaluate("({...window.viewerState})")
+            time0 = page.locator("#time").inner_text()
+            assert state0["playing"] is False and state0["frame"] == 0
+            page.click("#play")
+            page.wait_for_function(f"document.getElementById('time').textContent !== {json.dumps(time0)}", timeout=10_000)
+            page.wait_for_timeout(700)
+            state1 = page.evaluate("({...window.viewerState})")
+            assert state1["playing"] is True and state1["time"] > state0["time"]
+            assert page.locator("#time").inner_text() != time0
+            page.click("#play")
+            assert page.evaluate("window.viewerState.playing") is False
+
+            # The slider moves time; the colour switch redraws the legend.
+            page.locator("#slider").fill("20")
+            page.wait_for_function("window.viewerState.frame === 20", timeout=5_000)
+            assert abs(page.evaluate("window.viewerState.time") - frames.times[20]) < 1e-9
+            page.select_option("#colorby", "mass")
+            assert "mass" in page.locator("#legend").inner_text()
+            page.select_option("#colorby", "speed")
+            page.wait_for_timeout(200)
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / "viewer.png"))
+
+            # A single frame of three equal spheres in a box, no events: still draws, play is inert.
+            one = synthetic_frames(n=3, n_frames=1, container=None, box=6.0)
+            one.masses = np.ones(3)
+            one.event_times, one.event_kinds = np.zeros(0), np.zeros(0, np.int8)
+            one.event_i, one.event_j = np.zeros(0, np.int64), np.zeros(0, np.int64)
+            page2 = browser.new_page(viewport={"width": 600, "height": 400})
+            page2.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
+            page2.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page2.goto(write_viewer(one, tmp_path / "one.html").as_uri())
+            page2.wait_for_function("window.viewerReady === true", timeout=30_000)
+            page2.click("#play")
+            page2.wait_for_timeout(200)
+            assert page2.evaluate("({...window.viewerState})") == {"frame": 0, "time": 0.0, "playing": False}
+            page2.select_option("#colorby", "mass")
+            assert "all equal" in page2.locator("#legend").inner_text()
+        finally:
+            browser.close()
+    assert not errors, errors
