@@ -17,7 +17,8 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 # (hardspheres.cli) starts without them
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "random_spheres": "builders", "Event": "simulation", "Observables": "simulation",
-         "Simulation": "simulation", "State": "state"}
+         "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
+         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
 
 
 def __getattr__(name):
@@ -26,7 +27,7 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BuildError", "Event", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
+__all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
            "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres"]
+           "random_spheres", "read_trajectory", "XYZWriter"]
 __version__ = "0.1.0"
