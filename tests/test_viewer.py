@@ -16,13 +16,10 @@ import numpy as np
 import pytest
 
 from hardspheres.frames import Frames
-from hardspheres.viewer import frame_indices, write_viewer
+from hardspheres.viewer import CHROMIUM_ARGS, frame_indices, write_viewer
 
 CHROMIUM = "/usr/bin/chromium"
 ARTIFACTS = Path(__file__).resolve().parent.parent / "test-artifacts"
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                 "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
 
 
 def synthetic_frames(n=80, n_frames=40, container=10.0, box=None, seed=3):

@@ -89,17 +89,31 @@ def _frames(args):
 
 
 def cmd_view(args):
-    from .viewer import write_viewer
+    from .viewer import screenshot, write_viewer
+    if args.screenshot and not args.screenshot.lower().endswith(".png"):
+        raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
+    if args.screenshot:
+        screenshot(args.output, args.screenshot)
+        print(f"wrote {args.screenshot}")
     return 0
 
 
 def cmd_render(args):
-    from .render import render_movie
+    from .render import render_movie, render_still
+    still = args.output.lower().endswith(".png")
+    if args.time is not None and not still:
+        raise ValueError("--time picks the frame of a still picture: use -o NAME.png")
     frames = _frames(args)
-    render_movie(frames, args.output, fps=args.fps)
+    if still:
+        render_still(frames, args.output, time=args.time)
+    else:
+        try:
+            render_movie(frames, args.output, fps=args.fps)
+        except RuntimeError as e:  # ffmpeg missing
+            raise ValueError(str(e)) from None
     print(f"wrote {args.output}")
     return 0
 
@@ -194,11 +208,16 @@ def build_parser():
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
     _picture_args(w, "viewer.html")
     w.add_argument("--title")
+    w.add_argument("--screenshot", metavar="PNG",
+                   help="also open the page in headless Chromium, play it 1 s, save a PNG")
     w.set_defaults(func=cmd_view)
 
-    m = sub.add_parser("render", help="render an animation (.mp4 or .gif), headless")
+    m = sub.add_parser("render", help="render an animation (.mp4 or .gif) or a still (.png), "
+                       "headless")
     _picture_args(m, "movie.gif")
     m.add_argument("--fps", type=int, default=20)
+    m.add_argument("--time", type=float,
+                   help="still (.png): draw the frame nearest this time (default: the last)")
     m.set_defaults(func=cmd_render)
 
     pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos")

@@ -103,6 +103,11 @@ def plot_conservation(frames, path, *, size=SIZE, dpi=100):
     ax.set_ylabel("kinetic energy E")
     ax.set_title("energy")
     ax.ticklabel_format(axis="y", useOffset=False)
+    # Conserved to rounding: show E on a scale of 1% of E0, not of its last digits.
+    e_lo, e_hi = float(np.min(energy)), float(np.max(energy))
+    pad = max(e_hi - e_lo, 0.01 * max(abs(e_lo), abs(e_hi)))
+    if np.isfinite(pad) and pad > 0:
+        ax.set_ylim(e_lo - pad, e_hi + pad)
     ax = axes[0, 1]
     ax.plot(times, rel_e, color="C3")
     ax.axhline(0.0, color="0.6", lw=0.8)

@@ -5,6 +5,7 @@
     from hardspheres.render import render_movie
     render_movie(frames, "run.gif", fps=20, size=(640, 480))
     render_movie(frames, "run.mp4")            # needs ffmpeg on PATH
+    render_still(frames, "last.png")           # one frame (the last, or time=T)
 
 Spheres are drawn as markers whose size follows their radii (orthographic
 projection, so the scale is the same everywhere), coloured by speed (or by
@@ -127,49 +128,16 @@ def _pixels_per_unit(fig, ax):
     return float(np.mean(np.linalg.svd(a, compute_uv=False)))
 
 
-def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_frames=None,
-                 color_by="speed", title=None, dpi=100):
-    """Render ``frames`` to a movie file and return ``path``.
-
-    Args:
-        frames: a :class:`hardspheres.frames.Frames`.
-        path: ``.gif`` (Pillow) or ``.mp4`` (ffmpeg; a :class:`RuntimeError`
-            says so when ffmpeg is missing; ``.mov``, ``.mkv``, ``.webm``
-            also go through ffmpeg).
-        fps: frames per second of the movie.
-        size: ``(width, height)`` in pixels (even numbers for mp4).
-        progress: show a progress bar on stderr when it is a terminal.
-        max_frames: render at most this many frames, evenly spaced (default:
-            all).
-        color_by: ``"speed"`` or ``"mass"``.
-        title: text above the time label.
-        dpi: resolution used to lay out the figure (the pixel size is
-            ``size`` whatever it is).
-
-    Returns:
-        ``path`` as a :class:`pathlib.Path`.
-    """
+def _scene(frames, size, keep, color_by, title, dpi):
+    """The figure a movie or a still draws, and ``show(f)`` that puts frame ``keep[f]`` on it."""
     from matplotlib import colors
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    path = Path(path)
     width, height = (int(s) for s in size)
-    if width <= 0 or height <= 0:
-        raise ValueError(f"render_movie: bad size {size}")
-    if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
-        raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
-    if color_by not in ("speed", "mass"):
-        raise ValueError("render_movie: color_by must be 'speed' or 'mass'")
-    writer = _writer(path, fps, dpi)
-
-    times = np.asarray(frames.times, float)
-    if len(times) == 0:
-        raise ValueError("render_movie: no frames")
-    keep = frame_indices(len(times), 0, max_frames or len(times))
     pos = np.asarray(frames.positions, float)[keep]
     vel = np.asarray(frames.velocities, float)[keep]
-    times = times[keep]
+    times = np.asarray(frames.times, float)[keep]
     radii = np.asarray(frames.radii, float)
     masses = np.asarray(frames.masses, float)
     if frames.box is not None:
@@ -213,15 +181,99 @@ def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_fr
     header = f"{title}\n" if title else ""
     label_t = fig.text(0.02, 0.97, "", va="top", ha="left", family="monospace", fontsize=10)
 
-    bar = _Progress(len(times), progress)
+    def show(f):
+        sc._offsets3d = (pos[f, :, 0], pos[f, :, 1], pos[f, :, 2])
+        sc.set_array(values[f])
+        label_t.set_text(f"{header}t = {times[f]:.6g}")
+
+    return fig, show
+
+
+def _check(size, color_by, what):
+    width, height = (int(s) for s in size)
+    if width <= 0 or height <= 0:
+        raise ValueError(f"{what}: bad size {size}")
+    if color_by not in ("speed", "mass"):
+        raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
+
+
+def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_frames=None,
+                 color_by="speed", title=None, dpi=100):
+    """Render ``frames`` to a movie file and return ``path``.
+
+    Args:
+        frames: a :class:`hardspheres.frames.Frames`.
+        path: ``.gif`` (Pillow) or ``.mp4`` (ffmpeg; a :class:`RuntimeError`
+            says so when ffmpeg is missing; ``.mov``, ``.mkv``, ``.webm``
+            also go through ffmpeg).
+        fps: frames per second of the movie.
+        size: ``(width, height)`` in pixels (even numbers for mp4).
+        progress: show a progress bar on stderr when it is a terminal.
+        max_frames: render at most this many frames, evenly spaced (default:
+            all).
+        color_by: ``"speed"`` or ``"mass"``.
+        title: text above the time label.
+        dpi: resolution used to lay out the figure (the pixel size is
+            ``size`` whatever it is).
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    path = Path(path)
+    _check(size, color_by, "render_movie")
+    width, height = (int(s) for s in size)
+    if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
+        raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
+    writer = _writer(path, fps, dpi)
+
+    n_frames = len(frames.times)
+    if n_frames == 0:
+        raise ValueError("render_movie: no frames")
+    keep = frame_indices(n_frames, 0, max_frames or n_frames)
+    fig, show = _scene(frames, size, keep, color_by, title, dpi)
+
+    bar = _Progress(len(keep), progress)
     try:
         with writer.saving(fig, str(path), dpi):
-            for f in range(len(times)):
-                sc._offsets3d = (pos[f, :, 0], pos[f, :, 1], pos[f, :, 2])
-                sc.set_array(values[f])
-                label_t.set_text(f"{header}t = {times[f]:.6g}")
+            for f in range(len(keep)):
+                show(f)
                 writer.grab_frame()
                 bar.update()
     finally:
         bar.close()
+    return path
+
+
+def render_still(frames, path, time=None, size=(640, 480), *, color_by="speed", title=None,
+                 dpi=100):
+    """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a PNG.
+
+    Args:
+        frames: a :class:`hardspheres.frames.Frames`.
+        path: the ``.png`` to write.
+        time: draw the frame nearest this time [time] (default: the last).
+        size: ``(width, height)`` in pixels.
+        color_by: ``"speed"`` or ``"mass"``.
+        title: text above the time label.
+        dpi: resolution used to lay out the figure.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    path = Path(path)
+    _check(size, color_by, "render_still")
+    if path.suffix.lower() != ".png":
+        raise ValueError(f"render_still: writes a .png, not {path.suffix or path.name!r}")
+    times = np.asarray(frames.times, float)
+    if len(times) == 0:
+        raise ValueError("render_still: no frames")
+    if time is None:
+        k = len(times) - 1
+    elif not np.isfinite(time):
+        raise ValueError(f"render_still: time must be a finite number, got {time!r}")
+    else:
+        k = int(np.argmin(np.abs(times - float(time))))
+    fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi)
+    show(0)
+    fig.savefig(path, dpi=dpi, format="png")
     return path
