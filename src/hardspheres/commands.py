@@ -80,11 +80,16 @@ def _frames(args):
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
     if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{path!r} is a scenario: give --container R (or --box L) "
-                         "and --until T")
+        raise ValueError(f"{path!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+                         "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
-    sim = Simulation.from_scenario(path, container)
+    try:
+        sim = Simulation.from_scenario(path, container)
+    except OSError:
+        raise
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
     return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
 
 

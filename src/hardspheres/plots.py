@@ -201,8 +201,11 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
 
 def read_eos_csv(csv_path):
     """Columns of an equation-of-state CSV as float arrays, keyed by header."""
-    with open(csv_path, newline="", encoding="utf-8") as fh:
-        rows = list(csv.DictReader(fh))
+    try:
+        with open(csv_path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    except UnicodeDecodeError:
+        raise ValueError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
     if not rows:
         raise ValueError(f"{csv_path}: no rows")
     missing = [c for c in ("phi", "Z", "Z_err") if c not in rows[0]]
