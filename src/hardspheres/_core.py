@@ -45,7 +45,11 @@ from . import physics
 # error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 
-# the kernels are inlined into the loops that call them (numba IR inlining)
+# the kernels are inlined into the loops that call them (numba IR inlining).
+# numba's on-disk cache checks only this file's timestamp, not physics.py's:
+# a change to physics.py must come with a change here (or a cleared
+# __pycache__), else the compiled loops keep the old kernels.
+# physics.py last changed: tiny speeds rescaled (TINY_V2).
 _kernel = njit(cache=True, nogil=True, error_model="numpy", inline="always")
 pair_time = _kernel(physics.pair_time)
 pair_time_within = _kernel(physics.pair_time_within)

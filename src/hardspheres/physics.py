@@ -19,6 +19,13 @@ import math
 
 INF = math.inf
 
+#: Below this squared speed [length^2/time^2] the quadratics' coefficients
+#: (|v|^2, p.v and their squares) underflow: the velocity is scaled up by
+#: :data:`TINY_SCALE` (a power of two, so exactly) and the time scaled back.
+#: Above it nothing changes (the results are bit for bit those without it).
+TINY_V2 = 1e-200
+TINY_SCALE = 2.0 ** 600
+
 
 def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
     """Time until two spheres reach contact distance ``sigma``.
@@ -44,11 +51,17 @@ def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
     if c <= 0.0:
         return 0.0
     a = dvx * dvx + dvy * dvy + dvz * dvz
+    scale = 1.0
+    if a < TINY_V2:  # |dv|^2 and b^2 would underflow: solve for dv * 2^600
+        scale = TINY_SCALE
+        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        b = dx * dvx + dy * dvy + dz * dvz
     disc = b * b - a * c
     if disc <= 0.0:
         return INF
     # smaller root of a t^2 + 2 b t + c = 0 with b < 0, without cancellation
-    return c / (math.sqrt(disc) - b)
+    return c / (math.sqrt(disc) - b) * scale
 
 
 def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
@@ -74,10 +87,16 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     if c > -2.0 * b * horizon * (1.0 + 1e-12):
         return INF
     a = dvx * dvx + dvy * dvy + dvz * dvz
+    scale = 1.0
+    if a < TINY_V2:  # as in pair_time
+        scale = TINY_SCALE
+        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        b = dx * dvx + dy * dvy + dz * dvz
     disc = b * b - a * c
     if disc <= 0.0:
         return INF
-    return c / (math.sqrt(disc) - b)
+    return c / (math.sqrt(disc) - b) * scale
 
 
 def wall_time(px, py, pz, vx, vy, vz, reach):
@@ -98,8 +117,13 @@ def wall_time(px, py, pz, vx, vy, vz, reach):
         5.0
     """
     a = vx * vx + vy * vy + vz * vz
-    if a == 0.0:
-        return INF
+    scale = 1.0
+    if a < TINY_V2:  # |v|^2 and b^2 would underflow: solve for v * 2^600
+        if vx == 0.0 and vy == 0.0 and vz == 0.0:
+            return INF
+        scale = TINY_SCALE
+        vx, vy, vz = vx * scale, vy * scale, vz * scale
+        a = vx * vx + vy * vy + vz * vz
     b = px * vx + py * vy + pz * vz
     c = (px * px + py * py + pz * pz) - reach * reach
     if c >= 0.0 and b > 0.0:
@@ -108,9 +132,9 @@ def wall_time(px, py, pz, vx, vy, vz, reach):
     if disc < 0.0:
         disc = 0.0
     if b <= 0.0:
-        return (math.sqrt(disc) - b) / a
+        return (math.sqrt(disc) - b) / a * scale
     # b > 0 and c < 0: larger root = c / (smaller root's numerator)
-    return -c / (math.sqrt(disc) + b)
+    return -c / (math.sqrt(disc) + b) * scale
 
 
 def collide(m1, m2, dx, dy, dz, dvx, dvy, dvz):
