@@ -303,8 +303,11 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         # index minus the higher gives: the same result
                         # whichever sphere predicts the pair.
                         # pairs that surely meet after the best event so far
-                        # are not solved (the window's "now" is never later)
-                        horizon = best_t - t0 if best_t >= soon else np.inf
+                        # are not solved (the window's "now" is never later);
+                        # two ulps of best_t more, as a root that rounds to
+                        # best_t ties with it and the tie order decides
+                        horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
+                                   if best_t >= soon else np.inf)
                         dt = pair_time_within(
                             (S[i, X] + S[i, VX] * di) - (S[j, X] + S[j, VX] * dj + sx),
                             (S[i, Y] + S[i, VY] * di) - (S[j, Y] + S[j, VY] * dj + sy),
