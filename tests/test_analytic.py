@@ -351,7 +351,9 @@ PAIR_CASES = {
 }
 
 SCALES = [(1.0, 1.0), (2.0 ** 60, 1.0), (2.0 ** -60, 1.0), (2.0 ** 150, 2.0 ** 140),
-          (2.0 ** -150, 2.0 ** -160), (2.0 ** 23, 2.0 ** -10), (2.0 ** -33, 2.0 ** 10)]
+          (2.0 ** -150, 2.0 ** -160), (2.0 ** 23, 2.0 ** -10), (2.0 ** -33, 2.0 ** 10),
+          # speeds whose squares underflow (|v|^2 < 1e-200 is solved rescaled)
+          (1.0, 2.0 ** -400), (2.0 ** -10, 2.0 ** -600), (2.0 ** 20, 2.0 ** -900)]
 
 
 @pytest.mark.parametrize("scale", SCALES, ids=lambda s: f"{s[0]:.0e}/{s[1]:.0e}")
@@ -402,12 +404,14 @@ def test_wall_time_cases_are_nasty_for_the_textbook_formula():
 
 small = st.integers(-2047, 2047)
 power = st.integers(-120, 120)
+speed_power = st.integers(-1000, 120)  # down to speeds whose squares underflow
 
 
 @settings(max_examples=300, deadline=None)
 @given(d=st.tuples(small, small, small), w=st.tuples(small, small, small),
-       sigma=st.integers(0, 2047), k=power, m=power)
+       sigma=st.integers(0, 2047), k=power, m=speed_power)
 def test_pair_time_exact_for_any_exact_coefficients(d, w, sigma, k, m):
+    k = min(k, m + 900)  # times stay below the largest double
     args = scaled((*map(float, d), *map(float, w), float(sigma)), 2.0 ** k, 2.0 ** m)
     exact = exact_pair_time(*args)
     got = pair_time(*args)
@@ -416,8 +420,9 @@ def test_pair_time_exact_for_any_exact_coefficients(d, w, sigma, k, m):
 
 @settings(max_examples=300, deadline=None)
 @given(p=st.tuples(small, small, small), w=st.tuples(small, small, small),
-       extra=st.integers(0, 2047), k=power, m=power)
+       extra=st.integers(0, 2047), k=power, m=speed_power)
 def test_wall_time_exact_for_any_exact_coefficients(p, w, extra, k, m):
+    k = min(k, m + 900)
     if w == (0, 0, 0):
         assert wall_time(*map(float, p), 0.0, 0.0, 0.0, 1.0) == math.inf
         return
@@ -429,3 +434,60 @@ def test_wall_time_exact_for_any_exact_coefficients(p, w, extra, k, m):
     exact = exact_wall_time(*args)
     got = wall_time(*args)
     assert ulps(got, exact) <= 2.0, (args, got, float(exact))
+
+
+# ---- regressions ------------------------------------------------------------------------
+
+@ENGINES
+@pytest.mark.parametrize("speed", ["1e-100", "1e-170", "1e-300"])
+def test_tiny_outward_speed_at_the_wall_reflects_now(engine, speed, monkeypatch):
+    """Touching the wall and moving out: a reflection at t = 0, however slow.
+
+    (|v|^2 underflowed to 0 below ~1e-162 m/s and wall_time said "never".)
+    """
+    out = report([10, 1], f"1 1 9 0 0 {speed} 0 0 a\n", monkeypatch, engine)
+    assert blocks(out) == [("0", ["reflecting a", f"a m=1 R=1 p=(9,0,0) v=(-{speed},0,0)",
+                                  blocks(out)[0][1][2], f"momentum: (-{speed},0,0)"])]
+
+
+def test_tiny_speeds_keep_spheres_in_and_apart():
+    """At 1e-215 m/s events are ~1e215 s apart, but they still happen."""
+    v = 1.2558692501600596e-215
+    assert wall_time(0.0, -0.377, -0.377, v, v, 0.0, 0.8) == pytest.approx(
+        float(exact_wall_time(0.0, -0.377, -0.377, v, v, 0.0, 0.8)), rel=1e-15)
+    assert pair_time(-3.0, 0.0, 0.0, 1e-250, 0.0, 0.0, 2.0) == pytest.approx(1e250, rel=1e-15)
+    s = sim([1.0, 1.0], [0.2, 0.2], [[0.0, -0.4, -0.4], [0.5, 0.1, -0.4]],
+            [[v, v, 0.0], [0.0, 0.0, 0.0]], 1.0)
+    evs = list(s.iter_events(events=6))
+    assert len(evs) == 6 and evs[0].kind == "collision"
+    eng = s._engine
+    assert eng.outside() == 0 and eng.max_overlap() <= 1e-9
+
+
+def test_engine_breaks_exact_ties_in_tie_order():
+    """Sphere 0 is hit from the side and meets two touching neighbours at once.
+
+    Its root with sphere 2 (gap 2e-15) is positive but rounds to the same
+    time as its root with sphere 3 (gap 0): a tie, so (0, 2) goes first, as
+    in the reference.  The engine used to prune (0, 2) as "surely later".
+    """
+    from hardspheres import reference
+    from hardspheres.engine import Engine
+
+    r = 5.902408432445262
+    a, b = 11.804816864890526, 11.804816864890523
+    pos = [[0.0, a, 0.0], [0.0, -b, -b], [0.0, a, a], [0.0, 0.0, 0.0], [0.0, 0.0, -b],
+           [a, -b, -b]]
+    vel = [[0.0, 0.0, 0.0]] * 5 + [[0.0, 31.295728444953568, 0.0]]
+    R = 31.295728444953568
+    for window in (0.0, SIMULTANEOUS):
+        eng = Engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window, rebase=False)
+        ev = eng.advance(events=8)
+        got = list(zip(ev["t"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
+                       ev["j"].tolist()))
+        want = [e[:4] for e, _ in zip(reference.events(
+            [1.0] * 6, [r] * 6, [list(x) for x in pos], [list(x) for x in vel], R,
+            math.inf, window), range(8))]
+        assert got == want
+        assert [e[2:] for e in got[1:4]] == [(0, 5), (0, 2), (0, 3)]
+        assert got[1][0] == got[2][0] == got[3][0]
