@@ -37,20 +37,54 @@ Lubachevsky, as in the fastest public codes):
   long runs keep the precision of short ones.
 """
 
+import hashlib
+import os
+
+import numba
 import numpy as np
-from numba import njit
 
 from . import physics
 
-# error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
-_jit = njit(cache=True, nogil=True, error_model="numpy")
 
-# the kernels are inlined into the loops that call them (numba IR inlining).
-# numba's on-disk cache checks only this file's timestamp, not physics.py's:
-# a change to physics.py must come with a change here (or a cleared
-# __pycache__), else the compiled loops keep the old kernels.
-# physics.py last changed: tiny speeds rescaled (TINY_V2).
-_kernel = njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _cache_dir():
+    """Where numba caches this module's machine code, keyed to the kernels' source.
+
+    numba's on-disk cache checks only the stamp of the file that defines a
+    function, so loops compiled with an older ``physics.py`` inlined would
+    be reused after it changed.  A directory named after a hash of both
+    files keeps them apart.  ``NUMBA_CACHE_DIR``, if set, is the user's
+    choice and is left alone.
+    """
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return numba.config.CACHE_DIR
+    digest = hashlib.sha256()
+    for path in (__file__, physics.__file__):
+        with open(path, "rb") as fh:
+            digest.update(fh.read())
+    return os.path.join(os.path.dirname(__file__), "__pycache__",
+                        f"numba-{digest.hexdigest()[:16]}")
+
+
+_CACHE_DIR = _cache_dir()
+
+
+def _compiler(**options):
+    """``njit(cache=True, **options)`` caching in :data:`_CACHE_DIR`."""
+    def decorate(fn):
+        saved = numba.config.CACHE_DIR
+        numba.config.CACHE_DIR = _CACHE_DIR  # read when the cache is set up
+        try:
+            return numba.njit(cache=True, nogil=True, error_model="numpy", **options)(fn)
+        finally:
+            numba.config.CACHE_DIR = saved
+    return decorate
+
+
+# error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
+_jit = _compiler()
+
+# the kernels are inlined into the loops that call them (numba IR inlining)
+_kernel = _compiler(inline="always")
 pair_time = _kernel(physics.pair_time)
 pair_time_within = _kernel(physics.pair_time_within)
 wall_time = _kernel(physics.wall_time)

@@ -45,18 +45,20 @@ def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
         4.0
     """
     b = dx * dvx + dy * dvy + dz * dvz
+    if b > 0.0:
+        return INF
+    a = dvx * dvx + dvy * dvy + dvz * dvz
+    scale = 1.0
+    if a < TINY_V2:  # |dv|^2, b and b^2 may underflow: solve for dv * 2^600
+        scale = TINY_SCALE
+        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        b = dx * dvx + dy * dvy + dz * dvz
     if b >= 0.0:
         return INF
     c = (dx * dx + dy * dy + dz * dz) - sigma * sigma
     if c <= 0.0:
         return 0.0
-    a = dvx * dvx + dvy * dvy + dvz * dvz
-    scale = 1.0
-    if a < TINY_V2:  # |dv|^2 and b^2 would underflow: solve for dv * 2^600
-        scale = TINY_SCALE
-        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
-        a = dvx * dvx + dvy * dvy + dvz * dvz
-        b = dx * dvx + dy * dvy + dz * dvz
     disc = b * b - a * c
     if disc <= 0.0:
         return INF
@@ -79,12 +81,7 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
         4.0
     """
     b = dx * dvx + dy * dvy + dz * dvz
-    if b >= 0.0:
-        return INF
-    c = (dx * dx + dy * dy + dz * dz) - sigma * sigma
-    if c <= 0.0:
-        return 0.0
-    if c > -2.0 * b * horizon * (1.0 + 1e-12):
+    if b > 0.0:
         return INF
     a = dvx * dvx + dvy * dvy + dvz * dvz
     scale = 1.0
@@ -93,6 +90,13 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
         dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
         a = dvx * dvx + dvy * dvy + dvz * dvz
         b = dx * dvx + dy * dvy + dz * dvz
+    if b >= 0.0:
+        return INF
+    c = (dx * dx + dy * dy + dz * dz) - sigma * sigma
+    if c <= 0.0:
+        return 0.0
+    if c > -2.0 * b * (horizon / scale) * (1.0 + 1e-12):
+        return INF
     disc = b * b - a * c
     if disc <= 0.0:
         return INF
