@@ -90,6 +90,15 @@ BAD_LINES = [
                  id="same-name"),
     pytest.param(b"\xff\xfe1 1 0 0 0 0 0 0 a\n", ["line 1", "not UTF-8"], id="utf16-bom"),
     pytest.param(OK + b"\n1 1 0 0 5 0 0 0 b\xe9\n", ["line 3", "not UTF-8"], id="latin1"),
+    # float() would take these
+    pytest.param(OK + b"1_5 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "not a number", "1_5"],
+                 id="underscore"),
+    pytest.param(OK + "1 1 0 0 \u0665 0 0 0 b\n".encode(), ["line 2", "z", "not a number"],
+                 id="arabic-indic-digit"),
+    # squares and energies would overflow
+    pytest.param(OK + b"1 1 0 0 5 1e101 0 0 b\n", ["line 2", "vx", "too large", "1e+100"],
+                 id="huge-speed"),
+    pytest.param(b"1e120 1 0 0 0 0 0 0 a\n", ["line 1", "mass", "too large"], id="huge-mass"),
 ]
 
 
@@ -146,7 +155,15 @@ BAD_ARGS = [
     pytest.param([10, -1], ["argument 2", "END_TIME", ">= 0", "'-1'"], id="end-negative"),
     pytest.param([10, "nan"], ["argument 2", "END_TIME", "finite", "'nan'"], id="end-nan"),
     pytest.param([10, "inf"], ["argument 2", "END_TIME", "finite", "'inf'"], id="end-inf"),
+    pytest.param(["1_0", 5], ["argument 1", "RADIUS", "'1_0'"], id="radius-underscore"),
+    pytest.param(["1e101", 5], ["argument 1", "RADIUS", "at most 1e+100"], id="radius-huge"),
 ]
+
+
+def test_utf8_bom_is_ignored(capsys):
+    status, out, err = run([10, 5], b"\xef\xbb\xbf" + OK, capsys)
+    assert status == 0 and err == ""
+    assert "a m=1 R=1 p=(0,0,0) v=(1,0,0)" in out
 
 
 @pytest.mark.parametrize("argv,words", BAD_ARGS)

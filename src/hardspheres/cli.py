@@ -10,7 +10,7 @@ import os
 import sys
 
 from .report import PROMPT, TextReport
-from .scenario import ScenarioError, check_scenario, parse_scenario
+from .scenario import MAX_MAGNITUDE, ScenarioError, check_scenario, parse_scenario
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 FORMATS = ("text", "jsonl")
@@ -20,14 +20,18 @@ class UsageError(ValueError):
     """Bad command-line arguments."""
 
 
-def _positive_number(token, what, allow_zero):
+def _positive_number(token, what, allow_zero, limit=math.inf):
     try:
         x = float(token)
     except ValueError:
         x = math.nan
+    if "_" in token or not token.isascii():  # float() takes 1_0 and non-ASCII digits
+        x = math.nan
     if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
         raise UsageError(f"{what} must be a finite number {bound}, got {token!r}")
+    if x > limit:
+        raise UsageError(f"{what} must be at most {limit:g}, got {token!r}")
     return x
 
 
@@ -55,7 +59,7 @@ def parse_spheres_args(argv):
             break
     if len(argv) != 2:
         raise UsageError(f"expected 2 arguments (RADIUS END_TIME), got {len(argv)}")
-    return (_positive_number(argv[0], "argument 1 (RADIUS)", False),
+    return (_positive_number(argv[0], "argument 1 (RADIUS)", False, MAX_MAGNITUDE),
             _positive_number(argv[1], "argument 2 (END_TIME)", True), fmt)
 
 

@@ -21,6 +21,10 @@ from dataclasses import dataclass, field
 #: times the container radius.
 TOUCH_TOL = 1e-9
 
+#: Largest magnitude of an input number: squares (|v|^2, |p|^2) and energies
+#: (m |v|^2) of numbers up to this stay finite doubles.
+MAX_MAGNITUDE = 1e100
+
 FIELDS = ("mass", "radius", "x", "y", "z", "vx", "vy", "vz", "name")
 
 
@@ -64,17 +68,24 @@ def _number(token, what, lineno):
     try:
         x = float(token)
     except ValueError:
-        raise ScenarioError(f"{what} is not a number: {token!r}", lineno) from None
+        x = None
+    # float() also takes digit-group underscores and non-ASCII digits
+    if x is None or "_" in token or not token.isascii():
+        raise ScenarioError(f"{what} is not a number: {token!r}", lineno)
     if not math.isfinite(x):
         raise ScenarioError(f"{what} is not a finite number: {token!r}", lineno)
+    if abs(x) > MAX_MAGNITUDE:
+        raise ScenarioError(f"{what} is too large: {token} (at most {MAX_MAGNITUDE:g} "
+                            "in magnitude, so that squares and energies stay finite)",
+                            lineno)
     return x
 
 
 def _decode(data):
     if isinstance(data, str):
-        return data
+        return data.removeprefix("\ufeff")
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8").removeprefix("\ufeff")  # a BOM from Windows editors
     except UnicodeDecodeError as e:
         lineno = data.count(b"\n", 0, e.start) + 1
         raise ScenarioError(
@@ -87,7 +98,8 @@ def parse_scenario(data):
 
     Raises:
         ScenarioError: a line without exactly nine fields, a field that is
-            not a finite number, mass <= 0, radius < 0, a repeated name, or
+            not a finite decimal number of magnitude at most
+            :data:`MAX_MAGNITUDE`, mass <= 0, radius < 0, a repeated name, or
             bytes that are not UTF-8.
 
     Example:
