@@ -144,3 +144,8 @@ def test_run_command_writes_a_trajectory(tmp_path):
     frames = read_trajectory(str(out))
     assert frames.times.tolist() == [0.0, 0.5, 1.0, 1.5, 2.0]
     assert frames.container == 5.0 and frames.n == 40
+
+
+def test_public_names():
+    assert hs.GSDWriter is GSDWriter and hs.XYZWriter is XYZWriter
+    assert hs.read_trajectory is read_trajectory
