@@ -86,8 +86,6 @@ def _frames(args):
                  else PeriodicBox(args.box))
     try:
         sim = Simulation.from_scenario(path, container)
-    except OSError:
-        raise
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
