@@ -74,13 +74,17 @@ def _compiler(**options):
         saved = numba.config.CACHE_DIR
         numba.config.CACHE_DIR = _CACHE_DIR  # read when the cache is set up
         try:
-            return numba.njit(cache=True, nogil=True, error_model="numpy", **options)(fn)
+            return numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False,
+                              **options)(fn)
         finally:
             numba.config.CACHE_DIR = saved
     return decorate
 
 
-# error_model="numpy": IEEE division (x/0 = inf) without a zero check per division
+# error_model="numpy": IEEE division (x/0 = inf) without a zero check per division.
+# _nrt=False: nothing here allocates, and without numba's runtime no array
+# argument is reference-counted (an atomic increment and decrement per array
+# per call: 18% of the run time at N = 1e4 before; +9..19% collisions/s).
 _jit = _compiler()
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
