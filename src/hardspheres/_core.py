@@ -289,6 +289,10 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
     best_p = -1
     ti = S[i, TL]
     cx0, cy0, cz0 = K[i, CX], K[i, CY], K[i, CZ]
+    # exactly 1.0, but not to the compiler: it would otherwise see that the
+    # kernel's own first test (receding: inf) decides both branches below
+    # and test it first again, on its own
+    one = 1.0 if nc > 0 else 2.0
     for oz in range(zlo, zhi + 1):
         nz = cz0 + oz
         sz = 0.0
@@ -346,12 +350,30 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         # best_t ties with it and the tie order decides
                         horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
                                    if best_t >= soon else np.inf)
-                        dt = pair_time_within(
-                            (S[i, X] + S[i, VX] * di) - (S[j, X] + S[j, VX] * dj + sx),
-                            (S[i, Y] + S[i, VY] * di) - (S[j, Y] + S[j, VY] * dj + sy),
-                            (S[i, Z] + S[i, VZ] * di) - (S[j, Z] + S[j, VZ] * dj + sz),
-                            S[i, VX] - S[j, VX], S[i, VY] - S[j, VY], S[i, VZ] - S[j, VZ],
-                            S[i, RAD] + S[j, RAD], horizon)
+                        dx = (S[i, X] + S[i, VX] * di) - (S[j, X] + S[j, VX] * dj + sx)
+                        dy = (S[i, Y] + S[i, VY] * di) - (S[j, Y] + S[j, VY] * dj + sy)
+                        dz = (S[i, Z] + S[i, VZ] * di) - (S[j, Z] + S[j, VZ] * dj + sz)
+                        dvx = S[i, VX] - S[j, VX]
+                        dvy = S[i, VY] - S[j, VY]
+                        dvz = S[i, VZ] - S[j, VZ]
+                        sigma = S[i, RAD] + S[j, RAD]
+                        # pair_time_within's own tests up to the horizon,
+                        # the same expressions, combined without branches (half
+                        # the pairs recede, at random, and a branch on that
+                        # mispredicts half the time): a pair they reject is
+                        # inf for it too.  The rest, NaNs and tiny speeds
+                        # (which it rescales) go through it.
+                        b = dx * dvx + dy * dvy + dz * dvz
+                        a = dvx * dvx + dvy * dvy + dvz * dvz
+                        cc = (dx * dx + dy * dy + dz * dz) - sigma * sigma
+                        recede = b >= 0.0
+                        beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
+                        touch = cc <= 0.0
+                        if (a < physics.TINY_V2) | ((recede ^ True) & (touch | (beyond ^ True))):
+                            dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
+                                                  sigma, horizon)
+                        else:
+                            dt = np.inf
                         if dt < np.inf:
                             te = t0 + dt
                             if te < soon:
