@@ -86,6 +86,11 @@ def _compiler(**options):
 # argument is reference-counted (an atomic increment and decrement per array
 # per call: 18% of the run time at N = 1e4 before; +9..19% collisions/s).
 _jit = _compiler()
+# The event loop's helpers are inlined into it (numba IR inlining): a call
+# passes every array as a struct of 7-9 words on the stack, 50-60 words for
+# a scan, which cost more than the few pairs a scan meets at low density
+# (+13..14% collisions/s at N = 1e4; the first compilation takes 13 s, not 5).
+_inline = _compiler(inline="always")
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
 _kernel = _compiler(inline="always")
@@ -136,7 +141,7 @@ C_NC_ = 6
 # The heap keeps each entry's time and tie key beside the sphere's index
 # (arrays HT, HKEY, heap by heap position), so sifting reads contiguous memory.
 
-@_jit
+@_inline
 def _sift_up(heap, HT, HKEY, K, k):
     i, t, key = heap[k], HT[k], HKEY[k]
     while k > 0:
@@ -153,7 +158,7 @@ def _sift_up(heap, HT, HKEY, K, k):
     K[i, HPOS] = k
 
 
-@_jit
+@_inline
 def _sift_down(heap, HT, HKEY, K, k, n):
     i, t, key = heap[k], HT[k], HKEY[k]
     while True:
@@ -177,7 +182,7 @@ def _sift_down(heap, HT, HKEY, K, k, n):
     K[i, HPOS] = k
 
 
-@_jit
+@_inline
 def _schedule(heap, HT, HKEY, T, K, i):
     """Sphere ``i``'s heap entry becomes the earlier of its event and its crossing."""
     n = heap.shape[0]
@@ -195,7 +200,7 @@ def _schedule(heap, HT, HKEY, T, K, i):
         _sift_down(heap, HT, HKEY, K, k, n)
 
 
-@_jit
+@_inline
 def _key(kind, a, b, n):
     # tie order at equal times: kind, then first sphere, then second
     return (kind * (n + 1) + a) * (n + 1) + (b + 1)
@@ -203,7 +208,7 @@ def _key(kind, a, b, n):
 
 # ---- cells ---------------------------------------------------------------------
 
-@_jit
+@_inline
 def cell_of(x, lo, w, nc):
     """Cell coordinate of ``x`` along one axis, clamped to the grid."""
     k = int(np.floor((x - lo) / w))
@@ -214,7 +219,7 @@ def cell_of(x, lo, w, nc):
     return k
 
 
-@_jit
+@_inline
 def _cell_insert(head, nxt, prv, K, i, c):
     K[i, CELL] = c
     h = head[c]
@@ -225,7 +230,7 @@ def _cell_insert(head, nxt, prv, K, i, c):
     head[c] = i
 
 
-@_jit
+@_inline
 def _cell_remove(head, nxt, prv, K, i):
     c = K[i, CELL]
     a, b = prv[i], nxt[i]
@@ -239,7 +244,7 @@ def _cell_remove(head, nxt, prv, K, i):
 
 # ---- predictions ---------------------------------------------------------------
 
-@_jit
+@_inline
 def _crossing(S, K, T, f, nc, i, t):
     """Store the time sphere ``i`` leaves its cell, from time ``t``."""
     lo, w, box = f[F_LO], f[F_W], f[F_BOX]
@@ -271,7 +276,7 @@ def _crossing(S, K, T, f, nc, i, t):
     K[i, CR_CODE] = code
 
 
-@_jit
+@_inline
 def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
@@ -393,7 +398,7 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
         K[i, EV_PCOUNT] = K[best_p, COUNT]
 
 
-@_jit
+@_inline
 def predict(S, K, T, head, nxt, f, c, i, t):
     """Find sphere ``i``'s earliest collision or reflection and its next crossing.
 
@@ -423,7 +428,7 @@ def predict(S, K, T, head, nxt, f, c, i, t):
     _crossing(S, K, T, f, c[C_NC], i, t)
 
 
-@_jit
+@_inline
 def _advance(S, i, t):
     dt = t - S[i, TL]
     S[i, X] += S[i, VX] * dt
@@ -564,14 +569,18 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             _schedule(heap, HT, HKEY, T, K, i)
             continue
         kind = K[i, EV_KIND]
+        # the spheres to predict afresh after the event (one place for all
+        # kinds: the prediction is compiled into this loop only once)
+        p0, p1, tp = i, -1, te
+        stale = False
         if kind == COLLISION:
             j = K[i, EV_PARTNER]
             if K[j, COUNT] != K[i, EV_PCOUNT]:
                 # stale: the partner has changed course since
                 c[C_STALE] += 1
-                predict(S, K, T, head, nxt, f, c, i, f[F_CLOCK])
-                _schedule(heap, HT, HKEY, T, K, i)
-                continue
+                stale = True
+                tp = f[F_CLOCK]
+        if kind == COLLISION and not stale:
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
             _advance(S, i, te)
@@ -601,10 +610,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             c[C_SERIAL] += 1
             K[a, FRESH] = c[C_SERIAL]
             K[b, FRESH] = c[C_SERIAL]
-            predict(S, K, T, head, nxt, f, c, a, te)
-            _schedule(heap, HT, HKEY, T, K, a)
-            predict(S, K, T, head, nxt, f, c, b, te)
-            _schedule(heap, HT, HKEY, T, K, b)
+            p0, p1 = a, b
             rec_t[done] = te
             rec_kind[done] = COLLISION
             rec_i[done] = a
@@ -626,16 +632,20 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             c[C_WALL] += 1
             c[C_SERIAL] += 1
             K[i, FRESH] = c[C_SERIAL]
-            predict(S, K, T, head, nxt, f, c, i, te)
-            _schedule(heap, HT, HKEY, T, K, i)
             rec_t[done] = te
             rec_kind[done] = WALL
             rec_i[done] = i
             rec_j[done] = -1
             rec_imp[done] = imp
             done += 1
-        else:
+        elif not stale:
             return done, 0
+        for q in range(1 if p1 < 0 else 2):
+            x = p0 if q == 0 else p1
+            predict(S, K, T, head, nxt, f, c, x, tp)
+            _schedule(heap, HT, HKEY, T, K, x)
+        if stale:
+            continue
         if window > 0.0:
             refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
 
