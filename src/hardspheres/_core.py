@@ -298,7 +298,10 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
     one = 1.0 if nc > 0 else 2.0
-    for oz in range(zlo, zhi + 1):
+    # the sphere's own layer and row first: the earliest event is mostly
+    # there, and the pairs after it are rejected by the horizon
+    for qz in range(zhi - zlo + 1):
+        oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
         nz = cz0 + oz
         sz = 0.0
         if nz < 0:
@@ -311,7 +314,8 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                 continue
             nz -= nc
             sz = box
-        for oy in range(ylo, yhi + 1):
+        for qy in range(yhi - ylo + 1):
+            oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
             ny = cy0 + oy
             sy = 0.0
             if ny < 0:
