@@ -366,7 +366,7 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         dvy = S[i, VY] - S[j, VY]
                         dvz = S[i, VZ] - S[j, VZ]
                         sigma = S[i, RAD] + S[j, RAD]
-                        # pair_time_within's own tests up to the horizon,
+                        # pair_time_within's own tests up to the root,
                         # the same expressions, combined without branches (half
                         # the pairs recede, at random, and a branch on that
                         # mispredicts half the time): a pair they reject is
@@ -378,7 +378,9 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         recede = b >= 0.0
                         beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
                         touch = cc <= 0.0
-                        if (a < physics.TINY_V2) | ((recede ^ True) & (touch | (beyond ^ True))):
+                        miss = b * b - a * cc <= 0.0
+                        if (a < physics.TINY_V2) | ((recede ^ True) & (
+                                touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
                         else:
