@@ -41,6 +41,7 @@ import hashlib
 import os
 
 import numba
+import numba.core.cpu
 import numpy as np
 
 from . import physics
@@ -67,6 +68,10 @@ def _cache_dir():
 
 _CACHE_DIR = _cache_dir()
 
+# numba's private switch for its runtime (see below); a numba without it
+# still compiles the core, only slower
+_NO_NRT = ({"_nrt": False} if hasattr(numba.core.cpu.CPUTargetOptions, "_nrt") else {})
+
 
 def _compiler(**options):
     """``njit(cache=True, **options)`` caching in :data:`_CACHE_DIR`."""
@@ -74,7 +79,7 @@ def _compiler(**options):
         saved = numba.config.CACHE_DIR
         numba.config.CACHE_DIR = _CACHE_DIR  # read when the cache is set up
         try:
-            return numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False,
+            return numba.njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT,
                               **options)(fn)
         finally:
             numba.config.CACHE_DIR = saved
