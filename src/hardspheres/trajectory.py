@@ -54,9 +54,14 @@ def _check_every(every):
 
 
 class _FrameWriter:
-    """Frames at ``t0, t0 + every, t0 + 2 every, ...`` from the time it is attached."""
+    """Frames at ``t0, t0 + every, t0 + 2 every, ...`` from the time it is attached.
 
-    wants_events = True
+    Subclasses write a frame in ``_write_frame(sim, state, events)``, may
+    check the simulation once in ``_start(sim)``, and keep their open file,
+    if any, in ``_file``.
+    """
+
+    _file = None
 
     def __init__(self, every, events=True):
         self.every = _check_every(every)
@@ -65,6 +70,9 @@ class _FrameWriter:
         self._t0 = None
         self._count = 0
         self._events = []
+
+    def _start(self, sim):
+        pass
 
     def attach(self, sim):
         if self._t0 is None:
@@ -100,6 +108,9 @@ class _FrameWriter:
 
     def close(self):
         """Flush and close the file (further frames are an error)."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
 
 
 class GSDWriter(_FrameWriter):
@@ -117,9 +128,6 @@ class GSDWriter(_FrameWriter):
         self.path = os.fspath(path)
         self._file = gsd.hoomd.open(self.path, mode="w", precision="double")
         self._hoomd = gsd.hoomd
-
-    def _start(self, sim):
-        self._sim_container = sim.container
 
     def _write_frame(self, sim, state, events):
         f = self._hoomd.Frame()
@@ -147,11 +155,6 @@ class GSDWriter(_FrameWriter):
             f.log["hardspheres/events"] = events
         self._file.append(f)
         self._file.flush()
-
-    def close(self):
-        if self._file is not None:
-            self._file.close()
-            self._file = None
 
 
 class XYZWriter(_FrameWriter):
@@ -201,10 +204,12 @@ class XYZWriter(_FrameWriter):
             fh.write("\n")
         fh.flush()
 
-    def close(self):
-        if self._file is not None:
-            self._file.close()
-            self._file = None
+
+def _event_fields(blocks):
+    """:class:`Frames`' event arrays from ``(E, 5)`` blocks (t, kind, i, j, impulse)."""
+    ev = np.concatenate(blocks) if blocks else _EMPTY_EVENTS
+    return dict(event_times=ev[:, 0], event_kinds=ev[:, 1].astype(np.int8),
+                event_i=ev[:, 2].astype(np.int64), event_j=ev[:, 3].astype(np.int64))
 
 
 # ---- reading -------------------------------------------------------------------
@@ -256,14 +261,11 @@ def _read_gsd(path):
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
             if "hardspheres/events" in f.log:
                 events.append(np.asarray(f.log["hardspheres/events"], np.float64).reshape(-1, 5))
-        ev = np.concatenate(events) if events else _EMPTY_EVENTS
         return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, box=box, event_times=ev[:, 0],
-                      event_kinds=ev[:, 1].astype(np.int8), event_i=ev[:, 2].astype(np.int64),
-                      event_j=ev[:, 3].astype(np.int64))
+                      container=container, box=box, **_event_fields(events))
 
 
 def _xyz_keys(comment):
@@ -334,15 +336,13 @@ class FrameRecorder(_FrameWriter):
         """The frames recorded so far."""
         sim, st = self._sim, self._state
         n = st.n
-        ev = np.concatenate(self._ev) if self._ev else _EMPTY_EVENTS
         c = sim.container
         return Frames(np.array(self._times), np.array(self._pos).reshape(-1, n, 3),
                       np.array(self._vel).reshape(-1, n, 3), st.radii.copy(),
                       st.masses.copy(), list(st.names),
                       container=c.radius if isinstance(c, SphericalContainer) else None,
                       box=c.length if isinstance(c, PeriodicBox) else None,
-                      event_times=ev[:, 0], event_kinds=ev[:, 1].astype(np.int8),
-                      event_i=ev[:, 2].astype(np.int64), event_j=ev[:, 3].astype(np.int64))
+                      **_event_fields(self._ev))
 
 
 def frames_from_simulation(sim, until, every):
