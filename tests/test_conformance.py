@@ -1,8 +1,9 @@
-"""The assignment's official example suite (``../shared/conformance``), byte for byte.
+"""The assignment's official example suite (``tests/data/assignment``), byte for byte.
 
-The suite is the course's, not the project's, so it is read from beside the
-checkout (or from ``$HARDSPHERES_CONFORMANCE``) and the tests skip, saying
-why, where it is absent.  See its README for what must match: from the line
+The suite is the course's published examples (provenance in
+``tests/data/assignment/README.md``), copied into the project so that every
+clone runs them; ``$HARDSPHERES_CONFORMANCE`` points the tests at another copy.
+See its README for what must match: from the line
 ``Here are the initial conditions.`` to the end, stdout equals the expected
 file byte for byte; before it the program prints its own prompt and one blank
 line (the expected files carry an older prompt).
@@ -23,7 +24,7 @@ from hardspheres.report import PROMPT
 
 ROOT = Path(__file__).resolve().parents[1]
 SUITE = Path(os.environ.get("HARDSPHERES_CONFORMANCE")
-             or ROOT.parent / "shared" / "conformance")
+             or ROOT / "tests" / "data" / "assignment")
 START = b"Here are the initial conditions.\n"
 
 
