@@ -16,7 +16,7 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
-         "random_spheres": "builders", "Event": "simulation", "Observables": "simulation",
+         "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
          "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
 

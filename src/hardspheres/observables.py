@@ -1,0 +1,117 @@
+"""Observables: time averages of a run from the event core's running tallies."""
+
+import numpy as np
+
+from .containers import PeriodicBox, SphericalContainer
+
+
+class Observables:
+    """Averages over the run since the last :meth:`reset`, from the event core's tallies.
+
+    The core adds a few numbers per event (impulse on the wall, collision
+    virial), so keeping these costs the event loop almost nothing.
+
+    Example:
+        >>> import hardspheres as hs
+        >>> state = hs.random_spheres(500, 0.2, box=20.0, seed=1)
+        >>> sim = hs.Simulation(state, hs.PeriodicBox(20.0))
+        >>> obs = sim.run(collisions=5000).observables.reset()
+        >>> z = sim.run(collisions=20000).observables.compressibility()
+        >>> abs(z / 2.406 - 1.0) < 0.05  # Carnahan-Starling at packing 0.2
+        True
+    """
+
+    def __init__(self, sim):
+        self._sim = sim
+        self.reset()
+
+    def _now(self):
+        eng = self._sim._engine
+        c = eng.counters
+        return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
+                eng.wall_impulse, eng.virial)
+
+    def reset(self):
+        """Start averaging afresh from now; returns self."""
+        self._mark = self._now()
+        return self
+
+    def _delta(self):
+        now = self._now()
+        return tuple(a - b for a, b in zip(now, self._mark))
+
+    @property
+    def elapsed(self):
+        """Time averaged over [time]."""
+        return self._delta()[0]
+
+    def _dof(self):
+        n = self._sim.n
+        return 3 * n - 3 if isinstance(self._sim.container, PeriodicBox) and n > 1 else 3 * n
+
+    def temperature(self):
+        """Kinetic temperature ``kT`` now [energy]: ``2 E_kin / degrees of freedom``.
+
+        In a periodic box total momentum is conserved, so three degrees of
+        freedom are not thermal.
+        """
+        return 2.0 * self._sim._engine.kinetic_energy() / max(self._dof(), 1)
+
+    def pressure(self):
+        """Pressure [energy/length^3] averaged since :meth:`reset`.
+
+        Spherical container: momentum delivered to the wall per unit area
+        and time.  Periodic box: ``(N kT + W / (3 t)) / V`` with ``W`` the
+        collision virial ``sum r_ij . dp_i``.
+        """
+        dt, _, _, wall, virial = self._delta()
+        if dt <= 0:
+            raise ValueError("no time has passed since reset(); run first")
+        cont = self._sim.container
+        if isinstance(cont, SphericalContainer):
+            return wall / (cont.area * dt)
+        n = self._sim.n
+        return (n * self.temperature() + virial / (3.0 * dt)) / cont.volume
+
+    def compressibility(self):
+        """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""
+        dt, _, _, _, virial = self._delta()
+        n, kT = self._sim.n, self.temperature()
+        cont = self._sim.container
+        if isinstance(cont, PeriodicBox):
+            return 1.0 + virial / (3.0 * dt * n * kT)
+        return self.pressure() * cont.volume / (n * kT)
+
+    def collision_rate(self):
+        """Collisions per sphere per unit time [1/time] (each collision counts for both)."""
+        dt, coll, _, _, _ = self._delta()
+        return 2.0 * coll / (self._sim.n * dt)
+
+    def mean_free_time(self):
+        """Mean time between collisions of a sphere [time] (``inf`` without any)."""
+        rate = self.collision_rate()
+        return 1.0 / rate if rate > 0 else np.inf
+
+    def mean_speed(self):
+        """Mean speed of the spheres now [length/time]."""
+        return float(np.mean(np.linalg.norm(self._sim._engine.vel, axis=1)))
+
+    def mean_free_path(self):
+        """Mean distance a sphere travels between collisions [length]."""
+        return self.mean_speed() * self.mean_free_time()
+
+    def speed_histogram(self, bins=50, range=None):
+        """Histogram of the speeds now: ``(counts, edges)`` [edges: length/time]."""
+        speeds = np.linalg.norm(self._sim._engine.vel, axis=1)
+        return np.histogram(speeds, bins=bins, range=range)
+
+    def summary(self):
+        """Dict of the observables (pressure and rates over the time since reset)."""
+        out = {"time": self._sim.time, "elapsed": self.elapsed,
+               "temperature": self.temperature()}
+        if self.elapsed > 0:
+            out.update(pressure=self.pressure(), compressibility=self.compressibility(),
+                       collision_rate=self.collision_rate(),
+                       mean_free_time=self.mean_free_time(),
+                       mean_free_path=self.mean_free_path())
+        return out
