@@ -483,7 +483,7 @@ def test_engine_breaks_exact_ties_in_tie_order():
     for window in (0.0, SIMULTANEOUS):
         eng = Engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window, rebase=False)
         ev = eng.advance(events=8)
-        got = list(zip(ev["t"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
+        got = list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
                        ev["j"].tolist()))
         want = [e[:4] for e, _ in zip(reference.events(
             [1.0] * 6, [r] * 6, [list(x) for x in pos], [list(x) for x in vel], R,

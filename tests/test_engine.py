@@ -102,7 +102,7 @@ def mixed_scenario(seed, n):
 def engine_events(masses, radii, pos, vel, container, n_events, window):
     eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
     ev = eng.advance(events=n_events)
-    return ev["t"], np.stack([ev["kind"], ev["i"], ev["j"]], axis=1)
+    return ev["time"], np.stack([ev["kind"], ev["i"], ev["j"]], axis=1)
 
 
 @pytest.mark.parametrize("seed,n", [(1, 2), (2, 3), (3, 10), (4, 40), (5, 100), (6, 300),
@@ -183,9 +183,9 @@ def test_rebase_keeps_time_and_physics():
     assert a.offset > 0.0 and b.offset == 0.0
     # identical until the first rebase, then the same events to rounding for a while
     first = 64 * 200
-    assert np.array_equal(ea["t"][:first], eb["t"][:first])
+    assert np.array_equal(ea["time"][:first], eb["time"][:first])
     assert np.array_equal(ea["i"][:first + 50], eb["i"][:first + 50])
-    np.testing.assert_allclose(ea["t"][:first + 50], eb["t"][:first + 50], rtol=1e-12)
+    np.testing.assert_allclose(ea["time"][:first + 50], eb["time"][:first + 50], rtol=1e-12)
 
 
 def test_assignment_report_same_from_both_engines():

@@ -12,7 +12,7 @@ import pytest
 pytest.importorskip("matplotlib")
 from PIL import Image, ImageSequence  # noqa: E402
 
-from hardspheres import plots  # noqa: E402
+from hardspheres import maxwell, plots  # noqa: E402
 from hardspheres.frames import Frames  # noqa: E402
 from hardspheres.render import render_movie  # noqa: E402
 
@@ -131,10 +131,10 @@ def test_maxwell_densities_are_normalised():
     integrate = getattr(np, "trapezoid", None) or np.trapz  # numpy < 2 has only trapz
     v = np.linspace(0.0, 30.0, 200001)
     for kT, m in [(1.0, 1.0), (2.5, 0.3)]:
-        f = plots.maxwell_speed_density(v, kT, m)
+        f = maxwell.speed_density(v, kT, m)
         assert integrate(f, v) == pytest.approx(1.0, abs=1e-6)
         assert integrate(0.5 * m * v ** 2 * f, v) == pytest.approx(1.5 * kT, rel=1e-6)
-    assert integrate(plots.maxwell_reduced_density(v), v) == pytest.approx(1.0, abs=1e-6)
+    assert integrate(maxwell.reduced_density(v), v) == pytest.approx(1.0, abs=1e-6)
 
 
 def test_plot_eos(tmp_path):

@@ -181,10 +181,10 @@ def test_engine_conserves_and_keeps_spheres_apart(scn):
     before = eng.vel.tolist()
     for _ in range(150):
         ev = eng.advance(events=1)
-        if len(ev["t"]) == 0:
+        if len(ev["time"]) == 0:
             break
         kind, i, j = int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
-        now = eng.positions_at(float(ev["t"][0])).tolist()
+        now = eng.positions_at(float(ev["time"][0])).tolist()
         after = eng.vel.tolist()
         check_event(kind, i, j, now, before, after, masses, radii, container, 0.0)
         check_state(now, radii, container)
@@ -200,7 +200,7 @@ def test_engine_matches_the_reference(scn, window):
     masses, radii, pos, vel, container = scn
     eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
     ev = eng.advance(events=200)
-    got = list(zip(ev["t"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()))
+    got = list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()))
     want = []
     p, v = [list(x) for x in pos], [list(x) for x in vel]
     for t, kind, i, j, _ in reference.events(masses, radii, p, v, container, math.inf, window):

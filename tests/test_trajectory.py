@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
+from hardspheres.events import EVENT_DTYPE
 from hardspheres.trajectory import (GSDWriter, XYZWriter, frames_from_simulation,
                                     read_trajectory)
 
@@ -39,12 +40,16 @@ def test_gsd_frames_match_the_run(tmp_path, box):
     np.testing.assert_array_equal(frames.radii, ref.state().radii)
     np.testing.assert_array_equal(frames.masses, ref.state().masses)
     if box:
-        assert frames.box == 8.0 and frames.container is None
+        assert frames.container == hs.PeriodicBox(8.0) and frames.box == 8.0
     else:
-        assert frames.container == 6.0 and frames.box is None
+        assert frames.container == hs.SphericalContainer(6.0) and frames.box is None
     events = list(ref.iter_events(until=2.0))
     assert len(events) > 50
+    assert frames.events.dtype == EVENT_DTYPE
     assert frames.event_kinds.tolist() == [int(e.kind == "collision") for e in events]
+    # the impulse is read back, too
+    np.testing.assert_allclose(frames.events["impulse"], [e.impulse for e in events],
+                               rtol=1e-12)
     assert frames.event_i.tolist() == [e.i for e in events]
     assert frames.event_j.tolist() == [e.j for e in events]
     np.testing.assert_allclose(frames.event_times, [e.time for e in events], rtol=1e-12)
@@ -143,7 +148,7 @@ def test_run_command_writes_a_trajectory(tmp_path):
     assert f"trajectory {out}" in r.stdout
     frames = read_trajectory(str(out))
     assert frames.times.tolist() == [0.0, 0.5, 1.0, 1.5, 2.0]
-    assert frames.container == 5.0 and frames.n == 40
+    assert frames.container == hs.SphericalContainer(5.0) and frames.n == 40
 
 
 def test_public_names():

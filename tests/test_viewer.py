@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hardspheres.events import empty_events
 from hardspheres.frames import Frames
 from hardspheres.viewer import CHROMIUM_ARGS, frame_indices, write_viewer
 
@@ -141,8 +142,7 @@ def test_viewer_in_chromium(tmp_path):
             # A single frame of three equal spheres in a box, no events: still draws, play is inert.
             one = synthetic_frames(n=3, n_frames=1, container=None, box=6.0)
             one.masses = np.ones(3)
-            one.event_times, one.event_kinds = np.zeros(0), np.zeros(0, np.int8)
-            one.event_i, one.event_j = np.zeros(0, np.int64), np.zeros(0, np.int64)
+            one.events = empty_events()
             page2 = browser.new_page(viewport={"width": 600, "height": 400})
             page2.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
             page2.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))

@@ -2,32 +2,45 @@
 
 Example:
     >>> import hardspheres as hs
-    >>> state = hs.random_spheres(200, 0.3, container=10.0, seed=1)
-    >>> sim = hs.Simulation(state, hs.SphericalContainer(10.0))
+    >>> container = hs.SphericalContainer(10.0)
+    >>> state = hs.random_spheres(200, 0.3, container, seed=1)
+    >>> sim = hs.Simulation(state, container)
     >>> sim.run(until=1.0).time
     1.0
 """
 
 import importlib
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import Container, PeriodicBox, SphericalContainer
+from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
+
+
+def _version():
+    """The installed distribution's version (pyproject.toml's, the one place it is set)."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("hardspheres")
+    except PackageNotFoundError:  # run from a source tree that is not installed
+        return "0+unknown"
 
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
-_LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
+_LAZY = {"BuildError": "builders", "maxwell_boltzmann": "maxwell",
          "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
          "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
 
 
 def __getattr__(name):
+    if name == "__version__":  # looked up on first use: the program starts faster
+        return _version()
     if name in _LAZY:
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
-           "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres", "read_trajectory", "XYZWriter"]
-__version__ = "0.1.0"
+__all__ = ["BuildError", "Container", "Event", "EventKind", "Frames", "GSDWriter", "Observables",
+           "PeriodicBox", "Scenario", "ScenarioError", "Simulation", "SphericalContainer", "State",
+           "StopReason", "XYZWriter", "maxwell_boltzmann", "parse_scenario", "random_spheres",
+           "read_trajectory"]

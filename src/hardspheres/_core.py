@@ -44,7 +44,7 @@ import numba
 import numba.core.cpu
 import numpy as np
 
-from . import physics
+from . import events, physics
 
 
 def _cache_dir():
@@ -59,7 +59,7 @@ def _cache_dir():
     if os.environ.get("NUMBA_CACHE_DIR"):
         return numba.config.CACHE_DIR
     digest = hashlib.sha256()
-    for path in (__file__, physics.__file__):
+    for path in (__file__, physics.__file__, events.__file__):
         with open(path, "rb") as fh:
             digest.update(fh.read())
     return os.path.join(os.path.dirname(__file__), "__pycache__",
@@ -105,11 +105,19 @@ wall_time = _kernel(physics.wall_time)
 collide = _kernel(physics.collide)
 reflect = _kernel(physics.reflect)
 
-#: Event kinds (also the tie order at equal times).
-WALL = 0
-COLLISION = 1
+#: Event kinds (also the tie order at equal times): the public ones are
+#: :class:`hardspheres.events.EventKind`'s numbers; crossings and "nothing"
+#: are the core's own.
+WALL = int(events.EventKind.REFLECTION)
+COLLISION = int(events.EventKind.COLLISION)
 CROSS = 2
 NONE = 3
+
+#: Why :func:`run` returned: :class:`hardspheres.events.StopReason`'s numbers.
+STOP_UNTIL = int(events.StopReason.UNTIL)
+STOP_MAX_EVENTS = int(events.StopReason.MAX_EVENTS)
+STOP_MAX_COLLISIONS = int(events.StopReason.MAX_COLLISIONS)
+STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 
 # columns of S (float64 per sphere)
 X, Y, Z, VX, VY, VZ, TL, RAD = 0, 1, 2, 3, 4, 5, 6, 7
@@ -528,13 +536,13 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
     stops when the record is full.
 
     Returns:
-        ``(recorded, reason)``: reason 0 = ``until`` reached (or nothing will
-        ever happen), 1 = ``max_events``, 2 = ``max_collisions``,
-        3 = record full.
+        ``(recorded, reason)``, reason a :class:`hardspheres.events.StopReason`
+        number: ``until`` reached (or nothing will ever happen),
+        ``max_events``, ``max_collisions``, or the record full.
     """
     n = S.shape[0]
     if n == 0:
-        return 0, 0
+        return 0, STOP_UNTIL
     nc = c[C_NC]
     box = f[F_BOX]
     window = f[F_WINDOW]
@@ -543,15 +551,15 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
     coll0 = c[C_COLL]
     while True:
         if done >= max_events:
-            return done, 1
+            return done, STOP_MAX_EVENTS
         if c[C_COLL] - coll0 >= max_collisions:
-            return done, 2
+            return done, STOP_MAX_COLLISIONS
         if done >= cap:
-            return done, 3
+            return done, STOP_RECORD_FULL
         i = heap[0]
         te = HT[0]
         if te > until or te == np.inf:
-            return done, 0
+            return done, STOP_UNTIL
         if HKEY[0] != K[i, EV_KEY]:
             # leaving the cell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not)
@@ -650,7 +658,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             rec_imp[done] = imp
             done += 1
         elif not stale:
-            return done, 0
+            return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
             predict(S, K, T, head, nxt, f, c, x, tp)

@@ -43,8 +43,7 @@ def write_report(scn, container, end, out, fmt="text"):
     here = eng.positions_at()
     while True:
         ev = eng.advance(until=end, events=1)
-        if len(ev["t"]) == 0:
+        if len(ev) == 0:
             return
-        t = float(ev["t"][0])
-        rep.event(t, int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0]),
-                  eng.positions_at(t, here), eng.vel)
+        t, kind, i, j = float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
+        rep.event(t, kind, i, j, eng.positions_at(t, here), eng.vel)

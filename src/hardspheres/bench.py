@@ -7,6 +7,7 @@ import time
 import numpy as np
 
 from .builders import random_spheres
+from .containers import PeriodicBox, SphericalContainer
 from .engine import Engine
 
 
@@ -24,15 +25,12 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
     t0 = time.perf_counter()
     if box:
         edge = (n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0)
-        state = random_spheres(n, packing, box=edge, seed=seed,
-                               radius_ratio=radius_ratio, mass_ratio=mass_ratio)
-        eng = Engine(state.masses, state.radii, state.positions, state.velocities, box=edge)
+        where = PeriodicBox(edge)
     else:
-        radius = 0.5 * (n / packing) ** (1.0 / 3.0)
-        state = random_spheres(n, packing, container=radius, seed=seed,
-                               radius_ratio=radius_ratio, mass_ratio=mass_ratio)
-        eng = Engine(state.masses, state.radii, state.positions, state.velocities,
-                     container=radius)
+        where = SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
+    state = random_spheres(n, packing, where, seed=seed,
+                           radius_ratio=radius_ratio, mass_ratio=mass_ratio)
+    eng = Engine(state.masses, state.radii, state.positions, state.velocities, where)
     e0 = eng.kinetic_energy()
     eng.advance(collisions=n, record=False)
     setup = time.perf_counter() - t0

@@ -7,8 +7,12 @@ of the container the lattice can fill.  At fluid densities the lattice melts
 within a few collisions per sphere.
 """
 
+from __future__ import annotations
+
 import numpy as np
 
+from .containers import Container, as_container
+from .maxwell import maxwell_boltzmann
 from .state import State
 
 
@@ -31,36 +35,17 @@ def _radii(rng, n, ratio):
     return rng.uniform(1.0, ratio, n)
 
 
-def maxwell_boltzmann(rng, masses, kT=1.0):
-    """Velocities drawn at temperature ``kT`` [energy], total momentum zero.
-
-    The draw is rescaled so that the kinetic energy is exactly
-    ``3/2 (N - 1) kT`` (zero momentum removes three degrees of freedom).
-
-    Returns:
-        ``(N, 3)`` velocities [length/time].
-    """
-    n = len(masses)
-    v = rng.normal(size=(n, 3)) * np.sqrt(kT / masses)[:, None]
-    if n > 1:
-        v -= (masses @ v) / masses.sum()
-        ke = 0.5 * np.sum(masses * np.sum(v * v, axis=1))
-        if ke > 0:
-            v *= np.sqrt(1.5 * (n - 1) * kT / ke)
-    else:
-        v[:] = 0.0
-    return v
-
-
-def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.0,
-                   mass_ratio=1.0, kT=1.0):
+def random_spheres(n: int, packing: float, container: Container | float | None = None,
+                   box: float | None = None, seed: int | None = 0, radius_ratio: float = 1.0,
+                   mass_ratio: float = 1.0, kT: float = 1.0) -> State:
     """N non-overlapping spheres filling the fraction ``packing`` of a container.
 
     Args:
         n: number of spheres.
         packing: volume fraction of the container the spheres fill.
-        container: radius of the spherical container [length], or
-        box: edge of the periodic cubic box [length].
+        container: the :class:`~hardspheres.containers.Container` (or the
+            radius of a spherical container [length]), or
+        box: the edge of a periodic cubic box [length].
         seed: random seed (same seed, same scenario).
         radius_ratio: largest over smallest radius; radii are uniform in
             between (1 = equal spheres).
@@ -75,35 +60,36 @@ def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.
         BuildError: if the lattice cannot hold the spheres at that packing.
 
     Example:
-        >>> s = random_spheres(100, 0.3, container=10.0, seed=1)
+        >>> from hardspheres import SphericalContainer
+        >>> s = random_spheres(100, 0.3, SphericalContainer(10.0), seed=1)
         >>> s.n, round(float((s.radii ** 3).sum() / 10.0 ** 3), 6)
         (100, 0.3)
     """
     if (container is None) == (box is None):
         raise BuildError("give exactly one of container and box")
+    where = as_container(container, box)
     if not (0.0 < packing < 0.74):
         raise BuildError(f"packing fraction must be in (0, 0.74), got {packing}")
     if radius_ratio < 1.0 or mass_ratio < 1.0:
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
-    volume = (4.0 / 3.0) * np.pi * container ** 3 if box is None else box ** 3
+    volume = where.volume
     rel = _radii(rng, n, radius_ratio)
     scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel ** 3))) ** (1.0 / 3.0)
     radii = rel * scale
     rmax = radii.max() if n else 0.0
     # lattice constant: nearest sites (a / sqrt 2) one largest diameter apart
     a = 2.0 * np.sqrt(2.0) * rmax * (1.0 + 1e-9)
-    if box is None:
-        k = int(np.ceil(2.0 * container / a)) + 1 if n else 1
-        sites = _fcc(k, a)
-        reach = container - rmax
-        sites = sites[np.linalg.norm(sites, axis=1) <= reach * (1.0 - 1e-12)]
+    if where.periodic:
+        # whole cells that tile the box, so the lattice continues across it
+        side = 2.0 * where.half_width
+        k = int(np.floor(side / a))
+        sites = _fcc(k, side / k) if k >= 1 else np.zeros((0, 3))
     else:
-        k = int(np.floor(box / a))
-        if k < 1:
-            sites = np.zeros((0, 3))
-        else:
-            sites = _fcc(k, box / k)
+        # a lattice over the enclosing cube, less the sites whose sphere pokes out
+        k = int(np.ceil(2.0 * where.half_width / a)) + 1 if n else 1
+        sites = _fcc(k, a)
+        sites = sites[~where.outside(sites, np.full(len(sites), rmax), tol=-1e-12)]
     if len(sites) < n:
         hint = (f" (about {packing * len(sites) / n:.3g} fits)" if len(sites) else "")
         raise BuildError(

@@ -9,7 +9,7 @@ import math
 import os
 import sys
 
-from .report import PROMPT, TextReport
+from .report import PROMPT
 from .scenario import MAX_MAGNITUDE, ScenarioError, check_scenario, parse_scenario
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"

@@ -1,18 +1,125 @@
-"""Containers: where the spheres live.
+"""Containers: where the spheres live, and everything that depends on it.
 
 * :class:`SphericalContainer`: the assignment's hard spherical wall centred
   on the origin; spheres reflect off it.
 * :class:`PeriodicBox`: a cube centred on the origin with periodic
   boundaries and minimum-image collisions, for bulk matter (no walls).
+
+A container is one object that every layer passes along (engine,
+simulation, observables, trajectories, frames, pictures); it owns the
+geometry, so nothing above the compiled core asks which container it is:
+
+* geometry: :meth:`~Container.wrap`, :meth:`~Container.displacement`
+  (minimum image), :meth:`~Container.outside` (spheres not wholly inside),
+  :attr:`~Container.volume`, :attr:`~Container.wall_area`,
+  :attr:`~Container.half_width` and :attr:`~Container.bounding_radius`
+  (pictures), :meth:`~Container.outline` (lines to draw);
+* thermodynamics: :meth:`~Container.degrees_of_freedom` and
+  :meth:`~Container.pressure` from the core's running totals;
+* files: :meth:`~Container.fields` (GSD log and XYZ header),
+  :attr:`~Container.gsd_box`, :meth:`~Container.record` (checkpoints),
+  read back by :func:`from_fields` and :func:`from_record`;
+* the core: :meth:`~Container.core_params`, the numbers the compiled event
+  loop reads (a wall radius and a periodic edge, 0 when absent).
+
+A third geometry (a slab, a cylinder) is one new class here, registered in
+:data:`KINDS`, and one branch in the core (:mod:`hardspheres._core`: its
+wall time and reflection, and its cell grid's edges).
+
+Example:
+    >>> import numpy as np
+    >>> c = SphericalContainer(2.0)
+    >>> round(c.volume, 4), c.degrees_of_freedom(10), c.fields()
+    (33.5103, 30, {'container_radius': 2.0})
+    >>> b = PeriodicBox(2.0)
+    >>> b.wrap(np.array([[1.5, -1.2, 0.0]])).tolist()
+    [[-0.5, 0.8, 0.0]]
+    >>> from_record(b.record()) == b
+    True
 """
+
+from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
+
+from .scenario import TOUCH_TOL
+
+if TYPE_CHECKING:
+    import numpy as np
+
+# numpy is imported where it is used: the assignment's program checks its
+# scenario against a container without loading numpy.
+
+
+class ContainerError(ValueError):
+    """A container cannot be built or read back; the message says why."""
+
+
+@runtime_checkable
+class Container(Protocol):
+    """What every container provides (see the module docstring)."""
+
+    periodic: ClassVar[bool]
+
+    @property
+    def label(self) -> str: ...
+
+    @property
+    def volume(self) -> float: ...
+
+    @property
+    def wall_area(self) -> float: ...
+
+    @property
+    def half_width(self) -> float: ...
+
+    @property
+    def bounding_radius(self) -> float: ...
+
+    @property
+    def gsd_box(self) -> list[float]: ...
+
+    def wrap(self, positions: np.ndarray) -> np.ndarray: ...
+
+    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray: ...
+
+    def outside(self, positions: np.ndarray, radii: np.ndarray,
+                tol: float = TOUCH_TOL) -> np.ndarray: ...
+
+    def degrees_of_freedom(self, n: int) -> int: ...
+
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
+                 virial: float) -> float: ...
+
+    def fields(self) -> dict[str, float]: ...
+
+    def record(self) -> np.ndarray: ...
+
+    def core_params(self) -> dict[str, float]: ...
+
+    def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None: ...
+
+    def outline(self) -> list[np.ndarray]: ...
+
+
+def _positive(value: float, what: str) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ContainerError(f"{what} must be a number, got {value!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise ContainerError(f"{what} must be a finite number > 0, got {value}")
+    return value
 
 
 @dataclass(frozen=True)
 class SphericalContainer:
     """A hard spherical wall of radius ``radius`` [length] centred on the origin.
+
+    Spheres reflect off the wall; the pressure is the momentum the wall
+    receives per unit area and time.
 
     Example:
         >>> round(SphericalContainer(1.0).volume, 6)
@@ -20,28 +127,119 @@ class SphericalContainer:
     """
 
     radius: float
+    periodic: ClassVar[bool] = False
+    #: The name in files (:meth:`record`) and its size's field (:meth:`fields`).
+    kind: ClassVar[str] = "SphericalContainer"
+    size_field: ClassVar[str] = "container_radius"
 
-    def __post_init__(self):
-        if not (math.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"container radius must be a finite number > 0, got {self.radius}")
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "radius", _positive(self.radius, "container radius"))
 
     @property
-    def volume(self):
+    def size(self) -> float:
+        """The one number that sets the container: its radius [length]."""
+        return self.radius
+
+    @property
+    def label(self) -> str:
+        """A short description for titles."""
+        return f"spherical container R = {self.radius:g}"
+
+    @property
+    def volume(self) -> float:
         """Volume enclosed [length^3]."""
         return 4.0 / 3.0 * math.pi * self.radius ** 3
 
     @property
-    def area(self):
+    def wall_area(self) -> float:
         """Area of the wall [length^2]."""
         return 4.0 * math.pi * self.radius ** 2
 
-    def engine_args(self):
-        return {"container": self.radius}
+    area = wall_area
+
+    @property
+    def half_width(self) -> float:
+        """Half the edge of the cube that encloses it [length]."""
+        return self.radius
+
+    @property
+    def bounding_radius(self) -> float:
+        """Radius of the sphere that encloses it [length]."""
+        return self.radius
+
+    @property
+    def gsd_box(self) -> list[float]:
+        """GSD's ``configuration/box``: the enclosing cube (not periodic)."""
+        side = 2.0 * self.radius
+        return [side, side, side, 0.0, 0.0, 0.0]
+
+    def wrap(self, positions: np.ndarray) -> np.ndarray:
+        """Positions as they are (no periodic images) [length]."""
+        import numpy as np
+        return np.asarray(positions, dtype=np.float64)
+
+    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``a - b`` [length]."""
+        import numpy as np
+        return np.asarray(a, dtype=np.float64) - b
+
+    def outside(self, positions: np.ndarray, radii: np.ndarray,
+                tol: float = TOUCH_TOL) -> np.ndarray:
+        """``(N,)`` True for spheres poking out of the wall by more than ``tol`` of its radius."""
+        import numpy as np
+        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 3),
+                               axis=1) + radii
+        return reach > self.radius * (1.0 + tol)
+
+    def degrees_of_freedom(self, n: int) -> int:
+        """``3 N``: the wall takes up momentum, so none is conserved."""
+        return 3 * n
+
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
+                 virial: float) -> float:
+        """Momentum delivered to the wall per unit area and time [energy/length^3]."""
+        return wall_impulse / (self.wall_area * elapsed)
+
+    def fields(self) -> dict[str, float]:
+        """Its numbers by name, for GSD logs and XYZ headers."""
+        return {self.size_field: self.radius}
+
+    def record(self) -> np.ndarray:
+        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
+        import numpy as np
+        return np.array([self.kind, repr(self.radius)])
+
+    def core_params(self) -> dict[str, float]:
+        """What the compiled core reads: wall radius, periodic edge (0: none), grid span."""
+        return {"wall_radius": self.radius, "box": 0.0, "span": 2.0 * self.radius}
+
+    def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
+        """Why a sphere at ``p`` of radius ``r`` moving at ``v`` cannot start here, or ``None``."""
+        reach = math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) + r
+        if reach > self.radius + TOUCH_TOL * self.radius:
+            return f"is not wholly inside the container: |p| + R = {reach:g} > {self.radius:g}"
+        if r >= self.radius and (v[0] or v[1] or v[2]):
+            return "fills the container and cannot move; give it zero velocity or a smaller radius"
+        return None
+
+    def outline(self) -> list[np.ndarray]:
+        """Lines to draw it: 13 meridians and 7 parallels, each ``(k, 3)`` [length]."""
+        import numpy as np
+        u = np.linspace(0, 2 * np.pi, 25)
+        v = np.linspace(0, np.pi, 13)
+        r = self.radius
+        x, y, z = (r * np.outer(np.cos(u), np.sin(v)), r * np.outer(np.sin(u), np.sin(v)),
+                   r * np.outer(np.ones_like(u), np.cos(v)))
+        grid = np.stack([x, y, z], axis=-1)
+        return [grid[k] for k in range(0, len(u), 2)] + [grid[:, k] for k in range(0, len(v), 2)]
 
 
 @dataclass(frozen=True)
 class PeriodicBox:
     """A periodic cube of edge ``length`` [length] centred on the origin.
+
+    Pairs collide with their nearest image; total momentum is conserved; the
+    pressure comes from the collision virial.
 
     Example:
         >>> PeriodicBox(2.0).volume
@@ -49,15 +247,140 @@ class PeriodicBox:
     """
 
     length: float
+    periodic: ClassVar[bool] = True
+    kind: ClassVar[str] = "PeriodicBox"
+    size_field: ClassVar[str] = "box_length"
 
-    def __post_init__(self):
-        if not (math.isfinite(self.length) and self.length > 0):
-            raise ValueError(f"box length must be a finite number > 0, got {self.length}")
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "length", _positive(self.length, "box length"))
 
     @property
-    def volume(self):
+    def size(self) -> float:
+        """The one number that sets the box: its edge [length]."""
+        return self.length
+
+    @property
+    def label(self) -> str:
+        """A short description for titles."""
+        return f"periodic box L = {self.length:g}"
+
+    @property
+    def volume(self) -> float:
         """Volume of the box [length^3]."""
         return self.length ** 3
 
-    def engine_args(self):
-        return {"box": self.length}
+    @property
+    def wall_area(self) -> float:
+        """No walls: 0 [length^2]."""
+        return 0.0
+
+    @property
+    def half_width(self) -> float:
+        """Half the edge [length]."""
+        return 0.5 * self.length
+
+    @property
+    def bounding_radius(self) -> float:
+        """Half the cube's diagonal [length]."""
+        return 0.5 * self.length * math.sqrt(3.0)
+
+    @property
+    def gsd_box(self) -> list[float]:
+        """GSD's ``configuration/box`` (periodic)."""
+        L = self.length
+        return [L, L, L, 0.0, 0.0, 0.0]
+
+    def wrap(self, positions: np.ndarray) -> np.ndarray:
+        """Positions moved by whole edges into ``[-L/2, L/2)`` [length]."""
+        import numpy as np
+        p = np.asarray(positions, dtype=np.float64)
+        L = self.length
+        return p - L * np.floor(p / L + 0.5)
+
+    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``a - b`` to the nearest image [length]."""
+        import numpy as np
+        d = np.asarray(a, dtype=np.float64) - b
+        L = self.length
+        return d - L * np.round(d / L)
+
+    def outside(self, positions: np.ndarray, radii: np.ndarray,
+                tol: float = TOUCH_TOL) -> np.ndarray:
+        """``(N,)`` all False: nothing is outside a periodic box."""
+        import numpy as np
+        return np.zeros(np.asarray(positions).reshape(-1, 3).shape[0], dtype=bool)
+
+    def degrees_of_freedom(self, n: int) -> int:
+        """``3 N - 3``: total momentum is conserved (``3 N`` for one sphere)."""
+        return 3 * n - 3 if n > 1 else 3 * n
+
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
+                 virial: float) -> float:
+        """``(N kT + W / (3 t)) / V`` with ``W`` the collision virial [energy/length^3]."""
+        return (n * kT + virial / (3.0 * elapsed)) / self.volume
+
+    def fields(self) -> dict[str, float]:
+        """Its numbers by name, for GSD logs and XYZ headers."""
+        return {self.size_field: self.length}
+
+    def record(self) -> np.ndarray:
+        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
+        import numpy as np
+        return np.array([self.kind, repr(self.length)])
+
+    def core_params(self) -> dict[str, float]:
+        """What the compiled core reads: wall radius (0: none), periodic edge, grid span."""
+        return {"wall_radius": 0.0, "box": self.length, "span": self.length}
+
+    def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
+        """``None``: any sphere fits (the engine checks that the box holds three diameters)."""
+        return None
+
+    def outline(self) -> list[np.ndarray]:
+        """The 12 edges, each ``(2, 3)`` [length]."""
+        import numpy as np
+        h = self.half_width
+        corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
+        return [corners[[a, b]] for a in range(8) for b in range(a + 1, 8)
+                if np.sum(corners[a] != corners[b]) == 1]
+
+
+#: The containers by :attr:`kind` (files name them so).
+KINDS: dict[str, type[SphericalContainer] | type[PeriodicBox]] = {
+    c.kind: c for c in (SphericalContainer, PeriodicBox)}
+
+
+def as_container(container: Container | float | None = None,
+                 box: float | None = None) -> Container:
+    """A container from the object, or from the older floats: a radius or a box edge.
+
+    Example:
+        >>> as_container(3.0), as_container(box=2.0)
+        (SphericalContainer(radius=3.0), PeriodicBox(length=2.0))
+    """
+    if (container is None) == (box is None):
+        raise ContainerError("give exactly one of container (a container or a radius) and box")
+    if box is not None:
+        return PeriodicBox(box)
+    if isinstance(container, Container):
+        return container
+    return SphericalContainer(container)  # type: ignore[arg-type]  # not None: checked above
+
+
+def from_record(record: np.ndarray) -> Container:
+    """The container :meth:`Container.record` describes."""
+    import numpy as np
+    kind, size = (str(x) for x in np.asarray(record).tolist())
+    if kind not in KINDS:
+        raise ContainerError(f"unknown container {kind!r}; known: {', '.join(KINDS)}")
+    return KINDS[kind](float(size))
+
+
+def from_fields(fields: dict) -> Container:
+    """The container whose :meth:`Container.fields` are among ``fields`` (a GSD log, an XYZ header)."""
+    import numpy as np
+    for cls in KINDS.values():
+        for key in (cls.size_field, f"hardspheres/{cls.size_field}"):
+            if key in fields:
+                return cls(float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0]))
+    raise ContainerError("no container size found (container_radius or box_length)")

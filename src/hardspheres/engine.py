@@ -8,6 +8,10 @@ benchmark all go through it.
 import numpy as np
 
 from . import _core as core
+from . import events as _events
+from .containers import Container, as_container, from_record
+from .events import StopReason
+from .state import kinetic_energy
 
 #: Default number of events the core records per call.
 CHUNK = 1 << 14
@@ -24,10 +28,10 @@ class Engine:
         radii: ``(N,)`` [length], >= 0.
         positions: ``(N, 3)`` centres at time 0 [length].
         velocities: ``(N, 3)`` [length/time].
-        container: radius of the spherical container centred at the origin
-            [length], or ``None`` for a periodic box.
-        box: edge of the periodic cubic box centred at the origin [length],
-            or ``None`` for a spherical container.
+        container: the :class:`~hardspheres.containers.Container`, or the
+            radius of a spherical container centred at the origin [length].
+        box: instead of ``container``, the edge of a periodic cubic box
+            centred at the origin [length].
         window: simultaneity window [time]: events less than this after the
             last event happen at its time (the assignment uses 1e-8 s; 0
             means exact times).
@@ -39,14 +43,13 @@ class Engine:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
         ...              [[1.0, 0, 0], [-1.0, 0, 0]], container=100.0)
         >>> ev = eng.advance(until=10.0)
-        >>> ev["t"].tolist(), ev["kind"].tolist()
+        >>> ev["time"].tolist(), ev["kind"].tolist()
         ([4.0], [1])
     """
 
     def __init__(self, masses, radii, positions, velocities, container=None, box=None,
                  window=0.0, time=0.0, rebase=True):
-        if (container is None) == (box is None):
-            raise ValueError("give exactly one of container (radius) and box (edge)")
+        self.container: Container = as_container(container, box)
         self.mass = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
         n = self.mass.shape[0]
         # one 64-byte row per sphere: x y z vx vy vz t_own radius
@@ -66,14 +69,11 @@ class Engine:
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
         self.f[core.F_WINDOW] = window
-        self.container = None if container is None else float(container)
-        self.box = None if box is None else float(box)
         self._grid(n)
-        self._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                     np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        self._rec = _events.empty_buffers(CHUNK)
         self._since_rebase = 0
         self._rebase_on = rebase
-        self.last_reason, self.last_done = 0, 0
+        self.last_reason, self.last_done = StopReason.UNTIL, 0
         self._build()
 
     @property
@@ -93,20 +93,18 @@ class Engine:
 
     def _grid(self, n):
         sigma = 2.0 * float(self.rad.max()) if n else 0.0
-        if self.box is None:
-            span = 2.0 * self.container
-            self.f[core.F_CONTAINER] = self.container
-        else:
-            span = self.box
-            self.f[core.F_BOX] = self.box
+        params = self.container.core_params()
+        span, box = params["span"], params["box"]
+        self.f[core.F_CONTAINER] = params["wall_radius"]
+        self.f[core.F_BOX] = box
         # cells at least as wide as the largest contact distance, with a
         # small relative margin for rounding; a few cells per sphere at most
         nc = int(span / (sigma * (1.0 + 1e-6))) if sigma > 0.0 else 1
         nc = max(1, min(nc, int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0))) + 1, 1 << 10))
-        if self.box is not None and nc < 3:
-            if sigma * 3.0 > self.box:
+        if box and nc < 3:
+            if sigma * 3.0 > box:
                 raise ValueError(
-                    f"periodic box {self.box:g} is smaller than three largest diameters "
+                    f"periodic box {box:g} is smaller than three largest diameters "
                     f"({sigma:g}); use a larger box")
             nc = 3
         self.c[core.C_NC] = nc
@@ -139,9 +137,8 @@ class Engine:
             record: return the events processed (else an empty record).
 
         Returns:
-            A dict of arrays ``t`` [time], ``kind`` (0 reflection,
-            1 collision), ``i``, ``j`` (``-1`` for reflections), ``impulse``
-            [mass*length/time] of the events processed, in order.
+            The events processed, in order: an array of
+            :data:`~hardspheres.events.EVENT_DTYPE` (empty if not ``record``).
         """
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
@@ -161,22 +158,18 @@ class Engine:
             done_total += done
             self._since_rebase += done
             if record and done:
-                chunks.append([a[:done].copy() for a in rec])
-                chunks[-1][0] += self.offset
+                chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
                 self._rebase()
-            if reason == 0 or reason == 2:
+            if reason == StopReason.UNTIL or reason == StopReason.MAX_COLLISIONS:
                 break
-            if reason == 1 and done_total >= max_events:
+            if reason == StopReason.MAX_EVENTS and done_total >= max_events:
                 break
-        self.last_reason = reason
+        self.last_reason = StopReason(reason)
         self.last_done = done_total
-        if chunks:
-            cols = [np.concatenate(parts) for parts in zip(*chunks)]
-        else:
-            cols = [a[:0].copy() for a in rec]
-        return {"t": cols[0], "kind": cols[1], "i": cols[2], "j": cols[3],
-                "impulse": cols[4]}
+        if len(chunks) == 1:
+            return chunks[0]
+        return np.concatenate(chunks) if chunks else _events.empty_events()
 
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
@@ -184,10 +177,13 @@ class Engine:
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
         out = {k: getattr(self, k) for k in self._SAVED}
+        # the last two: the core's wall radius and box edge, NaN when absent
+        # (files before the container record had only these)
+        params = self.container.core_params()
         out["meta"] = np.array([self.offset, float(self._since_rebase),
                                 float(self._rebase_on),
-                                np.nan if self.container is None else self.container,
-                                np.nan if self.box is None else self.box])
+                                params["wall_radius"] or np.nan, params["box"] or np.nan])
+        out["container"] = self.container.record()
         return out
 
     @classmethod
@@ -196,16 +192,18 @@ class Engine:
         eng = cls.__new__(cls)
         for k in cls._SAVED:
             setattr(eng, k, np.array(data[k]))
-        offset, since, rebase_on, container, box = data["meta"].tolist()
+        offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
         eng._rebase_on = bool(rebase_on)
-        eng.container = None if np.isnan(container) else container
-        eng.box = None if np.isnan(box) else box
+        if "container" in data:
+            eng.container = from_record(data["container"])
+        else:
+            eng.container = as_container(None if np.isnan(radius) else radius,
+                                         None if np.isnan(box) else box)
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
-        eng._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                    np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
-        eng.last_reason, eng.last_done = 0, 0
+        eng._rec = _events.empty_buffers(CHUNK)
+        eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
     # ---- state ------------------------------------------------------------
@@ -216,7 +214,7 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
+        core.positions_at(self.S, t - self.offset, out, self.f[core.F_BOX])
         return out
 
     @property
@@ -241,16 +239,12 @@ class Engine:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         x = self.positions_at(t)  # pairs across the box compare by minimum image
         return float(core.max_overlap(x, self.S, self.K, self.head, self.nxt,
-                                      int(self.c[core.C_NC]),
-                                      0.0 if self.box is None else self.box))
+                                      int(self.c[core.C_NC]), self.f[core.F_BOX]))
 
     def outside(self, t=None, tol=1e-9):
-        """Number of spheres poking out of the container by more than ``tol`` of its radius."""
-        if self.box is not None:
-            return 0
-        x = self.positions_at(t)
-        return int(np.sum(np.linalg.norm(x, axis=1) + self.rad > self.container * (1.0 + tol)))
+        """Number of spheres poking out of the container by more than ``tol`` of its size."""
+        return int(np.sum(self.container.outside(self.positions_at(t), self.rad, tol)))
 
     def kinetic_energy(self):
         """Total kinetic energy [mass*length^2/time^2]."""
-        return float(0.5 * np.sum(self.mass * np.sum(self.vel ** 2, axis=1)))
+        return float(kinetic_energy(self.mass, self.vel))

@@ -5,52 +5,130 @@ the viewer, renderer and plots (:mod:`hardspheres.viewer`,
 :mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them.
 """
 
-from dataclasses import dataclass, field
+from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
+from .containers import Container, as_container
+from .events import as_events, empty_events, from_columns
+from .state import kinetic_energy
 
-@dataclass
+
 class Frames:
     """Snapshots of all spheres at increasing times.
 
-    Attributes:
+    Args:
         times: ``(F,)`` frame times [time].
         positions: ``(F, N, 3)`` centres [length].
         velocities: ``(F, N, 3)`` [length/time].
         radii: ``(N,)`` [length].
         masses: ``(N,)`` [mass].
         names: ``N`` sphere names.
-        container: radius of the spherical container [length], or ``None``.
-        box: edge of the periodic cubic box [length] (centred on the
-            origin), or ``None``.
-        event_times: ``(E,)`` times of events [time] (may be empty).
-        event_kinds: ``(E,)`` 0 = reflection off the container, 1 = collision.
-        event_i, event_j: ``(E,)`` spheres involved (``j = -1`` for reflections).
+        container: the :class:`~hardspheres.containers.Container`, a radius
+            of a spherical container [length], or ``None`` (open space).
+        box: instead of ``container``, the edge of a periodic cubic box
+            centred on the origin [length].
+        events: the events of the run (:data:`~hardspheres.events.EVENT_DTYPE`;
+            may be empty).
+        event_times, event_kinds, event_i, event_j: instead of ``events``,
+            its columns.
+
+    Attributes:
+        container: the container, or ``None``.
+        events: ``(E,)`` the events.
+
+    Example:
+        >>> f = Frames([0.0], np.zeros((1, 1, 3)), np.ones((1, 1, 3)), [0.5], [2.0], ["a"],
+        ...            container=3.0)
+        >>> f.container, f.energy().tolist(), f.box
+        (SphericalContainer(radius=3.0), [3.0], None)
     """
 
-    times: np.ndarray
-    positions: np.ndarray
-    velocities: np.ndarray
-    radii: np.ndarray
-    masses: np.ndarray
-    names: list
-    container: float | None = None
-    box: float | None = None
-    event_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    event_kinds: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
-    event_i: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
-    event_j: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    def __init__(self, times, positions, velocities, radii, masses, names: Sequence[str],
+                 container: Container | float | None = None, box: float | None = None,
+                 events: np.ndarray | None = None, *, event_times=None, event_kinds=None,
+                 event_i=None, event_j=None):
+        self.times = np.asarray(times, dtype=np.float64)
+        self.positions = np.asarray(positions, dtype=np.float64)
+        self.velocities = np.asarray(velocities, dtype=np.float64)
+        self.radii = np.asarray(radii, dtype=np.float64)
+        self.masses = np.asarray(masses, dtype=np.float64)
+        self.names = list(names)
+        self.container: Container | None = (
+            None if container is None and box is None else as_container(container, box))
+        columns = {k: v for k, v in (("time", event_times), ("kind", event_kinds),
+                                     ("i", event_i), ("j", event_j)) if v is not None}
+        if events is not None:
+            self.events = as_events(events)
+        elif columns:
+            self.events = from_columns(**columns)
+        else:
+            self.events = empty_events()
+
+    def __repr__(self) -> str:
+        return (f"Frames({len(self.times)} frames of {self.n} spheres, "
+                f"{len(self.events)} events, container={self.container!r})")
 
     @property
-    def n(self):
+    def n(self) -> int:
         """Number of spheres."""
         return len(self.radii)
 
-    def energy(self):
-        """``(F,)`` kinetic energy of each frame [mass*length^2/time^2]."""
-        return 0.5 * np.einsum("n,fnk,fnk->f", self.masses, self.velocities, self.velocities)
+    @property
+    def box(self) -> float | None:
+        """Edge of the periodic box [length], or ``None`` (not periodic)."""
+        c = self.container
+        return c.length if c is not None and c.periodic else None  # type: ignore[attr-defined]
 
-    def momentum(self):
+    # the events' columns by their older names
+    @property
+    def event_times(self) -> np.ndarray:
+        """``(E,)`` times of the events [time]."""
+        return self.events["time"]
+
+    @property
+    def event_kinds(self) -> np.ndarray:
+        """``(E,)`` :class:`~hardspheres.events.EventKind` of the events."""
+        return self.events["kind"]
+
+    @property
+    def event_i(self) -> np.ndarray:
+        """``(E,)`` the sphere of each event (the lower index of a pair)."""
+        return self.events["i"]
+
+    @property
+    def event_j(self) -> np.ndarray:
+        """``(E,)`` the other sphere of a collision, ``-1`` for a reflection."""
+        return self.events["j"]
+
+    def energy(self) -> np.ndarray:
+        """``(F,)`` kinetic energy of each frame [mass*length^2/time^2]."""
+        return kinetic_energy(self.masses, self.velocities)
+
+    def momentum(self) -> np.ndarray:
         """``(F, 3)`` total momentum of each frame [mass*length/time]."""
         return np.einsum("n,fnk->fk", self.masses, self.velocities)
+
+    def wrapped_positions(self, keep=slice(None)) -> np.ndarray:
+        """Positions of the frames ``keep``, wrapped into a periodic box [length]."""
+        pos = self.positions[keep]
+        return pos if self.container is None else self.container.wrap(pos)
+
+    def extent(self, positions: np.ndarray | None = None, *, cover: str = "cube") -> float:
+        """How far from the origin a picture must reach [length].
+
+        The container's ``half_width`` (``cover="cube"``) or
+        ``bounding_radius`` (``cover="sphere"``); in open space, the
+        farthest sphere's edge in ``positions`` (default: all frames).
+        """
+        c = self.container
+        if c is not None:
+            e = c.half_width if cover == "cube" else c.bounding_radius
+        else:
+            pos = self.positions if positions is None else positions
+            r = float(np.max(self.radii)) if len(self.radii) else 0.0
+            e = float(np.max(np.abs(pos))) + r if np.size(pos) else 1.0
+        return e if np.isfinite(e) and e > 0 else 1.0
+

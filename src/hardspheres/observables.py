@@ -2,8 +2,6 @@
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
-
 
 class Observables:
     """Averages over the run since the last :meth:`reset`, from the event core's tallies.
@@ -46,8 +44,7 @@ class Observables:
         return self._delta()[0]
 
     def _dof(self):
-        n = self._sim.n
-        return 3 * n - 3 if isinstance(self._sim.container, PeriodicBox) and n > 1 else 3 * n
+        return self._sim.container.degrees_of_freedom(self._sim.n)
 
     def temperature(self):
         """Kinetic temperature ``kT`` now [energy]: ``2 E_kin / degrees of freedom``.
@@ -67,20 +64,12 @@ class Observables:
         dt, _, _, wall, virial = self._delta()
         if dt <= 0:
             raise ValueError("no time has passed since reset(); run first")
-        cont = self._sim.container
-        if isinstance(cont, SphericalContainer):
-            return wall / (cont.area * dt)
-        n = self._sim.n
-        return (n * self.temperature() + virial / (3.0 * dt)) / cont.volume
+        return self._sim.container.pressure(self._sim.n, self.temperature(), dt, wall, virial)
 
     def compressibility(self):
-        """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""
-        dt, _, _, _, virial = self._delta()
+        """``Z = P V / (N kT)`` since :meth:`reset`."""
         n, kT = self._sim.n, self.temperature()
-        cont = self._sim.container
-        if isinstance(cont, PeriodicBox):
-            return 1.0 + virial / (3.0 * dt * n * kT)
-        return self.pressure() * cont.volume / (n * kT)
+        return self.pressure() * self._sim.container.volume / (n * kT)
 
     def collision_rate(self):
         """Collisions per sphere per unit time [1/time] (each collision counts for both)."""

@@ -17,6 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .eos import carnahan_starling
+from .maxwell import reduced_density, speed_density
+
 SIZE = (960, 720)
 
 
@@ -33,31 +36,6 @@ def _save(fig, path, dpi):
     path = Path(path)
     fig.savefig(path, dpi=dpi, format="png")
     return path
-
-
-def carnahan_starling(phi):
-    """Carnahan-Starling ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.
-
-    >>> round(float(carnahan_starling(0.3)), 4)
-    3.9738
-    """
-    phi = np.asarray(phi, dtype=float)
-    return (1.0 + phi + phi ** 2 - phi ** 3) / (1.0 - phi) ** 3
-
-
-def maxwell_speed_density(v, kT, m):
-    """Maxwell-Boltzmann density of speeds ``v`` for mass ``m`` at ``kT``.
-
-    ``f(v) = 4 pi v^2 (m / (2 pi kT))^{3/2} exp(-m v^2 / (2 kT))``.
-    """
-    v = np.asarray(v, dtype=float)
-    return 4.0 * np.pi * v ** 2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v ** 2 / (2.0 * kT))
-
-
-def maxwell_reduced_density(x):
-    """Density of ``x = v sqrt(m / kT)``: ``sqrt(2/pi) x^2 exp(-x^2 / 2)``, any masses."""
-    x = np.asarray(x, dtype=float)
-    return math.sqrt(2.0 / math.pi) * x ** 2 * np.exp(-0.5 * x ** 2)
 
 
 def plot_conservation(frames, path, *, size=SIZE, dpi=100):
@@ -84,7 +62,8 @@ def plot_conservation(frames, path, *, size=SIZE, dpi=100):
     e0 = energy[0]
     rel_e = (energy - e0) / e0 if e0 != 0 else energy - e0
 
-    in_container = frames.container is not None
+    # walls change P but exert no torque about the centre: then L is conserved
+    in_container = frames.container is not None and frames.container.wall_area > 0
     if in_container:
         vector = np.einsum("n,fnk->fk", masses, np.cross(pos, vel))
         scale = float(np.sum(masses * np.linalg.norm(pos[0], axis=1) * np.linalg.norm(vel[0], axis=1)))
@@ -128,8 +107,7 @@ def plot_conservation(frames, path, *, size=SIZE, dpi=100):
     ax.set_ylabel(f"({symbol} - {symbol}0) / {'sum m|r||v|' if in_container else 'sum m|v|'}")
     ax.set_title(f"{name}: max |dev| = {np.max(np.abs(dev)):.1e}", loc="right")
     ax.set_xlabel("time")
-    where = (f"spherical container R = {frames.container:g}" if in_container
-             else f"periodic box L = {frames.box:g}" if frames.box is not None else "open space")
+    where = frames.container.label if frames.container is not None else "open space"
     fig.suptitle(f"Conservation: {frames.n} spheres, {where}, {len(times)} frames")
     return _save(fig, path, dpi)
 
@@ -176,14 +154,14 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
         scale = math.sqrt(kT / m)
         top = max(float(np.percentile(sample, 99.9)), 4.2 * scale)
         grid = np.linspace(0.0, top, 400)
-        curve = maxwell_speed_density(grid, kT, m)
+        curve = speed_density(grid, kT, m)
         xlabel = "speed v"
         curve_label = f"Maxwell-Boltzmann, m = {m:g}, kT = {kT:.4g}"
     else:
         sample = (speeds * np.sqrt(masses / kT)[None, :]).ravel()
         top = max(float(np.percentile(sample, 99.9)), 4.2)
         grid = np.linspace(0.0, top, 400)
-        curve = maxwell_reduced_density(grid)
+        curve = reduced_density(grid)
         xlabel = "v sqrt(m / kT)"
         curve_label = f"Maxwell-Boltzmann, reduced (kT = {kT:.4g})"
     ax.hist(sample, bins=bins, range=(0.0, top), density=True, color="C0", alpha=0.6,

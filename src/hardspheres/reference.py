@@ -23,14 +23,17 @@ Rules of the assignment (``shared/conformance/README.md``):
 Pure Python floats throughout (no numpy): see :mod:`hardspheres.physics`.
 """
 
+from .containers import as_container
+from .events import EventKind
 from .physics import INF, collide, pair_time, reflect, wall_time
 
 #: Events closer than this to the current time happen now [time].
 SIMULTANEOUS = 1e-8
 
-#: Event kinds.
-REFLECTION = 0
-COLLISION = 1
+#: Event kinds (:class:`~hardspheres.events.EventKind`'s numbers, as plain
+#: ints for the loop's speed).
+REFLECTION = int(EventKind.REFLECTION)
+COLLISION = int(EventKind.COLLISION)
 
 
 def next_event(p, v, tloc, radii, container, clock, window=SIMULTANEOUS):
@@ -118,6 +121,10 @@ def events(masses, radii, positions, velocities, container, end,
            window=SIMULTANEOUS):
     """Run the brute-force loop, yielding ``(t, kind, i, j, state)`` per event.
 
+    ``container`` is a :class:`~hardspheres.containers.SphericalContainer`
+    or its radius [length]; ``kind`` an :class:`~hardspheres.events.EventKind`
+    number.
+
     ``positions`` and ``velocities`` are lists of ``[x, y, z]`` lists at time
     0, changed in place; ``state()`` returns the centres of all spheres at
     the event's time (``velocities`` then hold the velocities just after it).
@@ -130,6 +137,11 @@ def events(masses, radii, positions, velocities, container, end,
         >>> v
         [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
     """
+    where = as_container(container)
+    if where.periodic:
+        raise ValueError("the reference loop has a spherical wall only; use the engine "
+                         "for a periodic box")
+    container = where.core_params()["wall_radius"]
     p, v = positions, velocities
     tloc = [0.0] * len(p)
     clock = 0.0
@@ -142,4 +154,4 @@ def events(masses, radii, positions, velocities, container, end,
         if j >= 0:
             advance(p, v, tloc, j, t)
         apply_event(kind, i, j, p, v, masses)
-        yield t, kind, i, j, lambda: positions_at(p, v, tloc, t)
+        yield t, kind, i, j, lambda t=t: positions_at(p, v, tloc, t)

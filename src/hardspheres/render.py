@@ -89,31 +89,11 @@ def _writer(path, fps, dpi):
     raise ValueError(f"render_movie: unknown movie format {path.suffix!r} (use .gif or .mp4)")
 
 
-def _extent(frames, pos):
-    if frames.container is not None:
-        return float(frames.container)
-    if frames.box is not None:
-        return 0.5 * float(frames.box)
-    r = float(np.max(frames.radii)) if len(frames.radii) else 0.0
-    e = float(np.max(np.abs(pos))) + r if pos.size else 1.0
-    return e if np.isfinite(e) and e > 0 else 1.0
-
-
 def _draw_container(ax, frames):
-    style = dict(color="0.45", linewidth=0.5, alpha=0.35)
     if frames.container is not None:
-        r = float(frames.container)
-        u = np.linspace(0, 2 * np.pi, 25)
-        v = np.linspace(0, np.pi, 13)
-        ax.plot_wireframe(r * np.outer(np.cos(u), np.sin(v)), r * np.outer(np.sin(u), np.sin(v)),
-                          r * np.outer(np.ones_like(u), np.cos(v)), rstride=2, cstride=2, **style)
-    elif frames.box is not None:
-        h = 0.5 * float(frames.box)
-        corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
-        for a in range(8):
-            for b in range(a + 1, 8):
-                if np.sum(corners[a] != corners[b]) == 1:
-                    ax.plot(*corners[[a, b]].T, **style)
+        style = dict(color="0.45", linewidth=0.5, alpha=0.35)
+        for line in frames.container.outline():
+            ax.plot(*line.T, **style)
 
 
 def _pixels_per_unit(fig, ax):
@@ -135,27 +115,25 @@ def _scene(frames, size, keep, color_by, title, dpi):
     from matplotlib.figure import Figure
 
     width, height = (int(s) for s in size)
-    pos = np.asarray(frames.positions, float)[keep]
     vel = np.asarray(frames.velocities, float)[keep]
     times = np.asarray(frames.times, float)[keep]
     radii = np.asarray(frames.radii, float)
     masses = np.asarray(frames.masses, float)
-    if frames.box is not None:
-        box = float(frames.box)
-        pos = pos - box * np.floor(pos / box + 0.5)
+    pos = frames.wrapped_positions(keep)
     speeds = np.linalg.norm(vel, axis=2)
-    extent = _extent(frames, pos)
+    extent = frames.extent(pos)
 
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_axes([0.0, 0.0, 0.84, 1.0], projection="3d")
     ax.set_proj_type("ortho")
-    lim = extent if frames.box is not None else 1.02 * extent
+    periodic = frames.container is not None and frames.container.periodic
+    lim = extent if periodic else 1.02 * extent
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_zlim(-lim, lim)
     # The axes' own cube is the box; a sphere's outline is smaller, so zoom in.
-    ax.set_box_aspect((1, 1, 1), zoom=1.0 if frames.box is not None else 1.2)
+    ax.set_box_aspect((1, 1, 1), zoom=1.0 if periodic else 1.2)
     ax.set_axis_off()
     _draw_container(ax, frames)
 

@@ -5,6 +5,10 @@ Numbers print with ``:g``; the container radius and end time print as
 ``[x, y, z]`` (lists, or numpy arrays, which are converted once per block).
 """
 
+from .events import KIND_LABELS, EventKind
+
+_REFLECTION = int(EventKind.REFLECTION)
+
 PROMPT = ("Please enter the mass, radius, x/y/z position, x/y/z velocity\n"
           "and name of each sphere\n"
           "When complete, use EOF / Ctrl-D to stop entering\n")
@@ -93,8 +97,8 @@ class TextReport:
             + "\nHere are the events.\n")
 
     def event(self, t, kind, i, j, positions, velocities):
-        """One event (``kind`` 0: reflection of ``i``; 1: collision of ``i``, ``j``)."""
-        what = (f"reflecting {self.names[i]}" if kind == 0 else
+        """One event: an :class:`~hardspheres.events.EventKind` of ``i`` (and ``j``)."""
+        what = (f"reflecting {self.names[i]}" if kind == _REFLECTION else
                 f"colliding {self.names[i]} {self.names[j]}")
         self.out.write(f"\ntime of event: {t:g}\n{what}\n"
                        + self._block(positions, velocities))
@@ -134,9 +138,9 @@ class JSONLReport:
                                     "end": float(end), "spheres": spheres}) + "\n")
 
     def event(self, t, kind, i, j, positions, velocities):
-        who = [i] if kind == 0 else [i, j]
+        who = [i] if kind == _REFLECTION else [i, j]
         self.out.write(self._dumps({
-            "time": float(t), "kind": "reflection" if kind == 0 else "collision",
+            "time": float(t), "kind": KIND_LABELS[kind],
             "spheres": [self.names[k] for k in who],
             "p": [list(map(float, positions[k])) for k in who],
             "v": [list(map(float, velocities[k])) for k in who]}) + "\n")

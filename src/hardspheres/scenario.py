@@ -144,22 +144,18 @@ def check_scenario(scn, container):
 
     Args:
         scn: the spheres.
-        container: radius of the spherical container [length].
+        container: a :class:`hardspheres.containers.Container`, or the
+            radius of a spherical container [length].
 
     Raises:
         ScenarioError: naming the first offending line.
     """
-    slack = TOUCH_TOL * container
+    from .containers import as_container
+    container = as_container(container)
     for i, (p, r, v) in enumerate(zip(scn.positions, scn.radii, scn.velocities)):
-        dist = math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
-        if dist + r > container + slack:
-            raise ScenarioError(
-                f"sphere {scn.names[i]!r} is not wholly inside the container: "
-                f"|p| + R = {dist + r:g} > {container:g}", scn.lines[i])
-        if r >= container and (v[0] or v[1] or v[2]):
-            raise ScenarioError(
-                f"sphere {scn.names[i]!r} fills the container and cannot move; "
-                "give it zero velocity or a smaller radius", scn.lines[i])
+        problem = container.check_sphere(p, r, v)
+        if problem is not None:
+            raise ScenarioError(f"sphere {scn.names[i]!r} {problem}", scn.lines[i])
     pair = find_overlap(scn.positions, scn.radii)
     if pair is not None:
         i, j = pair

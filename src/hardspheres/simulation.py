@@ -16,18 +16,22 @@ Example:
     (10.0, [-7.0, 7.0])
 """
 
+from __future__ import annotations
+
 import os
 from typing import NamedTuple
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import Container, as_container, from_record
 from .engine import Engine
+from .events import EventKind, StopReason
 from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
 from .state import State
 
-KINDS = ("reflection", "collision")
+#: Event kind names by number (:class:`~hardspheres.events.EventKind`).
+KINDS = tuple(k.label for k in EventKind)
 
 
 class Event(NamedTuple):
@@ -54,7 +58,9 @@ class Simulation:
 
     Args:
         state: the spheres at the start (:class:`hardspheres.State`).
-        container: :class:`SphericalContainer` or :class:`PeriodicBox`.
+        container: a :class:`~hardspheres.containers.Container`
+            (:class:`SphericalContainer`, :class:`PeriodicBox`), or the
+            radius of a spherical container [length].
         window: simultaneity window [time]: events less than this after
             the previous one happen at its time (the assignment's program
             uses 1e-8 s; 0, the default, keeps exact times).
@@ -63,20 +69,14 @@ class Simulation:
         ScenarioError: spheres outside the container or overlapping.
     """
 
-    def __init__(self, state, container, window=0.0):
-        if not isinstance(container, (SphericalContainer, PeriodicBox)):
-            raise TypeError("container must be a SphericalContainer or a PeriodicBox")
-        self.container = container
+    def __init__(self, state: State, container: Container | float, window: float = 0.0):
+        container = as_container(container)
+        self.container: Container = container
         self.names = list(state.names)
-        self.writers = []
-        positions = state.positions
-        if isinstance(container, PeriodicBox):
-            L = container.length
-            positions = positions - L * np.floor(positions / L + 0.5)
-        else:
-            _check_inside(state, container)
-        self._engine = Engine(state.masses, state.radii, positions, state.velocities,
-                              window=window, time=state.time, **container.engine_args())
+        self.writers: list = []
+        _check_inside(state, container)
+        self._engine = Engine(state.masses, state.radii, container.wrap(state.positions),
+                              state.velocities, container, window=window, time=state.time)
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
@@ -111,8 +111,7 @@ class Simulation:
             with open(source, "rb") as fh:
                 data = fh.read()
         scn = parse_scenario(data)
-        if isinstance(container, SphericalContainer):
-            check_scenario(scn, container.radius)
+        check_scenario(scn, container)
         return cls(State.from_scenario(scn), container, window=window)
 
     # ---- running -------------------------------------------------------------
@@ -151,7 +150,7 @@ class Simulation:
     def iter_events(self, until=None, collisions=None, events=None):
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
-            for t, k, i, j, imp in zip(ev["t"].tolist(), ev["kind"].tolist(),
+            for t, k, i, j, imp in zip(ev["time"].tolist(), ev["kind"].tolist(),
                                        ev["i"].tolist(), ev["j"].tolist(),
                                        ev["impulse"].tolist()):
                 yield Event(t, KINDS[k], i, j, imp)
@@ -184,7 +183,7 @@ class Simulation:
                 w.observe(ev)
             if keep:
                 yield ev
-            if eng.last_reason == 0:  # reached `stop`
+            if eng.last_reason == StopReason.UNTIL:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
                 for w in self.writers:
@@ -224,8 +223,6 @@ class Simulation:
         tmp = f"{path}.tmp"
         with open(tmp, "wb") as fh:
             np.savez(fh, names=np.array(self.names, dtype=str).reshape(-1),
-                     container=np.array([type(self.container).__name__,
-                                         repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
                      clock=np.array(self._clock),
                      **self._engine.checkpoint())
@@ -236,11 +233,8 @@ class Simulation:
         """Resume a checkpoint written by :meth:`save`."""
         with np.load(path, allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}
-        kind, size = data.pop("container")
-        container = (SphericalContainer if kind == "SphericalContainer" else PeriodicBox)(
-            float(size))
         sim = cls.__new__(cls)
-        sim.container = container
+        sim.container = from_record(data["container"])
         sim.names = [str(x) for x in data.pop("names")]
         sim.writers = []
         mark = data.pop("obs")
@@ -251,16 +245,10 @@ class Simulation:
         return sim
 
 
-def _container_size(container):
-    return container.radius if isinstance(container, SphericalContainer) else container.length
-
-
 def _check_inside(state, container):
-    if state.n == 0:
-        return
-    reach = np.linalg.norm(state.positions, axis=1) + state.radii
-    bad = np.nonzero(reach > container.radius * (1.0 + TOUCH_TOL))[0]
+    bad = np.nonzero(container.outside(state.positions, state.radii, TOUCH_TOL))[0]
     if len(bad):
         i = int(bad[0])
-        raise ScenarioError(f"sphere {state.names[i]!r} is not wholly inside the container: "
-                            f"|p| + R = {reach[i]:g} > {container.radius:g}")
+        problem = container.check_sphere(state.positions[i].tolist(), float(state.radii[i]),
+                                         [0.0, 0.0, 0.0]) or "is not wholly inside the container"
+        raise ScenarioError(f"sphere {state.names[i]!r} {problem}")

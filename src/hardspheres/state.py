@@ -1,8 +1,28 @@
 """State: the spheres as a plain dataclass of numpy arrays."""
 
+from __future__ import annotations
+
 from dataclasses import dataclass, field
 
 import numpy as np
+
+
+def kinetic_energy(masses: np.ndarray, velocities: np.ndarray) -> np.ndarray:
+    """Total kinetic energy ``sum m |v|^2 / 2`` [mass*length^2/time^2].
+
+    Args:
+        masses: ``(N,)`` [mass].
+        velocities: ``(N, 3)``, or ``(F, N, 3)`` for ``F`` frames [length/time].
+
+    Returns:
+        A scalar, or ``(F,)``.
+
+    Example:
+        >>> float(kinetic_energy(np.array([2.0]), np.array([[1.0, 0.0, 0.0]])))
+        1.0
+    """
+    v = np.asarray(velocities, dtype=np.float64)
+    return 0.5 * np.sum(np.asarray(masses) * np.sum(v * v, axis=-1), axis=-1)
 
 
 @dataclass
@@ -27,7 +47,7 @@ class State:
     radii: np.ndarray
     positions: np.ndarray
     velocities: np.ndarray
-    names: list = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
     time: float = 0.0
 
     @classmethod
@@ -54,9 +74,9 @@ class State:
         """Number of spheres."""
         return self.masses.shape[0]
 
-    def kinetic_energy(self):
+    def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
-        return float(0.5 * np.sum(self.masses * np.sum(self.velocities ** 2, axis=1)))
+        return float(kinetic_energy(self.masses, self.velocities))
 
     def momentum(self):
         """``(3,)`` total momentum [mass*length/time]."""

@@ -17,9 +17,13 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
   ``diameter`` (twice the radius), one type ``"sphere"``;
 * ``log/hardspheres/time`` [time]; ``log/hardspheres/container_radius`` or
   ``log/hardspheres/box_length`` [length]; ``log/hardspheres/names`` (first
-  frame: the names, UTF-8, joined by newlines); ``log/hardspheres/events``
-  (``(E, 5)``: time, kind (0 reflection, 1 collision), i, j (-1 for a
-  reflection), impulse: the events since the previous frame).
+  frame: the names, UTF-8, joined by newlines); the events since the
+  previous frame, one array per field of
+  :data:`~hardspheres.events.EVENT_DTYPE`: ``log/hardspheres/events/time``,
+  ``.../kind`` (:class:`~hardspheres.events.EventKind`: 0 reflection,
+  1 collision), ``.../i``, ``.../j`` (-1 for a reflection),
+  ``.../impulse`` (files written before these read as well: one ``(E, 5)``
+  float64 array ``log/hardspheres/events``).
 
 Example:
     >>> import hardspheres as hs, tempfile, os
@@ -40,10 +44,11 @@ import os
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import from_fields
+from .events import EVENT_DTYPE, empty_events, from_columns
 from .frames import Frames
 
-_EMPTY_EVENTS = np.zeros((0, 5))
+_GSD_EVENTS = "hardspheres/events"
 
 
 def _check_every(every):
@@ -86,12 +91,11 @@ class _FrameWriter:
         self.next_time = self._t0 + self._count * self.every
 
     def observe(self, ev):
-        if len(ev["t"]):
-            self._events.append(np.column_stack(
-                [ev["t"], ev["kind"], ev["i"], ev["j"], ev["impulse"]]).astype(np.float64))
+        if len(ev):
+            self._events.append(ev)
 
     def _take_events(self):
-        out = np.concatenate(self._events) if self._events else _EMPTY_EVENTS
+        out = np.concatenate(self._events) if self._events else empty_events()
         self._events = []
         return out
 
@@ -133,13 +137,9 @@ class GSDWriter(_FrameWriter):
         f = self._hoomd.Frame()
         f.configuration.step = self._count
         c = sim.container
-        if isinstance(c, PeriodicBox):
-            f.configuration.box = [c.length, c.length, c.length, 0, 0, 0]
-            f.log["hardspheres/box_length"] = np.array([c.length])
-        else:
-            side = 2.0 * c.radius
-            f.configuration.box = [side, side, side, 0, 0, 0]
-            f.log["hardspheres/container_radius"] = np.array([c.radius])
+        f.configuration.box = c.gsd_box
+        for key, value in c.fields().items():
+            f.log[f"hardspheres/{key}"] = np.array([value])
         f.particles.N = state.n
         f.particles.position = state.positions
         f.particles.velocity = state.velocities
@@ -152,7 +152,8 @@ class GSDWriter(_FrameWriter):
                 "\n".join(state.names).encode("utf-8"), dtype=np.uint8)
         f.log["hardspheres/time"] = np.array([state.time])
         if self.wants_events:
-            f.log["hardspheres/events"] = events
+            for name in EVENT_DTYPE.names:
+                f.log[f"{_GSD_EVENTS}/{name}"] = np.ascontiguousarray(events[name])
         self._file.append(f)
         self._file.flush()
 
@@ -184,10 +185,9 @@ class XYZWriter(_FrameWriter):
 
     def _write_frame(self, sim, state, events):
         c = sim.container
-        if isinstance(c, PeriodicBox):
-            side, pbc, size = c.length, "T T T", f"box_length={c.length!r}"
-        else:
-            side, pbc, size = 2.0 * c.radius, "F F F", f"container_radius={c.radius!r}"
+        side = 2.0 * c.half_width
+        pbc = "T T T" if c.periodic else "F F F"
+        size = " ".join(f"{k}={v!r}" for k, v in c.fields().items())
         h = side / 2.0
         header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
                   f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" '
@@ -205,11 +205,20 @@ class XYZWriter(_FrameWriter):
         fh.flush()
 
 
-def _event_fields(blocks):
-    """:class:`Frames`' event arrays from ``(E, 5)`` blocks (t, kind, i, j, impulse)."""
-    ev = np.concatenate(blocks) if blocks else _EMPTY_EVENTS
-    return dict(event_times=ev[:, 0], event_kinds=ev[:, 1].astype(np.int8),
-                event_i=ev[:, 2].astype(np.int64), event_j=ev[:, 3].astype(np.int64))
+def _gsd_events(log):
+    """A GSD frame's events, or ``None`` if it has none."""
+    if f"{_GSD_EVENTS}/time" in log:
+        return from_columns(**{name: log[f"{_GSD_EVENTS}/{name}"] for name in EVENT_DTYPE.names
+                               if f"{_GSD_EVENTS}/{name}" in log})
+    if _GSD_EVENTS in log:  # files before one array per field: (E, 5) float64
+        old = np.asarray(log[_GSD_EVENTS], np.float64).reshape(-1, 5)
+        return from_columns(time=old[:, 0], kind=old[:, 1], i=old[:, 2], j=old[:, 3],
+                            impulse=old[:, 4])
+    return None
+
+
+def _concat(blocks):
+    return np.concatenate(blocks) if blocks else empty_events()
 
 
 # ---- reading -------------------------------------------------------------------
@@ -249,23 +258,20 @@ def _read_gsd(path):
         names = raw.decode("utf-8").split("\n") if n else []
         if len(names) != n:
             names = [f"s{i}" for i in range(n)]
-        container = box = None
-        if "hardspheres/box_length" in log:
-            box = float(log["hardspheres/box_length"][0])
-        else:
-            container = float(log["hardspheres/container_radius"][0])
+        container = from_fields(log)
         times, pos, vel, events = [], [], [], []
         for f in traj:
             times.append(float(f.log["hardspheres/time"][0]))
             pos.append(np.asarray(f.particles.position, dtype=np.float64).reshape(n, 3))
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
-            if "hardspheres/events" in f.log:
-                events.append(np.asarray(f.log["hardspheres/events"], np.float64).reshape(-1, 5))
+            ev = _gsd_events(f.log)
+            if ev is not None:
+                events.append(ev)
         return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, box=box, **_event_fields(events))
+                      container=container, events=_concat(events))
 
 
 def _xyz_keys(comment):
@@ -280,7 +286,7 @@ def _xyz_keys(comment):
 
 def _read_xyz(path):
     times, pos, vel, names, radii, masses = [], [], [], None, None, None
-    container = box = None
+    container = None
     with open(path, encoding="utf-8") as fh:
         lines = fh.read().split("\n")
     k = 0
@@ -289,10 +295,7 @@ def _read_xyz(path):
             n = int(lines[k])
             keys = _xyz_keys(lines[k + 1])
             times.append(float(keys["Time"]))
-            if "box_length" in keys:
-                box = float(keys["box_length"])
-            else:
-                container = float(keys["container_radius"])
+            container = from_fields(keys)
             rows = [ln.split() for ln in lines[k + 2:k + 2 + n]]
             if len(rows) != n or any(len(r) != 9 for r in rows):
                 raise ValueError("frame shorter than its atom count")
@@ -311,7 +314,7 @@ def _read_xyz(path):
     n = len(names)
     return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                   np.array(vel).reshape(-1, n, 3), radii, masses, names,
-                  container=container, box=box)
+                  container=container)
 
 
 # ---- in memory -------------------------------------------------------------------
@@ -336,13 +339,10 @@ class FrameRecorder(_FrameWriter):
         """The frames recorded so far."""
         sim, st = self._sim, self._state
         n = st.n
-        c = sim.container
         return Frames(np.array(self._times), np.array(self._pos).reshape(-1, n, 3),
                       np.array(self._vel).reshape(-1, n, 3), st.radii.copy(),
-                      st.masses.copy(), list(st.names),
-                      container=c.radius if isinstance(c, SphericalContainer) else None,
-                      box=c.length if isinstance(c, PeriodicBox) else None,
-                      **_event_fields(self._ev))
+                      st.masses.copy(), list(st.names), container=sim.container,
+                      events=_concat(self._ev))
 
 
 def frames_from_simulation(sim, until, every):

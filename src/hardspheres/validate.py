@@ -21,29 +21,18 @@ import numpy as np
 
 from .builders import random_spheres
 from .containers import PeriodicBox
+from .eos import carnahan_starling
+from .maxwell import speed_cdf
 from .simulation import Simulation
 
 PACKINGS = (0.1, 0.2, 0.3, 0.4, 0.45)
-
-
-def carnahan_starling(phi):
-    """Carnahan-Starling compressibility factor at packing fraction ``phi``."""
-    return (1.0 + phi + phi * phi - phi ** 3) / (1.0 - phi) ** 3
-
-
-def maxwell_cdf(v, kT=1.0, m=1.0):
-    """Cumulative Maxwell-Boltzmann distribution of speeds ``v`` [length/time]."""
-    a = math.sqrt(kT / m)
-    x = np.asarray(v) / a
-    erf = np.vectorize(math.erf)
-    return erf(x / math.sqrt(2.0)) - np.sqrt(2.0 / math.pi) * x * np.exp(-0.5 * x * x)
 
 
 def ks_distance(speeds, kT=1.0, m=1.0):
     """Largest gap between the speeds' empirical CDF and Maxwell-Boltzmann's."""
     s = np.sort(np.asarray(speeds))
     n = len(s)
-    cdf = maxwell_cdf(s, kT, m)
+    cdf = speed_cdf(s, kT, m)
     hi = np.arange(1, n + 1) / n - cdf
     lo = cdf - np.arange(0, n) / n
     return float(max(hi.max(), lo.max()))

@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .events import EventKind
+
 _STATIC = ("three.core.min.js", "three.module.min.js", "OrbitControls.js")
 _CORE_SPECIFIER = '"./three.core.min.js"'
 
@@ -95,19 +97,13 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by):
     keep = frame_indices(n_frames, n, max_frames, max_values)
     t = times[keep]
     p = pos[keep]
-    box = None if frames.box is None else float(frames.box)
-    container = None if frames.container is None else float(frames.container)
-    if box:
-        p = p - box * np.floor(p / box + 0.5)  # into [-L/2, L/2)
+    sizes = frames.container.fields() if frames.container is not None else {}
+    box = sizes.get("box_length")
+    container = sizes.get("container_radius")
+    if frames.container is not None:
+        p = frames.container.wrap(p)  # periodic: into [-L/2, L/2)
     speeds = np.sqrt(np.einsum("fnk,fnk->fn", vel[keep], vel[keep]))
-
-    if container:
-        extent = container
-    elif box:
-        extent = 0.5 * box * np.sqrt(3.0)
-    else:
-        extent = float(np.max(np.abs(p)) + (radii.max() if n else 0.0)) if p.size else 1.0
-    extent = extent if np.isfinite(extent) and extent > 0 else 1.0
+    extent = frames.extent(p, cover="sphere")
 
     et = np.asarray(frames.event_times, dtype=np.float64).reshape(-1)
     ek = np.asarray(frames.event_kinds).reshape(-1).astype(np.uint8)
@@ -120,7 +116,8 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by):
     order = np.argsort(et, kind="stable")
     et, ek, ei, ej = et[order], ek[order], ei[order], ej[order]
     events_total = int(len(et))
-    counts = {"collisions": int(np.sum(ek == 1)), "reflections": int(np.sum(ek == 0))}
+    counts = {"collisions": int(np.sum(ek == EventKind.COLLISION)),
+              "reflections": int(np.sum(ek == EventKind.REFLECTION))}
     if len(et) > max_events:
         pick = np.unique(np.round(np.linspace(0, len(et) - 1, max_events)).astype(np.int64))
         et, ek, ei, ej = et[pick], ek[pick], ei[pick], ej[pick]

@@ -1,0 +1,72 @@
+"""Maxwell-Boltzmann: the equilibrium distribution of velocities, drawn and evaluated.
+
+One home for the distribution: :func:`maxwell_boltzmann` draws velocities
+(the builders use it), :func:`speed_density` and :func:`reduced_density`
+are its densities of speeds (the plots draw them), :func:`speed_cdf` its
+cumulative distribution (validation's Kolmogorov-Smirnov distance).
+
+Example:
+    >>> import numpy as np
+    >>> v = maxwell_boltzmann(np.random.default_rng(0), np.ones(1000), kT=2.0)
+    >>> round(float(0.5 * np.sum(v * v)) / (1.5 * 999), 12)
+    2.0
+    >>> round(float(speed_cdf(1e9)), 6), round(float(speed_density(0.0, 1.0, 1.0)), 6)
+    (1.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .state import kinetic_energy
+
+
+def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 1.0) -> np.ndarray:
+    """Velocities drawn at temperature ``kT`` [energy], total momentum zero.
+
+    The draw is rescaled so that the kinetic energy is exactly
+    ``3/2 (N - 1) kT`` (zero momentum removes three degrees of freedom).
+
+    Args:
+        rng: a numpy random generator.
+        masses: ``(N,)`` [mass].
+        kT: temperature [energy].
+
+    Returns:
+        ``(N, 3)`` velocities [length/time].
+    """
+    n = len(masses)
+    v = rng.normal(size=(n, 3)) * np.sqrt(kT / masses)[:, None]
+    if n > 1:
+        v -= (masses @ v) / masses.sum()
+        ke = kinetic_energy(masses, v)
+        if ke > 0:
+            v *= np.sqrt(1.5 * (n - 1) * kT / ke)
+    else:
+        v[:] = 0.0
+    return v
+
+
+def speed_density(v, kT: float, m: float):
+    """Density of speeds ``v`` [length/time] for mass ``m`` at ``kT`` [time/length].
+
+    ``f(v) = 4 pi v^2 (m / (2 pi kT))^{3/2} exp(-m v^2 / (2 kT))``.
+    """
+    v = np.asarray(v, dtype=float)
+    return 4.0 * np.pi * v ** 2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v ** 2 / (2.0 * kT))
+
+
+def reduced_density(x):
+    """Density of ``x = v sqrt(m / kT)`` (dimensionless), any masses: ``sqrt(2/pi) x^2 exp(-x^2 / 2)``."""
+    x = np.asarray(x, dtype=float)
+    return math.sqrt(2.0 / math.pi) * x ** 2 * np.exp(-0.5 * x ** 2)
+
+
+def speed_cdf(v, kT: float = 1.0, m: float = 1.0):
+    """Cumulative distribution of speeds ``v`` [length/time] for mass ``m`` at ``kT``."""
+    a = math.sqrt(kT / m)
+    x = np.asarray(v) / a
+    erf = np.vectorize(math.erf)
+    return erf(x / math.sqrt(2.0)) - np.sqrt(2.0 / math.pi) * x * np.exp(-0.5 * x * x)
