@@ -98,3 +98,14 @@ def test_no_container_type_branches_above_the_core():
                 if names & {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}:
                     offenders.append(f"{path.name}:{node.lineno}")
     assert offenders == []
+
+
+@pytest.mark.parametrize("c", BOTH, ids=lambda c: c.kind)
+def test_checkpoint_keeps_the_container(c, make_sim, tmp_path, request):
+    assert request.node.get_closest_marker("unit") is not None  # conftest's level
+    sim = make_sim(n=30, container=c)
+    sim.run(collisions=50)
+    sim.save(tmp_path / "run.npz")
+    back = hs.Simulation.load(tmp_path / "run.npz")
+    assert back.container == c and back._engine.container == c
+    assert back.state().positions.tolist() == sim.state().positions.tolist()
