@@ -5,7 +5,12 @@ public API (:mod:`hardspheres.simulation`), the assignment's program and the
 benchmark all go through it.
 """
 
+from __future__ import annotations
+
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _core as core
 from . import events as _events
@@ -47,8 +52,10 @@ class Engine:
         ([4.0], [1])
     """
 
-    def __init__(self, masses, radii, positions, velocities, container=None, box=None,
-                 window=0.0, time=0.0, rebase=True):
+    def __init__(self, masses: ArrayLike, radii: ArrayLike, positions: ArrayLike,
+                 velocities: ArrayLike, container: Container | float | None = None,
+                 box: float | None = None, window: float = 0.0, time: float = 0.0,
+                 rebase: bool = True) -> None:
         self.container: Container = as_container(container, box)
         self.mass = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
         n = self.mass.shape[0]
@@ -77,17 +84,17 @@ class Engine:
         self._build()
 
     @property
-    def n(self):
+    def n(self) -> int:
         """Number of spheres."""
         return self.mass.shape[0]
 
     @property
-    def vel(self):
+    def vel(self) -> np.ndarray:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
         return self.S[:, 3:6]
 
     @property
-    def rad(self):
+    def rad(self) -> np.ndarray:
         """``(N,)`` radii [length] (a view)."""
         return self.S[:, 7]
 
@@ -118,7 +125,7 @@ class Engine:
 
     # ---- time -------------------------------------------------------------
     @property
-    def time(self):
+    def time(self) -> float:
         """Time of the last processed event (or the start) [time]."""
         return self.offset + self.f[core.F_CLOCK]
 
@@ -127,7 +134,8 @@ class Engine:
         self._since_rebase = 0
 
     # ---- running ----------------------------------------------------------
-    def advance(self, until=np.inf, events=None, collisions=None, record=True):
+    def advance(self, until: float = np.inf, events: int | None = None,
+                collisions: int | None = None, record: bool = True) -> np.ndarray:
         """Process events up to time ``until`` or a count limit.
 
         Args:
@@ -174,7 +182,7 @@ class Engine:
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
 
-    def checkpoint(self):
+    def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays."""
         out = {k: getattr(self, k) for k in self._SAVED}
         # the last two: the core's wall radius and box edge, NaN when absent
@@ -187,7 +195,7 @@ class Engine:
         return out
 
     @classmethod
-    def restore(cls, data):
+    def restore(cls, data: dict[str, np.ndarray]) -> Engine:
         """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state."""
         eng = cls.__new__(cls)
         for k in cls._SAVED:
@@ -207,7 +215,7 @@ class Engine:
         return eng
 
     # ---- state ------------------------------------------------------------
-    def positions_at(self, t=None, out=None):
+    def positions_at(self, t: float | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """Centres of all spheres at absolute time ``t`` (default: now) [length].
 
         In a periodic box the centres are wrapped into the box.
@@ -218,33 +226,33 @@ class Engine:
         return out
 
     @property
-    def counters(self):
+    def counters(self) -> dict[str, int]:
         """Dict of event counts: collisions, reflections, crossings, stale."""
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
                 "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
 
     @property
-    def wall_impulse(self):
+    def wall_impulse(self) -> float:
         """Total impulse delivered to the container wall [mass*length/time]."""
         return float(self.f[core.F_WALL_IMPULSE])
 
     @property
-    def virial(self):
+    def virial(self) -> float:
         """Sum over collisions of ``r_ij . dp_i`` [mass*length^2/time]."""
         return float(self.f[core.F_VIRIAL])
 
     # ---- checks -----------------------------------------------------------
-    def max_overlap(self, t=None):
+    def max_overlap(self, t: float | None = None) -> float:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         x = self.positions_at(t)  # pairs across the box compare by minimum image
         return float(core.max_overlap(x, self.S, self.K, self.head, self.nxt,
                                       int(self.c[core.C_NC]), self.f[core.F_BOX]))
 
-    def outside(self, t=None, tol=1e-9):
+    def outside(self, t: float | None = None, tol: float = 1e-9) -> int:
         """Number of spheres poking out of the container by more than ``tol`` of its size."""
         return int(np.sum(self.container.outside(self.positions_at(t), self.rad, tol)))
 
-    def kinetic_energy(self):
+    def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(kinetic_energy(self.mass, self.vel))

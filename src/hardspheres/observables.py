@@ -1,6 +1,13 @@
 """Observables: time averages of a run from the event core's running tallies."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
 
 
 class Observables:
@@ -19,7 +26,7 @@ class Observables:
         True
     """
 
-    def __init__(self, sim):
+    def __init__(self, sim: Simulation) -> None:
         self._sim = sim
         self.reset()
 
@@ -29,7 +36,7 @@ class Observables:
         return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
                 eng.wall_impulse, eng.virial)
 
-    def reset(self):
+    def reset(self) -> Observables:
         """Start averaging afresh from now; returns self."""
         self._mark = self._now()
         return self
@@ -39,14 +46,14 @@ class Observables:
         return tuple(a - b for a, b in zip(now, self._mark))
 
     @property
-    def elapsed(self):
+    def elapsed(self) -> float:
         """Time averaged over [time]."""
         return self._delta()[0]
 
     def _dof(self):
         return self._sim.container.degrees_of_freedom(self._sim.n)
 
-    def temperature(self):
+    def temperature(self) -> float:
         """Kinetic temperature ``kT`` now [energy]: ``2 E_kin / degrees of freedom``.
 
         In a periodic box total momentum is conserved, so three degrees of
@@ -54,7 +61,7 @@ class Observables:
         """
         return 2.0 * self._sim._engine.kinetic_energy() / max(self._dof(), 1)
 
-    def pressure(self):
+    def pressure(self) -> float:
         """Pressure [energy/length^3] averaged since :meth:`reset`.
 
         Spherical container: momentum delivered to the wall per unit area
@@ -66,35 +73,36 @@ class Observables:
             raise ValueError("no time has passed since reset(); run first")
         return self._sim.container.pressure(self._sim.n, self.temperature(), dt, wall, virial)
 
-    def compressibility(self):
+    def compressibility(self) -> float:
         """``Z = P V / (N kT)`` since :meth:`reset`."""
         n, kT = self._sim.n, self.temperature()
         return self.pressure() * self._sim.container.volume / (n * kT)
 
-    def collision_rate(self):
+    def collision_rate(self) -> float:
         """Collisions per sphere per unit time [1/time] (each collision counts for both)."""
         dt, coll, _, _, _ = self._delta()
         return 2.0 * coll / (self._sim.n * dt)
 
-    def mean_free_time(self):
+    def mean_free_time(self) -> float:
         """Mean time between collisions of a sphere [time] (``inf`` without any)."""
         rate = self.collision_rate()
         return 1.0 / rate if rate > 0 else np.inf
 
-    def mean_speed(self):
+    def mean_speed(self) -> float:
         """Mean speed of the spheres now [length/time]."""
         return float(np.mean(np.linalg.norm(self._sim._engine.vel, axis=1)))
 
-    def mean_free_path(self):
+    def mean_free_path(self) -> float:
         """Mean distance a sphere travels between collisions [length]."""
         return self.mean_speed() * self.mean_free_time()
 
-    def speed_histogram(self, bins=50, range=None):
+    def speed_histogram(self, bins: int = 50, range: tuple[float, float] | None = None,
+                        ) -> tuple[np.ndarray, np.ndarray]:
         """Histogram of the speeds now: ``(counts, edges)`` [edges: length/time]."""
         speeds = np.linalg.norm(self._sim._engine.vel, axis=1)
         return np.histogram(speeds, bins=bins, range=range)
 
-    def summary(self):
+    def summary(self) -> dict[str, float]:
         """Dict of the observables (pressure and rates over the time since reset)."""
         out = {"time": self._sim.time, "elapsed": self.elapsed,
                "temperature": self.temperature()}

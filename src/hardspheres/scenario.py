@@ -93,7 +93,7 @@ def _decode(data):
             "save the scenario as UTF-8", lineno) from None
 
 
-def parse_scenario(data):
+def parse_scenario(data: str | bytes) -> Scenario:
     """Parse scenario text (``str`` or UTF-8 ``bytes``) into a :class:`Scenario`.
 
     Raises:
@@ -109,7 +109,7 @@ def parse_scenario(data):
     """
     text = _decode(data)
     scn = Scenario()
-    seen = {}
+    seen: dict[str, int] = {}
     for lineno, line in enumerate(text.split("\n"), start=1):
         tokens = line.split()
         if not tokens:
@@ -139,7 +139,7 @@ def parse_scenario(data):
     return scn
 
 
-def check_scenario(scn, container):
+def check_scenario(scn: Scenario, container) -> None:
     """Check that every sphere is inside the container and none overlap.
 
     Args:

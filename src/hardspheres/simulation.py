@@ -19,9 +19,11 @@ Example:
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator, Sequence
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .containers import Container, as_container, from_record
 from .engine import Engine
@@ -88,15 +90,18 @@ class Simulation:
 
     # ---- construction ------------------------------------------------------
     @classmethod
-    def from_arrays(cls, masses, radii, positions, velocities, container, names=None,
-                    time=0.0, window=0.0):
+    def from_arrays(cls, masses: ArrayLike, radii: ArrayLike, positions: ArrayLike,
+                    velocities: ArrayLike, container: Container | float,
+                    names: Sequence[str] | None = None,
+                    time: float = 0.0, window: float = 0.0) -> Simulation:
         """Build from arrays: ``masses (N,)`` [mass], ``radii (N,)`` [length],
         ``positions (N, 3)`` [length], ``velocities (N, 3)`` [length/time]."""
         return cls(State.from_arrays(masses, radii, positions, velocities, names, time),
                    container, window=window)
 
     @classmethod
-    def from_scenario(cls, source, container, window=0.0):
+    def from_scenario(cls, source: str | bytes | os.PathLike, container: Container | float,
+                      window: float = 0.0) -> Simulation:
         """Build from a scenario in the assignment's input format.
 
         Args:
@@ -116,21 +121,22 @@ class Simulation:
 
     # ---- running -------------------------------------------------------------
     @property
-    def time(self):
+    def time(self) -> float:
         """The simulation's clock [time]: where the last run stopped."""
         return float(max(self._engine.time, self._clock))
 
     @property
-    def n(self):
+    def n(self) -> int:
         """Number of spheres."""
         return self._engine.n
 
     @property
-    def counters(self):
+    def counters(self) -> dict[str, int]:
         """Events processed so far: collisions, reflections, crossings, stale."""
         return self._engine.counters
 
-    def run(self, until=None, collisions=None, events=None):
+    def run(self, until: float | None = None, collisions: int | None = None,
+            events: int | None = None) -> Simulation:
         """Run until time ``until`` or until so many collisions or events, whichever first.
 
         Writers in :attr:`writers` are called at their times on the way.
@@ -147,7 +153,8 @@ class Simulation:
             pass
         return self
 
-    def iter_events(self, until=None, collisions=None, events=None):
+    def iter_events(self, until: float | None = None, collisions: int | None = None,
+                    events: int | None = None) -> Iterator[Event]:
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
             for t, k, i, j, imp in zip(ev["time"].tolist(), ev["kind"].tolist(),
@@ -196,7 +203,7 @@ class Simulation:
         return getattr(self, "stop_requested", False)
 
     # ---- state -----------------------------------------------------------------
-    def state(self, time=None):
+    def state(self, time: float | None = None) -> State:
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
 
         Positions are advanced exactly along each sphere's line from its
@@ -214,7 +221,7 @@ class Simulation:
                      list(self.names), t)
 
     # ---- checkpoints ---------------------------------------------------------
-    def save(self, path):
+    def save(self, path: str | os.PathLike) -> None:
         """Write a checkpoint; :meth:`load` resumes it bit for bit.
 
         The file is written to a temporary name and renamed, so an
@@ -229,7 +236,7 @@ class Simulation:
         os.replace(tmp, path)
 
     @classmethod
-    def load(cls, path):
+    def load(cls, path: str | os.PathLike) -> Simulation:
         """Resume a checkpoint written by :meth:`save`."""
         with np.load(path, allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}

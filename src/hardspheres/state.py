@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,7 +52,8 @@ class State:
     time: float = 0.0
 
     @classmethod
-    def from_arrays(cls, masses, radii, positions, velocities, names=None, time=0.0):
+    def from_arrays(cls, masses, radii, positions, velocities,
+                    names: Sequence[str] | None = None, time: float = 0.0) -> State:
         """Build a state from array-likes, naming spheres ``s0, s1, ...`` if unnamed."""
         masses = np.asarray(masses, dtype=np.float64).reshape(-1)
         n = masses.shape[0]
@@ -70,7 +72,7 @@ class State:
                                scn.velocities or np.zeros((0, 3)), scn.names)
 
     @property
-    def n(self):
+    def n(self) -> int:
         """Number of spheres."""
         return self.masses.shape[0]
 
@@ -78,11 +80,11 @@ class State:
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(kinetic_energy(self.masses, self.velocities))
 
-    def momentum(self):
+    def momentum(self) -> np.ndarray:
         """``(3,)`` total momentum [mass*length/time]."""
         return self.masses @ self.velocities
 
-    def to_text(self):
+    def to_text(self) -> str:
         """The assignment's input format, with every digit kept (``%.17g``)."""
         rows = [f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} {nm}\n"
                 for m, r, p, v, nm in zip(self.masses.tolist(), self.radii.tolist(),

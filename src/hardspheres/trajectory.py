@@ -39,8 +39,11 @@ Example:
     ([0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 2.0, 1.0])
 """
 
+from __future__ import annotations
+
 import math
 import os
+from typing import Any
 
 import numpy as np
 
@@ -66,7 +69,7 @@ class _FrameWriter:
     if any, in ``_file``.
     """
 
-    _file = None
+    _file: Any = None
 
     def __init__(self, every, events=True):
         self.every = _check_every(every)
@@ -110,7 +113,7 @@ class _FrameWriter:
         self.close()
         return False
 
-    def close(self):
+    def close(self) -> None:
         """Flush and close the file (further frames are an error)."""
         if self._file is not None:
             self._file.close()
@@ -126,7 +129,7 @@ class GSDWriter(_FrameWriter):
         events: also keep the events between frames (``log/hardspheres/events``).
     """
 
-    def __init__(self, path, every, events=True):
+    def __init__(self, path: str | os.PathLike, every: float, events: bool = True) -> None:
         super().__init__(every, events)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
         self.path = os.fspath(path)
@@ -172,7 +175,7 @@ class XYZWriter(_FrameWriter):
         every: time between frames [time].
     """
 
-    def __init__(self, path, every):
+    def __init__(self, path: str | os.PathLike, every: float) -> None:
         super().__init__(every, events=False)
         self.path = os.fspath(path)
         self._file = open(self.path, "w", encoding="utf-8", newline="\n")
@@ -222,7 +225,7 @@ def _concat(blocks):
 
 
 # ---- reading -------------------------------------------------------------------
-def read_trajectory(path):
+def read_trajectory(path: str | os.PathLike) -> Frames:
     """Read a trajectory written by :class:`GSDWriter` or :class:`XYZWriter`.
 
     Returns:
@@ -345,7 +348,7 @@ class FrameRecorder(_FrameWriter):
                       events=_concat(self._ev))
 
 
-def frames_from_simulation(sim, until, every):
+def frames_from_simulation(sim, until: float, every: float) -> Frames:
     """Run ``sim`` to ``until`` [time], keeping a frame every ``every`` [time].
 
     Returns:
