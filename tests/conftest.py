@@ -19,6 +19,7 @@ LEVELS = {
     "test_analytic": "unit",
     "test_containers": "unit",
     "test_events": "unit",
+    "test_writers": "integration",
     "test_properties": "integration",
     "test_engine": "integration",
     "test_simulation": "integration",

@@ -64,7 +64,7 @@ def test_equal_masses_head_on_swap_velocities():
     evs = list(s.iter_events(until=3.0))
     assert [(e.time, e.kind, e.i, e.j) for e in evs] == [(2.5, "collision", 0, 1)]
     assert evs[0].impulse == 8.0  # m |dv| = 2 * 4
-    st_ = s.state(3.0)
+    st_ = s.run(until=3.0).state()
     assert st_.velocities.tolist() == [[-1.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
     assert st_.positions.tolist() == [[1.0, 0.0, 0.0], [5.0, 0.0, 0.0]]
 

@@ -32,7 +32,10 @@ def test_from_arrays_and_state_at_any_time():
     evs = list(sim.iter_events(until=4.5))
     assert [(e.time, e.kind, e.i, e.j) for e in evs] == [(4.0, "collision", 0, 1)]
     # 1-D elastic: v1' = (m1 - m2)/(m1 + m2) v1 = -1, v2' = 2 m1/(m1 + m2) v1 = 1
-    st = sim.state(5.0)
+    with pytest.raises(ValueError, match="run"):
+        sim.state(5.0)  # state() never runs the simulation
+    assert sim.time == 4.5
+    st = sim.run(until=5.0).state()
     np.testing.assert_allclose(st.velocities[:, 0], [-1.0, 1.0])
     # contact at x = 3 (a) and 5 (b) at t = 4, then one unit apart each
     np.testing.assert_allclose(st.positions[:, 0], [2.0, 6.0])

@@ -56,7 +56,7 @@ def test_gsd_frames_match_the_run(tmp_path, box):
 
     again = _sim(box)
     for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.state(t)
+        st = again.run(until=t).state()
         # every digit kept: single precision would miss by ~1e-7
         np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
         np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
@@ -91,7 +91,7 @@ def test_xyz_reads_back_exactly(tmp_path, box):
     assert frames.times.tolist() == [0.0, 0.5, 1.0, 1.5]
     assert frames.names == again.names
     for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.state(t)
+        st = again.run(until=t).state()
         np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
         np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
     header = (tmp_path / "run.xyz").read_text().split("\n")[1]

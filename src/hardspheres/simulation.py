@@ -31,6 +31,7 @@ from .events import EventKind, StopReason
 from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
 from .state import State
+from .writers import Writer
 
 #: Event kind names by number (:class:`~hardspheres.events.EventKind`).
 KINDS = tuple(k.label for k in EventKind)
@@ -75,7 +76,11 @@ class Simulation:
         container = as_container(container)
         self.container: Container = container
         self.names = list(state.names)
-        self.writers: list = []
+        #: Writers called as runs go (:class:`hardspheres.writers.Writer`).
+        self.writers: list[Writer] = []
+        #: Set (e.g. from a signal handler) to end the run at the next chunk
+        #: of events; :meth:`request_stop` sets it.
+        self.stop_requested = False
         _check_inside(state, container)
         self._engine = Engine(state.masses, state.radii, container.wrap(state.positions),
                               state.velocities, container, window=window, time=state.time)
@@ -139,12 +144,13 @@ class Simulation:
             events: int | None = None) -> Simulation:
         """Run until time ``until`` or until so many collisions or events, whichever first.
 
-        Writers in :attr:`writers` are called at their times on the way.
-        A writer has a ``next_time`` [time], ``attach(sim)`` (called as
-        each run starts), ``write(sim, t)`` (called with the clock at ``t``;
-        it advances ``next_time``) and, if its ``wants_events`` is true,
-        ``observe(events)`` with each batch of events as :meth:`advance
-        <hardspheres.engine.Engine.advance>` returns them.
+        Writers in :attr:`writers` (:class:`hardspheres.writers.Writer`)
+        are called on the way: ``attach(sim)`` as each run starts,
+        ``write(sim, t)`` when the clock reaches their ``next_time`` [time]
+        or the collision count their ``next_collisions``, and, if their
+        ``wants_events`` is true, ``observe(events)`` with each batch of
+        events as :meth:`advance <hardspheres.engine.Engine.advance>`
+        returns them.
 
         Returns:
             self
@@ -174,22 +180,29 @@ class Simulation:
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
         keep = record
         record = record or bool(listeners)
-        while coll_left > 0 and ev_left > 0 and not self._interrupted():
+        by_count = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
+        while coll_left > 0 and ev_left > 0 and not self.stop_requested:
             stop = until
             for w in self.writers:
                 stop = min(stop, w.next_time)
             step = min(ev_left, 1 << 16)
             c0 = eng.counters["collisions"]
+            budget = coll_left
+            for w in by_count:
+                budget = min(budget, max(w.next_collisions - c0, 0))
             ev = eng.advance(until=stop, events=step,
-                             collisions=None if coll_left == np.inf else coll_left,
+                             collisions=None if budget == np.inf else int(budget),
                              record=record)
-            coll = eng.counters["collisions"] - c0
-            coll_left -= coll
+            c1 = eng.counters["collisions"]
+            coll_left -= c1 - c0
             ev_left -= eng.last_done
             for w in listeners:
                 w.observe(ev)
             if keep:
                 yield ev
+            for w in by_count:
+                if w.next_collisions <= c1:
+                    w.write(self, self.time)
             if eng.last_reason == StopReason.UNTIL:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
@@ -199,20 +212,25 @@ class Simulation:
                 if stop >= until:
                     break
 
-    def _interrupted(self):
-        return getattr(self, "stop_requested", False)
+    def request_stop(self) -> None:
+        """End the current run early, at its next chunk of events (safe from a signal handler).
+
+        Runs stop at once until :attr:`stop_requested` is set back to ``False``.
+        """
+        self.stop_requested = True
 
     # ---- state -----------------------------------------------------------------
     def state(self, time: float | None = None) -> State:
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
 
         Positions are advanced exactly along each sphere's line from its
-        last event; in a periodic box they are wrapped into the box.
-        A ``time`` past the clock runs the simulation to it first.
+        last event; in a periodic box they are wrapped into the box.  It
+        never runs the simulation: for a later time, :meth:`run` to it first.
         """
         t = self.time if time is None else float(time)
         if t > self.time:
-            self.run(until=t)
+            raise ValueError(f"time {t} is after the simulation's clock ({self.time}); "
+                             f"run(until={t!r}) first")
         if t < self.time:
             raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
                              "the past is not kept: ask for states as you run")
@@ -244,6 +262,7 @@ class Simulation:
         sim.container = from_record(data["container"])
         sim.names = [str(x) for x in data.pop("names")]
         sim.writers = []
+        sim.stop_requested = False
         mark = data.pop("obs")
         sim._clock = float(data.pop("clock"))
         sim._engine = Engine.restore(data)

@@ -1,9 +1,10 @@
-"""Trajectories: frames at fixed time intervals, to GSD or extended XYZ, and back.
+"""Trajectories: frames when a trigger says, to GSD or extended XYZ, and back.
 
-Writers follow the :class:`hardspheres.Simulation` writer protocol
-(``next_time``, ``attach``, ``write``, ``wants_events``/``observe``): append
-one to ``sim.writers`` and every run writes a frame each ``every`` [time],
-starting with the state at the time it is attached.
+The writers here are :class:`hardspheres.writers.Writer` s: append one to
+``sim.writers`` and every run writes a frame each ``every`` [time] (or when
+its ``trigger`` says: :mod:`hardspheres.writers`), starting with the state
+at the time it is attached; the file opens then, and closes on
+:meth:`~_FrameWriter.detach` (or at the end of a ``with`` block).
 
 GSD files use the HOOMD schema in double precision (``gsd``'s default,
 single precision, keeps only ~7 digits), so OVITO, HOOMD-blue, freud and
@@ -50,48 +51,66 @@ import numpy as np
 from .containers import from_fields
 from .events import EVENT_DTYPE, empty_events, from_columns
 from .frames import Frames
+from .writers import Periodic, Trigger, as_trigger
 
 _GSD_EVENTS = "hardspheres/events"
 
 
-def _check_every(every):
-    every = float(every)
-    if not math.isfinite(every) or every <= 0.0:
-        raise ValueError(f"every must be a finite time > 0, got {every!r}")
-    return every
-
-
 class _FrameWriter:
-    """Frames at ``t0, t0 + every, t0 + 2 every, ...`` from the time it is attached.
+    """Frames when its trigger says, from the time it is attached.
 
-    Subclasses write a frame in ``_write_frame(sim, state, events)``, may
-    check the simulation once in ``_start(sim)``, and keep their open file,
-    if any, in ``_file``.
+    Args:
+        every: time between frames [time] (a :class:`~hardspheres.writers.Periodic`
+            trigger), or
+        trigger: a :class:`~hardspheres.writers.Trigger`.
+        events: also keep the events between frames.
+
+    Subclasses write a frame in ``_write_frame(sim, state, events)``, open
+    their file and check the simulation once in ``_start(sim)``, and keep
+    the open file, if any, in ``_file``.
     """
 
     _file: Any = None
 
-    def __init__(self, every, events=True):
-        self.every = _check_every(every)
+    def __init__(self, every: float | None = None, events: bool = True, *,
+                 trigger: Trigger | None = None) -> None:
+        self.trigger = as_trigger(every, trigger)
+        self.every = self.trigger.period if isinstance(self.trigger, Periodic) else None
         self.wants_events = bool(events)
-        self.next_time = math.inf
-        self._t0 = None
+        self._started = False
         self._count = 0
-        self._events = []
+        self._events: list[np.ndarray] = []
+
+    @property
+    def next_time(self) -> float:
+        """When the next frame is due [time] (``inf`` before it is attached)."""
+        return self.trigger.next_time if self._started else math.inf
+
+    @property
+    def next_collisions(self) -> float:
+        """The collision count at which the next frame is due (``inf``: not by count)."""
+        return self.trigger.next_collisions if self._started else math.inf
 
     def _start(self, sim):
         pass
 
-    def attach(self, sim):
-        if self._t0 is None:
-            self._t0 = sim.time
+    def attach(self, sim) -> None:
+        """Start (once): open the file, start the trigger, write a frame if due now."""
+        if not self._started:
             self._start(sim)
-            self._frame(sim, sim.time)
-        self.next_time = self._t0 + self._count * self.every
+            self._started = True
+            self.trigger.start(sim.time, sim.counters["collisions"])
+            if self.trigger.next_time <= sim.time:
+                self.write(sim, sim.time)
 
-    def write(self, sim, t):
+    def write(self, sim, t: float) -> None:
+        """A frame of ``sim`` at ``t`` (its clock) [time]."""
         self._frame(sim, t)
-        self.next_time = self._t0 + self._count * self.every
+        self.trigger.fired()
+
+    def detach(self) -> None:
+        """Flush and close the file (same as :meth:`close`)."""
+        self.close()
 
     def observe(self, ev):
         if len(ev):
@@ -124,17 +143,21 @@ class GSDWriter(_FrameWriter):
     """Frames to a GSD file (HOOMD schema, double precision).
 
     Args:
-        path: the file (overwritten).
-        every: time between frames [time].
-        events: also keep the events between frames (``log/hardspheres/events``).
+        path: the file (overwritten when the writer is attached).
+        every: time between frames [time], or
+        trigger: when to write (:mod:`hardspheres.writers`).
+        events: also keep the events between frames (``log/hardspheres/events/...``).
     """
 
-    def __init__(self, path: str | os.PathLike, every: float, events: bool = True) -> None:
-        super().__init__(every, events)
+    def __init__(self, path: str | os.PathLike, every: float | None = None, events: bool = True,
+                 *, trigger: Trigger | None = None) -> None:
+        super().__init__(every, events, trigger=trigger)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
         self.path = os.fspath(path)
-        self._file = gsd.hoomd.open(self.path, mode="w", precision="double")
         self._hoomd = gsd.hoomd
+
+    def _start(self, sim):
+        self._file = self._hoomd.open(self.path, mode="w", precision="double")
 
     def _write_frame(self, sim, state, events):
         f = self._hoomd.Frame()
@@ -171,20 +194,22 @@ class XYZWriter(_FrameWriter):
     not contain whitespace or quotes here. Events are not written.
 
     Args:
-        path: the file (overwritten).
-        every: time between frames [time].
+        path: the file (overwritten when the writer is attached).
+        every: time between frames [time], or
+        trigger: when to write (:mod:`hardspheres.writers`).
     """
 
-    def __init__(self, path: str | os.PathLike, every: float) -> None:
-        super().__init__(every, events=False)
+    def __init__(self, path: str | os.PathLike, every: float | None = None, *,
+                 trigger: Trigger | None = None) -> None:
+        super().__init__(every, events=False, trigger=trigger)
         self.path = os.fspath(path)
-        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
 
     def _start(self, sim):
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:
             raise ValueError(f"sphere name {bad[0]!r} cannot be written to XYZ "
                              "(whitespace or quotes); use GSD")
+        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
 
     def _write_frame(self, sim, state, events):
         c = sim.container
@@ -324,9 +349,13 @@ def _read_xyz(path):
 class FrameRecorder(_FrameWriter):
     """Keeps frames in memory; :meth:`frames` returns them as :class:`Frames`."""
 
-    def __init__(self, every, events=True):
-        super().__init__(every, events)
-        self._times, self._pos, self._vel, self._ev = [], [], [], []
+    def __init__(self, every: float | None = None, events: bool = True, *,
+                 trigger: Trigger | None = None) -> None:
+        super().__init__(every, events, trigger=trigger)
+        self._times: list[float] = []
+        self._pos: list[np.ndarray] = []
+        self._vel: list[np.ndarray] = []
+        self._ev: list[np.ndarray] = []
 
     def _start(self, sim):
         self._sim = sim
@@ -361,6 +390,6 @@ def frames_from_simulation(sim, until: float, every: float) -> Frames:
         sim.run(until=until)
     finally:
         sim.writers.remove(rec)
-    if until - rec._times[-1] > 1e-9 * rec.every:  # off the grid: end on `until`
+    if until - rec._times[-1] > 1e-9 * every:  # off the grid: end on `until`
         rec.write(sim, sim.time)
     return rec.frames()

@@ -1,0 +1,232 @@
+"""Writers and triggers: *what* a run writes, and *when*.
+
+A writer (the :class:`Writer` protocol) is appended to
+:attr:`Simulation.writers <hardspheres.Simulation.writers>`; as a run goes
+the simulation attaches it, stops exactly at the times (or collision counts)
+its trigger asks for, calls :meth:`Writer.write`, hands it the events if it
+wants them, and :meth:`Writer.detach` ends it.  The trajectory writers
+(:mod:`hardspheres.trajectory`) are such writers.
+
+Triggers (the :class:`Trigger` protocol) say when, as HOOMD-blue's do:
+
+* :class:`Periodic`: every ``period`` [time] from the time the writer is
+  attached (its first write is at that time);
+* :class:`LogSpaced`: at ``t0`` and ``t0 + first * factor^k`` (lags spread
+  evenly on a log scale, for mean-squared displacements);
+* :class:`AtTimes`: at given absolute times;
+* :class:`EveryCollisions`: after every ``k`` collisions.
+
+Example:
+    >>> trig = LogSpaced(first=0.1, per_decade=2)
+    >>> trig.start(time=5.0, collisions=0)
+    >>> times = []
+    >>> for _ in range(4):
+    ...     times.append(round(trig.next_time, 6))
+    ...     trig.fired()
+    >>> times
+    [5.0, 5.1, 5.316228, 6.0]
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from .simulation import Simulation
+
+
+@runtime_checkable
+class Trigger(Protocol):
+    """When a writer is next due: a time, a collision count, or both (``inf``: never)."""
+
+    def start(self, time: float, collisions: int) -> None:
+        """Begin at ``time`` [time] after ``collisions`` collisions (the writer is attached)."""
+
+    @property
+    def next_time(self) -> float:
+        """Absolute time it is next due [time] (``inf``: not by time)."""
+
+    @property
+    def next_collisions(self) -> float:
+        """Collision count at which it is next due (``inf``: not by count)."""
+
+    def fired(self) -> None:
+        """The writer wrote: move on to the next due point."""
+
+
+@runtime_checkable
+class Writer(Protocol):
+    """What :class:`hardspheres.Simulation` calls on the objects in ``sim.writers``.
+
+    Attributes:
+        next_time: when it is next due [time] (``inf``: not by time).
+        next_collisions: the collision count at which it is next due
+            (``inf``: not by count); optional (``inf`` if absent).
+        wants_events: whether :meth:`observe` is called.
+    """
+
+    next_time: float
+    wants_events: bool
+
+    def attach(self, sim: Simulation) -> None:
+        """Called as each run starts (a writer attached before keeps its schedule)."""
+
+    def write(self, sim: Simulation, t: float) -> None:
+        """Write now: the simulation's clock is at ``t`` [time]."""
+
+    def observe(self, events: np.ndarray) -> None:
+        """The events of the run since the last call (:data:`~hardspheres.events.EVENT_DTYPE`)."""
+
+    def detach(self) -> None:
+        """No more writes: flush and close what it holds."""
+
+
+def _positive_time(value: float, what: str) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{what} must be a finite time > 0, got {value!r}")
+    return value
+
+
+class Periodic:
+    """Due at ``t0, t0 + period, t0 + 2 period, ...`` from the time it starts.
+
+    Args:
+        period: time between writes [time], > 0.
+    """
+
+    def __init__(self, period: float):
+        self.period = _positive_time(period, "every")
+        self._t0 = 0.0
+        self._count = 0
+
+    def start(self, time: float, collisions: int) -> None:
+        self._t0, self._count = float(time), 0
+
+    @property
+    def next_time(self) -> float:
+        return self._t0 + self._count * self.period
+
+    @property
+    def next_collisions(self) -> float:
+        return math.inf
+
+    def fired(self) -> None:
+        self._count += 1
+
+
+class LogSpaced:
+    """Due at ``t0`` and at ``t0 + first * factor^k``, ``k = 0, 1, ...``.
+
+    Args:
+        first: the first lag [time], > 0.
+        factor: ratio of successive lags, > 1; or
+        per_decade: that many lags per factor of ten (``factor = 10^(1/per_decade)``).
+        until: no lags beyond this one [time] (default: none).
+    """
+
+    def __init__(self, first: float, factor: float | None = None, per_decade: int | None = None,
+                 until: float = math.inf):
+        self.first = _positive_time(first, "first")
+        if (factor is None) == (per_decade is None):
+            raise ValueError("give exactly one of factor and per_decade")
+        self.factor = float(factor if factor is not None else 10.0 ** (1.0 / per_decade))  # type: ignore[operator]
+        if not (math.isfinite(self.factor) and self.factor > 1.0):
+            raise ValueError(f"factor must be a finite number > 1, got {self.factor!r}")
+        self.until = float(until)
+        self._t0 = 0.0
+        self._k = -1  # -1: t0 itself
+
+    def start(self, time: float, collisions: int) -> None:
+        self._t0, self._k = float(time), -1
+
+    @property
+    def next_time(self) -> float:
+        if self._k < 0:
+            return self._t0
+        lag = self.first * self.factor ** self._k
+        return self._t0 + lag if lag <= self.until * (1.0 + 1e-12) else math.inf
+
+    @property
+    def next_collisions(self) -> float:
+        return math.inf
+
+    def fired(self) -> None:
+        self._k += 1
+
+
+class AtTimes:
+    """Due at the given absolute times (those before it starts are skipped).
+
+    Args:
+        times: absolute times [time], finite.
+    """
+
+    def __init__(self, times: Iterable[float]):
+        self.times = sorted(float(t) for t in times)
+        if not all(math.isfinite(t) for t in self.times):
+            raise ValueError("times must be finite")
+        self._k = 0
+
+    def start(self, time: float, collisions: int) -> None:
+        self._k = 0
+        while self._k < len(self.times) and self.times[self._k] < time:
+            self._k += 1
+
+    @property
+    def next_time(self) -> float:
+        return self.times[self._k] if self._k < len(self.times) else math.inf
+
+    @property
+    def next_collisions(self) -> float:
+        return math.inf
+
+    def fired(self) -> None:
+        self._k += 1
+
+
+class EveryCollisions:
+    """Due when it starts and after every ``k`` collisions since.
+
+    Args:
+        k: collisions between writes, >= 1.
+    """
+
+    def __init__(self, k: int):
+        if int(k) != k or k < 1:
+            raise ValueError(f"k must be a whole number >= 1, got {k!r}")
+        self.k = int(k)
+        self._t0 = 0.0
+        self._c0 = 0
+        self._count = 0
+
+    def start(self, time: float, collisions: int) -> None:
+        self._t0, self._c0, self._count = float(time), int(collisions), 0
+
+    @property
+    def next_time(self) -> float:
+        # the first write is at the start; the later ones by count
+        return self._t0 if self._count == 0 else math.inf
+
+    @property
+    def next_collisions(self) -> float:
+        return math.inf if self._count == 0 else float(self._c0 + self._count * self.k)
+
+    def fired(self) -> None:
+        self._count += 1
+
+
+def as_trigger(every: float | None = None, trigger: Trigger | None = None) -> Trigger:
+    """A trigger from ``every`` (a :class:`Periodic` period [time]) or the trigger itself."""
+    if (every is None) == (trigger is None):
+        raise ValueError("give exactly one of every (a time) and trigger")
+    if trigger is not None:
+        if not isinstance(trigger, Trigger):
+            raise ValueError(f"trigger must be a Trigger (Periodic, LogSpaced, AtTimes, "
+                             f"EveryCollisions), got {trigger!r}")
+        return trigger
+    return Periodic(every)  # type: ignore[arg-type]  # not None: checked above
