@@ -73,7 +73,6 @@ def make_sim(make_state):
 
     def make(n=50, packing=0.2, container=None, seed=0, window=0.0, **kw):
         container = hs.SphericalContainer(6.0) if container is None else container
-        return hs.Simulation(make_state(n, packing, container, seed, **kw), container,
-                             window=window)
+        return hs.Simulation(make_state(n, packing, container, seed, **kw), container, window=window)
 
     return make

@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres.containers import (KINDS, Container, ContainerError, as_container, from_fields,
-                                    from_record)
+from hardspheres.containers import KINDS, Container, ContainerError, as_container, from_fields, from_record
 from hardspheres.engine import Engine
 
 SRC = Path(hs.__file__).parent
@@ -38,10 +37,10 @@ def test_geometry():
     assert b.wrap(np.array([[2.5, -2.0, 1.9]])).tolist() == [[-1.5, -2.0, 1.9]]
     assert np.array_equal(s.wrap(p), p)
     assert b.displacement(np.array([1.9, 0, 0]), np.array([-1.9, 0, 0])).tolist() == pytest.approx(
-        [-0.2, 0, 0])
+        [-0.2, 0, 0]
+    )
     assert s.displacement(np.array([1.9, 0, 0]), np.array([-1.9, 0, 0])).tolist() == [3.8, 0, 0]
-    assert (s.degrees_of_freedom(10), b.degrees_of_freedom(10), b.degrees_of_freedom(1)) == (
-        30, 27, 3)
+    assert (s.degrees_of_freedom(10), b.degrees_of_freedom(10), b.degrees_of_freedom(1)) == (30, 27, 3)
     assert s.check_sphere([2.5, 0, 0], 1.0, [0, 0, 0]).startswith("is not wholly inside")
     assert s.check_sphere([0, 0, 0], 3.0, [1, 0, 0]).startswith("fills the container")
     assert b.check_sphere([9.0, 0, 0], 1.0, [0, 0, 0]) is None
@@ -70,8 +69,11 @@ def test_floats_convert_at_the_edge():
 @pytest.mark.parametrize("c", BOTH, ids=lambda c: c.kind)
 def test_one_object_through_every_layer(c):
     state = hs.random_spheres(60, 0.2, c, seed=4)
-    legacy = (hs.random_spheres(60, 0.2, container=c.radius, seed=4) if not c.periodic
-              else hs.random_spheres(60, 0.2, box=c.length, seed=4))
+    legacy = (
+        hs.random_spheres(60, 0.2, container=c.radius, seed=4)
+        if not c.periodic
+        else hs.random_spheres(60, 0.2, box=c.length, seed=4)
+    )
     assert np.array_equal(state.positions, legacy.positions)
     sim = hs.Simulation(state, c)
     assert sim.container is c
@@ -80,6 +82,7 @@ def test_one_object_through_every_layer(c):
     sim.run(collisions=200)
     assert sim.observables.temperature() > 0
     from hardspheres.trajectory import frames_from_simulation
+
     frames = frames_from_simulation(sim, until=sim.time + 0.5, every=0.25)
     assert frames.container is c and len(frames.events) > 0
     assert frames.extent() == pytest.approx(c.half_width)
@@ -93,8 +96,12 @@ def test_no_container_type_branches_above_the_core():
         if path.name in ("containers.py", "_core.py"):
             continue
         for node in ast.walk(ast.parse(path.read_text())):
-            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
-                    and node.func.id == "isinstance" and len(node.args) == 2):
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Name)
+                and node.func.id == "isinstance"
+                and len(node.args) == 2
+            ):
                 if names & {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}:
                     offenders.append(f"{path.name}:{node.lineno}")
     assert offenders == []

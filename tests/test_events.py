@@ -7,8 +7,17 @@ import hardspheres as hs
 from hardspheres import _core as core
 from hardspheres import reference
 from hardspheres.engine import Engine
-from hardspheres.events import (EVENT_DTYPE, EVENT_FIELDS, KIND_LABELS, EventKind, StopReason,
-                                as_events, empty_buffers, from_buffers, from_columns)
+from hardspheres.events import (
+    EVENT_DTYPE,
+    EVENT_FIELDS,
+    KIND_LABELS,
+    EventKind,
+    StopReason,
+    as_events,
+    empty_buffers,
+    from_buffers,
+    from_columns,
+)
 
 
 def test_core_constants_are_the_enums():
@@ -17,9 +26,12 @@ def test_core_constants_are_the_enums():
     assert reference.COLLISION == EventKind.COLLISION
     # the core's own kinds come after the public ones (they are also the tie order)
     assert {core.CROSS, core.NONE}.isdisjoint(int(k) for k in EventKind)
-    assert [core.STOP_UNTIL, core.STOP_MAX_EVENTS, core.STOP_MAX_COLLISIONS,
-            core.STOP_RECORD_FULL] == [StopReason.UNTIL, StopReason.MAX_EVENTS,
-                                       StopReason.MAX_COLLISIONS, StopReason.RECORD_FULL]
+    assert [core.STOP_UNTIL, core.STOP_MAX_EVENTS, core.STOP_MAX_COLLISIONS, core.STOP_RECORD_FULL] == [
+        StopReason.UNTIL,
+        StopReason.MAX_EVENTS,
+        StopReason.MAX_COLLISIONS,
+        StopReason.RECORD_FULL,
+    ]
     assert KIND_LABELS == ("reflection", "collision")
 
 
@@ -46,12 +58,21 @@ def test_columns_and_older_records():
 
 
 def test_engine_returns_records_and_stop_reasons():
-    eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
-                 [[1.0, 0, 0], [-1.0, 0, 0]], hs.SphericalContainer(100.0))
+    eng = Engine(
+        [1.0, 1.0],
+        [1.0, 1.0],
+        [[-5.0, 0, 0], [5.0, 0, 0]],
+        [[1.0, 0, 0], [-1.0, 0, 0]],
+        hs.SphericalContainer(100.0),
+    )
     ev = eng.advance(until=10.0)
     assert ev.dtype == EVENT_DTYPE
     assert (ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()) == (
-        [4.0], [EventKind.COLLISION], [0], [1])
+        [4.0],
+        [EventKind.COLLISION],
+        [0],
+        [1],
+    )
     assert ev["impulse"][0] == pytest.approx(2.0)
     assert eng.last_reason is StopReason.UNTIL
     eng.advance(events=1)
@@ -60,8 +81,7 @@ def test_engine_returns_records_and_stop_reasons():
 
 
 def test_simulation_events_name_their_kind():
-    sim = hs.Simulation.from_arrays([1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]],
-                                    hs.SphericalContainer(3.0))
+    sim = hs.Simulation.from_arrays([1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]], hs.SphericalContainer(3.0))
     (ev,) = list(sim.iter_events(until=2.5))
     assert (ev.time, ev.kind, ev.i, ev.j) == (2.0, "reflection", 0, -1)
     assert ev.impulse == pytest.approx(2.0)

@@ -85,13 +85,11 @@ class Container(Protocol):
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray: ...
 
-    def outside(self, positions: np.ndarray, radii: np.ndarray,
-                tol: float = TOUCH_TOL) -> np.ndarray: ...
+    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray: ...
 
     def degrees_of_freedom(self, n: int) -> int: ...
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
-                 virial: float) -> float: ...
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float: ...
 
     def fields(self) -> dict[str, float]: ...
 
@@ -148,12 +146,12 @@ class SphericalContainer:
     @property
     def volume(self) -> float:
         """Volume enclosed [length^3]."""
-        return 4.0 / 3.0 * math.pi * self.radius ** 3
+        return 4.0 / 3.0 * math.pi * self.radius**3
 
     @property
     def wall_area(self) -> float:
         """Area of the wall [length^2]."""
-        return 4.0 * math.pi * self.radius ** 2
+        return 4.0 * math.pi * self.radius**2
 
     area = wall_area
 
@@ -176,27 +174,27 @@ class SphericalContainer:
     def wrap(self, positions: np.ndarray) -> np.ndarray:
         """Positions as they are (no periodic images) [length]."""
         import numpy as np
+
         return np.asarray(positions, dtype=np.float64)
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``a - b`` [length]."""
         import numpy as np
+
         return np.asarray(a, dtype=np.float64) - b
 
-    def outside(self, positions: np.ndarray, radii: np.ndarray,
-                tol: float = TOUCH_TOL) -> np.ndarray:
+    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
         """``(N,)`` True for spheres poking out of the wall by more than ``tol`` of its radius."""
         import numpy as np
-        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 3),
-                               axis=1) + radii
+
+        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 3), axis=1) + radii
         return reach > self.radius * (1.0 + tol)
 
     def degrees_of_freedom(self, n: int) -> int:
         """``3 N``: the wall takes up momentum, so none is conserved."""
         return 3 * n
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
-                 virial: float) -> float:
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
         """Momentum delivered to the wall per unit area and time [energy/length^3]."""
         return wall_impulse / (self.wall_area * elapsed)
 
@@ -207,6 +205,7 @@ class SphericalContainer:
     def record(self) -> np.ndarray:
         """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
         import numpy as np
+
         return np.array([self.kind, repr(self.radius)])
 
     def core_params(self) -> dict[str, float]:
@@ -225,11 +224,15 @@ class SphericalContainer:
     def outline(self) -> list[np.ndarray]:
         """Lines to draw it: 13 meridians and 7 parallels, each ``(k, 3)`` [length]."""
         import numpy as np
+
         u = np.linspace(0, 2 * np.pi, 25)
         v = np.linspace(0, np.pi, 13)
         r = self.radius
-        x, y, z = (r * np.outer(np.cos(u), np.sin(v)), r * np.outer(np.sin(u), np.sin(v)),
-                   r * np.outer(np.ones_like(u), np.cos(v)))
+        x, y, z = (
+            r * np.outer(np.cos(u), np.sin(v)),
+            r * np.outer(np.sin(u), np.sin(v)),
+            r * np.outer(np.ones_like(u), np.cos(v)),
+        )
         grid = np.stack([x, y, z], axis=-1)
         return [grid[k] for k in range(0, len(u), 2)] + [grid[:, k] for k in range(0, len(v), 2)]
 
@@ -267,7 +270,7 @@ class PeriodicBox:
     @property
     def volume(self) -> float:
         """Volume of the box [length^3]."""
-        return self.length ** 3
+        return self.length**3
 
     @property
     def wall_area(self) -> float:
@@ -293,6 +296,7 @@ class PeriodicBox:
     def wrap(self, positions: np.ndarray) -> np.ndarray:
         """Positions moved by whole edges into ``[-L/2, L/2)`` [length]."""
         import numpy as np
+
         p = np.asarray(positions, dtype=np.float64)
         L = self.length
         return p - L * np.floor(p / L + 0.5)
@@ -300,22 +304,22 @@ class PeriodicBox:
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``a - b`` to the nearest image [length]."""
         import numpy as np
+
         d = np.asarray(a, dtype=np.float64) - b
         L = self.length
         return d - L * np.round(d / L)
 
-    def outside(self, positions: np.ndarray, radii: np.ndarray,
-                tol: float = TOUCH_TOL) -> np.ndarray:
+    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
         """``(N,)`` all False: nothing is outside a periodic box."""
         import numpy as np
+
         return np.zeros(np.asarray(positions).reshape(-1, 3).shape[0], dtype=bool)
 
     def degrees_of_freedom(self, n: int) -> int:
         """``3 N - 3``: total momentum is conserved (``3 N`` for one sphere)."""
         return 3 * n - 3 if n > 1 else 3 * n
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float,
-                 virial: float) -> float:
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
         """``(N kT + W / (3 t)) / V`` with ``W`` the collision virial [energy/length^3]."""
         return (n * kT + virial / (3.0 * elapsed)) / self.volume
 
@@ -326,6 +330,7 @@ class PeriodicBox:
     def record(self) -> np.ndarray:
         """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
         import numpy as np
+
         return np.array([self.kind, repr(self.length)])
 
     def core_params(self) -> dict[str, float]:
@@ -339,19 +344,24 @@ class PeriodicBox:
     def outline(self) -> list[np.ndarray]:
         """The 12 edges, each ``(2, 3)`` [length]."""
         import numpy as np
+
         h = self.half_width
         corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
-        return [corners[[a, b]] for a in range(8) for b in range(a + 1, 8)
-                if np.sum(corners[a] != corners[b]) == 1]
+        return [
+            corners[[a, b]]
+            for a in range(8)
+            for b in range(a + 1, 8)
+            if np.sum(corners[a] != corners[b]) == 1
+        ]
 
 
 #: The containers by :attr:`kind` (files name them so).
 KINDS: dict[str, type[SphericalContainer] | type[PeriodicBox]] = {
-    c.kind: c for c in (SphericalContainer, PeriodicBox)}
+    c.kind: c for c in (SphericalContainer, PeriodicBox)
+}
 
 
-def as_container(container: Container | float | None = None,
-                 box: float | None = None) -> Container:
+def as_container(container: Container | float | None = None, box: float | None = None) -> Container:
     """A container from the object, or from the older floats: a radius or a box edge.
 
     Example:
@@ -370,6 +380,7 @@ def as_container(container: Container | float | None = None,
 def from_record(record: np.ndarray) -> Container:
     """The container :meth:`Container.record` describes."""
     import numpy as np
+
     kind, size = (str(x) for x in np.asarray(record).tolist())
     if kind not in KINDS:
         raise ContainerError(f"unknown container {kind!r}; known: {', '.join(KINDS)}")
@@ -379,6 +390,7 @@ def from_record(record: np.ndarray) -> Container:
 def from_fields(fields: dict) -> Container:
     """The container whose :meth:`Container.fields` are among ``fields`` (a GSD log, an XYZ header)."""
     import numpy as np
+
     for cls in KINDS.values():
         for key in (cls.size_field, f"hardspheres/{cls.size_field}"):
             if key in fields:

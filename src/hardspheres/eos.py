@@ -20,5 +20,5 @@ def carnahan_starling(phi):
         ``Z`` (dimensionless), a float for a float, else an array.
     """
     p = np.asarray(phi, dtype=float)
-    z = (1.0 + p + p ** 2 - p ** 3) / (1.0 - p) ** 3
+    z = (1.0 + p + p**2 - p**3) / (1.0 - p) ** 3
     return z if z.ndim else float(z)

@@ -94,6 +94,7 @@ def __getattr__(name: str) -> Any:
     # EVENT_DTYPE: one event as a numpy structured dtype (see EVENT_FIELDS)
     if name == "EVENT_DTYPE":
         import numpy as np
+
         global EVENT_DTYPE
         EVENT_DTYPE = np.dtype([(n, dt, shape) for n, dt, shape in EVENT_FIELDS])
         return EVENT_DTYPE
@@ -108,6 +109,7 @@ def empty_events(n: int = 0) -> np.ndarray:
         ((0,), [0, 0, 0])
     """
     import numpy as np
+
     return np.zeros(n, _dtype())
 
 
@@ -119,6 +121,7 @@ def empty_buffers(n: int) -> list[np.ndarray]:
         ['float64', 'int8', 'int64', 'int64', 'float64']
     """
     import numpy as np
+
     return [np.zeros((n, *shape), dt) for _, dt, shape in EVENT_FIELDS]
 
 
@@ -131,6 +134,7 @@ def from_buffers(buffers: list[np.ndarray], count: int, time_offset: float = 0.0
         time_offset: added to the times (the engine's time origin) [time].
     """
     import numpy as np
+
     out = np.empty(count, _dtype())
     for (name, _, _), buf in zip(EVENT_FIELDS, buffers):
         out[name] = buf[:count]
@@ -148,6 +152,7 @@ def from_columns(**columns: np.ndarray) -> np.ndarray:
         ([0, 2], [0.0, 0.0])
     """
     import numpy as np
+
     dtype = _dtype()
     n = max((len(np.asarray(c)) for c in columns.values()), default=0)
     out = np.zeros(n, dtype)
@@ -167,6 +172,7 @@ def as_events(data: np.ndarray) -> np.ndarray:
     field was added still read (the new field is zero).
     """
     import numpy as np
+
     data = np.asarray(data)
     dtype = _dtype()
     if data.dtype == dtype:

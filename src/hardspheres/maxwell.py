@@ -55,13 +55,13 @@ def speed_density(v, kT: float, m: float):
     ``f(v) = 4 pi v^2 (m / (2 pi kT))^{3/2} exp(-m v^2 / (2 kT))``.
     """
     v = np.asarray(v, dtype=float)
-    return 4.0 * np.pi * v ** 2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v ** 2 / (2.0 * kT))
+    return 4.0 * np.pi * v**2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v**2 / (2.0 * kT))
 
 
 def reduced_density(x):
     """Density of ``x = v sqrt(m / kT)`` (dimensionless), any masses: ``sqrt(2/pi) x^2 exp(-x^2 / 2)``."""
     x = np.asarray(x, dtype=float)
-    return math.sqrt(2.0 / math.pi) * x ** 2 * np.exp(-0.5 * x ** 2)
+    return math.sqrt(2.0 / math.pi) * x**2 * np.exp(-0.5 * x**2)
 
 
 def speed_cdf(v, kT: float = 1.0, m: float = 1.0):

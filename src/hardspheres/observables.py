@@ -31,7 +31,7 @@ class Observables:
         self.reset()
 
     def _now(self):
-        eng = self._sim._engine
+        eng = self._sim.engine
         c = eng.counters
         return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
                 eng.wall_impulse, eng.virial)
@@ -59,7 +59,7 @@ class Observables:
         In a periodic box total momentum is conserved, so three degrees of
         freedom are not thermal.
         """
-        return 2.0 * self._sim._engine.kinetic_energy() / max(self._dof(), 1)
+        return 2.0 * self._sim.engine.kinetic_energy() / max(self._dof(), 1)
 
     def pressure(self) -> float:
         """Pressure [energy/length^3] averaged since :meth:`reset`.
@@ -90,7 +90,7 @@ class Observables:
 
     def mean_speed(self) -> float:
         """Mean speed of the spheres now [length/time]."""
-        return float(np.mean(np.linalg.norm(self._sim._engine.vel, axis=1)))
+        return float(np.mean(np.linalg.norm(self._sim.engine.vel, axis=1)))
 
     def mean_free_path(self) -> float:
         """Mean distance a sphere travels between collisions [length]."""
@@ -99,7 +99,7 @@ class Observables:
     def speed_histogram(self, bins: int = 50, range: tuple[float, float] | None = None,
                         ) -> tuple[np.ndarray, np.ndarray]:
         """Histogram of the speeds now: ``(counts, edges)`` [edges: length/time]."""
-        speeds = np.linalg.norm(self._sim._engine.vel, axis=1)
+        speeds = np.linalg.norm(self._sim.engine.vel, axis=1)
         return np.histogram(speeds, bins=bins, range=range)
 
     def summary(self) -> dict[str, float]:

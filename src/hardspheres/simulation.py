@@ -136,6 +136,11 @@ class Simulation:
         return self._engine.n
 
     @property
+    def engine(self) -> Engine:
+        """The compiled engine: its running tallies and velocities (read, do not change)."""
+        return self._engine
+
+    @property
     def counters(self) -> dict[str, int]:
         """Events processed so far: collisions, reflections, crossings, stale."""
         return self._engine.counters

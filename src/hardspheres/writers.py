@@ -129,8 +129,13 @@ class LogSpaced:
         until: no lags beyond this one [time] (default: none).
     """
 
-    def __init__(self, first: float, factor: float | None = None, per_decade: int | None = None,
-                 until: float = math.inf):
+    def __init__(
+        self,
+        first: float,
+        factor: float | None = None,
+        per_decade: int | None = None,
+        until: float = math.inf,
+    ):
         self.first = _positive_time(first, "first")
         if (factor is None) == (per_decade is None):
             raise ValueError("give exactly one of factor and per_decade")
@@ -148,7 +153,7 @@ class LogSpaced:
     def next_time(self) -> float:
         if self._k < 0:
             return self._t0
-        lag = self.first * self.factor ** self._k
+        lag = self.first * self.factor**self._k
         return self._t0 + lag if lag <= self.until * (1.0 + 1e-12) else math.inf
 
     @property
@@ -226,7 +231,8 @@ def as_trigger(every: float | None = None, trigger: Trigger | None = None) -> Tr
         raise ValueError("give exactly one of every (a time) and trigger")
     if trigger is not None:
         if not isinstance(trigger, Trigger):
-            raise ValueError(f"trigger must be a Trigger (Periodic, LogSpaced, AtTimes, "
-                             f"EveryCollisions), got {trigger!r}")
+            raise ValueError(
+                f"trigger must be a Trigger (Periodic, LogSpaced, AtTimes, EveryCollisions), got {trigger!r}"
+            )
         return trigger
     return Periodic(every)  # type: ignore[arg-type]  # not None: checked above
