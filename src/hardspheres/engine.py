@@ -98,6 +98,12 @@ class Engine:
         """``(N,)`` radii [length] (a view)."""
         return self.S[:, 7]
 
+    @property
+    def box(self) -> float | None:
+        """Edge of the periodic box as the core reads it [length], or ``None`` (no box)."""
+        box = float(self.f[core.F_BOX])
+        return box if box else None
+
     def _grid(self, n):
         sigma = 2.0 * float(self.rad.max()) if n else 0.0
         params = self.container.core_params()
