@@ -18,7 +18,8 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
-         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
+         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
+         "sweep": "studies", "StudyError": "studies"}
 
 
 def __getattr__(name):
@@ -28,6 +29,6 @@ def __getattr__(name):
 
 
 __all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
-           "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres", "read_trajectory", "XYZWriter"]
+           "Simulation", "SphericalContainer", "State", "StudyError", "maxwell_boltzmann",
+           "parse_scenario", "random_spheres", "read_trajectory", "sweep", "XYZWriter"]
 __version__ = "0.1.0"

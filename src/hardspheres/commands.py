@@ -150,6 +150,11 @@ def cmd_run(args):
     return run_command(args)
 
 
+def cmd_sweep(args):
+    from .studies import main
+    return main(args)
+
+
 def build_parser():
     p = _Parser(prog="hardspheres",
                 description="Exact event-driven simulation of perfectly elastic spheres.")
@@ -193,6 +198,17 @@ def build_parser():
     r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
     r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
     r.set_defaults(func=cmd_run)
+
+    s = sub.add_parser("sweep", help="run a study (a parameter grid in a TOML file) on Dask; "
+                       "reruns skip finished tasks")
+    s.add_argument("study", help="study file (TOML)")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="an existing Dask scheduler (default: a LocalCluster, one worker per core)")
+    s.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    s.add_argument("--serial", action="store_true", help="run the tasks here, one by one, no Dask")
+    s.add_argument("--timeout", type=_positive, default=10.0,
+                   help="seconds to wait for --scheduler (default 10)")
+    s.set_defaults(func=cmd_sweep)
 
     v = sub.add_parser("validate",
                        help="equation of state and collision rate against theory")
