@@ -191,7 +191,9 @@ def parse_study(data, source=None, base=None):
     out = data.get("output", "study")
     if not isinstance(out, str) or not out:
         raise StudyError(f"{_where(source)}output = {out!r} is not allowed: give a folder name")
-    s["output"] = str(Path(base or ".") / out)
+    # absolute: workers may run in another folder (on a cluster: the same
+    # path on a shared file system)
+    s["output"] = str((Path(base or ".") / out).resolve())
     container = data.get("container", "box")
     if container not in ("box", "sphere"):
         raise StudyError(f"{_where(source)}container = {container!r} is not allowed: "
