@@ -247,3 +247,36 @@ def test_failed_task_names_it(tmp_path, capsys):
     assert hardspheres(["sweep", str(path), "--serial"]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "packing=0.7 n=5 seed=0" in err
+
+
+def test_plot_sweep_with_error_bars_and_reference(tmp_path, capsys):
+    (tmp_path / "study.toml").write_text(TINY_STUDY)
+    studies.sweep(tmp_path / "study.toml", serial=True)
+    out = tmp_path / "out"
+    for table in ("results.parquet", "summary.csv"):
+        png = tmp_path / f"{table}.png"
+        assert hardspheres(["plot", "sweep", str(out / table), "--x", "packing", "--y", "Z",
+                            "-o", str(png)]) == 0
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20000
+    capsys.readouterr()
+    assert hardspheres(["plot", "sweep", str(out / "results.parquet"), "--y", "entropy",
+                        "-o", str(tmp_path / "x.png")]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "entropy" in err and "Z, pressure" in err
+    assert hardspheres(["plot", "sweep", str(tmp_path / "study.toml"),
+                        "-o", str(tmp_path / "x.png")]) == 1
+    assert "study.toml" in capsys.readouterr().err
+
+
+def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
+    res = _cli("validate", "--quick", "--workers", "2", "--csv", "v.csv", "--output", "study",
+               cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert "z_HG" in res.stdout and "largest |z| of Z" in res.stdout
+    rows = pd.read_csv(tmp_path / "v.csv")
+    assert rows["phi"].tolist() == [0.1, 0.3, 0.45]
+    assert {"Z", "Z_err", "Z_HG", "z_HG", "Z_KLM", "z_KLM", "gamma"} <= set(rows.columns)
+    assert (rows["z_HG"].abs() < 6).all()   # N = 500: loose, a smoke test
+    assert len(pd.read_parquet(tmp_path / "study" / "results.parquet")) == 3
+    res = _cli("plot", "eos", "v.csv", "-o", "eos.png", cwd=tmp_path)
+    assert res.returncode == 0 and (tmp_path / "eos.png").exists(), res.stderr
