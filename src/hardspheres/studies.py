@@ -64,8 +64,12 @@ import math
 import os
 import sys
 import time
-import tomllib
 from pathlib import Path
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
 
 #: Densest packing of equal spheres, pi / sqrt(18).
 MAX_PACKING = math.pi / math.sqrt(18.0)
