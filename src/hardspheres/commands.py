@@ -251,7 +251,7 @@ def build_parser():
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
     v.add_argument("--seed", type=int, default=0)
     v.add_argument("--seeds", type=_count, default=1,
-                   help="runs per packing, seeds SEED.. (default 1; errors from blocks)")
+                   help="runs per packing, seeds SEED.. (default 1)")
     v.add_argument("--quick", action="store_true",
                    help="a few seconds: N 500, 40 collisions per sphere (50 to equilibrate) "
                    "at packings 0.1,0.3,0.45")

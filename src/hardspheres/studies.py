@@ -517,13 +517,12 @@ def connect(address, timeout=10.0):
 
 def local_client(workers=None):
     """A :class:`distributed.Client` of a new LocalCluster: one single-threaded
-    worker process per core (or ``workers``), dashboard if bokeh is installed."""
-    import importlib.util
+    worker process per core (or ``workers``), its dashboard on a free port."""
+    import logging
 
     from distributed import Client, LocalCluster
-    dashboard = ":0" if importlib.util.find_spec("bokeh") else None
     cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                           processes=True, dashboard_address=dashboard)
+                           processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
     return Client(cluster)
 
 

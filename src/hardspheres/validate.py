@@ -13,8 +13,8 @@ the one that ``Z`` implies through the exact hard-sphere relation
 
 (collisions per sphere per unit time).  The speeds are compared with the
 Maxwell-Boltzmann distribution by the Kolmogorov-Smirnov distance.
-Standard errors come from block averages within a run, or from the spread
-over seeds when there are several.
+Standard errors come from block averages (20 blocks per run), pooled over
+the runs when there are several seeds.
 """
 
 import csv
@@ -86,14 +86,16 @@ def _rows(df, n, collisions):
     from .studies import summarize
     rows = []
     for r in summarize(df).to_dict("records"):
-        phi, z, z_err = r["packing"], r["Z"], r["Z_err"]
+        # blocks of all seeds pooled: many more degrees of freedom than the
+        # spread of a few seeds' means
+        phi, z, z_err = r["packing"], r["Z"], r["Z_err_blocks"]
         hg, klm = float(hansen_goos(phi)), float(kolafa(phi))
         zcs = float(carnahan_starling(phi))
         g_z = 6.0 * (z - 1.0) * math.sqrt(r["temperature"] / math.pi)
         rows.append(Row(
             phi=phi, Z=z, Z_err=z_err, Z_HG=hg, z_HG=(z - hg) / z_err, Z_KLM=klm,
             z_KLM=(z - klm) / z_err, Z_CS=zcs, rel_diff=z / zcs - 1.0,
-            gamma=r["collision_rate"], gamma_err=r["collision_rate_err"], gamma_from_Z=g_z,
+            gamma=r["collision_rate"], gamma_err=r["collision_rate_err_blocks"], gamma_from_Z=g_z,
             gamma_rel_diff=r["collision_rate"] / g_z - 1.0, ks_D=r["speeds_ks"],
             ks_D_expected=KS_MEAN / math.sqrt(n), n=n,
             collisions=int(collisions * n / 2), seeds=int(r["seeds"])))
@@ -135,7 +137,7 @@ def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200
         out: text stream for the table, or None.
         n, equilibrate, collisions, blocks: as :func:`measure`.
         seed, seeds: the runs use seeds ``seed .. seed + seeds - 1`` at
-            each packing (errors from their spread when ``seeds >= 2``).
+            each packing (errors from all their blocks).
         client, serial, workers: where the runs go, as
             :func:`hardspheres.studies.sweep`.
         folder: keep the study here (a rerun then skips finished runs);
