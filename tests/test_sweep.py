@@ -280,3 +280,26 @@ def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
     assert len(pd.read_parquet(tmp_path / "study" / "results.parquet")) == 3
     res = _cli("plot", "eos", "v.csv", "-o", "eos.png", cwd=tmp_path)
     assert res.returncode == 0 and (tmp_path / "eos.png").exists(), res.stderr
+
+
+def test_readme_study_file_and_plot_command(tmp_path):
+    import re
+    import tomllib
+    readme = (ROOT / "README.md").read_text()
+    section = readme.split("## Studies\n", 1)[1].split("\n## ", 1)[0]
+    block = re.search(r"```toml\n(.*?)```", section, re.S).group(1)
+    assert len(block.strip().splitlines()) <= 10
+    data = tomllib.loads(block)
+    assert len(studies.tasks(studies.parse_study(data, base=tmp_path))) == 24
+    data.update(packing=[0.2, 0.3], n=64, seeds=2, equilibrate=5, collisions=10)
+    (tmp_path / "eos.toml").write_text(
+        "\n".join(f"{k} = {json.dumps(v)}" for k, v in data.items()) + "\n")
+    cmds = re.search(r"```sh\n(.*?)```", section, re.S).group(1).splitlines()
+    sweep_cmd = next(c for c in cmds if c.startswith("hardspheres sweep")).split("#")[0]
+    plot_cmd = next(c for c in cmds if c.startswith("hardspheres plot sweep")).split("#")[0]
+    argv = sweep_cmd.split()[1:] + ["--serial"]
+    assert hardspheres([str(tmp_path / a) if a.endswith(".toml") else a for a in argv]) == 0
+    argv = plot_cmd.split()[1:]
+    assert hardspheres([str(tmp_path / a) if a.endswith((".parquet", ".png")) else a
+                        for a in argv]) == 0
+    assert (tmp_path / "eos-study.png").exists()
