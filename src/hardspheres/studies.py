@@ -603,8 +603,8 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
                     client.close()
                     cluster.close()
     finally:
-        if bar is not None:
-            bar.close() if bar.on and done else None
+        if bar is not None and bar.on and done:
+            bar.close()
     df = _collect(all_tasks)
     _write_table(df, folder / "results")
     _write_table(summarize(df), folder / "summary")
@@ -633,7 +633,7 @@ def _run_on(client, todo, retries, finished):
             task = futures[fut]
             try:
                 fut.result()
-            except (ValueError, ArithmeticError, OSError) as e:
+            except Exception as e:  # noqa: BLE001 - the task's error, or KilledWorker
                 raise _fail(task, e) from None
             finished(task)
     except BaseException:
