@@ -19,14 +19,14 @@ ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(
     [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
 
-# 4 tasks of about 2 s each on this machine, checkpointed after every chunk
+# 4 tasks of about 1 s each on a quiet core, checkpointed after every chunk
 KILL_STUDY = """\
 output = "out"
 packing = [0.25, 0.4]
 n = 150
 seeds = [3, 4]
 equilibrate = 200
-collisions = 6000
+collisions = 3000
 blocks = 16
 checkpoint_seconds = 0
 measure = ["Z", "collision_rate", "temperature"]
@@ -269,7 +269,8 @@ def test_plot_sweep_with_error_bars_and_reference(tmp_path, capsys):
 
 
 def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
-    res = _cli("validate", "--quick", "--workers", "2", "--csv", "v.csv", "--output", "study",
+    # serial: the LocalCluster path is test_local_cluster_same_bits_as_serial's
+    res = _cli("validate", "--quick", "--serial", "--csv", "v.csv", "--output", "study",
                cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     assert "z_HG" in res.stdout and "largest |z| of Z" in res.stdout
