@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -18,6 +19,9 @@ from hardspheres.commands import main as hardspheres
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(
     [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
+
+# `dask scheduler` and `dask worker`, by this Python whatever the PATH
+DASK = [sys.executable, "-m"]
 
 # 4 tasks of about 1 s each on a quiet core, checkpointed after every chunk
 KILL_STUDY = """\
@@ -85,11 +89,12 @@ def test_two_workers_one_killed_same_bits_as_serial_and_rerun_computes_nothing(t
     procs = []
     try:
         procs.append(subprocess.Popen(
-            ["dask", "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+            [*DASK, "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", str(port),
+             "--no-dashboard"],
             env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         workers = [subprocess.Popen(
-            ["dask", "worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
-             "--host", "127.0.0.1", "--death-timeout", "60", "--name", f"w{k}"],
+            [*DASK, "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
+             "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60", "--name", f"w{k}"],
             env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for k in range(2)]
         procs += workers
         with Client(address, timeout=60) as client:
@@ -284,18 +289,16 @@ def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
 
 
 def test_readme_study_file_and_plot_command(tmp_path):
-    import re
-    import tomllib
     readme = (ROOT / "README.md").read_text()
     section = readme.split("## Studies\n", 1)[1].split("\n## ", 1)[0]
-    block = re.search(r"```toml\n(.*?)```", section, re.S).group(1)
+    block = re.search(r"```toml\n(.*?)```", section, re.DOTALL).group(1)
     assert len(block.strip().splitlines()) <= 10
-    data = tomllib.loads(block)
+    data = studies.tomllib.loads(block)
     assert len(studies.tasks(studies.parse_study(data, base=tmp_path))) == 24
     data.update(packing=[0.2, 0.3], n=64, seeds=2, equilibrate=5, collisions=10)
     (tmp_path / "eos.toml").write_text(
         "\n".join(f"{k} = {json.dumps(v)}" for k, v in data.items()) + "\n")
-    cmds = re.search(r"```sh\n(.*?)```", section, re.S).group(1).splitlines()
+    cmds = re.search(r"```sh\n(.*?)```", section, re.DOTALL).group(1).splitlines()
     sweep_cmd = next(c for c in cmds if c.startswith("hardspheres sweep")).split("#")[0]
     plot_cmd = next(c for c in cmds if c.startswith("hardspheres plot sweep")).split("#")[0]
     argv = sweep_cmd.split()[1:] + ["--serial"]
