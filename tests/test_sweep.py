@@ -180,8 +180,9 @@ def test_summary_mean_and_standard_error_over_seeds():
     assert s["seeds"].tolist() == [3, 1]
 
 
-def test_checkpoint_resume_in_process_is_bit_identical(tmp_path):
-    """A task interrupted after its checkpoint ends as the uninterrupted one."""
+def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
+    """A task interrupted after a checkpoint inside a block ends as the uninterrupted one."""
+    monkeypatch.setattr(studies, "STEP", 50)  # blocks of 320 collisions: 7 steps each
     spec = studies.parse_study({"packing": 0.3, "n": 64, "equilibrate": 4, "collisions": 40,
                                 "blocks": 4, "checkpoint_seconds": 0, "output": "x"})
     whole = dict(studies.tasks(spec)[0], folder=str(tmp_path / "whole"))
@@ -209,6 +210,9 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path):
     assert not studies._row_path(cut).exists()
     again = studies.run_task(cut)
     assert again == ref
+    attempts = (Path(cut["folder"]) / "tasks" / cut["key"] / "attempts.jsonl").read_text()
+    second = json.loads(attempts.splitlines()[1])
+    assert second["chunk"] == 4 + 2 and second["step"] == 6  # in block 3, at its last step
 
 
 @pytest.mark.parametrize("text, words", [

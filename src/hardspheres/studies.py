@@ -71,6 +71,9 @@ try:
 except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
+#: Most collisions run between two chances to checkpoint (about a second of work).
+STEP = 1 << 20
+
 #: Densest packing of equal spheres, pi / sqrt(18).
 MAX_PACKING = math.pi / math.sqrt(18.0)
 
@@ -370,10 +373,13 @@ def run_task(task):
     """Run one task (or finish it from its checkpoint) and write its row.
 
     Equilibration runs in ``blocks`` chunks, then the measurement in
-    ``blocks`` blocks; after any chunk, once ``checkpoint_seconds`` of work
-    have passed, the simulation and the blocks' values are saved.  This is
-    what a Dask worker runs; a task whose row file exists returns it
-    without running.
+    ``blocks`` blocks, each run in steps of at most :data:`STEP` collisions
+    (a block of a ``time`` study is one step); after any step, once
+    ``checkpoint_seconds`` of work have passed, the simulation (with the
+    running block's averages) and the finished blocks' values are saved.
+    The steps are fixed by the study, not by the clock, so the results do
+    not depend on when checkpoints were taken.  This is what a Dask worker
+    runs; a task whose row file exists returns it without running.
 
     Returns:
         The row: a dict of the grid parameters, the run's length, each
@@ -396,40 +402,56 @@ def run_task(task):
             prog = json.load(fh)
         sim = Simulation.load(tdir / prog["checkpoint"])
     else:
-        prog = {"chunk": 0, "values": {m: [] for m in task["measure"]}, "t0": None,
-                "checkpoint": None}
+        prog = {"chunk": 0, "step": 0, "values": {m: [] for m in task["measure"]},
+                "t0": None, "checkpoint": None}
         sim = _build(task)
     with open(tdir / "attempts.jsonl", "a", encoding="utf-8") as fh:
         fh.write(json.dumps({"pid": os.getpid(), "chunk": prog["chunk"],
-                             "started": time.time()}) + "\n")
-    if task["collisions"] is not None:
-        per_block = _split(task["collisions"] * n / 2, blocks)
+                             "step": prog.get("step", 0), "started": time.time()}) + "\n")
+    per_block = (_split(task["collisions"] * n / 2, blocks) if task["collisions"] is not None
+                 else None)
     last_save = time.monotonic()
     total = 2 * blocks
-    for c in range(prog["chunk"], total):
-        if c < blocks:
-            sim.run(collisions=eq_chunks[c])
-        else:
-            b = c - blocks
+
+    def steps(c):
+        """Collisions of chunk ``c``'s steps (``[None]``: one step to a time)."""
+        if c >= blocks and per_block is None:
+            return [None]
+        coll = eq_chunks[c] if c < blocks else per_block[c - blocks]
+        return _split(coll, max(1, -(-coll // STEP)))
+
+    def checkpoint(c, step):
+        nonlocal last_save
+        if time.monotonic() - last_save < task["checkpoint_seconds"]:
+            return
+        old = prog["checkpoint"]
+        prog.update(chunk=c, step=step, checkpoint=f"ck-{c}-{step}.npz", pid=os.getpid())
+        sim.save(tdir / prog["checkpoint"])
+        _write_json(prog_path, prog)
+        if old and old != prog["checkpoint"]:
+            (tdir / old).unlink(missing_ok=True)
+        last_save = time.monotonic()
+
+    c, step = prog["chunk"], prog.get("step", 0)
+    while c < total:
+        plan = steps(c)
+        if c >= blocks and step == 0:  # a block starts (a resumed one keeps its start)
             if prog["t0"] is None:
                 prog["t0"] = sim.time
-            obs = sim.observables.reset()
-            if task["collisions"] is not None:
-                sim.run(collisions=per_block[b])
+            sim.observables.reset()
+        for k in range(step, len(plan)):
+            if plan[k] is not None:
+                sim.run(collisions=plan[k])
             else:
-                sim.run(until=prog["t0"] + task["time"] * (b + 1) / blocks)
+                sim.run(until=prog["t0"] + task["time"] * (c - blocks + 1) / blocks)
+            if k + 1 < len(plan):
+                checkpoint(c, k + 1)
+        if c >= blocks:
             for m in task["measure"]:
-                prog["values"][m].append(_measure_one(m, sim, obs))
-        prog["chunk"] = c + 1
-        if c + 1 < total and time.monotonic() - last_save >= task["checkpoint_seconds"]:
-            old = prog["checkpoint"]
-            prog["checkpoint"] = f"ck-{c + 1}.npz"
-            sim.save(tdir / prog["checkpoint"])
-            prog["pid"] = os.getpid()
-            _write_json(prog_path, prog)
-            if old and old != prog["checkpoint"]:
-                (tdir / old).unlink(missing_ok=True)
-            last_save = time.monotonic()
+                prog["values"][m].append(_measure_one(m, sim, sim.observables))
+        c, step = c + 1, 0
+        if c < total:
+            checkpoint(c, 0)
     row = {k: task[k] for k in GRID}
     row.update(equilibrate=float(task["equilibrate"]),
                collisions=float(task["collisions"]) if task["collisions"] is not None
