@@ -70,7 +70,8 @@ def cmd_validate(args):
         client = connect(args.scheduler, timeout=args.timeout)
     try:
         rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
-                        n=args.n or 4000, collisions=args.collisions or 500,
+                        n=4000 if args.n is None else args.n,
+                        collisions=500 if args.collisions is None else args.collisions,
                         equilibrate=args.equilibrate if args.equilibrate is not None else 200,
                         seed=args.seed, seeds=args.seeds, client=client, serial=args.serial,
                         workers=args.workers, folder=args.output,
