@@ -69,7 +69,7 @@ from pathlib import Path
 try:
     import tomllib
 except ModuleNotFoundError:  # Python 3.10
-    import tomli as tomllib
+    import tomli as tomllib  # type: ignore[no-redef]
 
 #: Most collisions run between two chances to checkpoint (about a second of work).
 STEP = 1 << 20
