@@ -614,10 +614,11 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
             if own:
                 client = local_client(workers)
             try:
-                link = getattr(client, "dashboard_link", None)
                 import importlib.util
-                say(f"dashboard: {link}" if link and importlib.util.find_spec("bokeh")
-                    else "dashboard: none (pip install bokeh for Dask's dashboard)")
+                link = getattr(client, "dashboard_link", None)
+                hint = ("" if importlib.util.find_spec("bokeh") else
+                        " (its pages need bokeh: pip install 'hardspheres[sweep]')")
+                say(f"dashboard: {link}{hint}" if link else "dashboard: none")
                 _run_on(client, todo, study["retries"], finished)
             finally:
                 if own:
