@@ -45,7 +45,8 @@ LocalCluster, or on a cluster that lost a worker midway.
 
 Example:
     >>> import tempfile, hardspheres as hs
-    >>> spec = {"output": tempfile.mkdtemp(), "packing": [0.2, 0.3], "n": 64,
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> spec = {"output": tmp.name, "packing": [0.2, 0.3], "n": 64,
     ...         "seeds": 2, "equilibrate": 5, "collisions": 20, "blocks": 4}
     >>> df = hs.sweep(spec, serial=True)
     >>> df.shape[0], sorted(df["packing"].unique().tolist())
@@ -55,6 +56,7 @@ Example:
     [[0.2, 2.0], [0.3, 2.0]]
     >>> bool((s["Z"] > 1).all() and (s["Z_err"] > 0).all())
     True
+    >>> tmp.cleanup()
 """
 
 import hashlib
