@@ -176,3 +176,22 @@ def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200
                     w.writerow(asdict(r))
         _atomic(csv_path, write)
     return rows
+
+
+def verdict(rows, bar=3.0):
+    """Two lines: the largest z-scores and relative errors, and whether every Z passed.
+
+    Z passes when it is within ``bar`` standard errors of both Hansen-Goos
+    and KLM.
+    """
+    worst = max(rows, key=lambda r: max(abs(r.z_HG), abs(r.z_KLM)))
+    worst_rel = max(r.Z_err / r.Z for r in rows)
+    worst_g = max(abs(r.gamma_rel_diff) for r in rows)
+    bad = [r.phi for r in rows if max(abs(r.z_HG), abs(r.z_KLM)) > bar]
+    return [(f"largest |z| of Z: {abs(worst.z_HG):.2f} against Hansen-Goos, "
+             f"{abs(worst.z_KLM):.2f} against KLM (packing {worst.phi:g}); "
+             f"largest relative standard error of Z {worst_rel:.3%}; "
+             f"largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}"),
+            f"Z within {bar:g} standard errors of both at every packing" if not bad else
+            f"Z more than {bar:g} standard errors from Hansen-Goos or KLM at packing "
+            f"{', '.join(f'{p:g}' for p in bad)}"]
