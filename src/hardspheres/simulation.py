@@ -25,6 +25,7 @@ import numpy as np
 from .containers import PeriodicBox, SphericalContainer
 from .engine import CheckpointError, Engine
 from .fileio import atomic_write
+from .messages import quote
 from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
 from .state import State
@@ -382,5 +383,5 @@ def _check_inside(state, container):
     bad = np.nonzero(reach > container.radius * (1.0 + TOUCH_TOL))[0]
     if len(bad):
         i = int(bad[0])
-        raise ScenarioError(f"sphere {state.names[i]!r} is not wholly inside the container: "
+        raise ScenarioError(f"sphere {quote(state.names[i])} is not wholly inside the container: "
                             f"|p| + R = {reach[i]:g} > {container.radius:g}")

@@ -129,7 +129,8 @@ def validate(packings=PACKINGS, csv_path=None, out=None, **kw):
                   f"{r.gamma:9.4f} {r.gamma_from_Z:9.4f} {r.gamma_rel_diff:+9.4%} "
                   f"{r.ks_D:7.4f} {r.ks_D_expected:7.4f}", file=out, flush=True)
     if csv_path is not None:
-        with open(csv_path, "w", newline="") as fh:
+        from .fileio import atomic_write
+        with atomic_write(csv_path, "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(asdict(rows[0])))
             w.writeheader()
             for r in rows:
