@@ -7,6 +7,7 @@ exits 130 and a closed stdout (``| head``) exits quietly.
 
 import math
 import os
+import signal
 import sys
 
 from .messages import oserror_line, quote
@@ -142,4 +143,9 @@ def hardspheres_main(argv=None):
     """Entry point of the ``hardspheres`` console script (subcommands)."""
     from .commands import main
     argv = sys.argv[1:] if argv is None else argv
-    sys.exit(_guarded(lambda: main(argv), "hardspheres"))
+    status = _guarded(lambda: main(argv), "hardspheres")
+    # the command is done (a run's checkpoint written): a late Ctrl-C or
+    # SIGTERM while the interpreter shuts down must not change the status
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
+    sys.exit(status)
