@@ -54,10 +54,15 @@ def start_run(scn, cwd, *extra):
                              "--container", "20", "--until", "1e9", *extra], cwd=cwd,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
     deadline = time.time() + 90
-    while not (cwd / ".c.npz.lock").exists():
-        assert proc.poll() is None, proc.communicate()
-        assert time.time() < deadline
-        time.sleep(0.05)
+    try:
+        while not (cwd / ".c.npz.lock").exists():
+            assert proc.poll() is None, proc.communicate()
+            assert time.time() < deadline, "the run never locked its checkpoint"
+            time.sleep(0.05)
+    except BaseException:
+        proc.kill()
+        proc.communicate()
+        raise
     time.sleep(2.0)  # into the run proper
     return proc
 

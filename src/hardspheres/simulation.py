@@ -70,8 +70,8 @@ class Simulation:
     Raises:
         ScenarioError: a mass, radius, position or velocity that is not a
             finite number (masses > 0, radii >= 0), repeated names, spheres
-            outside the container or overlapping, or a window that is not
-            a finite number >= 0.
+            outside the container or overlapping.
+        ValueError: a window that is not a finite number >= 0.
     """
 
     def __init__(self, state, container, window=0.0):

@@ -88,7 +88,7 @@ class State:
             if len(bad):
                 i = int(bad[0])
                 raise ScenarioError(f"sphere {i} ({quote(self.names[i])}): {what}, got "
-                                    f"{values[i].tolist()!r}")
+                                    f"{np.asarray(values)[i].tolist()!r}")
 
         m, r = self.masses, self.radii
         refuse(m, np.isfinite(m) & (m > 0), "mass must be a finite number > 0")
