@@ -10,6 +10,7 @@ import errno
 import json
 import os
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -141,6 +142,13 @@ def test_a_failed_write_keeps_the_old_file_and_leaves_nothing(tmp_path):
     assert info.value.filename == str(target)  # the message names the file
     assert target.read_text() == "good\n"
     assert os.listdir(tmp_path) == ["v.html"]
+
+
+def test_devices_are_written_in_place():
+    with atomic_write("/dev/null", "w") as fh:  # never renamed over, never locked
+        fh.write("x")
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    assert not os.path.exists("/dev/.null.lock")
 
 
 class FailingAppend:

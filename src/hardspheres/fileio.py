@@ -24,6 +24,7 @@ import contextlib
 import errno
 import fcntl
 import os
+import stat
 import tempfile
 
 from .messages import oserror_line
@@ -31,6 +32,15 @@ from .messages import oserror_line
 
 class FileInUseError(ValueError):
     """Another writer (this process or another) holds the file's lock."""
+
+
+def _special(path):
+    """Whether ``path`` exists and is not a regular file or folder (``/dev/null``, a FIFO)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
 def _lock_name(path):
@@ -60,6 +70,8 @@ class PathLock:
         self._fd = None
         if os.path.isdir(self.path):
             raise IsADirectoryError(errno.EISDIR, "is a folder, not a file", self.path)
+        if _special(self.path):
+            return  # /dev/null, a FIFO: nothing to lock, and no lock file in /dev
         while True:
             try:
                 fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
@@ -156,13 +168,20 @@ def atomic_path(path, lock=True):
             or not (``False``: the caller holds one).
 
     Yields:
-        The temporary's path (the file exists, empty).
+        The temporary's path (the file exists, empty); or ``path`` itself
+        if it is a device or FIFO (``/dev/null``), which is written as is.
 
     Raises:
         FileInUseError: another writer holds ``path``.
         OSError: naming ``path`` (``filename``).
     """
     path = os.fspath(path)
+    if _special(path):
+        try:
+            yield path
+        except OSError as e:
+            raise _named(e, path) from None
+        return
     held = PathLock(path) if lock else None
     try:
         head, tail = os.path.split(path)
