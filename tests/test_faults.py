@@ -29,10 +29,10 @@ ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
 
 
-def hs_cmd(*args, cwd, stdout=subprocess.PIPE, timeout=120, **kw):
+def hs_cmd(*args, cwd, stdout=subprocess.PIPE, timeout=120, env=ENV):
     return subprocess.run([sys.executable, "-m", "hardspheres", *map(str, args)], cwd=cwd,
-                          stdout=stdout, stderr=subprocess.PIPE, text=True, env=ENV,
-                          timeout=timeout, **kw)
+                          stdout=stdout, stderr=subprocess.PIPE, text=True, env=env,
+                          timeout=timeout)
 
 
 def one_line(err, *words):
@@ -129,6 +129,16 @@ def test_spheres_to_a_full_disk(tmp_path):
                            stderr=subprocess.PIPE, text=True, timeout=60)
     assert r.returncode == 1
     one_line(r.stderr, "spheres:", "/dev/full", "No space left on device")
+
+
+@pytest.mark.parametrize("unbuffered", ["1", ""])
+def test_generate_to_a_disk_that_fills_up(small_disk, tmp_path, unbuffered):
+    # PYTHONUNBUFFERED: Python's text layer ignores a short write (the cut the issue saw)
+    with open(small_disk / "scn.txt", "w") as fh:
+        r = hs_cmd("generate", "--n", "2000", "--container", "20", "--packing", "0.3",
+                   cwd=tmp_path, stdout=fh, env={**ENV, "PYTHONUNBUFFERED": unbuffered})
+    assert r.returncode == 1
+    one_line(r.stderr, str(small_disk / "scn.txt"), "No space left on device")
 
 
 # ---- 3. atomic outputs ------------------------------------------------------------------
@@ -229,9 +239,12 @@ def test_full_disk_view_keeps_the_old_page(small_disk, scenario, tmp_path):
     assert os.listdir(small_disk) == ["v.html"]
 
 
-def test_full_trajectory_disk_still_checkpoints(small_disk, scenario, tmp_path):
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "2", "--trajectory",
-               small_disk / "t.gsd", "--checkpoint", tmp_path / "c.npz", cwd=tmp_path)
+def test_full_trajectory_disk_still_checkpoints(small_disk, tmp_path):
+    # 200 spheres: some 25 frames fit, over several of the run's pieces
+    (tmp_path / "s.txt").write_text(hs.random_spheres(200, 0.3, container=9.0).to_text())
+    r = hs_cmd("run", "s.txt", "--container", "9", "--until", "2", "--every", "0.01",
+               "--trajectory", small_disk / "t.gsd", "--checkpoint", tmp_path / "c.npz",
+               cwd=tmp_path)
     assert r.returncode == 1
     one_line(r.stderr, str(small_disk / "t.gsd"), "No space left on device", "--resume")
     sim = hs.Simulation.load(tmp_path / "c.npz")

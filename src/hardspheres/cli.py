@@ -5,6 +5,7 @@ input gives one line on stderr and exit status 1, never a traceback; Ctrl-C
 exits 130 and a closed stdout (``| head``) exits quietly.
 """
 
+import io
 import math
 import os
 import signal
@@ -106,6 +107,22 @@ def _drop_stdout():
         pass
 
 
+def _checked_stdout():
+    """Make every byte written to stdout count, or fail.
+
+    With ``PYTHONUNBUFFERED`` (or ``-u``) stdout's text layer writes to the
+    raw file directly and ignores a short write (a disk filling up): the
+    output is cut and the exit status 0.  A buffered layer in between
+    retries short writes, so a full disk raises ENOSPC.
+    """
+    out = sys.stdout
+    raw = getattr(out, "buffer", None)
+    if isinstance(raw, io.RawIOBase):
+        sys.stdout = io.TextIOWrapper(io.BufferedWriter(raw), encoding=out.encoding,
+                                      errors=out.errors, line_buffering=out.line_buffering,
+                                      write_through=True)
+
+
 def _guarded(main, prog):
     """Run ``main()`` mapping Ctrl-C to 130 and a closed stdout to a quiet exit.
 
@@ -136,6 +153,7 @@ def _guarded(main, prog):
 def spheres_main(argv=None):
     """Entry point of the ``spheres`` console script."""
     argv = sys.argv[1:] if argv is None else argv
+    _checked_stdout()
     sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout), "spheres"))
 
 
@@ -143,6 +161,7 @@ def hardspheres_main(argv=None):
     """Entry point of the ``hardspheres`` console script (subcommands)."""
     from .commands import main
     argv = sys.argv[1:] if argv is None else argv
+    _checked_stdout()
     status = _guarded(lambda: main(argv), "hardspheres")
     # the command is done (a run's checkpoint written): a late Ctrl-C or
     # SIGTERM while the interpreter shuts down must not change the status

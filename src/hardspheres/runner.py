@@ -69,7 +69,7 @@ def _simulation(args):
 
 def _writer(args, sim, every):
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
-    from .trajectory import GSDWriter, XYZWriter
+    from .trajectory import GSDWriter, NotAContinuation, XYZWriter
     path = args.trajectory
     if path.endswith(".gsd"):
         cls = GSDWriter
@@ -82,9 +82,10 @@ def _writer(args, sim, every):
         raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, "
                          "or another file name")
     writer = cls(path, every, append=bool(args.resume) and not args.overwrite)
+    writer.until = args.until  # the run goes there in pieces: a cut-short file shows
     try:
         writer.attach(sim)
-    except ValueError as e:
+    except NotAContinuation as e:
         writer.close()
         raise ValueError(f"{e}, or give --overwrite to replace it") from None
     except BaseException:

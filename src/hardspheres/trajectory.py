@@ -59,6 +59,10 @@ class TruncatedTrajectory(UserWarning):
     """A trajectory file ends before the run that wrote it meant to (cut short)."""
 
 
+class NotAContinuation(ValueError):
+    """An ``append=True`` writer's file does not end where the simulation is."""
+
+
 class _FrameWriter:
     """Frames at ``t0, t0 + every, t0 + 2 every, ...`` from the time it is attached.
 
@@ -76,6 +80,10 @@ class _FrameWriter:
     _closed = False
     _failed = False
     path = None
+    #: The end time [time] recorded in each frame (``log/hardspheres/run_end``):
+    #: ``None`` takes each ``run(until=...)``'s; a driver that runs in pieces
+    #: (``hardspheres run``) sets its final end here.
+    until = None
 
     def __init__(self, every, events=True):
         self.every = _check_every(every)
@@ -122,7 +130,8 @@ class _FrameWriter:
 
     def _frame(self, sim, t):
         self._check_open()
-        self._run_end = (float(getattr(sim, "_run_until", math.inf)),
+        until = self.until if self.until is not None else getattr(sim, "_run_until", math.inf)
+        self._run_end = (float(until),
                          self._t0 + (self._k + 1) * self.every)
         try:
             self._write_frame(sim, sim.state(t), self._take_events())
@@ -178,7 +187,7 @@ def _continues(path, last, sim):
     same = (last["time"] == sim.time and last["n"] == sim.n and last["names"] == sim.names
             and last["container"] == (type(c).__name__, size))
     if not same:
-        raise ValueError(
+        raise NotAContinuation(
             f"{path} does not end where this simulation is (it ends at t={last['time']!r} "
             f"with {last['n']} spheres; the simulation is at t={sim.time!r} with {sim.n}): "
             "it belongs to another run; write to another file")
