@@ -251,6 +251,10 @@ def test_full_trajectory_disk_still_checkpoints(small_disk, tmp_path):
     assert 0 < sim.time < 2
     with pytest.warns(TruncatedTrajectory):
         read_trajectory(small_disk / "t.gsd")
+    r = hs_cmd("plot", "conservation", small_disk / "t.gsd", "-o", tmp_path / "c.png",
+               cwd=tmp_path)
+    assert r.returncode == 0
+    one_line(r.stderr, "warning", "t.gsd", "cut short")
 
 
 # ---- 4. signals and late checks ----------------------------------------------------------

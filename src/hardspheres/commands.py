@@ -92,7 +92,7 @@ def _frames(args):
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
     if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{path!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+        raise ValueError(f"{quote(path)} is not a trajectory (.gsd, .xyz), so it is read as a "
                          "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
@@ -106,7 +106,7 @@ def _frames(args):
 def cmd_view(args):
     from .viewer import screenshot, write_viewer
     if args.screenshot and not args.screenshot.lower().endswith(".png"):
-        raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
+        raise ValueError(f"--screenshot writes a .png, not {quote(args.screenshot)}")
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
