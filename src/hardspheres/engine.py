@@ -310,7 +310,11 @@ def check_arrays(data):
     heap = _array(data, "heap", np.int64, (n,))
     HT = _array(data, "HT", np.float64, (n,))
     HKEY = _array(data, "HKEY", np.int64, (n,))
-    f = _array(data, "f", np.float64, (core.F_NF,))
+    f = np.asarray(data.get("f", np.zeros(0)))
+    if f.dtype != np.float64 or f.ndim != 1 or not core.F_WINDOW < f.shape[0] <= core.F_NF:
+        _bad(f"'f' is {f.dtype}{list(f.shape)}, expected float64[{core.F_NF}]")
+    if "img" in data:  # periodic image counts, where the core keeps them
+        _array(data, "img", np.int64, (n, 3))
     c = _array(data, "c", np.int64, (core.C_NC_,))
     meta = _array(data, "meta", np.float64, (5,))
     nc = int(c[core.C_NC])
