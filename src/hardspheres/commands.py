@@ -6,12 +6,18 @@ as one line on stderr with exit status 1.
 """
 
 import argparse
+import re
 import sys
+import warnings
+
+from .messages import QUOTE_LIMIT, oserror_line, quote
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.print_usage(sys.stderr)
+        # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
+        message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
         raise SystemExit(f"{self.prog}: {message}")
 
 
@@ -19,21 +25,21 @@ def _positive(text):
     import math
     x = float(text)
     if not math.isfinite(x) or x <= 0.0:
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {quote(text)}")
     return x
 
 
 def _ratio(text):
     x = _positive(text)
     if x < 1.0:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {quote(text)}")
     return x
 
 
 def _count(text):
     x = int(text)
     if x < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {quote(text)}")
     return x
 
 
@@ -92,11 +98,17 @@ def _frames(args):
     if path.endswith((".gsd", ".xyz", ".extxyz")):
         if args.container or args.box or args.until:
             raise ValueError("--container/--box/--until are for scenarios, not trajectories")
-        return read_trajectory(path)
+        from .trajectory import TruncatedTrajectory
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TruncatedTrajectory)
+            frames = read_trajectory(path)
+        for w in caught:  # one line each, not Python's two-line warning format
+            print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
+        return frames
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
     if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{path!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+        raise ValueError(f"{quote(path)} is not a trajectory (.gsd, .xyz), so it is read as a "
                          "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
@@ -110,7 +122,7 @@ def _frames(args):
 def cmd_view(args):
     from .viewer import screenshot, write_viewer
     if args.screenshot and not args.screenshot.lower().endswith(".png"):
-        raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
+        raise ValueError(f"--screenshot writes a .png, not {quote(args.screenshot)}")
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
@@ -214,7 +226,10 @@ def build_parser():
     r.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
     r.add_argument("--every", type=_positive, help="time between frames [s]")
     r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
-    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
+    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario "
+                   "(an existing --trajectory that ends where it starts is continued)")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace an existing --trajectory file (refused otherwise)")
     r.set_defaults(func=cmd_run)
 
     s = sub.add_parser("sweep", help="run a study (a parameter grid in a TOML file) on Dask; "
@@ -291,6 +306,16 @@ def main(argv):
         return args.func(args)
     except BrokenPipeError:
         raise  # the caller exits quietly
-    except (ValueError, OSError) as e:
-        print(f"hardspheres {args.command}: {e}", file=sys.stderr)
+    except OSError as e:
+        if e.filename is None:
+            raise  # stdout's: the caller names it
+        print(f"hardspheres {args.command}: {oserror_line(e)}", file=sys.stderr)
         return 1
+    except ValueError as e:
+        print(f"hardspheres {args.command}: {_one_line(e)}", file=sys.stderr)
+        return 1
+
+
+def _one_line(err):
+    """An error's message on one line (a library's message may hold newlines)."""
+    return " ".join(str(err).split("\n"))

@@ -33,8 +33,10 @@ def _figure(size, dpi):
 
 
 def _save(fig, path, dpi):
+    from .fileio import atomic_write
     path = Path(path)
-    fig.savefig(path, dpi=dpi, format="png")
+    with atomic_write(path, "wb") as fh:
+        fig.savefig(fh, dpi=dpi, format="png")
     return path
 
 
