@@ -84,17 +84,15 @@ def test_recorder_every_k_collisions(make_sim):
     assert frames.times[3] == frames.events["time"][np.searchsorted(colls, 150)]
 
 
-def test_files_open_on_attach(tmp_path, make_sim):
+def test_file_writers_take_triggers(tmp_path, make_sim):
     pytest.importorskip("gsd.hoomd")
     for cls, name in ((GSDWriter, "a.gsd"), (XYZWriter, "a.xyz")):
-        w = cls(tmp_path / name, every=0.5)
-        assert not (tmp_path / name).exists()  # nothing written before a run
         sim = make_sim(n=20)
-        sim.writers.append(w)
-        sim.run(until=1.0)
-        w.detach()
+        with cls(tmp_path / name, trigger=AtTimes([0.25, 1.0])) as w:
+            sim.writers.append(w)
+            sim.run(until=1.0)
         frames = hs.read_trajectory(tmp_path / name)
-        assert frames.times.tolist() == [0.0, 0.5, 1.0]
+        assert frames.times.tolist() == [0.25, 1.0]
 
 
 def test_state_does_not_run(make_sim):

@@ -29,7 +29,10 @@ def _version():
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "maxwell",
          "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
-         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
+         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
+         "sweep": "studies", "StudyError": "studies",
+         "CheckpointError": "engine", "FileInUseError": "fileio",
+         "TruncatedTrajectory": "trajectory"}
 
 
 def __getattr__(name):
@@ -40,7 +43,8 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BuildError", "Container", "Event", "EventKind", "Frames", "GSDWriter", "Observables",
-           "PeriodicBox", "Scenario", "ScenarioError", "Simulation", "SphericalContainer", "State",
-           "StopReason", "XYZWriter", "maxwell_boltzmann", "parse_scenario", "random_spheres",
-           "read_trajectory"]
+__all__ = ["BuildError", "CheckpointError", "Container", "Event", "EventKind", "FileInUseError",
+           "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
+           "Simulation", "SphericalContainer", "State", "StopReason", "StudyError",
+           "TruncatedTrajectory", "XYZWriter", "maxwell_boltzmann", "parse_scenario",
+           "random_spheres", "read_trajectory", "sweep"]

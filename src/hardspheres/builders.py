@@ -57,7 +57,8 @@ def random_spheres(n: int, packing: float, container: Container | float | None =
         A :class:`State` with spheres named ``s0 ... s{n-1}``.
 
     Raises:
-        BuildError: if the lattice cannot hold the spheres at that packing.
+        BuildError: if the lattice cannot hold the spheres at that packing,
+            or an argument is out of range (``kT < 0``, NaN, ...).
 
     Example:
         >>> from hardspheres import SphericalContainer
@@ -67,10 +68,16 @@ def random_spheres(n: int, packing: float, container: Container | float | None =
     """
     if (container is None) == (box is None):
         raise BuildError("give exactly one of container and box")
-    where = as_container(container, box)
+    if not (isinstance(n, (int, np.integer)) and n >= 0):
+        raise BuildError(f"n must be a whole number >= 0, got {n!r}")
+    try:
+        where = as_container(container, box)
+    except ValueError as e:
+        raise BuildError(str(e)) from None
     if not (0.0 < packing < 0.74):
         raise BuildError(f"packing fraction must be in (0, 0.74), got {packing}")
-    if radius_ratio < 1.0 or mass_ratio < 1.0:
+    if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(
+            radius_ratio * mass_ratio):
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
     volume = where.volume

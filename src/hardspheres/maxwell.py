@@ -36,7 +36,14 @@ def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 
 
     Returns:
         ``(N, 3)`` velocities [length/time].
+
+    Raises:
+        BuildError: ``kT`` is not a finite number >= 0.
     """
+    if not (np.isfinite(kT) and kT >= 0):
+        from .builders import BuildError  # builders imports this module
+
+        raise BuildError(f"kT must be a finite number >= 0 [energy], got {kT!r}")
     n = len(masses)
     v = rng.normal(size=(n, 3)) * np.sqrt(kT / masses)[:, None]
     if n > 1:

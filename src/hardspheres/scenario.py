@@ -15,6 +15,8 @@ Pure Python (no numpy), so that the assignment's program starts fast.
 import math
 from dataclasses import dataclass, field
 
+from .messages import quote
+
 #: Relative tolerance for "touching within rounding": two spheres overlap only
 #: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
 #: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
@@ -71,11 +73,11 @@ def _number(token, what, lineno):
         x = None
     # float() also takes digit-group underscores and non-ASCII digits
     if x is None or "_" in token or not token.isascii():
-        raise ScenarioError(f"{what} is not a number: {token!r}", lineno)
+        raise ScenarioError(f"{what} is not a number: {quote(token)}", lineno)
     if not math.isfinite(x):
-        raise ScenarioError(f"{what} is not a finite number: {token!r}", lineno)
+        raise ScenarioError(f"{what} is not a finite number: {quote(token)}", lineno)
     if abs(x) > MAX_MAGNITUDE:
-        raise ScenarioError(f"{what} is too large: {token} (at most {MAX_MAGNITUDE:g} "
+        raise ScenarioError(f"{what} is too large: {quote(token)} (at most {MAX_MAGNITUDE:g} "
                             "in magnitude, so that squares and energies stay finite)",
                             lineno)
     return x
@@ -122,12 +124,12 @@ def parse_scenario(data: str | bytes) -> Scenario:
             _number(tok, what, lineno) for tok, what in zip(tokens[:8], FIELDS))
         name = tokens[8]
         if m <= 0.0:
-            raise ScenarioError(f"mass must be > 0, got {tokens[0]}", lineno)
+            raise ScenarioError(f"mass must be > 0, got {quote(tokens[0])}", lineno)
         if r < 0.0:
-            raise ScenarioError(f"radius must be >= 0, got {tokens[1]}", lineno)
+            raise ScenarioError(f"radius must be >= 0, got {quote(tokens[1])}", lineno)
         if name in seen:
             raise ScenarioError(
-                f"name {name!r} is already used on line {seen[name]}; names are IDs",
+                f"name {quote(name)} is already used on line {seen[name]}; names are IDs",
                 lineno)
         seen[name] = lineno
         scn.masses.append(m)
@@ -155,12 +157,12 @@ def check_scenario(scn: Scenario, container) -> None:
     for i, (p, r, v) in enumerate(zip(scn.positions, scn.radii, scn.velocities)):
         problem = container.check_sphere(p, r, v)
         if problem is not None:
-            raise ScenarioError(f"sphere {scn.names[i]!r} {problem}", scn.lines[i])
+            raise ScenarioError(f"sphere {quote(scn.names[i])} {problem}", scn.lines[i])
     pair = find_overlap(scn.positions, scn.radii)
     if pair is not None:
         i, j = pair
         raise ScenarioError(
-            f"sphere {scn.names[j]!r} overlaps sphere {scn.names[i]!r} "
+            f"sphere {quote(scn.names[j])} overlaps sphere {quote(scn.names[i])} "
             f"(line {scn.lines[i]}); move them apart", scn.lines[j])
 
 

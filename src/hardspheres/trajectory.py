@@ -3,8 +3,8 @@
 The writers here are :class:`hardspheres.writers.Writer` s: append one to
 ``sim.writers`` and every run writes a frame each ``every`` [time] (or when
 its ``trigger`` says: :mod:`hardspheres.writers`), starting with the state
-at the time it is attached; the file opens then, and closes on
-:meth:`~_FrameWriter.detach` (or at the end of a ``with`` block).
+at the time it is attached; :meth:`~_FrameWriter.detach` (or the end of a
+``with`` block) closes the file.
 
 GSD files use the HOOMD schema in double precision (``gsd``'s default,
 single precision, keeps only ~7 digits), so OVITO, HOOMD-blue, freud and
@@ -44,16 +44,26 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from typing import Any
 
 import numpy as np
 
 from .containers import from_fields
 from .events import EVENT_DTYPE, empty_events, from_columns
+from .fileio import PathLock
 from .frames import Frames
 from .writers import Periodic, Trigger, as_trigger
 
 _GSD_EVENTS = "hardspheres/events"
+
+
+class TruncatedTrajectory(UserWarning):
+    """A trajectory file ends before the run that wrote it meant to (cut short)."""
+
+
+class NotAContinuation(ValueError):
+    """An ``append=True`` writer's file does not end where the simulation is."""
 
 
 class _FrameWriter:
@@ -65,21 +75,36 @@ class _FrameWriter:
         trigger: a :class:`~hardspheres.writers.Trigger`.
         events: also keep the events between frames.
 
-    Subclasses write a frame in ``_write_frame(sim, state, events)``, open
-    their file and check the simulation once in ``_start(sim)``, and keep
-    the open file, if any, in ``_file``.
+    Subclasses write a frame in ``_write_frame(sim, state, events)``, may
+    check the simulation once in ``_start(sim)``, and keep their open file,
+    if any, in ``_file`` (and its lock in ``_lock``).  ``_count`` is the
+    index of the next frame in the file; ``_k`` the number of frames this
+    writer has written (in an appended file the first, already there, is
+    not written again).  ``last_time`` is the time of the last frame in the
+    file [time].
     """
 
     _file: Any = None
+    _lock: Any = None
+    _closed = False
+    _failed = False
+    path: Any = None
+    #: The end time [time] recorded in each frame (``log/hardspheres/run_end``):
+    #: ``None`` takes each ``run(until=...)``'s; a driver that runs in pieces
+    #: (``hardspheres run``) sets its final end here.
+    until: float | None = None
 
     def __init__(self, every: float | None = None, events: bool = True, *,
                  trigger: Trigger | None = None) -> None:
         self.trigger = as_trigger(every, trigger)
         self.every = self.trigger.period if isinstance(self.trigger, Periodic) else None
         self.wants_events = bool(events)
+        self.last_time: float | None = None
         self._started = False
         self._count = 0
+        self._k = 0
         self._events: list[np.ndarray] = []
+        self._run_end = (math.inf, math.inf)
 
     @property
     def next_time(self) -> float:
@@ -94,22 +119,29 @@ class _FrameWriter:
     def _start(self, sim):
         pass
 
+    def _check_open(self):
+        if self._closed:
+            raise ValueError(f"{type(self).__name__}({self.path or ''!r}) is closed; "
+                             "open a new writer to write more frames")
+
     def attach(self, sim) -> None:
-        """Start (once): open the file, start the trigger, write a frame if due now."""
+        """Start (once): start the trigger, write a frame if it is due now."""
+        self._check_open()
         if not self._started:
-            self._start(sim)
             self._started = True
             self.trigger.start(sim.time, sim.counters["collisions"])
-            if self.trigger.next_time <= sim.time:
-                self.write(sim, sim.time)
+            if self._start(sim) == "continues":
+                self._k = 1  # the file's last frame is this one
+                self.trigger.fired()
+            elif self.trigger.next_time <= sim.time:
+                self._frame(sim, sim.time)
 
     def write(self, sim, t: float) -> None:
         """A frame of ``sim`` at ``t`` (its clock) [time]."""
         self._frame(sim, t)
-        self.trigger.fired()
 
     def detach(self) -> None:
-        """Flush and close the file (same as :meth:`close`)."""
+        """Flush and close the file and release its lock (same as :meth:`close`)."""
         self.close()
 
     def observe(self, ev):
@@ -122,8 +154,20 @@ class _FrameWriter:
         return out
 
     def _frame(self, sim, t):
-        self._write_frame(sim, sim.state(t), self._take_events())
+        self._check_open()
+        until = self.until if self.until is not None else getattr(sim, "_run_until", math.inf)
+        self.trigger.fired()
+        self._run_end = (float(until), self.trigger.next_time)
+        try:
+            self._write_frame(sim, sim.state(t), self._take_events())
+        except OSError as e:
+            self._failed = True
+            if self.path is not None and e.filename is None:
+                raise type(e)(e.errno, e.strerror, self.path) from None
+            raise
         self._count += 1
+        self._k += 1
+        self.last_time = t
 
     def __enter__(self):
         return self
@@ -133,31 +177,90 @@ class _FrameWriter:
         return False
 
     def close(self) -> None:
-        """Flush and close the file (further frames are an error)."""
-        if self._file is not None:
-            self._file.close()
-            self._file = None
+        """Flush and close the file and release its lock (further frames are an error).
+
+        Raises:
+            OSError: naming the file, if the last data cannot be written
+                (not raised again after a failed frame).
+        """
+        self._closed = True
+        try:
+            if self._file is not None:
+                fh, self._file = self._file, None
+                try:
+                    fh.close()
+                except OSError as e:
+                    if not self._failed:
+                        if e.filename is None:
+                            raise type(e)(e.errno, e.strerror, self.path) from None
+                        raise
+        finally:
+            if self._lock is not None:
+                self._lock.release()
+                self._lock = None
+
+    def _take_lock(self, path):
+        """Lock ``path`` for this writer, or raise (:class:`PathLock`)."""
+        self.path = os.fspath(path)
+        self._lock = PathLock(self.path)
+
+
+def _continues(path, last, sim):
+    """Raise unless the frame ``last`` of ``path`` is where ``sim`` is now."""
+    same = (last["time"] == sim.time and last["n"] == sim.n and last["names"] == sim.names
+            and last["container"] == sim.container)
+    if not same:
+        raise NotAContinuation(
+            f"{path} does not end where this simulation is (it ends at t={last['time']!r} "
+            f"with {last['n']} spheres; the simulation is at t={sim.time!r} with {sim.n}): "
+            "it belongs to another run; write to another file")
 
 
 class GSDWriter(_FrameWriter):
     """Frames to a GSD file (HOOMD schema, double precision).
 
     Args:
-        path: the file (overwritten when the writer is attached).
+        path: the file (overwritten, unless ``append``).
         every: time between frames [time], or
         trigger: when to write (:mod:`hardspheres.writers`).
         events: also keep the events between frames (``log/hardspheres/events/...``).
+        append: continue an existing file written by an earlier part of the
+            same run (checked when the writer is attached); a missing
+            file is created.
+
+    Raises:
+        FileInUseError: another writer holds the file.
+        OSError: naming the file.
     """
 
     def __init__(self, path: str | os.PathLike, every: float | None = None, events: bool = True,
-                 *, trigger: Trigger | None = None) -> None:
+                 append: bool = False, *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events, trigger=trigger)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
-        self.path = os.fspath(path)
+        self._take_lock(path)
+        self._append = bool(append) and os.path.exists(self.path)
+        try:
+            self._file = gsd.hoomd.open(self.path, mode="r+" if self._append else "w",
+                                        precision="double")
+            self._count = len(self._file) if self._append else 0
+        except (OSError, RuntimeError) as e:
+            self.close()
+            if isinstance(e, OSError) and e.filename is not None:
+                raise
+            raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
         self._hoomd = gsd.hoomd
 
     def _start(self, sim):
-        self._file = self._hoomd.open(self.path, mode="w", precision="double")
+        if not self._append or self._count == 0:
+            return None
+        try:
+            last = _gsd_last(self._file)
+        except (KeyError, IndexError, ValueError) as e:
+            raise ValueError(f"{self.path}: not a hardspheres trajectory ({e}); "
+                             "write to another file") from None
+        _continues(self.path, last, sim)
+        self.last_time = last["time"]
+        return "continues"
 
     def _write_frame(self, sim, state, events):
         f = self._hoomd.Frame()
@@ -177,6 +280,7 @@ class GSDWriter(_FrameWriter):
             f.log["hardspheres/names"] = np.frombuffer(
                 "\n".join(state.names).encode("utf-8"), dtype=np.uint8)
         f.log["hardspheres/time"] = np.array([state.time])
+        f.log["hardspheres/run_end"] = np.array(self._run_end)
         if self.wants_events:
             for name in EVENT_DTYPE.names:
                 f.log[f"{_GSD_EVENTS}/{name}"] = np.ascontiguousarray(events[name])
@@ -194,22 +298,43 @@ class XYZWriter(_FrameWriter):
     not contain whitespace or quotes here. Events are not written.
 
     Args:
-        path: the file (overwritten when the writer is attached).
+        path: the file (overwritten, unless ``append``).
         every: time between frames [time], or
         trigger: when to write (:mod:`hardspheres.writers`).
+        append: continue an existing file written by an earlier part of the
+            same run (checked when the writer is attached).
+
+    Raises:
+        FileInUseError: another writer holds the file.
+        OSError: naming the file.
     """
 
-    def __init__(self, path: str | os.PathLike, every: float | None = None, *,
-                 trigger: Trigger | None = None) -> None:
+    def __init__(self, path: str | os.PathLike, every: float | None = None, append: bool = False,
+                 *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events=False, trigger=trigger)
-        self.path = os.fspath(path)
+        self._take_lock(path)
+        self._append = bool(append) and os.path.exists(self.path)
+        try:
+            self._file = open(self.path, "a" if self._append else "w", encoding="utf-8",
+                              newline="\n")
+        except OSError:
+            self.close()
+            raise
 
     def _start(self, sim):
+        from .messages import quote
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:
-            raise ValueError(f"sphere name {bad[0]!r} cannot be written to XYZ "
+            raise ValueError(f"sphere name {quote(bad[0])} cannot be written to XYZ "
                              "(whitespace or quotes); use GSD")
-        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
+        if not self._append or os.path.getsize(self.path) == 0:
+            return None
+        old = _read_xyz(self.path, check_end=False)
+        self._count = len(old.times)
+        _continues(self.path, {"time": float(old.times[-1]), "n": old.n,
+                               "names": list(old.names), "container": old.container}, sim)
+        self.last_time = float(old.times[-1])
+        return "continues"
 
     def _write_frame(self, sim, state, events):
         c = sim.container
@@ -220,7 +345,8 @@ class XYZWriter(_FrameWriter):
         header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
                   f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" '
                   "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1 "
-                  f"Time={state.time!r} {size}\n")
+                  f"Time={state.time!r} {size} "
+                  f"run_end=\"{self._run_end[0]!r} {self._run_end[1]!r}\"\n")
         fh = self._file
         fh.write(header)
         if state.n:
@@ -253,6 +379,9 @@ def _concat(blocks):
 def read_trajectory(path: str | os.PathLike) -> Frames:
     """Read a trajectory written by :class:`GSDWriter` or :class:`XYZWriter`.
 
+    Warns :class:`TruncatedTrajectory` (one line: the file, where it ends
+    and where its run meant to end) if the file was cut short.
+
     Returns:
         :class:`hardspheres.frames.Frames`.
 
@@ -265,6 +394,31 @@ def read_trajectory(path: str | os.PathLike) -> Frames:
     if path.endswith((".xyz", ".extxyz")):
         return _read_xyz(path)
     raise ValueError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
+
+
+def _warn_if_cut(path, last_time, run_end):
+    """Warn if the run that wrote the last frame had another frame due before its end."""
+    try:
+        until, due = (float(x) for x in run_end)
+    except (TypeError, ValueError):
+        return  # not ours to judge
+    if due <= until and last_time < until:
+        warnings.warn(f"{path} ends at t={last_time!r}, but the run writing it was to reach "
+                      f"t={until!r} (next frame due at t={due!r}): the file was cut short "
+                      "(disk full, run killed or interrupted)", TruncatedTrajectory,
+                      stacklevel=3)
+
+
+def _gsd_last(traj):
+    """What :func:`_continues` compares, from the last frame of an open GSD file."""
+    first, last = traj[0], traj[len(traj) - 1]
+    n = int(first.particles.N)
+    raw = bytes(np.asarray(first.log.get("hardspheres/names", np.zeros(0, np.uint8)),
+                           dtype=np.uint8))
+    names = raw.decode("utf-8").split("\n") if n else []
+    log = last.log
+    return {"time": float(log["hardspheres/time"][0]), "n": int(last.particles.N),
+            "names": names, "container": from_fields(log)}
 
 
 def _read_gsd(path):
@@ -295,6 +449,9 @@ def _read_gsd(path):
             ev = _gsd_events(f.log)
             if ev is not None:
                 events.append(ev)
+            run_end = f.log.get("hardspheres/run_end")
+        if run_end is not None and len(run_end) == 2:
+            _warn_if_cut(path, times[-1], run_end)
         return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
@@ -312,8 +469,9 @@ def _xyz_keys(comment):
     return out
 
 
-def _read_xyz(path):
+def _read_xyz(path, check_end=True):
     times, pos, vel, names, radii, masses = [], [], [], None, None, None
+    run_end = None
     container = None
     with open(path, encoding="utf-8") as fh:
         lines = fh.read().split("\n")
@@ -323,6 +481,7 @@ def _read_xyz(path):
             n = int(lines[k])
             keys = _xyz_keys(lines[k + 1])
             times.append(float(keys["Time"]))
+            run_end = keys["run_end"].split() if "run_end" in keys else None
             container = from_fields(keys)
             rows = [ln.split() for ln in lines[k + 2:k + 2 + n]]
             if len(rows) != n or any(len(r) != 9 for r in rows):
@@ -339,6 +498,8 @@ def _read_xyz(path):
                          f"(near line {k + 1}: {e})") from None
     if not times:
         raise ValueError(f"{path}: no frames")
+    if check_end and run_end is not None and len(run_end) == 2:
+        _warn_if_cut(path, times[-1], run_end)
     n = len(names)
     return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                   np.array(vel).reshape(-1, n, 3), radii, masses, names,
