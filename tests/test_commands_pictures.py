@@ -24,7 +24,7 @@ pytest.importorskip("gsd")
 from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres.trajectory import read_trajectory  # noqa: E402
-from hardspheres.viewer import find_chromium  # noqa: E402
+from hardspheres.screenshot import find_chromium  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 N, R, UNTIL, EVERY = 60, 6.0, 2.0, 0.1

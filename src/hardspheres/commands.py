@@ -92,7 +92,8 @@ def _frames(args):
 
 
 def cmd_view(args):
-    from .viewer import screenshot, write_viewer
+    from .screenshot import screenshot
+    from .viewer import write_viewer
     if args.screenshot and not args.screenshot.lower().endswith(".png"):
         raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
     frames = _frames(args)

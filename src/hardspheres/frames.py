@@ -2,7 +2,8 @@
 
 Trajectory readers (:mod:`hardspheres.trajectory`) produce :class:`Frames`;
 the viewer, renderer and plots (:mod:`hardspheres.viewer`,
-:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them.
+:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them, picking
+the frames they draw with :func:`frame_indices`.
 """
 
 from dataclasses import dataclass, field
@@ -54,3 +55,24 @@ class Frames:
     def momentum(self):
         """``(F, 3)`` total momentum of each frame [mass*length/time]."""
         return np.einsum("n,fnk->fk", self.masses, self.velocities)
+
+
+def frame_indices(n_frames, n_spheres, max_frames=600, max_values=12_000_000):
+    """Indices of the frames the viewer keeps: evenly spaced, first and last kept.
+
+    At most ``max_frames`` frames, and at most ``max_values`` embedded numbers
+    (``frames * spheres * 4``: a position and a speed, 4 bytes each), but never
+    fewer than two frames when there are two.
+
+    >>> frame_indices(5, 10).tolist()
+    [0, 1, 2, 3, 4]
+    >>> frame_indices(1001, 10, max_frames=3).tolist()
+    [0, 500, 1000]
+    """
+    if n_frames <= 0:
+        return np.zeros(0, np.int64)
+    cap = min(int(max_frames), int(max_values) // max(1, 4 * n_spheres))
+    cap = max(cap, min(2, n_frames))
+    if n_frames <= cap:
+        return np.arange(n_frames)
+    return np.unique(np.round(np.linspace(0, n_frames - 1, cap)).astype(np.int64))

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .viewer import frame_indices
+from .frames import frame_indices
 
 
 class _Progress:
