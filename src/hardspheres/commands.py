@@ -10,14 +10,27 @@ import sys
 
 
 class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``hardspheres run: argument --n: ...``."""
+
     def error(self, message):
-        self.print_usage(sys.stderr)
-        raise SystemExit(f"{self.prog}: {message}")
+        raise SystemExit(f"{self.prog}: {message} (see {self.prog} --help)")
+
+
+def _number(text):
+    """``float(text)`` for a plain decimal number (no ``1_0``, no non-ASCII digits)."""
+    import math
+    try:
+        x = float(text)
+    except ValueError:
+        x = math.nan
+    if "_" in text or not text.isascii():
+        x = math.nan
+    return x
 
 
 def _positive(text):
     import math
-    x = float(text)
+    x = _number(text)
     if not math.isfinite(x) or x <= 0.0:
         raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
     return x
@@ -26,15 +39,95 @@ def _positive(text):
 def _ratio(text):
     x = _positive(text)
     if x < 1.0:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a number >= 1, got {text!r}")
     return x
 
 
-def _count(text):
-    x = int(text)
-    if x < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+def _whole(lowest, highest=None):
+    """A whole number in ``[lowest, highest]``; integral floats as physicists type them
+    (``1e5``, ``2.0``) are accepted."""
+    import math
+
+    def parse(text):
+        x = _number(text)
+        bound = f">= {lowest}" if highest is None else f"from {lowest} to {highest}"
+        if not math.isfinite(x) or x != math.floor(x) or x < lowest or (
+                highest is not None and x > highest):
+            raise argparse.ArgumentTypeError(f"must be a whole number {bound} "
+                                             f"(1e5 is fine), got {text!r}")
+        return int(x)
+    parse.__name__ = "whole number"
+    return parse
+
+
+_count = _whole(0)
+
+
+def _packing(text):
+    import math
+    x = _number(text)
+    if not math.isfinite(x) or not 0.0 < x < 0.74:
+        raise argparse.ArgumentTypeError(
+            f"must be a packing fraction between 0 and 0.74 (exclusive), got {text!r}")
     return x
+
+
+def _packings(text):
+    """Comma-separated packing fractions, every one checked before any is run."""
+    values = []
+    for part in text.split(","):
+        try:
+            values.append(_packing(part.strip()))
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(
+                f"must be comma-separated packing fractions between 0 and 0.74 "
+                f"(e.g. 0.1,0.3), got {part.strip()!r} in {text!r}") from None
+    return values
+
+
+def _time(text):
+    import math
+    x = _number(text)
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return x
+
+
+def _size(text):
+    """``WIDTHxHEIGHT`` in pixels."""
+    w, _, h = text.lower().partition("x")
+    try:
+        size = (int(w), int(h))
+    except ValueError:
+        size = (0, 0)
+    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
+        raise argparse.ArgumentTypeError(
+            f"must be WIDTHxHEIGHT in pixels, each 16 to 8192 (e.g. 1280x720), got {text!r}")
+    return size
+
+
+def _suffix(path):
+    import os
+    return os.path.splitext(path)[1].lower()
+
+
+def _require_suffix(option, path, allowed, what):
+    """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
+    if _suffix(path) not in allowed:
+        got = _suffix(path) or "no extension"
+        raise ValueError(f"{option} {path!r}: {what} must end in {', '.join(allowed)} "
+                         f"(got {got})")
+
+
+def _note(text):
+    """A one-line note on stderr (not an error)."""
+    print(text, file=sys.stderr, flush=True)
+
+
+def _compile_first():
+    """Compile the event core now if needed (said on stderr), so no timing includes it."""
+    from .warmup import ensure_compiled
+    ensure_compiled()
 
 
 def cmd_generate(args):
@@ -52,6 +145,7 @@ def cmd_generate(args):
 
 def cmd_bench(args):
     from .bench import main
+    _compile_first()
     main(args.n, args.packing, args.collisions, seed=args.seed,
          radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio, box=args.box)
     return 0
@@ -59,6 +153,7 @@ def cmd_bench(args):
 
 def cmd_validate(args):
     from .validate import PACKINGS, validate
+    _compile_first()
     rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
                     n=args.n, collisions=args.collisions, equilibrate=args.equilibrate,
                     seed=args.seed)
@@ -69,64 +164,95 @@ def cmd_validate(args):
     return 0
 
 
+_TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")
+
+
+def _check_source(args):
+    """Check the input's options (trajectory or scenario) before any work."""
+    if _suffix(args.input) in _TRAJECTORY_SUFFIXES:
+        given = [o for o, v in (("--container", args.container), ("--box", args.box),
+                                ("--until", args.until), ("--every", args.every)) if v]
+        if given:
+            raise ValueError(f"{'/'.join(given)} are for scenarios, not trajectories "
+                             f"({args.input} holds its own)")
+        return
+    if args.until is None or (args.container is None and args.box is None):
+        raise ValueError(f"{args.input!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+                         "scenario: give --container R (or --box L) and --until T")
+    if args.every is not None and args.every > args.until:
+        raise ValueError(f"--every {args.every:g} is longer than the run (--until "
+                         f"{args.until:g}): there would be one frame")
+
+
 def _frames(args):
     """Frames from a trajectory file, or from a scenario run on the spot."""
     from .trajectory import frames_from_simulation, read_trajectory
     path = args.input
-    if path.endswith((".gsd", ".xyz", ".extxyz")):
-        if args.container or args.box or args.until:
-            raise ValueError("--container/--box/--until are for scenarios, not trajectories")
+    if _suffix(path) in _TRAJECTORY_SUFFIXES:
         return read_trajectory(path)
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
-    if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{path!r} is not a trajectory (.gsd, .xyz), so it is read as a "
-                         "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
     try:
         sim = Simulation.from_scenario(path, container)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
+    _compile_first()
     return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
 
 
 def cmd_view(args):
+    _require_suffix("-o", args.output, (".html", ".htm"), "the viewer is a web page and")
+    if args.screenshot:
+        _require_suffix("--screenshot", args.screenshot, (".png",), "the screenshot")
+    _check_source(args)
     from .screenshot import screenshot
     from .viewer import write_viewer
-    if args.screenshot and not args.screenshot.lower().endswith(".png"):
-        raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
-        screenshot(args.output, args.screenshot)
+        screenshot(args.output, args.screenshot, size=args.size or (960, 640))
         print(f"wrote {args.screenshot}")
     return 0
 
 
+_MOVIES = (".gif", ".mp4", ".m4v", ".mov", ".mkv", ".webm")
+_STILLS = (".png", ".pdf", ".svg")
+
+
 def cmd_render(args):
-    from .render import render_movie, render_still
-    still = args.output.lower().endswith(".png")
+    _require_suffix("-o", args.output, _MOVIES + _STILLS, "a movie or a still")
+    still = _suffix(args.output) in _STILLS
     if args.time is not None and not still:
         raise ValueError("--time picks the frame of a still picture: use -o NAME.png")
+    if not still and _suffix(args.output) != ".gif":
+        from matplotlib import animation
+        if not animation.FFMpegWriter.isAvailable():
+            raise ValueError(f"-o {args.output}: {_suffix(args.output)} needs the ffmpeg program, "
+                             "which was not found on PATH; install it or write a .gif")
+        if args.size and (args.size[0] % 2 or args.size[1] % 2):
+            raise ValueError(f"--size: {_suffix(args.output)} needs an even width and height")
+    _check_source(args)
+    from .render import render_movie, render_still
     frames = _frames(args)
+    size = args.size or ((1280, 720) if still else (960, 540))
     if still:
-        render_still(frames, args.output, time=args.time)
+        render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        try:
-            render_movie(frames, args.output, fps=args.fps)
-        except RuntimeError as e:  # ffmpeg missing
-            raise ValueError(str(e)) from None
+        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice)
     print(f"wrote {args.output}")
     return 0
 
 
 def cmd_plot(args):
+    _require_suffix("-o", args.output, _STILLS, "a plot")
     from . import plots
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
     else:
+        _check_source(args)
         frames = _frames(args)
         if args.what == "conservation":
             plots.plot_conservation(frames, args.output)
@@ -136,14 +262,15 @@ def cmd_plot(args):
     return 0
 
 
-def _picture_args(q, output_default):
+def _picture_args(q, output_default, output_help):
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
-    q.add_argument("-o", "--output", default=output_default)
+    q.add_argument("-o", "--output", default=output_default, help=output_help)
     where = q.add_mutually_exclusive_group()
     where.add_argument("--container", type=_positive, help="scenario: container radius [m]")
     where.add_argument("--box", type=_positive, help="scenario: periodic box edge [m]")
     q.add_argument("--until", type=_positive, help="scenario: end time [s]")
-    q.add_argument("--every", type=_positive, help="scenario: time between frames [s]")
+    q.add_argument("--every", type=_positive, help="scenario: time between frames [s] "
+                   "(default: --until / 200)")
 
 
 def cmd_run(args):
@@ -151,19 +278,25 @@ def cmd_run(args):
     return run_command(args)
 
 
+def _version():
+    from . import __version__
+    return f"%(prog)s {__version__}"
+
+
 def build_parser():
     p = _Parser(prog="hardspheres",
                 description="Exact event-driven simulation of perfectly elastic spheres.")
+    p.add_argument("--version", action="version", version=_version())
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     g = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
-    g.add_argument("--n", type=_count, required=True, help="number of spheres")
+    g.add_argument("--n", type=_whole(1), required=True, help="number of spheres (>= 1)")
     where = g.add_mutually_exclusive_group(required=True)
     where.add_argument("--container", type=_positive, help="spherical container radius [m]")
     where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
-    g.add_argument("--packing", type=_positive, required=True,
+    g.add_argument("--packing", type=_packing, required=True,
                    help="volume fraction filled by the spheres (< 0.74)")
-    g.add_argument("--seed", type=int, default=0)
+    g.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     g.add_argument("--radius-ratio", type=_ratio, default=1.0,
                    help="largest over smallest radius (uniform in between)")
     g.add_argument("--mass-ratio", type=_ratio, default=1.0,
@@ -171,11 +304,11 @@ def build_parser():
     g.set_defaults(func=cmd_generate)
 
     b = sub.add_parser("bench", help="measure collisions per second")
-    b.add_argument("--n", type=_count, required=True)
-    b.add_argument("--packing", type=_positive, required=True)
-    b.add_argument("--collisions", type=_count, required=True,
-                   help="collisions timed (after N warm-up collisions)")
-    b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--n", type=_whole(2), required=True, help="number of spheres (>= 2)")
+    b.add_argument("--packing", type=_packing, required=True)
+    b.add_argument("--collisions", type=_whole(1), required=True,
+                   help="collisions timed (after N warm-up collisions; 2e6 is fine)")
+    b.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     b.add_argument("--radius-ratio", type=_ratio, default=1.0)
     b.add_argument("--mass-ratio", type=_ratio, default=1.0)
     b.add_argument("--box", action="store_true",
@@ -189,46 +322,61 @@ def build_parser():
     where.add_argument("--container", type=_positive, help="spherical container radius [m]")
     where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
     r.add_argument("--until", type=_positive, required=True, help="end time [s]")
+    eq = r.add_mutually_exclusive_group()
+    eq.add_argument("--equilibrate", type=_count, metavar="COLLISIONS",
+                    help="collisions per sphere to run before the averages start")
+    eq.add_argument("--equilibrate-time", type=_positive, metavar="T",
+                    help="time [s] to run before the averages start")
     r.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
-    r.add_argument("--every", type=_positive, help="time between frames [s]")
-    r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
+    r.add_argument("--every", type=_positive,
+                   help="time between trajectory frames [s] (default: the run / 100)")
+    r.add_argument("--events", action="store_true",
+                   help="also store every event in the .gsd (large: about 40 bytes each)")
+    r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C "
+                   "(with --resume: the resumed file, unless given)")
     r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
     r.set_defaults(func=cmd_run)
 
     v = sub.add_parser("validate",
                        help="equation of state and collision rate against theory")
-    v.add_argument("--n", type=_count, default=4000, help="spheres (default 4000)")
-    v.add_argument("--collisions", type=_count, default=500,
+    v.add_argument("--n", type=_whole(2), default=4000, help="spheres (default 4000)")
+    v.add_argument("--collisions", type=_whole(1), default=500,
                    help="collisions per sphere measured at each packing (default 500)")
     v.add_argument("--equilibrate", type=_count, default=50,
                    help="collisions per sphere before measuring (default 50)")
-    v.add_argument("--packings", type=lambda t: [float(x) for x in t.split(",")],
-                   default=None, help="comma-separated packing fractions "
-                   "(default 0.1,0.2,0.3,0.4,0.45)")
+    v.add_argument("--packings", type=_packings, default=None,
+                   help="comma-separated packing fractions (default 0.1,0.2,0.3,0.4,0.45)")
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
-    v.add_argument("--seed", type=int, default=0)
+    v.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
-    _picture_args(w, "viewer.html")
+    _picture_args(w, "viewer.html", "the page to write (.html)")
     w.add_argument("--title")
     w.add_argument("--screenshot", metavar="PNG",
                    help="also open the page in headless Chromium, play it 1 s, save a PNG")
+    w.add_argument("--size", type=_size, help="screenshot size WIDTHxHEIGHT (default 960x640)")
     w.set_defaults(func=cmd_view)
 
-    m = sub.add_parser("render", help="render an animation (.mp4 or .gif) or a still (.png), "
-                       "headless")
-    _picture_args(m, "movie.gif")
-    m.add_argument("--fps", type=int, default=20)
-    m.add_argument("--time", type=float,
-                   help="still (.png): draw the frame nearest this time (default: the last)")
+    m = sub.add_parser("render", help="render an animation (.gif, .mp4) or a still "
+                       "(.png, .pdf, .svg), headless")
+    _picture_args(m, "movie.gif", "movie (.gif; .mp4 with ffmpeg) or still (.png, .pdf, .svg)")
+    m.add_argument("--fps", type=_whole(1, 100), default=20,
+                   help="movie frames per second (1 to 100, default 20)")
+    m.add_argument("--time", type=_time,
+                   help="still: draw the frame nearest this time (default: the last)")
+    m.add_argument("--size", type=_size,
+                   help="WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)")
+    m.add_argument("--slice", type=_time, metavar="Z",
+                   help="cut-away: draw only the spheres whose centre has z <= Z "
+                   "(the inside of a full container)")
     m.set_defaults(func=cmd_render)
 
-    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos")
+    pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos")
     pl.add_argument("what", choices=["conservation", "speeds", "eos"],
                     help="energy/momentum over time, speeds vs Maxwell-Boltzmann, or "
                     "the validate CSV vs Carnahan-Starling")
-    _picture_args(pl, "plot.png")
+    _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")
     pl.set_defaults(func=cmd_plot)
     return p
 

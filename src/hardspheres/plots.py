@@ -1,4 +1,4 @@
-"""Diagnostic plots (PNG, matplotlib Agg, no display needed).
+"""Diagnostic plots (PNG, PDF or SVG by the extension; matplotlib Agg, no display needed).
 
 ::
 
@@ -7,7 +7,8 @@
     plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
 
-Each function writes a PNG of ``size`` pixels (default 960 x 720) and returns
+Each function writes a PNG of ``size`` pixels (default 960 x 720), or a PDF or
+SVG of the same proportions, as the file name's extension says, and returns
 its path.
 """
 
@@ -29,9 +30,18 @@ def _figure(size, dpi):
     return fig
 
 
+#: File formats the plots write, by extension (matplotlib's backends).
+FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
 def _save(fig, path, dpi):
+    """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
     path = Path(path)
-    fig.savefig(path, dpi=dpi, format="png")
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise ValueError(f"{path.name}: plots are written as {', '.join(FORMATS)}, "
+                         f"not {path.suffix or 'a name without extension'}")
+    fig.savefig(path, dpi=dpi, format=fmt)
     return path
 
 
