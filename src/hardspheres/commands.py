@@ -210,7 +210,7 @@ def cmd_view(args):
     from .screenshot import screenshot
     from .viewer import write_viewer
     frames = _frames(args)
-    write_viewer(frames, args.output, title=args.title or args.input)
+    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
         screenshot(args.output, args.screenshot, size=args.size or (960, 640))
@@ -356,6 +356,9 @@ def build_parser():
     w.add_argument("--screenshot", metavar="PNG",
                    help="also open the page in headless Chromium, play it 1 s, save a PNG")
     w.add_argument("--size", type=_size, help="screenshot size WIDTHxHEIGHT (default 960x640)")
+    w.add_argument("--slice", type=_time, metavar="Z",
+                   help="start with the cut-away plane at z = Z (spheres above it hidden; "
+                   "the page's cut slider moves it)")
     w.set_defaults(func=cmd_view)
 
     m = sub.add_parser("render", help="render an animation (.gif, .mp4) or a still "

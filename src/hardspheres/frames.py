@@ -48,6 +48,14 @@ class Frames:
         """Number of spheres."""
         return len(self.radii)
 
+    def __repr__(self):
+        times = np.asarray(self.times)
+        span = f", t={times[0]:.6g}..{times[-1]:.6g}" if len(times) else ""
+        where = (f", container={self.container:g}" if self.container is not None else
+                 f", box={self.box:g}" if self.box is not None else "")
+        return (f"Frames(n={self.n}, frames={len(times)}{span}{where}, "
+                f"events={len(self.event_times)})")
+
     def energy(self):
         """``(F,)`` kinetic energy of each frame [mass*length^2/time^2]."""
         return 0.5 * np.einsum("n,fnk,fnk->f", self.masses, self.velocities, self.velocities)

@@ -74,7 +74,7 @@ class Progress:
             return
         text = self.line(done, events, label)
         pad = max(0, self.width - len(text))
-        self.width = len(text)
+        self.width = len(text) + pad  # what the terminal line holds now
         self.stream.write("\r" + text + " " * pad)
         self.stream.flush()
 
@@ -126,6 +126,8 @@ def _simulation(args):
             source = fh.read()
     from .scenario import check_scenario, parse_scenario
     scn = parse_scenario(source)  # bad input is refused before the compilation
+    if len(scn) == 0:
+        raise ValueError(f"{args.scenario}: no spheres in the scenario")
     if isinstance(container, SphericalContainer):
         check_scenario(scn, container.radius)
     ensure_compiled()  # before any clock starts: no rate below includes compilation
@@ -303,7 +305,7 @@ def run_command(args):
     c1 = sim.counters
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
-    summary = sim.observables.summary() if sim.time > averaged_from else {}
+    summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
     lines = [
         f"time {sim.time:.9g}" + (" (interrupted)" if interrupted else ""),
         f"{sim.n} spheres, {_container_text(sim.container)}",
@@ -312,6 +314,8 @@ def run_command(args):
         f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)",
     ]
     lines += summary_lines(sim, summary, averaged_from, equilibrated)
+    if e1 == 0:
+        lines.append("all spheres at rest: no pressure or rates")
     lines.append(f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s "
                  "(compilation excluded)")
     if checkpoint:

@@ -65,19 +65,23 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
             try:
                 page = browser.new_page(viewport={"width": width, "height": height})
                 page.on("pageerror", lambda exc: errors.append(str(exc)))
+                page.set_default_timeout(timeout * 1000)
                 page.goto(html_path.as_uri())
                 page.wait_for_function("window.viewerReady === true || "
                                        "getComputedStyle(document.getElementById('message'))"
                                        ".display !== 'none'", timeout=timeout * 1000)
                 if page.locator("#message").is_visible():
                     raise ValueError(f"screenshot: {page.locator('#message').inner_text()}")
+                # through the page's own controls, not clicks: a click waits
+                # for the page to settle, which a page of 20000 spheres drawn
+                # by software WebGL may not do within playwright's timeout
                 if play_seconds > 0 and page.evaluate("window.viewerState.playing") is False:
-                    page.click("#play")
+                    page.evaluate("window.viewerControl.setPlaying(true)")
                     page.wait_for_timeout(play_seconds * 1000)
-                    if page.evaluate("window.viewerState.playing"):
-                        page.click("#play")  # pause: the picture shows the Play button
+                    # pause: the picture shows the Play button
+                    page.evaluate("window.viewerControl.setPlaying(false)")
                 page.wait_for_timeout(100)
-                page.screenshot(path=str(png_path))
+                page.screenshot(path=str(png_path), timeout=timeout * 1000)
             finally:
                 browser.close()
     except PlaywrightError as e:

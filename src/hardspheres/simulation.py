@@ -59,6 +59,14 @@ class Simulation:
             the previous one happen at its time (the assignment's program
             uses 1e-8 s; 0, the default, keeps exact times).
 
+    Attributes:
+        container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
+        names: the spheres' names, in input order.
+        observables: :class:`hardspheres.Observables`, time averages since
+            its last ``reset()`` (pressure, ``Z``, collision rate, ...).
+        writers: objects called as the simulation runs (e.g.
+            :class:`hardspheres.GSDWriter`); append to this list.
+
     Raises:
         ScenarioError: spheres outside the container or overlapping.
     """

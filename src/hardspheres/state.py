@@ -54,6 +54,10 @@ class State:
         """Number of spheres."""
         return self.masses.shape[0]
 
+    def __repr__(self):
+        names = ", ".join(self.names[:3]) + (", ..." if self.n > 3 else "")
+        return f"State(n={self.n}, time={self.time:.6g}, names=[{names}])"
+
     def kinetic_energy(self):
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(0.5 * np.sum(self.masses * np.sum(self.velocities ** 2, axis=1)))

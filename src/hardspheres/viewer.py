@@ -9,7 +9,8 @@ can be mailed or opened from disk with no server and no network::
 
 In the page: drag to orbit, wheel to zoom, right-drag to pan; space plays or
 pauses, the arrow keys step frames; click a sphere to see its name, mass,
-radius and speed.  Spheres are drawn at their true radii in perspective,
+radius and speed; the "cut" slider hides the spheres above a plane ``z = c``
+to show the inside of a full container.  Spheres are drawn at their true radii in perspective,
 coloured by speed or by mass (with a legend); collisions flash red and
 reflections off the container flash white as they happen.
 
@@ -19,7 +20,9 @@ so many that positions and speeds would pass ``max_values`` numbers).
 In a periodic box each sphere is drawn once, at its centre wrapped into the
 box.  The page sets
 ``window.viewerReady = true`` once it has drawn the first frame and keeps
-``window.viewerState = {frame, time, playing}`` current, for tests.
+``window.viewerState = {frame, time, playing}`` current, for tests;
+``window.viewerControl`` has ``setPlaying(bool)`` and ``setCut(z or null)``
+for scripts (the screenshot plays the page through it, without clicks).
 
 :func:`hardspheres.screenshot.screenshot` opens such a page in headless
 Chromium and saves a PNG.  The page itself (HTML, CSS and the JavaScript that
@@ -65,7 +68,13 @@ def _vendored_js():
     return {"core": core, "module": module, "orbit": orbit}
 
 
-def _payload(frames, title, max_frames, max_values, max_events, color_by):
+def _round_up(x, digits=2):
+    """``x > 0`` rounded up to ``digits`` significant figures (a colour bar's top label)."""
+    scale = 10.0 ** (np.floor(np.log10(x)) - (digits - 1))
+    return float(f"{np.ceil(x / scale - 1e-9) * scale:.{digits}g}")
+
+
+def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=None):
     times = np.asarray(frames.times, dtype=np.float64)
     pos = np.asarray(frames.positions, dtype=np.float64)
     vel = np.asarray(frames.velocities, dtype=np.float64)
@@ -117,6 +126,7 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by):
     speed_max = float(np.percentile(finite_speeds, 99.5)) if finite_speeds.size else 1.0
     if not speed_max > 0:
         speed_max = float(finite_speeds.max()) if finite_speeds.size and finite_speeds.max() > 0 else 1.0
+    speed_max = _round_up(speed_max)
 
     names = [str(x) for x in frames.names] if (frames.names is not None and len(frames.names) == n and n <= 20000) else None
     return {
@@ -136,6 +146,7 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by):
         "speed_range": [0.0, speed_max],
         "mass_range": [float(masses.min()), float(masses.max())] if n else [1.0, 1.0],
         "color_by": color_by,
+        "cut": None if cut is None else float(cut),
         "events": {
             "n": int(len(et)),
             "total": events_total,
@@ -149,7 +160,7 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by):
 
 
 def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
-                 max_values=12_000_000, max_events=200_000):
+                 max_values=12_000_000, max_events=200_000, cut=None):
     """Write an interactive, self-contained HTML viewer of ``frames``.
 
     Args:
@@ -166,12 +177,17 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
             file under about 70 MB).
         max_events: at most this many events are embedded for the flashes
             (evenly spaced in the run's event list when there are more).
+        cut: start with the cut-away plane at ``z = cut`` [length]: spheres
+            whose centre lies above it are hidden (the page's "cut" slider
+            moves it; ``None``: no cut).
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
     """
     path = Path(path)
-    data = _payload(frames, title, max_frames, max_values, max_events, color_by)
+    if cut is not None and not np.isfinite(cut):
+        raise ValueError(f"write_viewer: cut must be a finite number, got {cut!r}")
+    data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
     page = (_static("viewer.html")
             .replace("__TITLE__", html.escape(data["title"]))
             .replace("__JS__", _script_json(_vendored_js()))
