@@ -75,9 +75,14 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
                 # through the page's own controls, not clicks: a click waits
                 # for the page to settle, which a page of 20000 spheres drawn
                 # by software WebGL may not do within playwright's timeout
+                # (the first frames of a software renderer are slow: wait for a
+                # few before playing, and for a few more before pausing)
+                page.wait_for_function("(window.viewerTicks || 0) >= 3")
                 if play_seconds > 0 and page.evaluate("window.viewerState.playing") is False:
                     page.evaluate("window.viewerControl.setPlaying(true)")
+                    ticks = page.evaluate("window.viewerTicks")
                     page.wait_for_timeout(play_seconds * 1000)
+                    page.wait_for_function(f"window.viewerTicks >= {ticks + 3}")
                     # pause: the picture shows the Play button
                     page.evaluate("window.viewerControl.setPlaying(false)")
                 page.wait_for_timeout(100)
