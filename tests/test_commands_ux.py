@@ -63,6 +63,20 @@ def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
     assert again.returncode == 0 and again.stderr == "", again.stderr
 
 
+def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
+    """The assignment's program (compiled engine) gives the same note, on stderr only."""
+    from hardspheres import warmup
+    from hardspheres.cli import run_spheres
+    monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
+    monkeypatch.setattr(warmup, "is_cold", lambda: True)
+    out = io.StringIO()
+    data = (ROOT / "examples" / "three.txt").read_bytes()
+    assert run_spheres(["120", "105"], io.BytesIO(data), out) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("compiling the event core (once, about") and err.endswith(" s\n")
+    assert "colliding one two" in out.getvalue() and "compiling" not in out.getvalue()
+
+
 def test_cold_cache_detection(tmp_path, monkeypatch):
     from hardspheres import warmup
     assert warmup.ensure_compiled(stream=None) >= 0.0

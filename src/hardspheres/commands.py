@@ -173,7 +173,8 @@ def _check_source(args):
         given = [o for o, v in (("--container", args.container), ("--box", args.box),
                                 ("--until", args.until), ("--every", args.every)) if v]
         if given:
-            raise ValueError(f"{'/'.join(given)} are for scenarios, not trajectories "
+            raise ValueError(f"{'/'.join(given)} {'is' if len(given) == 1 else 'are'} for "
+                             "scenarios, not trajectories "
                              f"({args.input} holds its own)")
         return
     if args.until is None or (args.container is None and args.box is None):
@@ -213,7 +214,11 @@ def cmd_view(args):
     write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
-        screenshot(args.output, args.screenshot, size=args.size or (960, 640))
+        try:
+            screenshot(args.output, args.screenshot, size=args.size or (960, 640))
+        except ValueError as e:
+            raise ValueError(f"--screenshot {args.screenshot}: "
+                             f"{str(e).removeprefix('screenshot: ')}") from None
         print(f"wrote {args.screenshot}")
     return 0
 

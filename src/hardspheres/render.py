@@ -309,15 +309,21 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
 
     bar = _Progress(len(keep), progress)
     start = _time.monotonic()
+    first_done = None
     try:
         with writer.saving(fig, str(path), dpi):
             for f in range(len(keep)):
                 show(f)
                 writer.grab_frame()
-                if f == 0 and progress and len(keep) > 1:
-                    per_frame = _time.monotonic() - start
+                now = _time.monotonic()
+                if f == 0:
+                    first_done = now  # the first frame also pays for the set-up
+                # the estimate: from the pace of frames 2 and 3 (or of frame 1 alone)
+                if progress and (f == min(2, len(keep) - 1)) and len(keep) > 1:
+                    per_frame = (now - first_done) / f if f > 0 else now - start
+                    total = now - start + per_frame * (len(keep) - 1 - f)
                     bar.note(f"rendering {len(keep)} frames to {path.name}, about "
-                             f"{_seconds(per_frame * len(keep))}")
+                             f"{_seconds(total)}")
                 bar.update()
     finally:
         bar.close()
