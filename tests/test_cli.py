@@ -205,7 +205,7 @@ ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 def _compiled_core():
     """The core compiled up front, silently: a cold cache's note is not a test's stderr."""
     from hardspheres.warmup import ensure_compiled
-    ensure_compiled(stream=None)
+    ensure_compiled(quiet=True)
 
 
 @ENGINES

@@ -45,7 +45,7 @@ def scn(tmp_path_factory):
     (d / "s.txt").write_text(hs.random_spheres(200, 0.2, container=10.0, seed=3).to_text())
     (d / "b.txt").write_text(hs.random_spheres(200, 0.2, box=15.0, seed=3).to_text())
     from hardspheres.warmup import ensure_compiled
-    ensure_compiled(stream=None)
+    ensure_compiled(quiet=True)
     return d
 
 
@@ -79,7 +79,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
 
 def test_cold_cache_detection(tmp_path, monkeypatch):
     from hardspheres import warmup
-    assert warmup.ensure_compiled(stream=None) >= 0.0
+    assert warmup.ensure_compiled(quiet=True) >= 0.0
     assert not warmup.is_cold()
     paths = warmup._index_paths()
     assert paths and all(p.endswith(".nbi") for p in paths)

@@ -9,7 +9,7 @@ system, so that no rate a command reports includes compilation.
 
 Example:
     >>> from hardspheres.warmup import ensure_compiled
-    >>> ensure_compiled(stream=None) >= 0.0  # compiles silently if needed
+    >>> ensure_compiled(quiet=True) >= 0.0  # compiles silently if needed
     True
 """
 
@@ -61,17 +61,20 @@ def _compile():
     sim.state()
 
 
-def ensure_compiled(stream=sys.stderr):
+def ensure_compiled(quiet=False, stream=None):
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
     Args:
-        stream: where the one-line note goes (``None``: compile silently).
+        quiet: compile without a word.
+        stream: where the one-line note goes (default: ``sys.stderr`` as it
+            is when called).
 
     Returns:
         Seconds spent compiling (0.0 when the cache was warm).
     """
     if not is_cold():
         return 0.0
+    stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
         stream.write(f"compiling the event core (once, about {TYPICAL_SECONDS} s; "
                      "later runs start at once) ...")
