@@ -366,3 +366,11 @@ def test_viewer_colour_bar_top_is_round():
                   [f"s{i}" for i in range(50)], container=20.0)
     top = _payload(f, None, 600, 10**7, 1000, "speed")["speed_range"][1]
     assert top == float(f"{top:.2g}")
+
+
+def test_empty_scenario_is_refused(tmp_path):
+    (tmp_path / "empty.txt").write_text("")
+    for args in (["run", "empty.txt", "--container", 10, "--until", 1],
+                 ["view", "empty.txt", "--container", 10, "--until", 1, "-o", "e.html"]):
+        assert_one_line(hs_cmd(*args, cwd=tmp_path), "empty.txt", "no spheres")
+    assert not (tmp_path / "e.html").exists()

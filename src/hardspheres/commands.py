@@ -193,13 +193,22 @@ def _frames(args):
         return read_trajectory(path)
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
+    from .scenario import check_scenario, parse_scenario
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
+    with open(path, "rb") as fh:
+        data = fh.read()
     try:
-        sim = Simulation.from_scenario(path, container)
+        scn = parse_scenario(data)  # bad input is refused before the compilation
+        if len(scn) == 0:
+            raise ValueError("no spheres in the scenario")
+        if isinstance(container, SphericalContainer):
+            check_scenario(scn, container.radius)
+        _compile_first()
+        sim = Simulation.from_scenario(data if data.endswith(b"\n") else data + b"\n",
+                                       container)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
-    _compile_first()
     return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
 
 
