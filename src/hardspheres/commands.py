@@ -255,7 +255,12 @@ def cmd_render(args):
     if still:
         render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice)
+        from .render import _seconds
+
+        def estimate(n_frames, seconds):
+            _note(f"rendering {n_frames} frames to {args.output}, about {_seconds(seconds)}")
+        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice,
+                     on_estimate=estimate)
     print(f"wrote {args.output}")
     return 0
 

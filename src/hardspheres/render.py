@@ -52,6 +52,21 @@ class _Progress:
                          f"  {rate:.3g} frames/s  {left:.0f} s left   ")
         sys.stderr.flush()
 
+    def clear(self):
+        """Blank the bar's line (the text bar; tqdm clears itself)."""
+        if self.bar is not None:
+            self.bar.clear()
+        elif self.text:
+            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
+            sys.stderr.flush()
+
+    def redraw(self):
+        """Draw the bar again after :meth:`clear`."""
+        if self.bar is not None:
+            self.bar.refresh()
+        elif self.text:
+            self._show()
+
     def note(self, text):
         """One line on stderr (above the bar, if any)."""
         if self.bar is not None:
@@ -267,7 +282,7 @@ def _check(size, color_by, what):
 
 
 def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_frames=None,
-                 color_by="speed", title=None, dpi=100, cut=None):
+                 color_by="speed", title=None, dpi=100, cut=None, on_estimate=None):
     """Render ``frames`` to a movie file and return ``path``.
 
     Args:
@@ -278,8 +293,8 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
         fps: frames per second of the movie (1 to 100).
         size: ``(width, height)`` in pixels (even numbers for mp4); the
             default suits a 16:9 slide.
-        progress: say on stderr how long the movie will take (after the
-            first frame), and show a progress bar when stderr is a terminal.
+        progress: when stderr is a terminal, say there how long the movie
+            will take (after the first frames) and show a progress bar.
         max_frames: render at most this many frames, evenly spaced (default:
             all).
         color_by: ``"speed"`` or ``"mass"``.
@@ -288,6 +303,8 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
             ``size`` whatever it is).
         cut: draw only the spheres whose centre has ``z <= cut`` [length]
             (a cut-away that shows the inside of a full container).
+        on_estimate: called once, after the first frames, with the number
+            of frames and the expected total time [s] (terminal or not).
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
@@ -319,11 +336,16 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
                 if f == 0:
                     first_done = now  # the first frame also pays for the set-up
                 # the estimate: from the pace of frames 2 and 3 (or of frame 1 alone)
-                if progress and (f == min(2, len(keep) - 1)) and len(keep) > 1:
+                if f == min(2, len(keep) - 1) and len(keep) > 1:
                     per_frame = (now - first_done) / f if f > 0 else now - start
                     total = now - start + per_frame * (len(keep) - 1 - f)
-                    bar.note(f"rendering {len(keep)} frames to {path.name}, about "
-                             f"{_seconds(total)}")
+                    if on_estimate is not None:
+                        bar.clear()  # the caller's words go on a line of their own
+                        on_estimate(len(keep), total)
+                        bar.redraw()
+                    elif bar.bar is not None or bar.text:
+                        bar.note(f"rendering {len(keep)} frames to {path.name}, about "
+                                 f"{_seconds(total)}")
                 bar.update()
     finally:
         bar.close()
