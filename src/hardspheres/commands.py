@@ -6,13 +6,19 @@ as one line on stderr with exit status 1.
 """
 
 import argparse
+import re
 import sys
+import warnings
+
+from .messages import QUOTE_LIMIT, oserror_line, quote
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors: ``hardspheres run: argument --n: ...``."""
 
     def error(self, message):
+        # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
+        message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
         raise SystemExit(f"{self.prog}: {message} (see {self.prog} --help)")
 
 
@@ -32,14 +38,14 @@ def _positive(text):
     import math
     x = _number(text)
     if not math.isfinite(x) or x <= 0.0:
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {quote(text)}")
     return x
 
 
 def _ratio(text):
     x = _positive(text)
     if x < 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number >= 1, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a number >= 1, got {quote(text)}")
     return x
 
 
@@ -54,7 +60,7 @@ def _whole(lowest, highest=None):
         if not math.isfinite(x) or x != math.floor(x) or x < lowest or (
                 highest is not None and x > highest):
             raise argparse.ArgumentTypeError(f"must be a whole number {bound} "
-                                             f"(1e5 is fine), got {text!r}")
+                                             f"(1e5 is fine), got {quote(text)}")
         return int(x)
     parse.__name__ = "whole number"
     return parse
@@ -68,7 +74,7 @@ def _packing(text):
     x = _number(text)
     if not math.isfinite(x) or not 0.0 < x < 0.74:
         raise argparse.ArgumentTypeError(
-            f"must be a packing fraction between 0 and 0.74 (exclusive), got {text!r}")
+            f"must be a packing fraction between 0 and 0.74 (exclusive), got {quote(text)}")
     return x
 
 
@@ -81,7 +87,7 @@ def _packings(text):
         except argparse.ArgumentTypeError:
             raise argparse.ArgumentTypeError(
                 f"must be comma-separated packing fractions between 0 and 0.74 "
-                f"(e.g. 0.1,0.3), got {part.strip()!r} in {text!r}") from None
+                f"(e.g. 0.1,0.3), got {quote(part.strip())} in {quote(text)}") from None
     return values
 
 
@@ -89,7 +95,7 @@ def _time(text):
     import math
     x = _number(text)
     if not math.isfinite(x):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {quote(text)}")
     return x
 
 
@@ -102,7 +108,7 @@ def _size(text):
         size = (0, 0)
     if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
         raise argparse.ArgumentTypeError(
-            f"must be WIDTHxHEIGHT in pixels, each 16 to 8192 (e.g. 1280x720), got {text!r}")
+            f"must be WIDTHxHEIGHT in pixels, each 16 to 8192 (e.g. 1280x720), got {quote(text)}")
     return size
 
 
@@ -115,7 +121,7 @@ def _require_suffix(option, path, allowed, what):
     """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
     if _suffix(path) not in allowed:
         got = _suffix(path) or "no extension"
-        raise ValueError(f"{option} {path!r}: {what} must end in {', '.join(allowed)} "
+        raise ValueError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} "
                          f"(got {got})")
 
 
@@ -152,15 +158,31 @@ def cmd_bench(args):
 
 
 def cmd_validate(args):
-    from .validate import PACKINGS, validate
+    from .validate import PACKINGS, validate, verdict
     _compile_first()
-    rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
-                    n=args.n, collisions=args.collisions, equilibrate=args.equilibrate,
-                    seed=args.seed)
+    if args.quick:  # a smoke test of the whole path, seconds (N = 500 crystallizes at 0.49)
+        for key, value in (("n", 500), ("collisions", 100), ("equilibrate", 50),
+                           ("packings", [0.1, 0.3, 0.45])):
+            if getattr(args, key) is None:
+                setattr(args, key, value)
+    client = None
+    if args.scheduler:
+        from .studies import connect
+        client = connect(args.scheduler, timeout=args.timeout)
+    try:
+        rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
+                        n=4000 if args.n is None else args.n,
+                        collisions=500 if args.collisions is None else args.collisions,
+                        equilibrate=args.equilibrate if args.equilibrate is not None else 200,
+                        seed=args.seed, seeds=args.seeds, client=client, serial=args.serial,
+                        workers=args.workers, folder=args.output,
+                        progress=sys.stderr if sys.stderr.isatty() else None)
+    finally:
+        if client is not None:
+            client.close()
     print(f"wrote {args.csv}")
-    worst_z = max(abs(r.rel_diff) for r in rows)
-    worst_g = max(abs(r.gamma_rel_diff) for r in rows)
-    print(f"largest |Z/Z_CS - 1| = {worst_z:.3%}, largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}")
+    for line in verdict(rows):
+        print(line)
     return 0
 
 
@@ -178,7 +200,7 @@ def _check_source(args):
                              f"({args.input} holds its own)")
         return
     if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{args.input!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+        raise ValueError(f"{quote(args.input)} is not a trajectory (.gsd, .xyz), so it is read as a "
                          "scenario: give --container R (or --box L) and --until T")
     if args.every is not None and args.every > args.until:
         raise ValueError(f"--every {args.every:g} is longer than the run (--until "
@@ -190,10 +212,16 @@ def _frames(args):
     from .trajectory import frames_from_simulation, read_trajectory
     path = args.input
     if _suffix(path) in _TRAJECTORY_SUFFIXES:
-        return read_trajectory(path)
+        from .trajectory import TruncatedTrajectory
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TruncatedTrajectory)
+            frames = read_trajectory(path)
+        for w in caught:  # one line each, not Python's two-line warning format
+            print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
+        return frames
     from .containers import PeriodicBox, SphericalContainer
-    from .simulation import Simulation
     from .scenario import check_scenario, parse_scenario
+    from .simulation import Simulation
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
     with open(path, "rb") as fh:
@@ -270,6 +298,8 @@ def cmd_plot(args):
     from . import plots
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
+    elif args.what == "sweep":
+        plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
     else:
         _check_source(args)
         frames = _frames(args)
@@ -300,6 +330,11 @@ def cmd_run(args):
 def _version():
     from . import __version__
     return f"%(prog)s {__version__}"
+
+
+def cmd_sweep(args):
+    from .studies import main
+    return main(args)
 
 
 def build_parser():
@@ -353,20 +388,49 @@ def build_parser():
                    help="also store every event in the .gsd (large: about 40 bytes each)")
     r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C "
                    "(with --resume: the resumed file, unless given)")
-    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
+    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario "
+                   "(an existing --trajectory that ends where it starts is continued)")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace an existing --trajectory file (refused otherwise)")
     r.set_defaults(func=cmd_run)
 
+    s = sub.add_parser("sweep", help="run a study (a parameter grid in a TOML file) on Dask; "
+                       "reruns skip finished tasks")
+    s.add_argument("study", help="study file (TOML)")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="an existing Dask scheduler (default: a LocalCluster, one worker per core)")
+    s.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    s.add_argument("--serial", action="store_true", help="run the tasks here, one by one, no Dask")
+    s.add_argument("--timeout", type=_positive, default=10.0,
+                   help="seconds to wait for --scheduler (default 10)")
+    s.set_defaults(func=cmd_sweep)
+
     v = sub.add_parser("validate",
-                       help="equation of state and collision rate against theory")
-    v.add_argument("--n", type=_whole(2), default=4000, help="spheres (default 4000)")
-    v.add_argument("--collisions", type=_whole(1), default=500,
+                       help="equation of state (z-scores against Hansen-Goos and KLM) and "
+                       "collision rate against theory, run as a study")
+    v.add_argument("--n", type=_whole(2), default=None, help="spheres (default 4000)")
+    v.add_argument("--collisions", type=_whole(1), default=None,
                    help="collisions per sphere measured at each packing (default 500)")
-    v.add_argument("--equilibrate", type=_count, default=50,
-                   help="collisions per sphere before measuring (default 50)")
-    v.add_argument("--packings", type=_packings, default=None,
-                   help="comma-separated packing fractions (default 0.1,0.2,0.3,0.4,0.45)")
+    v.add_argument("--equilibrate", type=_count, default=None,
+                   help="collisions per sphere before measuring (default 200: the FCC "
+                   "start takes about 75 to melt at packing 0.49)")
+    v.add_argument("--packings", type=_packings,
+                   default=None, help="comma-separated packing fractions "
+                   "(default 0.1,0.2,0.3,0.4,0.45,0.49)")
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
     v.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
+    v.add_argument("--seeds", type=_whole(1), default=1,
+                   help="runs per packing, seeds SEED.. (default 1)")
+    v.add_argument("--quick", action="store_true",
+                   help="a few seconds: N 500, 100 collisions per sphere (50 to equilibrate) "
+                   "at packings 0.1,0.3,0.45")
+    v.add_argument("--output", metavar="DIR",
+                   help="keep the study here (a rerun skips finished runs); default: temporary")
+    v.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler")
+    v.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    v.add_argument("--serial", action="store_true", help="run here, one packing after another")
+    v.add_argument("--timeout", type=_positive, default=10.0,
+                   help="seconds to wait for --scheduler (default 10)")
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
@@ -394,11 +458,16 @@ def build_parser():
                    "(the inside of a full container)")
     m.set_defaults(func=cmd_render)
 
-    pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos"],
-                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, or "
-                    "the validate CSV vs Carnahan-Starling")
+    pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos, "
+                        "sweep")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep"],
+                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
+                    "the validate CSV vs Carnahan-Starling, or a study's results "
+                    "(--x PARAMETER --y OBSERVABLE)")
     _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")
+    pl.add_argument("--x", default="packing", help="sweep: parameter on the x axis "
+                    "(default packing)")
+    pl.add_argument("--y", default="Z", help="sweep: observable on the y axis (default Z)")
     pl.set_defaults(func=cmd_plot)
     return p
 
@@ -410,6 +479,16 @@ def main(argv):
         return args.func(args)
     except BrokenPipeError:
         raise  # the caller exits quietly
-    except (ValueError, OSError) as e:
-        print(f"hardspheres {args.command}: {e}", file=sys.stderr)
+    except OSError as e:
+        if e.filename is None:
+            raise  # stdout's: the caller names it
+        print(f"hardspheres {args.command}: {oserror_line(e)}", file=sys.stderr)
         return 1
+    except ValueError as e:
+        print(f"hardspheres {args.command}: {_one_line(e)}", file=sys.stderr)
+        return 1
+
+
+def _one_line(err):
+    """An error's message on one line (a library's message may hold newlines)."""
+    return " ".join(str(err).split("\n"))

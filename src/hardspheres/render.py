@@ -328,7 +328,8 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
     start = _time.monotonic()
     first_done = None
     try:
-        with writer.saving(fig, str(path), dpi):
+        from .fileio import atomic_path
+        with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):
             for f in range(len(keep)):
                 show(f)
                 writer.grab_frame()
@@ -394,5 +395,7 @@ def render_still(frames, path, time=None, size=(1280, 720), *, color_by="speed",
         k = int(np.argmin(np.abs(times - float(time))))
     fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)
     show(0)
-    fig.savefig(path, dpi=dpi, format=fmt)
+    from .fileio import atomic_write
+    with atomic_write(path, "wb") as fh:
+        fig.savefig(fh, dpi=dpi, format=fmt)
     return path

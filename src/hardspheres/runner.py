@@ -4,6 +4,15 @@ Progress bar on stderr (only on a terminal: rate and time left), trajectory
 frames, a checkpoint at the end or on Ctrl-C, an optional equilibration
 before the averages start, and a summary of what was measured, with its
 statistical errors when the observables give them.
+
+Faults: every output is checked before the run starts (the checkpoint's
+folder is writable and no other writer holds it; an existing trajectory is
+continued on ``--resume`` if it ends where the checkpoint starts, else
+refused unless ``--overwrite``).  SIGINT and SIGTERM stop the run at the
+next chunk of events; the checkpoint is then written with both signals
+deferred (a second Ctrl-C does not lose it), and the exit status is
+128 + the signal's number.  A trajectory that cannot be written (a full
+disk) ends the run, but the checkpoint is still written.
 """
 
 import math
@@ -14,7 +23,12 @@ import sys
 import time
 
 from .containers import PeriodicBox, SphericalContainer
+from .fileio import PathLock
+from .messages import oserror_line
 from .simulation import Simulation
+
+#: Signals that stop a run cleanly (checkpoint written).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 #: Warn when a trajectory is expected to grow past this many bytes.
 LARGE_TRAJECTORY = 1e9
@@ -134,11 +148,57 @@ def _simulation(args):
     return Simulation.from_scenario(source, container)
 
 
-def _writer(path, every, events):
-    from .trajectory import GSDWriter, XYZWriter
+def _writer(args, sim, every):
+    """The trajectory writer: continuing the file on resume, refusing to clobber it."""
+    from .trajectory import GSDWriter, NotAContinuation, XYZWriter
+    path = args.trajectory
+    exists = os.path.exists(path) and os.path.getsize(path) > 0
+    if exists and not args.overwrite and not args.resume:
+        raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, "
+                         "or another file name")
+    append = bool(args.resume) and not args.overwrite
     if path.lower().endswith(".gsd"):
-        return GSDWriter(path, every, events=events)
-    return XYZWriter(path, every)
+        writer = GSDWriter(path, every, events=args.events, append=append)
+    else:
+        writer = XYZWriter(path, every, append=append)
+    writer.until = args.until  # the run goes there in pieces: a cut-short file shows
+    try:
+        writer.attach(sim)
+    except NotAContinuation as e:
+        writer.close()
+        raise ValueError(f"{e}, or give --overwrite to replace it") from None
+    except BaseException:
+        writer.close()
+        raise
+    return writer
+
+
+class _Stopper:
+    """SIGINT and SIGTERM set a flag (and the simulation's stop request) instead of raising.
+
+    Installed for the whole run, checkpoint included, so that a signal
+    never interrupts a save; :attr:`signum` is the first signal received.
+    """
+
+    def __init__(self, sim):
+        self.sim = sim
+        self.signum = None
+        self._old = {}
+
+    def _handle(self, signum, frame):
+        if self.signum is None:
+            self.signum = signum
+        self.sim.stop_requested = True
+
+    def __enter__(self):
+        for s in STOP_SIGNALS:
+            self._old[s] = signal.signal(s, self._handle)
+        return self
+
+    def __exit__(self, *exc):
+        for s, old in self._old.items():
+            signal.signal(s, old)
+        return False
 
 
 def _events_so_far(sim):
@@ -251,63 +311,83 @@ def run_command(args):
     if args.every is not None and args.every > args.until - sim.time:
         raise ValueError(f"--every {args.every:g} is longer than the run "
                          f"({args.until - sim.time:.6g}): the trajectory would hold one frame")
+    if args.equilibrate_time is not None and sim.time + args.equilibrate_time >= args.until:
+        raise ValueError(f"--equilibrate-time {args.equilibrate_time:g} reaches past "
+                         f"--until {args.until:g}: nothing left to average")
+    # a resumed run keeps saving to its checkpoint unless told otherwise
     checkpoint = args.checkpoint or args.resume
+    # every output is checked (and locked) before the run starts
+    lock = PathLock(checkpoint) if checkpoint else None
+    try:
+        return _run(args, sim, checkpoint)
+    finally:
+        if lock is not None:
+            lock.release()
 
+
+def _run(args, sim, checkpoint):
     writer = None
-    every = None
-    if args.trajectory:
-        every = args.every or (args.until - sim.time) / 100.0
-        writer = _writer(args.trajectory, every, args.events)
-        sim.writers.append(writer)
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
-
-    def on_sigint(signum, frame):
-        sim.stop_requested = True
-
-    old = signal.signal(signal.SIGINT, on_sigint)
+    failure = None
     start_time = sim.time
     progress = Progress(args.until - start_time)
     t0 = time.perf_counter()
     equilibrated = ""
     averaged_from = sim.time
-    try:
-        equilibrated = _equilibrate(sim, args, progress, start_time)
-        sim.observables.reset()
-        averaged_from = sim.time
-        steps = 200
-        first = sim.time
-        for k in range(1, steps + 1):
-            target = start_time + (args.until - start_time) * k / steps
-            if target <= sim.time:
-                continue
-            sim.run(until=target)
-            if getattr(sim, "stop_requested", False):
-                break
-            if writer is not None and first is not None and sim.time > first:
-                frames = int((args.until - start_time) / every) + 1
-                _warn_size(args, sim, frames, start_time,
-                           _events_so_far(sim) - c0["collisions"] - c0["reflections"],
-                           sim.time - start_time)
-                first = None
-            progress.update(sim.time - start_time, _events_so_far(sim) - c0["collisions"]
-                            - c0["reflections"], f"t={sim.time:.6g}")
-    finally:
-        signal.signal(signal.SIGINT, old)
-        progress.close()
-        if writer is not None:
-            writer.close()
-    wall = time.perf_counter() - t0
-    interrupted = getattr(sim, "stop_requested", False)
-    if checkpoint:
-        sim.stop_requested = False
-        sim.save(checkpoint)
+    with _Stopper(sim) as stopper:
+        try:
+            every = None
+            if args.trajectory:
+                every = args.every or (args.until - sim.time) / 100.0
+                writer = _writer(args, sim, every)
+                sim.writers.append(writer)
+            equilibrated = _equilibrate(sim, args, progress, start_time)
+            sim.observables.reset()
+            averaged_from = sim.time
+            steps = 200
+            first = sim.time
+            for k in range(1, steps + 1):
+                target = start_time + (args.until - start_time) * k / steps
+                if target <= sim.time:
+                    continue
+                sim.run(until=target)
+                if stopper.signum is not None:
+                    break
+                done = _events_so_far(sim) - c0["collisions"] - c0["reflections"]
+                if writer is not None and first is not None and sim.time > first:
+                    frames = int((args.until - start_time) / every) + 1
+                    _warn_size(args, sim, frames, start_time, done, sim.time - start_time)
+                    first = None
+                progress.update(sim.time - start_time, done, f"t={sim.time:.6g}")
+            if writer is not None and writer.last_time is not None and (
+                    writer.last_time < sim.time):
+                writer.write(sim, sim.time)  # the file ends where the checkpoint starts
+        except OSError as e:
+            if writer is None or e.filename != writer.path:
+                raise
+            failure = e  # the trajectory's disk: still write the checkpoint
+        finally:
+            progress.close()
+            if writer is not None:
+                if writer in sim.writers:
+                    sim.writers.remove(writer)
+                try:
+                    writer.close()
+                except OSError as e:
+                    failure = failure or e
+        wall = time.perf_counter() - t0
+        signum = stopper.signum
+        if checkpoint:
+            sim.stop_requested = False
+            sim._save(checkpoint, lock=False)
     c1 = sim.counters
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
     summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
     lines = [
-        f"time {sim.time:.9g}" + (" (interrupted)" if interrupted else ""),
+        f"time {sim.time:.9g}" + (" (interrupted)" if signum is not None else "")
+        + (" (stopped: trajectory not written)" if failure is not None else ""),
         f"{sim.n} spheres, {_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
         f"{c1['reflections'] - c0['reflections']} reflections",
@@ -323,10 +403,14 @@ def run_command(args):
     if args.trajectory:
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
-    if interrupted:
-        print("interrupted" + (f"; resume with --resume {checkpoint}" if checkpoint else ""),
-              file=sys.stderr)
-        return 130
+    resume = f"; resume with --resume {checkpoint}" if checkpoint else ""
+    if failure is not None:
+        print(f"hardspheres run: {oserror_line(failure)}{resume}", file=sys.stderr)
+        return 1
+    if signum is not None:
+        name = signal.Signals(signum).name
+        print(f"interrupted ({name}){resume}", file=sys.stderr)
+        return 128 + signum
     return 0
 
 

@@ -192,5 +192,7 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
             .replace("__TITLE__", html.escape(data["title"]))
             .replace("__JS__", _script_json(_vendored_js()))
             .replace("__DATA__", _script_json(data)))
-    path.write_text(page, encoding="utf-8")
+    from .fileio import atomic_write
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write(page)
     return path
