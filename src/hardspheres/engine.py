@@ -220,6 +220,11 @@ class Engine:
         return out
 
     @property
+    def idle(self):
+        """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
+        return self.n == 0 or not self.HT[0] < np.inf
+
+    @property
     def counters(self):
         """Dict of event counts: collisions, reflections, crossings, stale."""
         c = self.c

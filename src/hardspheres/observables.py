@@ -1,8 +1,26 @@
-"""Observables: time averages of a run from the event core's running tallies."""
+"""Observables: time averages of a run from the event core's running tallies.
+
+Error bars: the tallies are also sampled on a grid of equally spaced times
+(one *block* between neighbouring samples), and the standard error of each
+average comes from Flyvbjerg-Petersen blocking of the per-block values
+(:mod:`hardspheres.blocking`).  The grid starts fine and coarsens by two
+(neighbouring blocks merge) whenever :attr:`Observables.MAX_SAMPLES` is
+reached, so memory stays bounded however long the run.
+"""
+
+import math
 
 import numpy as np
 
+from .blocking import Blocking, blocking
 from .containers import PeriodicBox, SphericalContainer
+
+# columns of a tally sample
+_T, _COLL, _REFL, _WALL, _VIRIAL = range(5)
+
+
+class NoMeasurementError(ValueError):
+    """Results were asked for before anything was measured."""
 
 
 class Observables:
@@ -21,9 +39,12 @@ class Observables:
         True
     """
 
-    def __init__(self, sim):
+    #: Samples kept before neighbouring blocks merge (the interval doubles).
+    MAX_SAMPLES = 1024
+
+    def __init__(self, sim, every=None):
         self._sim = sim
-        self.reset()
+        self.reset(every)
 
     def _now(self):
         eng = self._sim._engine
@@ -31,10 +52,44 @@ class Observables:
         return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
                 eng.wall_impulse, eng.virial)
 
-    def reset(self):
-        """Start averaging afresh from now; returns self."""
+    def reset(self, every=None):
+        """Start averaging afresh from now; returns self.
+
+        Args:
+            every: first interval between tally samples (blocks) [time];
+                default: a tenth of the time a sphere of rms speed takes to
+                cross the mean spacing ``(V/N)^(1/3)`` (about a mean free
+                time in a dense fluid).  It doubles as the run grows.
+        """
         self._mark = self._now()
+        self._samples = [self._mark]
+        self.every = float(every) if every is not None else self._auto_every()
+        if not self.every > 0:
+            raise ValueError(f"every must be a time > 0, got {every}")
+        self.next_sample = self._mark[_T] + self.every
         return self
+
+    def _auto_every(self):
+        sim = self._sim
+        n = sim.n
+        v2 = float(np.mean(np.sum(sim._engine.vel ** 2, axis=1))) if n else 0.0
+        if v2 <= 0.0:
+            return math.inf
+        return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
+
+    def _sample(self):
+        """Record the tallies now (the simulation calls this at :attr:`next_sample`)."""
+        self._samples.append(self._now())
+        if len(self._samples) > self.MAX_SAMPLES:
+            # merge neighbouring blocks: keep every other sample from the mark
+            self._samples = self._samples[::2]
+            self.every *= 2.0
+        self.next_sample = self._samples[-1][_T] + self.every
+
+    @property
+    def n_blocks(self):
+        """Number of complete blocks sampled since :meth:`reset`."""
+        return len(self._samples) - 1
 
     def _delta(self):
         now = self._now()
@@ -57,35 +112,75 @@ class Observables:
         """
         return 2.0 * self._sim._engine.kinetic_energy() / max(self._dof(), 1)
 
+    def _measured(self, d):
+        """The observables from tally differences ``d`` (columns as a sample; rows: blocks)."""
+        dt = d[..., _T]
+        cont = self._sim.container
+        n, kT = self._sim.n, self.temperature()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if isinstance(cont, SphericalContainer):
+                p = d[..., _WALL] / (cont.area * dt)
+                z = p * cont.volume / (n * kT)
+            else:
+                z = 1.0 + d[..., _VIRIAL] / (3.0 * dt * n * kT)
+                p = z * n * kT / cont.volume
+            rate = 2.0 * d[..., _COLL] / (n * dt)
+        return {"pressure": p, "compressibility": z, "collision_rate": rate}
+
+    def _whole(self, name):
+        d = np.array(self._delta())
+        if not d[_T] > 0:
+            raise NoMeasurementError("no time has passed since reset(); run first")
+        return float(self._measured(d)[name])
+
+    def blocks(self, name):
+        """``(n_blocks,)`` the values of ``name`` over each block of equal length.
+
+        ``name`` is one of ``"pressure"``, ``"compressibility"``,
+        ``"collision_rate"``.
+        """
+        s = np.array(self._samples)
+        return self._measured(np.diff(s, axis=0))[name]
+
+    def estimate(self, name):
+        """Mean over the whole time since :meth:`reset` and its blocking error.
+
+        Returns:
+            A :class:`hardspheres.blocking.Blocking` whose ``mean`` is the
+            average over all the time since reset (the blocks, and the part
+            after the last one) and whose ``sem`` is the standard error from
+            Flyvbjerg-Petersen blocking of :meth:`blocks` (``nan`` with fewer
+            than two blocks).
+
+        Raises:
+            NoMeasurementError: nothing was measured yet.
+        """
+        mean = self._whole(name)
+        x = self.blocks(name)
+        if x.size < 2:
+            return _unknown_error(mean)
+        return blocking(x)._replace(mean=mean)
+
+    def error(self, name):
+        """Standard error of ``name``'s average (``nan`` with fewer than two blocks)."""
+        return self.estimate(name).sem
+
     def pressure(self):
         """Pressure [energy/length^3] averaged since :meth:`reset`.
 
         Spherical container: momentum delivered to the wall per unit area
         and time.  Periodic box: ``(N kT + W / (3 t)) / V`` with ``W`` the
-        collision virial ``sum r_ij . dp_i``.
+        collision virial ``sum r_ij . dp_i``.  Error bar: :meth:`error`.
         """
-        dt, _, _, wall, virial = self._delta()
-        if dt <= 0:
-            raise ValueError("no time has passed since reset(); run first")
-        cont = self._sim.container
-        if isinstance(cont, SphericalContainer):
-            return wall / (cont.area * dt)
-        n = self._sim.n
-        return (n * self.temperature() + virial / (3.0 * dt)) / cont.volume
+        return self._whole("pressure")
 
     def compressibility(self):
         """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""
-        dt, _, _, _, virial = self._delta()
-        n, kT = self._sim.n, self.temperature()
-        cont = self._sim.container
-        if isinstance(cont, PeriodicBox):
-            return 1.0 + virial / (3.0 * dt * n * kT)
-        return self.pressure() * cont.volume / (n * kT)
+        return self._whole("compressibility")
 
     def collision_rate(self):
         """Collisions per sphere per unit time [1/time] (each collision counts for both)."""
-        dt, coll, _, _, _ = self._delta()
-        return 2.0 * coll / (self._sim.n * dt)
+        return self._whole("collision_rate")
 
     def mean_free_time(self):
         """Mean time between collisions of a sphere [time] (``inf`` without any)."""
@@ -106,12 +201,29 @@ class Observables:
         return np.histogram(speeds, bins=bins, range=range)
 
     def summary(self):
-        """Dict of the observables (pressure and rates over the time since reset)."""
+        """Dict of the observables (averages over the time since reset).
+
+        Each time average ``x`` comes with ``x_error``, its standard error
+        from blocking (``nan`` if fewer than two blocks were sampled), and
+        ``x_converged``, whether the blocking reached a plateau (if not,
+        the error is a lower bound: run longer).
+        """
         out = {"time": self._sim.time, "elapsed": self.elapsed,
-               "temperature": self.temperature()}
+               "temperature": self.temperature(), "blocks": self.n_blocks}
         if self.elapsed > 0:
-            out.update(pressure=self.pressure(), compressibility=self.compressibility(),
-                       collision_rate=self.collision_rate(),
-                       mean_free_time=self.mean_free_time(),
+            for name in ("pressure", "compressibility", "collision_rate"):
+                est = self.estimate(name)
+                out[name] = est.mean
+                out[f"{name}_error"] = est.sem
+                out[f"{name}_converged"] = est.converged
+            rate, rate_err = out["collision_rate"], out["collision_rate_error"]
+            out.update(mean_free_time=self.mean_free_time(),
                        mean_free_path=self.mean_free_path())
+            rel = rate_err / rate if rate > 0 else np.nan
+            out["mean_free_time_error"] = out["mean_free_time"] * rel
+            out["mean_free_path_error"] = out["mean_free_path"] * rel
         return out
+
+
+def _unknown_error(mean):
+    return Blocking(mean, math.nan, 0, 0, False, np.zeros(0), np.zeros(0))

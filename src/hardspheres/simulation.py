@@ -168,10 +168,15 @@ class Simulation:
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
         keep = record
         record = record or bool(listeners)
+        obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self._interrupted():
             stop = until
             for w in self.writers:
                 stop = min(stop, w.next_time)
+            # the observables sample their tallies (for error bars) on a time grid
+            sampling = obs.next_sample <= stop and not eng.idle
+            if sampling:
+                stop = obs.next_sample
             step = min(ev_left, 1 << 16)
             c0 = eng.counters["collisions"]
             ev = eng.advance(until=stop, events=step,
@@ -187,6 +192,8 @@ class Simulation:
             if eng.last_reason == 0:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
+                if sampling:
+                    obs._sample()
                 for w in self.writers:
                     if w.next_time <= stop:
                         w.write(self, w.next_time)
@@ -227,6 +234,9 @@ class Simulation:
                      container=np.array([type(self.container).__name__,
                                          repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
+                     obs_samples=np.array(self.observables._samples, dtype=np.float64),
+                     obs_every=np.array([self.observables.every,
+                                         self.observables.next_sample]),
                      clock=np.array(self._clock),
                      **self._engine.checkpoint())
         os.replace(tmp, path)
@@ -244,10 +254,15 @@ class Simulation:
         sim.names = [str(x) for x in data.pop("names")]
         sim.writers = []
         mark = data.pop("obs")
+        samples = data.pop("obs_samples", None)
+        every = data.pop("obs_every", None)
         sim._clock = float(data.pop("clock"))
         sim._engine = Engine.restore(data)
         sim.observables = Observables(sim)
         sim.observables._mark = tuple(mark.tolist())
+        if samples is not None:
+            sim.observables._samples = [tuple(r) for r in samples.tolist()]
+            sim.observables.every, sim.observables.next_sample = every.tolist()
         return sim
 
 
