@@ -517,9 +517,12 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
 # ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_events,
+def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, max_events,
         max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp):
     """Process events in order until one of the limits.
+
+    ``img`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
+    box (the image it is in: unwrapped centre = stored centre + img * box).
 
     Stops before the first event after ``until``, after ``max_events``
     collisions and reflections, or after ``max_collisions`` collisions,
@@ -564,6 +567,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
                 # periodic wrap: shift the stored centre by one box edge
                 k = (k + nc) % nc
                 S[i, X + ax] -= step * box
+                img[i, ax] += step
             K[i, CX + ax] = k
             _cell_remove(head, nxt, prv, K, i)
             _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
@@ -674,6 +678,16 @@ def positions_at(S, t, out, box):
             if box != 0.0:
                 x -= box * np.floor(x / box + 0.5)
             out[i, k] = x
+
+
+@_jit
+def unwrapped_at(S, img, t, out, box):
+    """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift."""
+    n = S.shape[0]
+    for i in range(n):
+        dt = t - S[i, TL]
+        for k in range(3):
+            out[i, k] = (S[i, X + k] + S[i, VX + k] * dt) + img[i, k] * box
 
 
 @_jit

@@ -62,6 +62,7 @@ class Engine:
         self.HT = np.zeros(n)
         self.HKEY = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
+        self.img = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -156,7 +157,7 @@ class Engine:
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
                                     self.prv, self.heap, self.HT, self.HKEY, self.f,
-                                    self.c, self.stack,
+                                    self.c, self.stack, self.img,
                                     until - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -179,7 +180,8 @@ class Engine:
                 "impulse": cols[4]}
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
+              "img")
 
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -195,6 +197,8 @@ class Engine:
         """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state."""
         eng = cls.__new__(cls)
         for k in cls._SAVED:
+            if k == "img" and k not in data:  # checkpoints from before image counts
+                data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
             setattr(eng, k, np.array(data[k]))
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset
@@ -217,6 +221,19 @@ class Engine:
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
         core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
+        return out
+
+    def unwrapped_at(self, t=None, out=None):
+        """Unwrapped centres at absolute time ``t`` (default: now) [length].
+
+        Periodic box: the centre in the box plus ``images * box``, with
+        :attr:`img` the exact count of box crossings of each sphere; in a
+        spherical container the same as :meth:`positions_at`.
+        """
+        t = self.time if t is None else t
+        out = np.empty((self.n, 3)) if out is None else out
+        core.unwrapped_at(self.S, self.img, t - self.offset, out,
+                          0.0 if self.box is None else self.box)
         return out
 
     @property

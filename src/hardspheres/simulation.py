@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import PeriodicBox, SphericalContainer, require_periodic
 from .engine import Engine
 from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
@@ -70,13 +70,21 @@ class Simulation:
         self.names = list(state.names)
         self.writers = []
         positions = state.positions
+        images = None
         if isinstance(container, PeriodicBox):
+            # the unwrapped centres (positions + images * L) are kept
             L = container.length
-            positions = positions - L * np.floor(positions / L + 0.5)
+            shift = np.floor(positions / L + 0.5)
+            positions = positions - L * shift
+            images = shift.astype(np.int64)
+            if state.images is not None:
+                images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
         else:
             _check_inside(state, container)
         self._engine = Engine(state.masses, state.radii, positions, state.velocities,
                               window=window, time=state.time, **container.engine_args())
+        if images is not None:
+            self._engine.img[:] = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
@@ -204,13 +212,24 @@ class Simulation:
         return getattr(self, "stop_requested", False)
 
     # ---- state -----------------------------------------------------------------
-    def state(self, time=None):
+    def state(self, time=None, unwrapped=False):
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
 
         Positions are advanced exactly along each sphere's line from its
-        last event; in a periodic box they are wrapped into the box.
+        last event; in a periodic box they are wrapped into the box, and
+        ``State.images`` holds each sphere's exact count of box crossings.
         A ``time`` past the clock runs the simulation to it first.
+
+        Args:
+            unwrapped: positions not wrapped into the box (periodic box
+                only): where each sphere would be had the box no edges,
+                for displacements and diffusion.
+
+        Raises:
+            PeriodicBoxRequired: ``unwrapped`` in a spherical container.
         """
+        if unwrapped:
+            require_periodic(self.container, "unwrapped positions")
         t = self.time if time is None else float(time)
         if t > self.time:
             self.run(until=t)
@@ -218,8 +237,18 @@ class Simulation:
             raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
                              "the past is not kept: ask for states as you run")
         eng = self._engine
-        return State(eng.mass.copy(), eng.rad.copy(), eng.positions_at(t), eng.vel.copy(),
-                     list(self.names), t)
+        periodic = isinstance(self.container, PeriodicBox)
+        if periodic:
+            # the images of the stored centres, then of the ones wrapped into the box
+            raw = eng.unwrapped_at(t)
+            pos = eng.positions_at(t)
+            images = np.rint((raw - pos) / self.container.length).astype(np.int64)
+            if unwrapped:
+                pos = raw
+        else:
+            pos, images = eng.positions_at(t), None
+        return State(eng.mass.copy(), eng.rad.copy(), pos, eng.vel.copy(),
+                     list(self.names), t, images)
 
     # ---- checkpoints ---------------------------------------------------------
     def save(self, path):

@@ -12,7 +12,9 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
 * ``configuration/step``: the frame's index; ``configuration/box``: the
   periodic box ``[L, L, L, 0, 0, 0]``, or for the spherical container the
   cube ``2R`` that encloses it (not periodic: switch periodicity off in OVITO);
-* ``particles/position``, ``particles/velocity`` (float64); in the first
+* ``particles/position``, ``particles/velocity`` (float64);
+  ``particles/image`` (periodic box: the exact count of box crossings, so
+  ``position + image * L`` is the unwrapped centre); in the first
   frame only (readers take later frames' values from it): ``mass``,
   ``diameter`` (twice the radius), one type ``"sphere"``;
 * ``log/hardspheres/time`` [time]; ``log/hardspheres/container_radius`` or
@@ -143,6 +145,8 @@ class GSDWriter(_FrameWriter):
         f.particles.N = state.n
         f.particles.position = state.positions
         f.particles.velocity = state.velocities
+        if state.images is not None:
+            f.particles.image = state.images.astype(np.int32)
         if self._count == 0:
             f.particles.types = ["sphere"]
             f.particles.typeid = np.zeros(state.n, dtype=np.uint32)
@@ -254,18 +258,21 @@ def _read_gsd(path):
             box = float(log["hardspheres/box_length"][0])
         else:
             container = float(log["hardspheres/container_radius"][0])
-        times, pos, vel, events = [], [], [], []
+        times, pos, vel, events, images = [], [], [], [], []
         for f in traj:
             times.append(float(f.log["hardspheres/time"][0]))
             pos.append(np.asarray(f.particles.position, dtype=np.float64).reshape(n, 3))
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
+            images.append(np.asarray(f.particles.image, dtype=np.int64).reshape(n, 3))
             if "hardspheres/events" in f.log:
                 events.append(np.asarray(f.log["hardspheres/events"], np.float64).reshape(-1, 5))
         return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, box=box, **_event_fields(events))
+                      container=container, box=box,
+                      images=None if box is None else np.array(images).reshape(-1, n, 3),
+                      **_event_fields(events))
 
 
 def _xyz_keys(comment):
@@ -320,7 +327,7 @@ class FrameRecorder(_FrameWriter):
 
     def __init__(self, every, events=True):
         super().__init__(every, events)
-        self._times, self._pos, self._vel, self._ev = [], [], [], []
+        self._times, self._pos, self._vel, self._ev, self._img = [], [], [], [], []
 
     def _start(self, sim):
         self._sim = sim
@@ -330,6 +337,7 @@ class FrameRecorder(_FrameWriter):
         self._pos.append(state.positions)
         self._vel.append(state.velocities)
         self._ev.append(events)
+        self._img.append(state.images)
         self._state = state
 
     def frames(self):
@@ -342,6 +350,8 @@ class FrameRecorder(_FrameWriter):
                       st.masses.copy(), list(st.names),
                       container=c.radius if isinstance(c, SphericalContainer) else None,
                       box=c.length if isinstance(c, PeriodicBox) else None,
+                      images=(np.array(self._img).reshape(-1, n, 3)
+                              if isinstance(c, PeriodicBox) else None),
                       **_event_fields(self._ev))
 
 
