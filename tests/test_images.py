@@ -66,7 +66,7 @@ def test_input_outside_the_box_keeps_its_unwrapped_centre():
 
 def test_checkpoint_and_gsd_keep_images(tmp_path):
     pytest.importorskip("gsd")
-    sim, box = gas(n=32)
+    sim, _ = gas(n=32)
     with GSDWriter(tmp_path / "t.gsd", every=0.5) as w:
         sim.writers.append(w)
         sim.run(until=3.0)
