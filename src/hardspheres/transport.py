@@ -1,0 +1,268 @@
+"""Transport: self-diffusion from the mean squared displacement and the velocity autocorrelation.
+
+* :class:`MSD`: the mean squared displacement over all time origins
+  (:class:`freud.msd.MSD` in its ``"window"`` mode, FFT-based) of the
+  unwrapped positions (exact image counts, :meth:`hardspheres.Frames.unwrapped`),
+  and D from its slope, ``MSD = 6 D t`` at long times.  freud computes in
+  single precision: the MSD carries an absolute error of about 1e-7 of the
+  squared unwrapped positions, far below the statistical error of D.
+* :class:`VACF`: the velocity autocorrelation over all time origins and
+  ``D = 1/3 int C(t) dt`` (Green-Kubo).  freud has no VACF; it is the same
+  FFT correlation as its MSD, done here with numpy.
+* :func:`yeh_hummer`: the finite-size correction of D in a periodic box.
+* :func:`enskog`: the Enskog transport coefficients, the usual yardstick.
+
+Error bars: the trajectory is cut into ``blocks`` equal segments, D is
+measured on each, and the error is their standard deviation over
+``sqrt(blocks)``; D itself is measured on the whole trajectory.
+
+Both need a periodic box (:class:`~hardspheres.containers.PeriodicBoxRequired`
+otherwise): in a container the displacement is bounded and D would be zero.
+
+Example:
+    >>> import hardspheres as hs
+    >>> from hardspheres.trajectory import frames_from_simulation
+    >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
+    >>> fr = frames_from_simulation(sim, until=4.0, every=0.05)
+    >>> msd = MSD().compute(fr)
+    >>> msd.t.shape == msd.msd.shape == (81,)
+    True
+"""
+
+import math
+
+import numpy as np
+
+from .containers import PeriodicBox, require_periodic
+from .structure import NotComputedError, _Computed
+
+#: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
+#: the periodic Oseen tensor): I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108,
+#: 15873 (2004), Eq. 12.
+XI_CUBIC = 2.837297
+
+
+def yeh_hummer(D, box, eta, kT=1.0):
+    """Self-diffusion extrapolated to an infinite system: ``D + xi kT / (6 pi eta L)``.
+
+    I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108, 15873 (2004): the
+    hydrodynamic self-interaction with the periodic images slows a sphere
+    in a cubic box of edge ``L`` by ``xi kT / (6 pi eta L)``, ``xi =
+    2.837297``.
+
+    Args:
+        D: self-diffusion coefficient measured in the box [length^2/time].
+        box: box edge ``L`` [length].
+        eta: shear viscosity [mass/(length time)] (e.g. from :func:`enskog`
+            times a correction, or measured).
+        kT: temperature [energy].
+
+    Example:
+        >>> round(yeh_hummer(0.1, 10.0, 1.0), 6)
+        0.115052
+    """
+    return D + XI_CUBIC * kT / (6.0 * math.pi * eta * box)
+
+
+def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
+    """Enskog's transport coefficients of equal hard spheres.
+
+    With ``g`` the contact value by Carnahan-Starling, ``(1 - phi/2) /
+    (1 - phi)^3``, and ``b rho = 4 phi`` (from S. Chapman and T. G.
+    Cowling, *The Mathematical Theory of Non-uniform Gases*, 3rd ed.,
+    Cambridge 1970, ch. 16):
+
+    * self-diffusion ``D_E = 3 / (8 rho sigma^2 g) sqrt(kT / (pi m))``;
+    * shear viscosity ``eta_E = eta_0 (1/g + 0.8 b rho + 0.7614 (b rho)^2 g)``,
+      ``eta_0 = 5 / (16 sigma^2) sqrt(m kT / pi)``;
+    * thermal conductivity ``lambda_E = lambda_0 (1/g + 1.2 b rho + 0.7574
+      (b rho)^2 g)``, ``lambda_0 = 75 k / (64 sigma^2) sqrt(kT / (pi m))``.
+
+    Returns:
+        dict ``D``, ``eta``, ``lambda`` (k = 1 units), ``g`` (contact value).
+
+    Example:
+        >>> e = enskog(0.3)
+        >>> round(e["g"], 4), round(e["D"], 4)
+        (2.4781, 0.149)
+    """
+    rho = 6.0 * packing / (math.pi * sigma ** 3)
+    g = (1.0 - 0.5 * packing) / (1.0 - packing) ** 3
+    brho = 4.0 * packing
+    D0 = 3.0 / (8.0 * rho * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
+    eta0 = 5.0 / (16.0 * sigma ** 2) * math.sqrt(mass * kT / math.pi)
+    lam0 = 75.0 / (64.0 * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
+    return {"D": D0 / g, "g": g,
+            "eta": eta0 * (1.0 / g + 0.8 * brho + 0.7614 * brho ** 2 * g),
+            "lambda": lam0 * (1.0 / g + 1.2 * brho + 0.7574 * brho ** 2 * g)}
+
+
+def _trajectory(source, what):
+    """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames."""
+    from .frames import Frames
+    if not isinstance(source, Frames):
+        raise TypeError(f"{what} needs a Frames (a trajectory: read_trajectory or "
+                        "frames_from_simulation)")
+    require_periodic(PeriodicBox(source.box) if source.box else None, what)
+    t = np.asarray(source.times, float)
+    if len(t) < 3:
+        raise ValueError(f"{what}: {len(t)} frames; record at least three")
+    dt = np.diff(t)
+    if np.ptp(dt) > 1e-6 * dt.mean():
+        raise ValueError(f"{what}: frames must be equally spaced in time")
+    return t - t[0], source.unwrapped(), np.asarray(source.velocities, float), source.box
+
+
+def _autocorrelation(x):
+    """``(F,)`` mean over spheres and axes of ``<x(t0) . x(t0 + t)>`` over all origins t0.
+
+    FFT with zero padding (Wiener-Khinchin), divided by the number of
+    origins at each lag: the same algorithm freud's MSD uses.
+    """
+    f = x.shape[0]
+    size = 1 << int(math.ceil(math.log2(2 * f)))
+    spec = np.fft.rfft(x, n=size, axis=0)
+    acf = np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f]
+    acf = acf.sum(axis=2).mean(axis=1)
+    return acf / (f - np.arange(f))
+
+
+def _segments(f, blocks):
+    size = f // blocks
+    return [slice(k * size, (k + 1) * size) for k in range(blocks)]
+
+
+class MSD(_Computed):
+    """Mean squared displacement over all time origins (freud, FFT) and D from its slope.
+
+    Args:
+        blocks: segments the trajectory is cut into for the error bar of D.
+
+    Attributes (after :meth:`compute`): ``t`` lag times, ``msd``.
+    """
+
+    _results = ("t", "msd")
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, frames):
+        """MSD of a periodic-box trajectory (equally spaced frames); returns self.
+
+        Raises:
+            PeriodicBoxRequired: the trajectory is not in a periodic box.
+        """
+        t, x, _, _ = _trajectory(frames, "the mean squared displacement")
+        self.t, self.msd = t, self._msd(x)
+        self._x = x
+        self._computed = True
+        return self
+
+    @staticmethod
+    def _msd(x):
+        import freud
+        return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
+
+    def _window(self, t, t_min, t_max):
+        t_max = 0.5 * t[-1] if t_max is None else t_max
+        t_min = 0.2 * t[-1] if t_min is None else t_min
+        sel = (t >= t_min) & (t <= t_max)
+        if sel.sum() < 2:
+            raise ValueError(f"fewer than two lags in [{t_min:g}, {t_max:g}]: record more "
+                             "frames or widen the fit window")
+        return sel
+
+    def diffusion(self, t_min=None, t_max=None):
+        """D from a straight line fitted to the MSD for lags in ``[t_min, t_max]``.
+
+        The default window is 0.2 to 0.5 of one segment's length (of
+        ``1/blocks`` of the run): past the ballistic start, before the
+        noisy long lags.  Both ends should be many mean free times.
+
+        Returns:
+            ``(D, error)`` [length^2/time]: D from the whole trajectory, the
+            error from the segments' spread.
+        """
+        self._need()
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_lo = 0.2 * tseg[-1] if t_min is None else t_min
+        t_hi = 0.5 * tseg[-1] if t_max is None else t_max
+        sel = self._window(self.t, t_lo, t_hi)
+        D = np.polyfit(self.t[sel], self.msd[sel], 1)[0] / 6.0
+        per = []
+        sel_s = self._window(tseg, t_lo, t_hi)
+        for s in segs:
+            m = self._msd(self._x[s])
+            per.append(np.polyfit(tseg[sel_s], m[sel_s], 1)[0] / 6.0)
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
+        return float(D), err
+
+    def plot(self, ax=None):
+        """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.loglog(self.t[1:], self.msd[1:], label="MSD")
+        D, _ = self.diffusion()
+        ax.loglog(self.t[1:], 6.0 * D * self.t[1:], "--", label=f"6 D t, D = {D:.4g}")
+        ax.set_xlabel("t")
+        ax.set_ylabel("mean squared displacement")
+        ax.legend()
+        return ax
+
+
+class VACF(_Computed):
+    """Velocity autocorrelation ``C(t) = <v(0) . v(t)>`` over all origins, and D by Green-Kubo.
+
+    Args:
+        blocks: segments the trajectory is cut into for the error bar of D.
+
+    Attributes (after :meth:`compute`): ``t`` lag times, ``c``.
+    """
+
+    _results = ("t", "c")
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, frames):
+        """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
+        t, _, v, _ = _trajectory(frames, "the velocity autocorrelation")
+        self.t, self._v = t, v
+        self.c = _autocorrelation(v)
+        self._computed = True
+        return self
+
+    def diffusion(self, t_max=None):
+        """``D = 1/3 int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
+
+        Returns:
+            ``(D, error)`` [length^2/time].
+        """
+        self._need()
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_max = 0.5 * tseg[-1] if t_max is None else t_max
+        if t_max > tseg[-1]:
+            raise ValueError(f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): "
+                             "use fewer blocks or a longer run")
+        k = int(np.searchsorted(self.t, t_max, side="right"))
+        D = np.trapezoid(self.c[:k], self.t[:k]) / 3.0
+        per = [np.trapezoid(_autocorrelation(self._v[s])[:k], tseg[:k]) / 3.0 for s in segs]
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
+        return float(D), err
+
+    def plot(self, ax=None):
+        """C(t) / C(0) against t; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.plot(self.t, self.c / self.c[0])
+        ax.axhline(0.0, color="grey", lw=0.5)
+        ax.set_xlabel("t")
+        ax.set_ylabel("C(t) / C(0)")
+        return ax
+
+
+__all__ = ["MSD", "VACF", "XI_CUBIC", "NotComputedError", "enskog", "yeh_hummer"]
