@@ -43,7 +43,7 @@ def fluid():
 
 
 def test_diffusion_two_routes_agree(fluid):
-    fr, phi, L = fluid
+    fr, phi, _ = fluid
     D_msd, e_msd = MSD().compute(fr).diffusion()
     D_vacf, e_vacf = VACF().compute(fr).diffusion()
     assert 0 < e_msd < 0.1 * D_msd and 0 < e_vacf < 0.1 * D_vacf

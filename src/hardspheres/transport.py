@@ -120,7 +120,7 @@ def _autocorrelation(x):
     origins at each lag: the same algorithm freud's MSD uses.
     """
     f = x.shape[0]
-    size = 1 << int(math.ceil(math.log2(2 * f)))
+    size = 1 << math.ceil(math.log2(2 * f))
     spec = np.fft.rfft(x, n=size, axis=0)
     acf = np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f]
     acf = acf.sum(axis=2).mean(axis=1)
