@@ -16,6 +16,12 @@ CHUNK = 1 << 14
 REBASE_EVERY = 64
 
 
+def _record():
+    """The arrays the core records events into (t, kind, i, j, impulse, impulse vector)."""
+    return [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
+            np.zeros(CHUNK, np.int64), np.zeros(CHUNK), np.zeros((CHUNK, 3))]
+
+
 class Engine:
     """Exact event-driven dynamics of hard spheres, compiled.
 
@@ -70,8 +76,7 @@ class Engine:
         self.container = None if container is None else float(container)
         self.box = None if box is None else float(box)
         self._grid(n)
-        self._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                     np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        self._rec = _record()
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = 0, 0
@@ -118,6 +123,8 @@ class Engine:
     def _build(self):
         core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
                    self.HT, self.HKEY, self.f, self.c)
+        self.f[core.F_T_KIN] = self.f[core.F_CLOCK]
+        core.kinetic_sums(self.S, self.mass, self.f)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -142,7 +149,8 @@ class Engine:
         Returns:
             A dict of arrays ``t`` [time], ``kind`` (0 reflection,
             1 collision), ``i``, ``j`` (``-1`` for reflections), ``impulse``
-            [mass*length/time] of the events processed, in order.
+            [mass*length/time], ``dp`` ``(E, 3)`` the impulse vector on
+            sphere ``i`` [mass*length/time], of the events processed, in order.
         """
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
@@ -177,7 +185,7 @@ class Engine:
         else:
             cols = [a[:0].copy() for a in rec]
         return {"t": cols[0], "kind": cols[1], "i": cols[2], "j": cols[3],
-                "impulse": cols[4]}
+                "impulse": cols[4], "dp": cols[5]}
 
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
@@ -207,8 +215,11 @@ class Engine:
         eng.container = None if np.isnan(container) else container
         eng.box = None if np.isnan(box) else box
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
-        eng._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                    np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        eng._rec = _record()
+        if eng.f.shape[0] < core.F_NF:  # checkpoints from before the transport tallies
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
+            eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
+            core.kinetic_sums(eng.S, eng.mass, eng.f)
         eng.last_reason, eng.last_done = 0, 0
         return eng
 
@@ -247,6 +258,24 @@ class Engine:
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
                 "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
+
+    def transport_tallies(self, t=None):
+        """The transport tallies at absolute time ``t`` (default: now; periodic box).
+
+        Returns:
+            dict of arrays: ``virial`` (6,) the collisional virial tensor
+            ``sum r_ij dp_i``; ``kinetic`` (6,) ``int sum m v v dt``;
+            ``heat_collisional`` (3,) ``sum r_ij dE_i``; ``heat_kinetic``
+            (3,) ``int sum v E dt``.  Tensors in the order xx yy zz xy xz yz;
+            all summed since the engine was built.
+        """
+        f = self.f
+        dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
+        return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
+                "kinetic": f[core.F_KIN_INT:core.F_KIN_INT + 6] + dt * f[core.F_KIN_T:core.F_KIN_T + 6],
+                "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
+                "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
+                                 + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}
 
     @property
     def wall_impulse(self):

@@ -13,10 +13,16 @@ import math
 import numpy as np
 
 from .blocking import Blocking, blocking
-from .containers import PeriodicBox, SphericalContainer
+from .containers import PeriodicBox, SphericalContainer, require_periodic
 
-# columns of a tally sample
+# columns of a tally sample (the transport tallies follow in a periodic box)
 _T, _COLL, _REFL, _WALL, _VIRIAL = range(5)
+_VIR_T = slice(5, 11)    # collisional virial tensor (xx yy zz xy xz yz)
+_KIN_T = slice(11, 17)   # time integral of the kinetic tensor
+_HEAT_C = slice(17, 20)  # heat Helfand moment: collisional part
+_HEAT_K = slice(20, 23)  # heat Helfand moment: free flight
+_TENSOR = ("xx", "yy", "zz", "xy", "xz", "yz")
+_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
 
 class NoMeasurementError(ValueError):
@@ -40,7 +46,7 @@ class Observables:
     """
 
     #: Samples kept before neighbouring blocks merge (the interval doubles).
-    MAX_SAMPLES = 1024
+    MAX_SAMPLES = 4096
 
     def __init__(self, sim, every=None):
         self._sim = sim
@@ -49,8 +55,14 @@ class Observables:
     def _now(self):
         eng = self._sim._engine
         c = eng.counters
-        return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
-                eng.wall_impulse, eng.virial)
+        t = float(self._sim.time)
+        now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse,
+               eng.virial)
+        if isinstance(self._sim.container, PeriodicBox):
+            tt = eng.transport_tallies(t)
+            now += tuple(np.concatenate([tt["virial"], tt["kinetic"], tt["heat_collisional"],
+                                         tt["heat_kinetic"]]).tolist())
+        return now
 
     def reset(self, every=None):
         """Start averaging afresh from now; returns self.
@@ -125,7 +137,12 @@ class Observables:
                 z = 1.0 + d[..., _VIRIAL] / (3.0 * dt * n * kT)
                 p = z * n * kT / cont.volume
             rate = 2.0 * d[..., _COLL] / (n * dt)
-        return {"pressure": p, "compressibility": z, "collision_rate": rate}
+            out = {"pressure": p, "compressibility": z, "collision_rate": rate}
+            if d.shape[-1] > _HEAT_K.stop - 1:
+                ptensor = (d[..., _VIR_T] + d[..., _KIN_T]) / (dt[..., None] * cont.volume)
+                for q, name in enumerate(_TENSOR):
+                    out[f"pressure_{name}"] = ptensor[..., q]
+        return out
 
     def _whole(self, name):
         d = np.array(self._delta())
@@ -137,7 +154,8 @@ class Observables:
         """``(n_blocks,)`` the values of ``name`` over each block of equal length.
 
         ``name`` is one of ``"pressure"``, ``"compressibility"``,
-        ``"collision_rate"``.
+        ``"collision_rate"``, and in a periodic box ``"pressure_xx"``
+        ... ``"pressure_yz"`` (the components of :meth:`pressure_tensor`).
         """
         s = np.array(self._samples)
         return self._measured(np.diff(s, axis=0))[name]
@@ -173,6 +191,51 @@ class Observables:
         collision virial ``sum r_ij . dp_i``.  Error bar: :meth:`error`.
         """
         return self._whole("pressure")
+
+    def pressure_tensor(self):
+        """``(3, 3)`` pressure tensor [energy/length^3] averaged since :meth:`reset` (periodic box).
+
+        ``P = (int sum m v v dt + sum r_ij dp_i) / (t V)``: the kinetic part
+        integrated exactly between collisions and the collisional virial
+        tensor, both accumulated by the event core.  Its trace over three
+        is the mechanical pressure, ``(2 E_kin / 3 + W / 3t) / V``, which
+        differs from :meth:`pressure` (``N kT`` with ``kT`` from ``3N - 3``
+        degrees of freedom) by ``kT / V``.  Errors: ``error("pressure_xy")``.
+
+        Raises:
+            PeriodicBoxRequired: in a spherical container (the wall's
+                pressure is :meth:`pressure`).
+        """
+        require_periodic(self._sim.container, "the pressure tensor and transport")
+        p = np.empty((3, 3))
+        for q, name in enumerate(_TENSOR):
+            a, b = _PAIRS[q]
+            p[a, b] = p[b, a] = self._whole(f"pressure_{name}")
+        return p
+
+    def helfand_moments(self, kind):
+        """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand transport.
+
+        Args:
+            kind: ``"momentum"``: ``(S, 3)`` the xy, xz, yz components of
+                ``int_0^t V P_ab dt'`` (``sum m x_a v_b`` in its periodic
+                form) [mass*length^2/time]; ``"energy"``: ``(S, 3)``
+                ``sum x E`` in its periodic form [energy*length].
+
+        Returns:
+            ``(t, moments)``: the sample times since reset ``(S,)`` [time]
+            and the moments there, relative to their value at reset.
+        """
+        require_periodic(self._sim.container, "the pressure tensor and transport")
+        s = np.array(self._samples)
+        s = s - s[0]
+        if kind == "momentum":
+            m = s[:, _VIR_T][:, 3:] + s[:, _KIN_T][:, 3:]
+        elif kind == "energy":
+            m = s[:, _HEAT_C] + s[:, _HEAT_K]
+        else:
+            raise ValueError(f"kind {kind!r}: use 'momentum' or 'energy'")
+        return s[:, _T], m
 
     def compressibility(self):
         """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""

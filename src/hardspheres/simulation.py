@@ -40,6 +40,8 @@ class Event(NamedTuple):
         j: the other sphere of a collision, ``-1`` for a reflection.
         impulse: magnitude of the momentum sphere ``i`` received
             [mass*length/time].
+        dp: the momentum sphere ``i`` received, ``(dpx, dpy, dpz)``
+            [mass*length/time] (sphere ``j`` received minus this).
     """
 
     time: float
@@ -47,6 +49,7 @@ class Event(NamedTuple):
     i: int
     j: int
     impulse: float
+    dp: tuple = (0.0, 0.0, 0.0)
 
 
 class Simulation:
@@ -159,10 +162,10 @@ class Simulation:
     def iter_events(self, until=None, collisions=None, events=None):
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
-            for t, k, i, j, imp in zip(ev["t"].tolist(), ev["kind"].tolist(),
-                                       ev["i"].tolist(), ev["j"].tolist(),
-                                       ev["impulse"].tolist()):
-                yield Event(t, KINDS[k], i, j, imp)
+            for t, k, i, j, imp, dp in zip(ev["t"].tolist(), ev["kind"].tolist(),
+                                           ev["i"].tolist(), ev["j"].tolist(),
+                                           ev["impulse"].tolist(), ev["dp"].tolist()):
+                yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
     def _chunks(self, until, collisions, events, record):
         if until is None and collisions is None and events is None:

@@ -265,4 +265,143 @@ class VACF(_Computed):
         return ax
 
 
-__all__ = ["MSD", "VACF", "XI_CUBIC", "NotComputedError", "enskog", "yeh_hummer"]
+def _msd_fft(x):
+    """``(F,)`` mean over columns of ``<(x(t0 + t) - x(t0))^2>`` over all origins, float64.
+
+    The FFT algorithm (V. Calandrini et al., Collection SFN 12, 201 (2011)),
+    as in freud's window MSD, for any number of columns.
+    """
+    x = np.asarray(x, float).reshape(x.shape[0], 1, -1)
+    f = x.shape[0]
+    d = np.sum(x * x, axis=(1, 2))
+    d = np.append(d, 0.0)
+    s2 = _autocorrelation(x)  # summed over the columns
+    q = 2.0 * d.sum()
+    s1 = np.zeros(f)
+    for m in range(f):
+        q -= d[m - 1] + d[f - m]
+        s1[m] = q / (f - m)
+    return (s1 - 2.0 * s2) / x.shape[2]
+
+
+class _EinsteinHelfand(_Computed):
+    """Transport coefficient from the growth of a Helfand moment sampled by the Observables."""
+
+    _results = ("t", "msd")
+    _kind = ""
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, sim):
+        """Use the Helfand moments ``sim.observables`` sampled since its reset; returns self.
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box.
+            ValueError: fewer than 32 samples (run longer, or reset the
+                observables with a smaller ``every``).
+        """
+        obs = sim.observables
+        t, g = obs.helfand_moments(self._kind)
+        if len(t) < 32:
+            raise ValueError(f"{len(t)} samples of the Helfand moments: run longer since "
+                             "observables.reset() (32 at least, a few hundred for an error bar)")
+        self._check(sim)
+        self._g, self.t = g, t - t[0]
+        self.msd = _msd_fft(g)
+        self._scale = self._prefactor(sim)
+        self.mean_free_time = obs.mean_free_time()
+        self._computed = True
+        return self
+
+    def _check(self, sim):
+        pass
+
+    def value(self, t_min=None, t_max=None):
+        """The coefficient from a line fitted to the moment's mean square growth.
+
+        Lags in ``[t_min, t_max]``, by default 5 to 25 mean free times: past
+        the decay of the flux correlations at fluid densities, short enough
+        that the moments' random walk has not buried the slope in noise.
+        Returns ``(value, error)``; the error from the spread over
+        ``blocks`` segments of the run.
+        """
+        self._need()
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_lo = 5.0 * self.mean_free_time if t_min is None else t_min
+        t_hi = 25.0 * self.mean_free_time if t_max is None else t_max
+        sel = (self.t >= t_lo) & (self.t <= t_hi)
+        sel_s = (tseg >= t_lo) & (tseg <= t_hi)
+        if sel_s.sum() < 2:
+            raise ValueError(f"fewer than two lags in [{t_lo:g}, {t_hi:g}] per segment: "
+                             "run longer or use fewer blocks")
+        val = np.polyfit(self.t[sel], self.msd[sel], 1)[0] * self._scale
+        per = [np.polyfit(tseg[sel_s], _msd_fft(self._g[s])[sel_s], 1)[0] * self._scale
+               for s in segs]
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per)))
+        return float(val), err
+
+    def plot(self, ax=None):
+        """The moment's mean square growth over ``2 t`` (times the prefactor) against t; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        t = self.t[1:]
+        ax.plot(t, self.msd[1:] * self._scale / t)
+        ax.set_xlabel("t")
+        ax.set_ylabel(f"{self._kind} Helfand moment: running coefficient")
+        return ax
+
+
+class ShearViscosity(_EinsteinHelfand):
+    """Shear viscosity by Einstein-Helfand: ``eta = lim <dG_ab(t)^2> / (2 V kT t)``.
+
+    ``G_ab(t) - G_ab(0) = int_0^t V P_ab dt'`` for ab = xy, xz, yz, from the
+    event core's exact running tallies (the kinetic tensor integrated between
+    collisions and the collisional transfer ``r_ij dp_i``, minimum image:
+    the periodic Helfand moment of S. Viscardy and P. Gaspard, Phys. Rev. E
+    68, 041204 (2003)), sampled on the observables' time grid.  Run with
+    ``sim.observables.reset()`` at the start of the production run.
+
+    Example:
+        >>> import hardspheres as hs
+        >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
+        >>> _ = sim.run(until=40.0)
+        >>> eta, err = ShearViscosity().compute(sim).value()
+        >>> eta > 0
+        True
+    """
+
+    _kind = "momentum"
+
+    @staticmethod
+    def _prefactor(sim):
+        return 1.0 / (2.0 * sim.container.volume * sim.observables.temperature())
+
+
+class ThermalConductivity(_EinsteinHelfand):
+    """Thermal conductivity by Einstein-Helfand: ``lambda = lim <dH_a(t)^2> / (2 V kT^2 t)`` (k = 1).
+
+    ``H_a = sum_i x_ia E_i`` in its periodic form: the energy current
+    ``sum v E`` integrated between collisions plus the collisional transfer
+    ``r_ij dE_i``.  Equal masses only: with total momentum zero the mean
+    enthalpy term ``h sum v_i`` then vanishes.
+    """
+
+    _kind = "energy"
+
+    def _check(self, sim):
+        m = sim._engine.mass
+        if np.ptp(m) > 1e-12 * m.max():
+            raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal "
+                             "masses only")
+
+    @staticmethod
+    def _prefactor(sim):
+        kT = sim.observables.temperature()
+        return 1.0 / (2.0 * sim.container.volume * kT * kT)
+
+
+__all__ = ["MSD", "VACF", "XI_CUBIC", "NotComputedError", "ShearViscosity",
+           "ThermalConductivity", "enskog", "yeh_hummer"]
