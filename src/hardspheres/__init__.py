@@ -10,7 +10,7 @@ Example:
 
 import importlib
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .scenario import Scenario, ScenarioError, parse_scenario
 
 # numpy and numba load on first use, so that the assignment's program
@@ -18,7 +18,11 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
-         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
+         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
+         "RDF": "structure", "StructureFactor": "structure", "BondOrder": "structure",
+         "MSD": "transport", "VACF": "transport", "ShearViscosity": "transport",
+         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport",
+         "blocking": "blocking"}
 
 
 def __getattr__(name):
@@ -29,5 +33,7 @@ def __getattr__(name):
 
 __all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
            "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres", "read_trajectory", "XYZWriter"]
+           "random_spheres", "read_trajectory", "XYZWriter",
+           "BondOrder", "MSD", "PeriodicBoxRequired", "RDF", "ShearViscosity", "StructureFactor",
+           "ThermalConductivity", "VACF", "blocking", "enskog", "yeh_hummer"]
 __version__ = "0.1.0"

@@ -129,6 +129,10 @@ def cmd_plot(args):
         frames = _frames(args)
         if args.what == "conservation":
             plots.plot_conservation(frames, args.output)
+        elif args.what == "gr":
+            plots.plot_gr(frames, args.output)
+        elif args.what == "msd":
+            plots.plot_msd(frames, args.output)
         else:
             plots.plot_speeds(frames, args.output)
     print(f"wrote {args.output}")
@@ -223,10 +227,11 @@ def build_parser():
                    help="still (.png): draw the frame nearest this time (default: the last)")
     m.set_defaults(func=cmd_render)
 
-    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos"],
-                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, or "
-                    "the validate CSV vs Carnahan-Starling")
+    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos, gr, msd")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "gr", "msd"],
+                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
+                    "the validate CSV vs Carnahan-Starling, g(r) (periodic box), or the "
+                    "mean squared displacement with D (periodic box)")
     _picture_args(pl, "plot.png")
     pl.set_defaults(func=cmd_plot)
     return p
