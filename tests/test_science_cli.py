@@ -42,3 +42,17 @@ def test_plot_gr_needs_a_periodic_box(tmp_path, capsys):
         sim.run(until=2.0)
     assert main(["plot", "gr", str(path), "-o", str(tmp_path / "g.png")]) == 1
     assert "periodic box" in capsys.readouterr().err
+
+
+def test_readme_study_runs(tmp_path, monkeypatch):
+    """The README's study, shortened (N = 108, 30 time units)."""
+    import re
+    from pathlib import Path
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    block = re.search(r"## A study.*?```python\n(.*?)```", readme, re.S).group(1)
+    assert len(block.strip().splitlines()) < 20
+    block = block.replace("n, phi = 500, 0.3", "n, phi = 108, 0.3")
+    block = block.replace("until=sim.time + 200", "until=sim.time + 30")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    assert (tmp_path / "gr.png").exists()
