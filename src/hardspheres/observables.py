@@ -47,6 +47,10 @@ class Observables:
 
     #: Samples kept before neighbouring blocks merge (the interval doubles).
     MAX_SAMPLES = 4096
+    #: With the automatic interval, blocks merge (the interval doubles) while
+    #: they hold fewer events than this: a sample costs about as much as a
+    #: hundred events, so small systems would otherwise pay for sampling.
+    MIN_EVENTS = 500
 
     def __init__(self, sim, every=None):
         self._sim = sim
@@ -71,10 +75,13 @@ class Observables:
             every: first interval between tally samples (blocks) [time];
                 default: a tenth of the time a sphere of rms speed takes to
                 cross the mean spacing ``(V/N)^(1/3)`` (about a mean free
-                time in a dense fluid).  It doubles as the run grows.
+                time in a dense fluid), doubled while a block holds fewer
+                than :attr:`MIN_EVENTS` events.  It doubles whenever
+                :attr:`MAX_SAMPLES` is reached.
         """
         self._mark = self._now()
         self._samples = [self._mark]
+        self._auto = every is None
         self.every = float(every) if every is not None else self._auto_every()
         if not self.every > 0:
             raise ValueError(f"every must be a time > 0, got {every}")
@@ -91,9 +98,16 @@ class Observables:
 
     def _sample(self):
         """Record the tallies now (the simulation calls this at :attr:`next_sample`)."""
-        self._samples.append(self._now())
-        if len(self._samples) > self.MAX_SAMPLES:
+        now = self._now()
+        last = self._samples[-1]
+        sparse = (self._auto and len(self._samples) > 2
+                  and now[_COLL] + now[_REFL] - last[_COLL] - last[_REFL] < self.MIN_EVENTS)
+        self._samples.append(now)
+        if len(self._samples) > self.MAX_SAMPLES or sparse:
             # merge neighbouring blocks: keep every other sample from the mark
+            # (an odd last block waits for its partner)
+            if len(self._samples) % 2 == 0:
+                self._samples.pop()
             self._samples = self._samples[::2]
             self.every *= 2.0
         self.next_sample = self._samples[-1][_T] + self.every
