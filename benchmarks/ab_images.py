@@ -53,6 +53,7 @@ def main():
     coll = int(sys.argv[5]) if len(sys.argv) > 5 else 300000
     import hardspheres as new
     base = load_as(base_src, "hardspheres_base")
+    print(f"base: {base.__file__}\nnew:  {new.__file__}", flush=True)
     engines = {"base": engine(base, n, packing), "new": engine(new, n, packing)}
     ratios = []
     rates = {"base": [], "new": []}

@@ -1,5 +1,6 @@
 """Transport: MSD and VACF over all time origins, D, Yeh-Hummer, bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -39,7 +40,8 @@ def fluid():
     L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
     sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=7), hs.PeriodicBox(L))
     sim.run(collisions=20 * n)
-    return frames_from_simulation(sim, until=sim.time + 100.0, every=0.05), phi, L
+    # frames a fifth of a mean free time apart (the VACF integral needs them close)
+    return frames_from_simulation(sim, until=sim.time + 60.0, every=0.02), phi, L
 
 
 def test_diffusion_two_routes_agree(fluid):
@@ -51,6 +53,14 @@ def test_diffusion_two_routes_agree(fluid):
     # Enskog is within ~25% of the true D at this density (D/D_E ~ 1.1-1.2)
     ratio = D_msd / enskog(phi)["D"]
     assert 0.95 < ratio < 1.4
+
+
+def test_vacf_refuses_coarse_frames(fluid):
+    fr, _, _ = fluid
+    coarse = dataclasses.replace(fr, times=fr.times[::5], positions=fr.positions[::5],
+                                 velocities=fr.velocities[::5], images=fr.images[::5])
+    with pytest.raises(ValueError, match="frames"):
+        VACF().compute(coarse).diffusion()
 
 
 def test_yeh_hummer_adds_the_hydrodynamic_term():

@@ -237,10 +237,24 @@ class VACF(_Computed):
     def diffusion(self, t_max=None):
         """``D = 1/3 int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
 
+        C(t) falls steeply over the first mean free time, and the trapezoid
+        overestimates the integral unless frames resolve that fall: at
+        packing 0.45, frames 0.1 mean free time apart give D within 1.5% of
+        the MSD's, 3 mean free times apart 40% above it.
+
         Returns:
             ``(D, error)`` [length^2/time].
+
+        Raises:
+            ValueError: C falls by more than 20% between the first two frames
+                (record frames closer together).
         """
         self._need()
+        if self.c[1] < 0.8 * self.c[0]:
+            raise ValueError(
+                f"the VACF falls to {self.c[1] / self.c[0]:.2f} of C(0) in one frame: the "
+                "integral would be biased high; record frames at most a tenth of a mean free "
+                "time apart (or use MSD().diffusion())")
         segs = _segments(len(self.t), self.blocks)
         tseg = self.t[: segs[0].stop - segs[0].start]
         t_max = 0.5 * tseg[-1] if t_max is None else t_max
