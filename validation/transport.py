@@ -24,25 +24,41 @@ import numpy as np
 
 import hardspheres as hs
 from hardspheres.trajectory import FrameRecorder
-from hardspheres.transport import (MSD, VACF, ShearViscosity, ThermalConductivity, enskog,
-                                   yeh_hummer)
+from hardspheres.transport import (
+    MSD,
+    VACF,
+    ShearViscosity,
+    ThermalConductivity,
+    enskog,
+    yeh_hummer,
+)
 
 
-def measure(phi, n, t_run, seed, every=0.1):
-    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=seed), hs.PeriodicBox(L))
-    sim.run(collisions=50 * n)  # melt the lattice and equilibrate
-    obs = sim.observables.reset()
+def record(sim, duration, every):
     rec = FrameRecorder(every, events=False)
     sim.writers.append(rec)
-    sim.run(until=sim.time + t_run)
+    sim.run(until=sim.time + duration)
     sim.writers.remove(rec)
-    frames = rec.frames()
+    return rec.frames()
+
+
+def measure(phi, n, t_run, seed, every=0.1, t_vacf=10.0):
+    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
+    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=seed), hs.PeriodicBox(L))
+    obs = sim.observables
+    sim.run(collisions=50 * n)  # melt the lattice and equilibrate
+    obs.reset()
+    sim.run(collisions=5 * n)
+    mft = obs.mean_free_time()
+    # the VACF needs frames a tenth of a mean free time apart: a short run of its own
+    vacf_frames = record(sim, t_vacf, 0.1 * mft)
+    obs.reset(every=0.25 * mft)  # Helfand moments resolved to a quarter mean free time
+    frames = record(sim, t_run, every)
     z = obs.estimate("compressibility")
     out = {"phi": phi, "n": n, "L": L, "Z": z.mean, "Z_err": z.sem,
            "collisions": sim.counters["collisions"]}
     out["D_msd"], out["D_msd_err"] = MSD().compute(frames).diffusion()
-    out["D_vacf"], out["D_vacf_err"] = VACF().compute(frames).diffusion()
+    out["D_vacf"], out["D_vacf_err"] = VACF().compute(vacf_frames).diffusion()
     out["eta"], out["eta_err"] = ShearViscosity().compute(sim).value()
     out["lambda"], out["lambda_err"] = ThermalConductivity().compute(sim).value()
     out["D_yh"] = yeh_hummer(out["D_msd"], L, out["eta"], obs.temperature())
