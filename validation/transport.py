@@ -42,7 +42,7 @@ def record(sim, duration, every):
     return rec.frames()
 
 
-def measure(phi, n, t_run, seed, every=0.1, t_vacf=10.0):
+def measure(phi, n, t_run, seed, every=0.1, vacf_mft=300.0):
     L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
     sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=seed), hs.PeriodicBox(L))
     obs = sim.observables
@@ -50,15 +50,16 @@ def measure(phi, n, t_run, seed, every=0.1, t_vacf=10.0):
     obs.reset()
     sim.run(collisions=5 * n)
     mft = obs.mean_free_time()
-    # the VACF needs frames a tenth of a mean free time apart: a short run of its own
-    vacf_frames = record(sim, t_vacf, 0.1 * mft)
+    # the VACF needs frames a tenth of a mean free time apart: a run of its own,
+    # 300 mean free times (3000 frames), integrated to 50 (its tail is slow)
+    vacf_frames = record(sim, vacf_mft * mft, 0.1 * mft)
     obs.reset(every=0.25 * mft)  # Helfand moments resolved to a quarter mean free time
     frames = record(sim, t_run, every)
     z = obs.estimate("compressibility")
     out = {"phi": phi, "n": n, "L": L, "Z": z.mean, "Z_err": z.sem,
            "collisions": sim.counters["collisions"]}
     out["D_msd"], out["D_msd_err"] = MSD().compute(frames).diffusion()
-    out["D_vacf"], out["D_vacf_err"] = VACF().compute(vacf_frames).diffusion()
+    out["D_vacf"], out["D_vacf_err"] = VACF(blocks=3).compute(vacf_frames).diffusion()
     out["eta"], out["eta_err"] = ShearViscosity().compute(sim).value()
     out["lambda"], out["lambda_err"] = ThermalConductivity().compute(sim).value()
     out["D_yh"] = yeh_hummer(out["D_msd"], L, out["eta"], obs.temperature())
