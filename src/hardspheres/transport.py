@@ -381,7 +381,8 @@ class ShearViscosity(_EinsteinHelfand):
     Example:
         >>> import hardspheres as hs
         >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
-        >>> _ = sim.run(until=40.0)
+        >>> _ = sim.run(until=5.0).observables.reset(every=0.1)  # ~a mean free time
+        >>> _ = sim.run(until=45.0)
         >>> eta, err = ShearViscosity().compute(sim).value()
         >>> eta > 0
         True
