@@ -318,8 +318,9 @@ class _EinsteinHelfand(_Computed):
         obs = sim.observables
         t, g = obs.helfand_moments(self._kind)
         if len(t) < 32:
-            raise ValueError(f"{len(t)} samples of the Helfand moments: run longer since "
-                             "observables.reset() (32 at least, a few hundred for an error bar)")
+            raise ValueError(f"{len(t)} samples of the Helfand moments (32 at least, a few "
+                             "hundred for an error bar): run longer, or start with "
+                             "observables.reset(every=T), T about a mean free time")
         self._check(sim)
         self._g, self.t = g, t - t[0]
         self.msd = _msd_fft(g)
