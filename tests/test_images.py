@@ -88,3 +88,21 @@ def test_images_in_a_spherical_container_raise():
     assert sim.state().images is None
     with pytest.raises(PeriodicBoxRequired, match="periodic box"):
         sim.state(unwrapped=True)
+
+
+def test_gsd_without_images_is_not_taken_as_zero_images(tmp_path):
+    """A file from before image counts: no marker, so no images (not silently zero)."""
+    gsd_hoomd = pytest.importorskip("gsd.hoomd")
+    path = tmp_path / "old.gsd"
+    with gsd_hoomd.open(path, mode="w") as f:
+        fr = gsd_hoomd.Frame()
+        fr.particles.N = 1
+        fr.particles.position = np.zeros((1, 3))
+        fr.configuration.box = [10, 10, 10, 0, 0, 0]
+        fr.log["hardspheres/time"] = np.array([0.0])
+        fr.log["hardspheres/box_length"] = np.array([10.0])
+        f.append(fr)
+    frames = read_trajectory(path)
+    assert frames.images is None
+    with pytest.raises(PeriodicBoxRequired, match="image counts"):
+        frames.unwrapped()

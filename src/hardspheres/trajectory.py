@@ -14,7 +14,8 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
   cube ``2R`` that encloses it (not periodic: switch periodicity off in OVITO);
 * ``particles/position``, ``particles/velocity`` (float64);
   ``particles/image`` (periodic box: the exact count of box crossings, so
-  ``position + image * L`` is the unwrapped centre); in the first
+  ``position + image * L`` is the unwrapped centre; ``log/hardspheres/images``
+  in the first frame says the file has them); in the first
   frame only (readers take later frames' values from it): ``mass``,
   ``diameter`` (twice the radius), one type ``"sphere"``;
 * ``log/hardspheres/time`` [time]; ``log/hardspheres/container_radius`` or
@@ -147,6 +148,8 @@ class GSDWriter(_FrameWriter):
         f.particles.velocity = state.velocities
         if state.images is not None:
             f.particles.image = state.images.astype(np.int32)
+            if self._count == 0:  # marks files that carry images (all zero is not stored)
+                f.log["hardspheres/images"] = np.array([1], np.int8)
         if self._count == 0:
             f.particles.types = ["sphere"]
             f.particles.typeid = np.zeros(state.n, dtype=np.uint32)
@@ -271,7 +274,8 @@ def _read_gsd(path):
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
                       container=container, box=box,
-                      images=None if box is None else np.array(images).reshape(-1, n, 3),
+                      images=(np.array(images).reshape(-1, n, 3)
+                              if box is not None and "hardspheres/images" in log else None),
                       **_event_fields(events))
 
 
