@@ -107,3 +107,10 @@ def test_spherical_container_pressure_error_and_checkpoint(tmp_path):
     sim.run(collisions=500)
     back.run(collisions=500)
     assert back.observables.error("pressure") == obs.error("pressure")
+
+
+def test_unknown_average_is_named():
+    sim = gas(n=32)
+    sim.run(collisions=200)
+    with pytest.raises(ValueError, match="choose one of pressure"):
+        sim.observables.estimate("pressure_xy_typo")

@@ -5,7 +5,9 @@ Error bars: the tallies are also sampled on a grid of equally spaced times
 average comes from Flyvbjerg-Petersen blocking of the per-block values
 (:mod:`hardspheres.blocking`).  The grid starts fine and coarsens by two
 (neighbouring blocks merge) whenever :attr:`Observables.MAX_SAMPLES` is
-reached, so memory stays bounded however long the run.
+reached, so memory stays bounded however long the run, and, on the
+automatic grid, while blocks hold fewer than :attr:`Observables.MIN_EVENTS`
+events, so sampling stays cheap in small systems.
 """
 
 import math
@@ -162,7 +164,11 @@ class Observables:
         d = np.array(self._delta())
         if not d[_T] > 0:
             raise NoMeasurementError("no time has passed since reset(); run first")
-        return float(self._measured(d)[name])
+        values = self._measured(d)
+        if name not in values:
+            raise ValueError(f"no time average {name!r} here: choose one of "
+                             f"{', '.join(values)}")
+        return float(values[name])
 
     def blocks(self, name):
         """``(n_blocks,)`` the values of ``name`` over each block of equal length.
