@@ -18,8 +18,8 @@ def require_periodic(container, what):
     """The box edge of ``container``; :class:`PeriodicBoxRequired` if it is not a periodic box."""
     if not isinstance(container, PeriodicBox):
         raise PeriodicBoxRequired(
-            f"{what} need a periodic box (spheres in a container do not diffuse freely); "
-            "simulate in hs.PeriodicBox(L)")
+            f"{what} need a periodic box (a container's wall bounds the motion and makes "
+            "the fluid non-uniform); simulate in hs.PeriodicBox(L)")
     return container.length
 
 

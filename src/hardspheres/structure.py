@@ -56,14 +56,15 @@ def configurations(source, box=None):
     from .simulation import Simulation
     from .state import State
     if isinstance(source, Frames):
-        L = require_periodic(PeriodicBox(source.box) if source.box else None, "structure")
+        L = require_periodic(PeriodicBox(source.box) if source.box else None,
+                             "g(r), S(k) and bond order")
         return L, np.asarray(source.positions, float), np.asarray(source.radii, float)
     if isinstance(source, Simulation):
-        L = require_periodic(source.container, "structure")
+        L = require_periodic(source.container, "g(r), S(k) and bond order")
         st = source.state()
         return L, st.positions[None], st.radii
     if box is None:
-        require_periodic(None, "structure")
+        require_periodic(None, "g(r), S(k) and bond order")
     L = float(box)
     if isinstance(source, State):
         return L, source.positions[None], source.radii

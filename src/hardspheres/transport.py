@@ -101,7 +101,7 @@ def _trajectory(source, what):
     """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames."""
     from .frames import Frames
     if not isinstance(source, Frames):
-        raise TypeError(f"{what} needs a Frames (a trajectory: read_trajectory or "
+        raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or "
                         "frames_from_simulation)")
     require_periodic(PeriodicBox(source.box) if source.box else None, what)
     t = np.asarray(source.times, float)
@@ -152,7 +152,7 @@ class MSD(_Computed):
         Raises:
             PeriodicBoxRequired: the trajectory is not in a periodic box.
         """
-        t, x, _, _ = _trajectory(frames, "the mean squared displacement")
+        t, x, _, _ = _trajectory(frames, "mean squared displacements")
         self.t, self.msd = t, self._msd(x)
         self._x = x
         self._computed = True
@@ -228,7 +228,7 @@ class VACF(_Computed):
 
     def compute(self, frames):
         """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
-        t, _, v, _ = _trajectory(frames, "the velocity autocorrelation")
+        t, _, v, _ = _trajectory(frames, "velocity autocorrelations")
         self.t, self._v = t, v
         self.c = _autocorrelation(v)
         self._computed = True
