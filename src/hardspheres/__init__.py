@@ -21,8 +21,7 @@ _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
          "RDF": "structure", "StructureFactor": "structure", "BondOrder": "structure",
          "MSD": "transport", "VACF": "transport", "ShearViscosity": "transport",
-         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport",
-         "blocking": "blocking"}
+         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport"}
 
 
 def __getattr__(name):
@@ -35,5 +34,5 @@ __all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "Periodi
            "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
            "random_spheres", "read_trajectory", "XYZWriter",
            "BondOrder", "MSD", "PeriodicBoxRequired", "RDF", "ShearViscosity", "StructureFactor",
-           "ThermalConductivity", "VACF", "blocking", "enskog", "yeh_hummer"]
+           "ThermalConductivity", "VACF", "enskog", "yeh_hummer"]
 __version__ = "0.1.0"
