@@ -58,8 +58,8 @@ class Frames:
         from .containers import PeriodicBoxRequired
         if self.box is None or self.images is None:
             raise PeriodicBoxRequired(
-                "unwrapped positions need a periodic box with image counts; "
-                "record the run in hs.PeriodicBox(L) with this version's writers")
+                "unwrapped positions need image counts: a periodic-box run recorded "
+                "with GSDWriter or frames_from_simulation (XYZ files carry none)")
         return self.positions + self.images * self.box
 
     def energy(self):
