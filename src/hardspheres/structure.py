@@ -90,7 +90,7 @@ class _Computed:
     """Results (the names in ``_results``) read before ``compute()`` raise NotComputedError."""
 
     _computed = False
-    _results = ()
+    _results: tuple[str, ...] = ()
 
     def _need(self):
         if not self._computed:
