@@ -291,10 +291,13 @@ class Simulation:
         sim._clock = float(data.pop("clock"))
         sim._engine = Engine.restore(data)
         sim.observables = Observables(sim)
-        sim.observables._mark = tuple(mark.tolist())
-        if samples is not None:
-            sim.observables._samples = [tuple(r) for r in samples.tolist()]
-            sim.observables.every, sim.observables.next_sample = every.tolist()
+        if len(mark) == len(sim.observables._mark):  # else an older layout: start afresh
+            sim.observables._mark = tuple(mark.tolist())
+            if samples is not None:
+                sim.observables._samples = [tuple(r) for r in samples.tolist()]
+                sim.observables.every, sim.observables.next_sample = every.tolist()
+            else:
+                sim.observables._samples = [sim.observables._mark]
         return sim
 
 
