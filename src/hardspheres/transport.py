@@ -72,11 +72,17 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
     Cowling, *The Mathematical Theory of Non-uniform Gases*, 3rd ed.,
     Cambridge 1970, ch. 16):
 
+    all in the first Sonine approximation (the dilute values ``D_0``,
+    ``eta_0``, ``lambda_0`` without their higher-order corrections of 1-3%):
+
     * self-diffusion ``D_E = 3 / (8 rho sigma^2 g) sqrt(kT / (pi m))``;
-    * shear viscosity ``eta_E = eta_0 (1/g + 0.8 b rho + 0.7614 (b rho)^2 g)``,
-      ``eta_0 = 5 / (16 sigma^2) sqrt(m kT / pi)``;
-    * thermal conductivity ``lambda_E = lambda_0 (1/g + 1.2 b rho + 0.7574
-      (b rho)^2 g)``, ``lambda_0 = 75 k / (64 sigma^2) sqrt(kT / (pi m))``.
+    * shear viscosity ``eta_E = eta_0 (1/g + 4/5 b rho + 4/25 (1 + 12/pi)
+      (b rho)^2 g)`` (``(1/g)(1 + 2/5 b rho g)^2`` plus 3/5 of the bulk
+      viscosity ``16/(5 pi) (b rho)^2 g eta_0``; DynamO's ``Enskog.h``
+      writes the same), ``eta_0 = 5 / (16 sigma^2) sqrt(m kT / pi)``;
+    * thermal conductivity ``lambda_E = lambda_0 (1/g + 6/5 b rho + 9/25
+      (1 + 32/(9 pi)) (b rho)^2 g)``, ``lambda_0 = 75 k / (64 sigma^2)
+      sqrt(kT / (pi m))``.
 
     Returns:
         dict ``D``, ``eta``, ``lambda`` (k = 1 units), ``g`` (contact value).
@@ -93,8 +99,9 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
     eta0 = 5.0 / (16.0 * sigma ** 2) * math.sqrt(mass * kT / math.pi)
     lam0 = 75.0 / (64.0 * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
     return {"D": D0 / g, "g": g,
-            "eta": eta0 * (1.0 / g + 0.8 * brho + 0.7614 * brho ** 2 * g),
-            "lambda": lam0 * (1.0 / g + 1.2 * brho + 0.7574 * brho ** 2 * g)}
+            "eta": eta0 * (1.0 / g + 0.8 * brho + 0.16 * (1.0 + 12.0 / math.pi) * brho ** 2 * g),
+            "lambda": lam0 * (1.0 / g + 1.2 * brho
+                              + 0.36 * (1.0 + 32.0 / (9.0 * math.pi)) * brho ** 2 * g)}
 
 
 def _trajectory(source, what):
