@@ -272,7 +272,8 @@ class Engine:
         f = self.f
         dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
         return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
-                "kinetic": f[core.F_KIN_INT:core.F_KIN_INT + 6] + dt * f[core.F_KIN_T:core.F_KIN_T + 6],
+                "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
+                            + dt * f[core.F_KIN_T:core.F_KIN_T + 6]),
                 "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
                 "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
                                  + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}

@@ -234,7 +234,7 @@ class Observables:
         return p
 
     def helfand_moments(self, kind):
-        """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand transport.
+        """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand.
 
         Args:
             kind: ``"momentum"``: ``(S, 3)`` the xy, xz, yz components of

@@ -365,7 +365,7 @@ class _EinsteinHelfand(_Computed):
         return float(val), err
 
     def plot(self, ax=None):
-        """The moment's mean square growth over ``2 t`` (times the prefactor) against t; returns Axes."""
+        """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
         self._need()
         import matplotlib.pyplot as plt
         ax = plt.figure().add_subplot() if ax is None else ax
@@ -404,7 +404,7 @@ class ShearViscosity(_EinsteinHelfand):
 
 
 class ThermalConductivity(_EinsteinHelfand):
-    """Thermal conductivity by Einstein-Helfand: ``lambda = lim <dH_a(t)^2> / (2 V kT^2 t)`` (k = 1).
+    """Thermal conductivity by Einstein-Helfand: ``lambda = lim <dH_a^2> / (2 V kT^2 t)`` (k = 1).
 
     ``H_a = sum_i x_ia E_i`` in its periodic form: the energy current
     ``sum v E`` integrated between collisions plus the collisional transfer
