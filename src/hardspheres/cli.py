@@ -12,7 +12,7 @@ import signal
 import sys
 
 from .messages import oserror_line, quote
-from .report import PROMPT, TextReport
+from .report import PROMPT
 from .scenario import MAX_MAGNITUDE, ScenarioError, check_scenario, parse_scenario
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"

@@ -305,6 +305,10 @@ def cmd_plot(args):
         frames = _frames(args)
         if args.what == "conservation":
             plots.plot_conservation(frames, args.output)
+        elif args.what == "gr":
+            plots.plot_gr(frames, args.output)
+        elif args.what == "msd":
+            plots.plot_msd(frames, args.output)
         else:
             plots.plot_speeds(frames, args.output)
     print(f"wrote {args.output}")
@@ -459,11 +463,12 @@ def build_parser():
     m.set_defaults(func=cmd_render)
 
     pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos, "
-                        "sweep")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep"],
+                        "sweep, gr, msd")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep", "gr", "msd"],
                     help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
-                    "the validate CSV vs Carnahan-Starling, or a study's results "
-                    "(--x PARAMETER --y OBSERVABLE)")
+                    "the validate CSV vs Carnahan-Starling, a study's results "
+                    "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), or the "
+                    "mean squared displacement with D (periodic box)")
     _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")
     pl.add_argument("--x", default="packing", help="sweep: parameter on the x axis "
                     "(default packing)")

@@ -28,6 +28,7 @@ class Frames:
         event_times: ``(E,)`` times of events [time] (may be empty).
         event_kinds: ``(E,)`` 0 = reflection off the container, 1 = collision.
         event_i, event_j: ``(E,)`` spheres involved (``j = -1`` for reflections).
+        images: ``(F, N, 3)`` int64 periodic images (periodic box), or ``None``.
     """
 
     times: np.ndarray
@@ -42,6 +43,7 @@ class Frames:
     event_kinds: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
     event_i: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     event_j: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    images: np.ndarray | None = None
 
     @property
     def n(self):
@@ -55,6 +57,19 @@ class Frames:
                  f", box={self.box:g}" if self.box is not None else "")
         return (f"Frames(n={self.n}, frames={len(times)}{span}{where}, "
                 f"events={len(self.event_times)})")
+
+    def unwrapped(self):
+        """``(F, N, 3)`` unwrapped centres ``positions + images * box`` [length].
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box, or a file without images.
+        """
+        from .containers import PeriodicBoxRequired
+        if self.box is None or self.images is None:
+            raise PeriodicBoxRequired(
+                "unwrapped positions need image counts: a periodic-box run recorded "
+                "with GSDWriter or frames_from_simulation (XYZ files carry none)")
+        return self.positions + self.images * self.box
 
     def energy(self):
         """``(F,)`` kinetic energy of each frame [mass*length^2/time^2]."""

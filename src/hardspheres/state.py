@@ -16,6 +16,8 @@ class State:
         velocities: ``(N, 3)`` [length/time].
         names: ``N`` unique names (IDs).
         time: the time of this state [time].
+        images: ``(N, 3)`` int64 periodic images (periodic box only, else
+            ``None``): the unwrapped centre is ``positions + images * L``.
 
     Example:
         >>> s = State.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]])
@@ -29,6 +31,7 @@ class State:
     velocities: np.ndarray
     names: list = field(default_factory=list)
     time: float = 0.0
+    images: np.ndarray | None = None
 
     @classmethod
     def from_arrays(cls, masses, radii, positions, velocities, names=None, time=0.0):
