@@ -302,23 +302,17 @@ def tasks(study):
 
 # ---- files ------------------------------------------------------------------
 def _atomic(path, write):
-    """Call ``write(tmp_path)`` then rename onto ``path`` (same folder).
+    """Call ``write(tmp_path)`` then rename onto ``path`` (:func:`fileio.atomic_path`).
+
+    No lock: a task's files have one writer at a time (Dask reruns a task
+    only after its worker is gone).
 
     Raises:
         OSError: naming ``path``.
     """
-    # TODO: use the shared atomic-write helper (fileio.py) when it lands
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    from .fileio import atomic_path
+    with atomic_path(path, lock=False) as tmp:
         write(tmp)
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        raise OSError(f"cannot write {path}: {e.strerror or e}") from None
 
 
 def _write_json(path, obj):

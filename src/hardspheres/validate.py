@@ -147,7 +147,7 @@ def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200
     Returns:
         The list of :class:`Row`.
     """
-    from .studies import _atomic, sweep
+    from .studies import sweep
     seed_list = range(seed, seed + seeds)
     if folder is None:
         with tempfile.TemporaryDirectory() as tmp:
@@ -168,13 +168,12 @@ def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200
                   f"{r.gamma_rel_diff:+9.4%} {r.ks_D:7.4f} {r.ks_D_expected:7.4f}", file=out,
                   flush=True)
     if csv_path is not None:
-        def write(tmp):
-            with open(tmp, "w", newline="") as fh:
-                w = csv.DictWriter(fh, fieldnames=list(asdict(rows[0])))
-                w.writeheader()
-                for r in rows:
-                    w.writerow(asdict(r))
-        _atomic(csv_path, write)
+        from .fileio import atomic_write
+        with atomic_write(csv_path, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(asdict(rows[0])))
+            w.writeheader()
+            for r in rows:
+                w.writerow(asdict(r))
     return rows
 
 
