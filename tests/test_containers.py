@@ -24,7 +24,8 @@ def test_each_container_is_a_container_and_round_trips(c):
     assert KINDS[c.kind] is type(c)
     assert len(c.gsd_box) == 6 and c.gsd_box[0] == pytest.approx(2 * c.half_width)
     assert c.bounding_radius >= c.half_width > 0
-    assert all(line.shape[1] == 3 for line in c.outline())
+    right, up = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
+    assert all(line.shape[1] == 2 for line, _ in c.outline(right, up, cut=0.5))
 
 
 def test_geometry():

@@ -11,7 +11,7 @@ Example:
 
 import importlib
 
-from .containers import Container, PeriodicBox, SphericalContainer
+from .containers import Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
 
@@ -32,7 +32,10 @@ _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "maxwell",
          "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
          "sweep": "studies", "StudyError": "studies",
          "CheckpointError": "engine", "FileInUseError": "fileio",
-         "TruncatedTrajectory": "trajectory"}
+         "TruncatedTrajectory": "trajectory",
+         "RDF": "structure", "StructureFactor": "structure", "BondOrder": "structure",
+         "MSD": "transport", "VACF": "transport", "ShearViscosity": "transport",
+         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport"}
 
 
 def __getattr__(name):
@@ -43,8 +46,10 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BuildError", "CheckpointError", "Container", "Event", "EventKind", "FileInUseError",
-           "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
-           "Simulation", "SphericalContainer", "State", "StopReason", "StudyError",
-           "TruncatedTrajectory", "XYZWriter", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres", "read_trajectory", "sweep"]
+__all__ = ["BondOrder", "BuildError", "CheckpointError", "Container", "Event", "EventKind",
+           "FileInUseError", "Frames", "GSDWriter", "MSD", "Observables", "PeriodicBox",
+           "PeriodicBoxRequired", "RDF", "Scenario", "ScenarioError", "ShearViscosity",
+           "Simulation", "SphericalContainer", "State", "StopReason", "StructureFactor",
+           "StudyError", "ThermalConductivity", "TruncatedTrajectory", "VACF", "XYZWriter",
+           "enskog", "maxwell_boltzmann", "parse_scenario", "random_spheres", "read_trajectory",
+           "sweep", "yeh_hummer"]

@@ -67,6 +67,12 @@ class Container(Protocol):
     def label(self) -> str: ...
 
     @property
+    def size(self) -> float: ...
+
+    @property
+    def description(self) -> str: ...
+
+    @property
     def volume(self) -> float: ...
 
     @property
@@ -82,6 +88,8 @@ class Container(Protocol):
     def gsd_box(self) -> list[float]: ...
 
     def wrap(self, positions: np.ndarray) -> np.ndarray: ...
+
+    def image_counts(self, positions: np.ndarray) -> np.ndarray: ...
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray: ...
 
@@ -99,7 +107,9 @@ class Container(Protocol):
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None: ...
 
-    def outline(self) -> list[np.ndarray]: ...
+    def outline(
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+    ) -> list[tuple[np.ndarray, bool]]: ...
 
 
 def _positive(value: float, what: str) -> float:
@@ -110,6 +120,20 @@ def _positive(value: float, what: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise ContainerError(f"{what} must be a finite number > 0, got {value}")
     return value
+
+
+class PeriodicBoxRequired(ValueError):
+    """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
+
+
+def require_periodic(container: Container | None, what: str) -> float:
+    """The box edge of ``container``; :class:`PeriodicBoxRequired` if it is not periodic."""
+    if container is None or not container.periodic:
+        raise PeriodicBoxRequired(
+            f"{what} need a periodic box (spheres in a container do not diffuse freely); "
+            "simulate in hs.PeriodicBox(L)"
+        )
+    return container.core_params()["box"]
 
 
 @dataclass(frozen=True)
@@ -144,6 +168,11 @@ class SphericalContainer:
         return f"spherical container R = {self.radius:g}"
 
     @property
+    def description(self) -> str:
+        """It in words, for messages and summaries."""
+        return f"spherical container of radius {self.radius:g}"
+
+    @property
     def volume(self) -> float:
         """Volume enclosed [length^3]."""
         return 4.0 / 3.0 * math.pi * self.radius**3
@@ -176,6 +205,12 @@ class SphericalContainer:
         import numpy as np
 
         return np.asarray(positions, dtype=np.float64)
+
+    def image_counts(self, positions: np.ndarray) -> np.ndarray:
+        """``(N, 3)`` zeros: no periodic images."""
+        import numpy as np
+
+        return np.zeros(np.asarray(positions).reshape(-1, 3).shape, np.int64)
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``a - b`` [length]."""
@@ -221,20 +256,24 @@ class SphericalContainer:
             return "fills the container and cannot move; give it zero velocity or a smaller radius"
         return None
 
-    def outline(self) -> list[np.ndarray]:
-        """Lines to draw it: 13 meridians and 7 parallels, each ``(k, 3)`` [length]."""
+    def outline(
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+    ) -> list[tuple[np.ndarray, bool]]:
+        """Its outline seen along ``right x up``: ``(line (k, 2), dashed)`` pairs [length].
+
+        The silhouette circle, and where a cut-away plane ``z = cut`` meets
+        the wall (dashed).
+        """
         import numpy as np
 
-        u = np.linspace(0, 2 * np.pi, 25)
-        v = np.linspace(0, np.pi, 13)
         r = self.radius
-        x, y, z = (
-            r * np.outer(np.cos(u), np.sin(v)),
-            r * np.outer(np.sin(u), np.sin(v)),
-            r * np.outer(np.ones_like(u), np.cos(v)),
-        )
-        grid = np.stack([x, y, z], axis=-1)
-        return [grid[k] for k in range(0, len(u), 2)] + [grid[:, k] for k in range(0, len(v), 2)]
+        u = np.linspace(0, 2 * np.pi, 181)
+        out = [(np.column_stack([r * np.cos(u), r * np.sin(u)]), False)]
+        if cut is not None and abs(cut) < r:
+            rho = np.sqrt(r * r - cut * cut)
+            ring = np.column_stack([rho * np.cos(u), rho * np.sin(u), np.full_like(u, cut)])
+            out.append((np.column_stack([ring @ right, ring @ up]), True))
+        return out
 
 
 @dataclass(frozen=True)
@@ -266,6 +305,11 @@ class PeriodicBox:
     def label(self) -> str:
         """A short description for titles."""
         return f"periodic box L = {self.length:g}"
+
+    @property
+    def description(self) -> str:
+        """It in words, for messages and summaries."""
+        return f"periodic box of edge {self.length:g}"
 
     @property
     def volume(self) -> float:
@@ -300,6 +344,13 @@ class PeriodicBox:
         p = np.asarray(positions, dtype=np.float64)
         L = self.length
         return p - L * np.floor(p / L + 0.5)
+
+    def image_counts(self, positions: np.ndarray) -> np.ndarray:
+        """``(N, 3)`` whole edges :meth:`wrap` takes off each position (its periodic image)."""
+        import numpy as np
+
+        p = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+        return np.floor(p / self.length + 0.5).astype(np.int64)
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``a - b`` to the nearest image [length]."""
@@ -341,14 +392,16 @@ class PeriodicBox:
         """``None``: any sphere fits (the engine checks that the box holds three diameters)."""
         return None
 
-    def outline(self) -> list[np.ndarray]:
-        """The 12 edges, each ``(2, 3)`` [length]."""
+    def outline(
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+    ) -> list[tuple[np.ndarray, bool]]:
+        """Its 12 edges seen along ``right x up``: ``(line (2, 2), dashed)`` pairs [length]."""
         import numpy as np
 
         h = self.half_width
         corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
         return [
-            corners[[a, b]]
+            (np.column_stack([corners[[a, b]] @ right, corners[[a, b]] @ up]), False)
             for a in range(8)
             for b in range(a + 1, 8)
             if np.sum(corners[a] != corners[b]) == 1

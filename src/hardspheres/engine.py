@@ -76,6 +76,7 @@ class Engine:
         self.HT = np.zeros(n)
         self.HKEY = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
+        self.img = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -132,6 +133,8 @@ class Engine:
     def _build(self):
         core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
                    self.HT, self.HKEY, self.f, self.c)
+        self.f[core.F_T_KIN] = self.f[core.F_CLOCK]
+        core.kinetic_sums(self.S, self.mass, self.f)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -171,7 +174,7 @@ class Engine:
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
                                     self.prv, self.heap, self.HT, self.HKEY, self.f,
-                                    self.c, self.stack,
+                                    self.c, self.stack, self.img,
                                     until - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -190,7 +193,8 @@ class Engine:
         return np.concatenate(chunks) if chunks else _events.empty_events()
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
+              "img")
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -217,6 +221,8 @@ class Engine:
         check_arrays(data)
         eng = cls.__new__(cls)
         for k in cls._SAVED:
+            if k == "img" and k not in data:  # checkpoints from before image counts
+                data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
             setattr(eng, k, np.array(data[k]))
         offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
@@ -237,6 +243,10 @@ class Engine:
                                          None if np.isnan(box) else box)
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
         eng._rec = _events.empty_buffers(CHUNK)
+        if eng.f.shape[0] < core.F_NF:  # checkpoints from before the transport tallies
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
+            eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
+            core.kinetic_sums(eng.S, eng.mass, eng.f)
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -251,12 +261,48 @@ class Engine:
         core.positions_at(self.S, t - self.offset, out, self.f[core.F_BOX])
         return out
 
+    def unwrapped_at(self, t=None, out=None):
+        """Unwrapped centres at absolute time ``t`` (default: now) [length].
+
+        Periodic box: the centre in the box plus ``images * box``, with
+        :attr:`img` the exact count of box crossings of each sphere; in a
+        spherical container the same as :meth:`positions_at`.
+        """
+        t = self.time if t is None else t
+        out = np.empty((self.n, 3)) if out is None else out
+        core.unwrapped_at(self.S, self.img, t - self.offset, out, self.f[core.F_BOX])
+        return out
+
+    @property
+    def idle(self):
+        """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
+        return self.n == 0 or not self.HT[0] < np.inf
+
     @property
     def counters(self) -> dict[str, int]:
         """Dict of event counts: collisions, reflections, crossings, stale."""
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
                 "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
+
+    def transport_tallies(self, t=None):
+        """The transport tallies at absolute time ``t`` (default: now; periodic box).
+
+        Returns:
+            dict of arrays: ``virial`` (6,) the collisional virial tensor
+            ``sum r_ij dp_i``; ``kinetic`` (6,) ``int sum m v v dt``;
+            ``heat_collisional`` (3,) ``sum r_ij dE_i``; ``heat_kinetic``
+            (3,) ``int sum v E dt``.  Tensors in the order xx yy zz xy xz yz;
+            all summed since the engine was built.
+        """
+        f = self.f
+        dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
+        return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
+                "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
+                            + dt * f[core.F_KIN_T:core.F_KIN_T + 6]),
+                "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
+                "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
+                                 + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}
 
     @property
     def wall_impulse(self) -> float:

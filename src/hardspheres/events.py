@@ -20,7 +20,7 @@ Example:
     >>> [EventKind(k).label for k in ev["kind"]]
     ['reflection', 'collision']
     >>> ev.dtype.names
-    ('time', 'kind', 'i', 'j', 'impulse')
+    ('time', 'kind', 'i', 'j', 'impulse', 'dp')
 """
 
 from __future__ import annotations
@@ -76,13 +76,16 @@ KIND_LABELS = tuple(k.label for k in EventKind)
 #: * ``i``: the sphere (the lower index of a colliding pair);
 #: * ``j``: the other sphere of a collision, ``-1`` for a reflection;
 #: * ``impulse``: magnitude of the momentum sphere ``i`` received
-#:   [mass*length/time].
+#:   [mass*length/time];
+#: * ``dp``: ``(3,)`` the momentum sphere ``i`` received (sphere ``j``
+#:   received ``-dp``) [mass*length/time].
 EVENT_FIELDS: tuple[tuple[str, str, tuple[int, ...]], ...] = (
     ("time", "f8", ()),
     ("kind", "i1", ()),
     ("i", "i8", ()),
     ("j", "i8", ()),
     ("impulse", "f8", ()),
+    ("dp", "f8", (3,)),
 )
 
 #: One event as a numpy structured dtype (see :data:`EVENT_FIELDS`), made
@@ -118,7 +121,7 @@ def empty_buffers(n: int) -> list[np.ndarray]:
 
     Example:
         >>> [b.dtype.name for b in empty_buffers(4)]
-        ['float64', 'int8', 'int64', 'int64', 'float64']
+        ['float64', 'int8', 'int64', 'int64', 'float64', 'float64']
     """
     import numpy as np
 

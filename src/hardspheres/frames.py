@@ -2,7 +2,8 @@
 
 Trajectory readers (:mod:`hardspheres.trajectory`) produce :class:`Frames`;
 the viewer, renderer and plots (:mod:`hardspheres.viewer`,
-:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them.
+:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them, picking
+the frames they draw with :func:`frame_indices`.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ class Frames:
             may be empty).
         event_times, event_kinds, event_i, event_j: instead of ``events``,
             its columns.
+        images: ``(F, N, 3)`` int64 periodic images (periodic box), or ``None``.
 
     Attributes:
         container: the container, or ``None``.
@@ -49,7 +51,7 @@ class Frames:
     def __init__(self, times, positions, velocities, radii, masses, names: Sequence[str],
                  container: Container | float | None = None, box: float | None = None,
                  events: np.ndarray | None = None, *, event_times=None, event_kinds=None,
-                 event_i=None, event_j=None):
+                 event_i=None, event_j=None, images: np.ndarray | None = None):
         self.times = np.asarray(times, dtype=np.float64)
         self.positions = np.asarray(positions, dtype=np.float64)
         self.velocities = np.asarray(velocities, dtype=np.float64)
@@ -66,10 +68,15 @@ class Frames:
             self.events = from_columns(**columns)
         else:
             self.events = empty_events()
+        self.images = None if images is None else np.asarray(images, dtype=np.int64)
 
     def __repr__(self) -> str:
-        return (f"Frames({len(self.times)} frames of {self.n} spheres, "
-                f"{len(self.events)} events, container={self.container!r})")
+        times = np.asarray(self.times)
+        span = f", t={times[0]:.6g}..{times[-1]:.6g}" if len(times) else ""
+        c = self.container
+        where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
+        return (f"Frames(n={self.n}, frames={len(times)}{span}{where}, "
+                f"events={len(self.events)})")
 
     @property
     def n(self) -> int:
@@ -81,6 +88,21 @@ class Frames:
         """Edge of the periodic box [length], or ``None`` (not periodic)."""
         c = self.container
         return c.length if c is not None and c.periodic else None  # type: ignore[attr-defined]
+
+    def unwrapped(self) -> np.ndarray:
+        """``(F, N, 3)`` unwrapped centres ``positions + images * box`` [length].
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box, or a file without images.
+        """
+        from .containers import PeriodicBoxRequired
+
+        box = self.box
+        if box is None or self.images is None:
+            raise PeriodicBoxRequired(
+                "unwrapped positions need image counts: a periodic-box run recorded "
+                "with GSDWriter or frames_from_simulation (XYZ files carry none)")
+        return self.positions + self.images * box
 
     # the events' columns by their older names
     @property
@@ -129,6 +151,31 @@ class Frames:
         else:
             pos = self.positions if positions is None else positions
             r = float(np.max(self.radii)) if len(self.radii) else 0.0
-            e = float(np.max(np.abs(pos))) + r if np.size(pos) else 1.0
+            if not np.size(pos):
+                e = 1.0
+            elif cover == "cube":
+                e = float(np.max(np.abs(pos))) + r
+            else:
+                e = float(np.max(np.linalg.norm(pos, axis=-1))) + r
         return e if np.isfinite(e) and e > 0 else 1.0
 
+
+def frame_indices(n_frames, n_spheres, max_frames=600, max_values=12_000_000):
+    """Indices of the frames the viewer keeps: evenly spaced, first and last kept.
+
+    At most ``max_frames`` frames, and at most ``max_values`` embedded numbers
+    (``frames * spheres * 4``: a position and a speed, 4 bytes each), but never
+    fewer than two frames when there are two.
+
+    >>> frame_indices(5, 10).tolist()
+    [0, 1, 2, 3, 4]
+    >>> frame_indices(1001, 10, max_frames=3).tolist()
+    [0, 500, 1000]
+    """
+    if n_frames <= 0:
+        return np.zeros(0, np.int64)
+    cap = min(int(max_frames), int(max_values) // max(1, 4 * n_spheres))
+    cap = max(cap, min(2, n_frames))
+    if n_frames <= cap:
+        return np.arange(n_frames)
+    return np.unique(np.round(np.linspace(0, n_frames - 1, cap)).astype(np.int64))

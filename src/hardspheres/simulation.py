@@ -27,7 +27,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .containers import Container, as_container
+from .containers import Container, as_container, require_periodic
 from .engine import CheckpointError, Engine
 from .events import EventKind, StopReason
 from .fileio import atomic_write
@@ -56,6 +56,8 @@ class Event(NamedTuple):
         j: the other sphere of a collision, ``-1`` for a reflection.
         impulse: magnitude of the momentum sphere ``i`` received
             [mass*length/time].
+        dp: the momentum sphere ``i`` received, ``(dpx, dpy, dpz)``
+            [mass*length/time] (sphere ``j`` received minus this).
     """
 
     time: float
@@ -63,6 +65,7 @@ class Event(NamedTuple):
     i: int
     j: int
     impulse: float
+    dp: tuple = (0.0, 0.0, 0.0)
 
 
 class Simulation:
@@ -76,6 +79,14 @@ class Simulation:
         window: simultaneity window [time]: events less than this after
             the previous one happen at its time (the assignment's program
             uses 1e-8 s; 0, the default, keeps exact times).
+
+    Attributes:
+        container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
+        names: the spheres' names, in input order.
+        observables: :class:`hardspheres.Observables`, time averages since
+            its last ``reset()`` (pressure, ``Z``, collision rate, ...).
+        writers: objects called as the simulation runs (e.g.
+            :class:`hardspheres.GSDWriter`); append to this list.
 
     Raises:
         ScenarioError: a mass, radius, position or velocity that is not a
@@ -96,8 +107,13 @@ class Simulation:
         #: of events; :meth:`request_stop` sets it.
         self.stop_requested = False
         _check_inside(state, container)
+        # the unwrapped centres (positions + images * L) are kept in a periodic box
+        images = container.image_counts(state.positions)
+        if state.images is not None:
+            images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
         self._engine = Engine(state.masses, state.radii, container.wrap(state.positions),
                               state.velocities, container, window=window, time=state.time)
+        self._engine.img[:] = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
@@ -182,10 +198,10 @@ class Simulation:
                     events: int | None = None) -> Iterator[Event]:
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
-            for t, k, i, j, imp in zip(ev["time"].tolist(), ev["kind"].tolist(),
-                                       ev["i"].tolist(), ev["j"].tolist(),
-                                       ev["impulse"].tolist()):
-                yield Event(t, KINDS[k], i, j, imp)
+            for t, k, i, j, imp, dp in zip(ev["time"].tolist(), ev["kind"].tolist(),
+                                           ev["i"].tolist(), ev["j"].tolist(),
+                                           ev["impulse"].tolist(), ev["dp"].tolist()):
+                yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
     def _chunks(self, until, collisions, events, record):
         if until is None and collisions is None and events is None:
@@ -207,10 +223,15 @@ class Simulation:
         keep = record
         record = record or bool(listeners)
         by_count = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
+        obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self.stop_requested:
             stop = until
             for w in self.writers:
                 stop = min(stop, w.next_time)
+            # the observables sample their tallies (for error bars) on a time grid
+            sampling = obs.next_sample <= stop and not eng.idle
+            if sampling:
+                stop = obs.next_sample
             step = min(ev_left, 1 << 16)
             c0 = eng.counters["collisions"]
             budget = coll_left
@@ -232,6 +253,8 @@ class Simulation:
             if eng.last_reason == StopReason.UNTIL:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
+                if sampling:
+                    obs._sample()
                 for w in self.writers:
                     if w.next_time <= stop:
                         w.write(self, w.next_time)
@@ -246,13 +269,24 @@ class Simulation:
         self.stop_requested = True
 
     # ---- state -----------------------------------------------------------------
-    def state(self, time: float | None = None) -> State:
+    def state(self, time: float | None = None, unwrapped: bool = False) -> State:
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
 
         Positions are advanced exactly along each sphere's line from its
-        last event; in a periodic box they are wrapped into the box.  It
-        never runs the simulation: for a later time, :meth:`run` to it first.
+        last event; in a periodic box they are wrapped into the box, and
+        ``State.images`` holds each sphere's exact count of box crossings.
+        It never runs the simulation: for a later time, :meth:`run` to it first.
+
+        Args:
+            unwrapped: positions not wrapped into the box (periodic box
+                only): where each sphere would be had the box no edges,
+                for displacements and diffusion.
+
+        Raises:
+            PeriodicBoxRequired: ``unwrapped`` in a spherical container.
         """
+        if unwrapped:
+            require_periodic(self.container, "unwrapped positions")
         t = self.time if time is None else _number(time, "time", "a finite time [time]")
         if t > self.time:
             raise ValueError(f"time {t} is after the simulation's clock ({self.time}); "
@@ -261,8 +295,18 @@ class Simulation:
             raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
                              "the past is not kept: ask for states as you run")
         eng = self._engine
-        return State(eng.mass.copy(), eng.rad.copy(), eng.positions_at(t), eng.vel.copy(),
-                     list(self.names), t)
+        periodic = self.container.periodic
+        if periodic:
+            # the images of the stored centres, then of the ones wrapped into the box
+            raw = eng.unwrapped_at(t)
+            pos = eng.positions_at(t)
+            images = np.rint((raw - pos) / eng.box).astype(np.int64)
+            if unwrapped:
+                pos = raw
+        else:
+            pos, images = eng.positions_at(t), None
+        return State(eng.mass.copy(), eng.rad.copy(), pos, eng.vel.copy(),
+                     list(self.names), t, images)
 
     # ---- checkpoints ---------------------------------------------------------
     def save(self, path: str | os.PathLike) -> None:
@@ -287,6 +331,9 @@ class Simulation:
                      version=np.array(CHECKPOINT_VERSION),
                      names=np.array(self.names, dtype=str).reshape(-1),
                      obs=np.array(self.observables._mark, dtype=np.float64),
+                     obs_samples=np.array(self.observables._samples, dtype=np.float64),
+                     obs_every=np.array([self.observables.every,
+                                         self.observables.next_sample]),
                      clock=np.array(self._clock),
                      **self._engine.checkpoint())
 
@@ -307,6 +354,8 @@ class Simulation:
         sim = cls.__new__(cls)
         names = data.pop("names", None)
         mark = data.pop("obs", None)
+        samples = data.pop("obs_samples", None)
+        every = data.pop("obs_every", None)
         clock = data.pop("clock", None)
         try:
             sim._engine = Engine.restore(data)  # it reads and checks the container
@@ -328,7 +377,16 @@ class Simulation:
         sim.stop_requested = False
         sim._clock = float(clock)
         sim.observables = Observables(sim)
-        sim.observables._mark = tuple(mark.tolist())
+        if len(mark) == len(sim.observables._mark):  # else an older layout: start afresh
+            obs = sim.observables
+            obs._mark = tuple(mark.tolist())
+            obs._samples = [obs._mark]
+            if (samples is not None and every is not None and samples.ndim == 2
+                    and samples.shape[1] == len(mark) and samples.shape[0] >= 1
+                    and np.all(np.isfinite(samples)) and every.shape == (2,)
+                    and every[0] > 0):
+                obs._samples = [tuple(r) for r in samples.tolist()]
+                obs.every, obs.next_sample = every.tolist()
         if n:
             worst = eng.max_overlap()
             if not worst <= 1e-6 or eng.outside(tol=1e-6):

@@ -13,7 +13,10 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
 * ``configuration/step``: the frame's index; ``configuration/box``: the
   periodic box ``[L, L, L, 0, 0, 0]``, or for the spherical container the
   cube ``2R`` that encloses it (not periodic: switch periodicity off in OVITO);
-* ``particles/position``, ``particles/velocity`` (float64); in the first
+* ``particles/position``, ``particles/velocity`` (float64);
+  ``particles/image`` (periodic box: the exact count of box crossings, so
+  ``position + image * L`` is the unwrapped centre; ``log/hardspheres/images``
+  in the first frame says the file has them); in the first
   frame only (readers take later frames' values from it): ``mass``,
   ``diameter`` (twice the radius), one type ``"sphere"``;
 * ``log/hardspheres/time`` [time]; ``log/hardspheres/container_radius`` or
@@ -272,6 +275,10 @@ class GSDWriter(_FrameWriter):
         f.particles.N = state.n
         f.particles.position = state.positions
         f.particles.velocity = state.velocities
+        if state.images is not None:
+            f.particles.image = state.images.astype(np.int32)
+            if self._count == 0:  # marks files that carry images (all zero is not stored)
+                f.log["hardspheres/images"] = np.array([1], np.int8)
         if self._count == 0:
             f.particles.types = ["sphere"]
             f.particles.typeid = np.zeros(state.n, dtype=np.uint32)
@@ -441,11 +448,12 @@ def _read_gsd(path):
         if len(names) != n:
             names = [f"s{i}" for i in range(n)]
         container = from_fields(log)
-        times, pos, vel, events = [], [], [], []
+        times, pos, vel, events, images = [], [], [], [], []
         for f in traj:
             times.append(float(f.log["hardspheres/time"][0]))
             pos.append(np.asarray(f.particles.position, dtype=np.float64).reshape(n, 3))
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
+            images.append(np.asarray(f.particles.image, dtype=np.int64).reshape(n, 3))
             ev = _gsd_events(f.log)
             if ev is not None:
                 events.append(ev)
@@ -456,7 +464,9 @@ def _read_gsd(path):
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, events=_concat(events))
+                      container=container, events=_concat(events),
+                      images=(np.array(images).reshape(-1, n, 3)
+                              if container.periodic and "hardspheres/images" in log else None))
 
 
 def _xyz_keys(comment):
@@ -517,6 +527,7 @@ class FrameRecorder(_FrameWriter):
         self._pos: list[np.ndarray] = []
         self._vel: list[np.ndarray] = []
         self._ev: list[np.ndarray] = []
+        self._img: list[np.ndarray | None] = []
 
     def _start(self, sim):
         self._sim = sim
@@ -526,6 +537,7 @@ class FrameRecorder(_FrameWriter):
         self._pos.append(state.positions)
         self._vel.append(state.velocities)
         self._ev.append(events)
+        self._img.append(state.images)
         self._state = state
 
     def frames(self):
@@ -535,7 +547,9 @@ class FrameRecorder(_FrameWriter):
         return Frames(np.array(self._times), np.array(self._pos).reshape(-1, n, 3),
                       np.array(self._vel).reshape(-1, n, 3), st.radii.copy(),
                       st.masses.copy(), list(st.names), container=sim.container,
-                      events=_concat(self._ev))
+                      events=_concat(self._ev),
+                      images=(np.array(self._img).reshape(-1, n, 3)
+                              if sim.container.periodic else None))
 
 
 def frames_from_simulation(sim, until: float, every: float) -> Frames:
