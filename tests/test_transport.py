@@ -1,6 +1,5 @@
 """Transport: MSD and VACF over all time origins, D, Yeh-Hummer, bad input."""
 
-import dataclasses
 import math
 
 import numpy as np
@@ -57,8 +56,8 @@ def test_diffusion_two_routes_agree(fluid):
 
 def test_vacf_refuses_coarse_frames(fluid):
     fr, _, _ = fluid
-    coarse = dataclasses.replace(fr, times=fr.times[::5], positions=fr.positions[::5],
-                                 velocities=fr.velocities[::5], images=fr.images[::5])
+    coarse = fr.replace(times=fr.times[::5], positions=fr.positions[::5],
+                        velocities=fr.velocities[::5], images=fr.images[::5])
     with pytest.raises(ValueError, match="frames"):
         VACF().compute(coarse).diffusion()
 

@@ -9,6 +9,7 @@ the frames they draw with :func:`frame_indices`.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -77,6 +78,25 @@ class Frames:
         where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
         return (f"Frames(n={self.n}, frames={len(times)}{span}{where}, "
                 f"events={len(self.events)})")
+
+    def replace(self, **changes) -> Frames:
+        """A copy with some attributes replaced (as ``dataclasses.replace`` did).
+
+        Example:
+            >>> f = Frames([0.0, 1.0], np.zeros((2, 1, 3)), np.zeros((2, 1, 3)), [1.0], [1.0], ["a"])
+            >>> f.replace(times=f.times[::2], positions=f.positions[::2],
+            ...           velocities=f.velocities[::2]).times.tolist()
+            [0.0]
+        """
+        args: dict[str, Any] = dict(
+                    times=self.times, positions=self.positions, velocities=self.velocities,
+                    radii=self.radii, masses=self.masses, names=self.names,
+                    container=self.container, events=self.events, images=self.images)
+        unknown = set(changes) - set(args)
+        if unknown:
+            raise ValueError(f"Frames has no attribute {sorted(unknown)[0]!r} to replace")
+        args.update(changes)
+        return Frames(**args)
 
     @property
     def n(self) -> int:
