@@ -99,11 +99,19 @@ _inline = _compiler(inline="always")
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
 _kernel = _compiler(inline="always")
-pair_time = _kernel(physics.pair_time)
 pair_time_within = _kernel(physics.pair_time_within)
+
+
+@_kernel
+def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
+    """physics.pair_time (whose call of pair_time_within numba cannot follow)."""
+    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, np.inf)
+
+
 wall_time = _kernel(physics.wall_time)
 collide = _kernel(physics.collide)
 reflect = _kernel(physics.reflect)
+frozen_limit_of = _kernel(physics.frozen_limit)
 
 #: Event kinds (also the tie order at equal times).
 WALL = 0
@@ -139,7 +147,12 @@ C_WALL = 2       # reflections processed
 C_CROSS = 3      # cell crossings processed
 C_STALE = 4      # stale predictions discarded
 C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
-C_NC_ = 6
+C_FROZEN = 6     # collisions and reflections in a row at the anchor's instant
+C_NC_ = 7
+
+# stop reasons of run() beyond 0..3 (see its docstring)
+STOP_FROZEN = 4
+STOP_SLIDING = 5
 
 
 # ---- the calendar: an indexed binary heap over spheres -------------------------
@@ -375,16 +388,22 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         # the same expressions, combined without branches (half
                         # the pairs recede, at random, and a branch on that
                         # mispredicts half the time): a pair they reject is
-                        # inf for it too.  The rest, NaNs and tiny speeds
-                        # (which it rescales) go through it.
+                        # inf for it too.  The rest, NaNs and the pairs it
+                        # rescales (|dv|^2 |dr|^2 out of range) go through it.
+                        # The miss test is b^2 - a c < 0 by a margin that
+                        # covers its rounding and that of the kernel's own
+                        # discriminant (physics.MISS_MARGIN).
                         b = dx * dvx + dy * dvy + dz * dvz
                         a = dvx * dvx + dvy * dvy + dvz * dvz
-                        cc = (dx * dx + dy * dy + dz * dz) - sigma * sigma
+                        r2 = dx * dx + dy * dy + dz * dz
+                        cc = r2 - sigma * sigma
+                        ar2 = a * r2
                         recede = b >= 0.0
                         beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
                         touch = cc <= 0.0
-                        miss = b * b - a * cc <= 0.0
-                        if (a < physics.TINY_V2) | ((recede ^ True) & (
+                        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
+                        inrange = (ar2 >= physics.RANGE_LO) & (ar2 <= physics.RANGE_HI)
+                        if (inrange ^ True) | ((recede ^ True) & (
                                 touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
@@ -529,8 +548,21 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
 
     Returns:
         ``(recorded, reason)``: reason 0 = ``until`` reached (or nothing will
-        ever happen), 1 = ``max_events``, 2 = ``max_collisions``,
-        3 = record full.
+        ever happen, or ``until`` is NaN), 1 = ``max_events``, 2 =
+        ``max_collisions``, 3 = record full, 4 (:data:`STOP_FROZEN`) = the
+        next collision or reflection would be one more than
+        ``physics.frozen_limit(N)`` in a row at one instant, 5
+        (:data:`STOP_SLIDING`) = the next event is a reflection that would
+        not change the velocity (a sphere at the wall moving along it).
+        For 4 and 5 the event is left pending and sphere ``heap[0]`` is the
+        one involved.
+
+    The simultaneity window is applied when a prediction is made, with
+    the anchor of that time: so all spheres with an event in the window
+    are predicted afresh (:func:`refresh_window`) when the anchor moves,
+    and only then; an event at the anchor's own instant leaves every other
+    prediction as valid as it was, and only the spheres it touched are
+    predicted again.
     """
     n = S.shape[0]
     if n == 0:
@@ -541,6 +573,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
     cap = rec_t.shape[0]
     done = 0
     coll0 = c[C_COLL]
+    frozen_limit = frozen_limit_of(n)
     while True:
         if done >= max_events:
             return done, 1
@@ -550,7 +583,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             return done, 3
         i = heap[0]
         te = HT[0]
-        if te > until or te == np.inf:
+        if not te <= until or te == np.inf:  # NaN `until` too
             return done, 0
         if HKEY[0] != K[i, EV_KEY]:
             # leaving the cell: not an event of the physics (the clock
@@ -591,7 +624,16 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
                 c[C_STALE] += 1
                 stale = True
                 tp = f[F_CLOCK]
+        anchor = f[F_ANCHOR]
+        if not stale and kind != NONE:
+            # a collision or reflection: count those in a row at one instant
+            if te == anchor:
+                if c[C_FROZEN] >= frozen_limit:
+                    return done, STOP_FROZEN
+            else:
+                c[C_FROZEN] = 0
         if kind == COLLISION and not stale:
+            c[C_FROZEN] += 1
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
             _advance(S, i, te)
@@ -629,11 +671,19 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             rec_imp[done] = -mass[a] * k1 * np.sqrt(d2)
             done += 1
         elif kind == WALL:
+            clock0 = f[F_CLOCK]
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
             _advance(S, i, te)
             px, py, pz = S[i, X], S[i, Y], S[i, Z]
             k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
+            if k == 0.0:
+                # nothing would change, and the same reflection would come
+                # again: not an event (the clock keeps its time)
+                f[F_CLOCK] = clock0
+                f[F_ANCHOR] = anchor
+                return done, STOP_SLIDING
+            c[C_FROZEN] += 1
             S[i, VX] -= k * px
             S[i, VY] -= k * py
             S[i, VZ] -= k * pz
@@ -657,7 +707,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             _schedule(heap, HT, HKEY, T, K, x)
         if stale:
             continue
-        if window > 0.0:
+        if window > 0.0 and te != anchor:
             refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
 
 

@@ -10,6 +10,7 @@ import os
 
 from . import reference
 from .report import JSONLReport, TextReport
+from .scenario import StuckError
 
 #: Up to this many spheres the reference loop runs (its O(N^2) prediction
 #: per event costs less than loading the compiled core).
@@ -28,7 +29,18 @@ def write_report(scn, container, end, out, fmt="text"):
     """Simulate ``scn`` in a sphere of radius ``container`` until ``end``, writing the report.
 
     ``fmt`` is ``"text"`` (the assignment's layout) or ``"jsonl"``.
+
+    Raises:
+        StuckError: the run cannot go on (naming the sphere); the events
+            before are written.
     """
+    try:
+        _write_events(scn, container, end, out, fmt)
+    except StuckError as e:
+        raise e.named(scn.names) from None
+
+
+def _write_events(scn, container, end, out, fmt):
     rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
     p, v = scn.positions, scn.velocities
     rep.initial(container, end, p, v)

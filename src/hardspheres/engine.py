@@ -8,6 +8,7 @@ benchmark all go through it.
 import numpy as np
 
 from . import _core as core
+from .scenario import StuckError
 
 #: Default number of events the core records per call.
 CHUNK = 1 << 14
@@ -142,7 +143,15 @@ class Engine:
             A dict of arrays ``t`` [time], ``kind`` (0 reflection,
             1 collision), ``i``, ``j`` (``-1`` for reflections), ``impulse``
             [mass*length/time] of the events processed, in order.
+
+        Raises:
+            ValueError: ``until`` is NaN.
+            StuckError: the next event would repeat without end (a sphere
+                sliding along the wall, or a frozen clock).  Events before
+                it are returned first, and the call after raises.
         """
+        if until != until:
+            raise ValueError("until must be a time, not NaN")
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
         chunks = []
@@ -165,6 +174,12 @@ class Engine:
                 chunks[-1][0] += self.offset
             if self._since_rebase >= rebase_due:
                 self._rebase()
+            if reason == core.STOP_FROZEN or reason == core.STOP_SLIDING:
+                if done_total == 0:
+                    self.last_reason, self.last_done = reason, 0
+                    raise StuckError("frozen" if reason == core.STOP_FROZEN else "sliding",
+                                     float(self.offset + self.HT[0]), int(self.heap[0]))
+                break  # the events before it first; the next call raises
             if reason == 0 or reason == 2:
                 break
             if reason == 1 and done_total >= max_events:
@@ -196,6 +211,8 @@ class Engine:
         eng = cls.__new__(cls)
         for k in cls._SAVED:
             setattr(eng, k, np.array(data[k]))
+        if eng.c.shape[0] < core.C_NC_:  # saved before the frozen-clock counter
+            eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)

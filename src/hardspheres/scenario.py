@@ -15,6 +15,8 @@ Pure Python (no numpy), so that the assignment's program starts fast.
 import math
 from dataclasses import dataclass, field
 
+from .physics import reflect, wall_time
+
 #: Relative tolerance for "touching within rounding": two spheres overlap only
 #: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
 #: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
@@ -38,6 +40,42 @@ class ScenarioError(ValueError):
     def __init__(self, message, line=None):
         self.line = line
         super().__init__(f"line {line}: {message}" if line is not None else message)
+
+
+class StuckError(ScenarioError):
+    """A run that cannot go on: its next event would repeat without end.
+
+    Raised by both engines, with the run stopped before that event (the
+    spheres stay where they are, at the last event's time).
+
+    Attributes:
+        reason: ``"sliding"`` (a sphere touching the wall moves along it: its
+            reflection would change nothing and come again at once) or
+            ``"frozen"`` (the clock stopped advancing: more than
+            :func:`hardspheres.physics.frozen_limit` collisions and
+            reflections in a row at one instant).
+        time: the instant [time].
+        sphere: index of a sphere involved (the one at the wall).
+    """
+
+    def __init__(self, reason, time, sphere, names=None):
+        self.reason, self.time, self.sphere = reason, time, sphere
+        who = repr(names[sphere]) if names is not None else f"#{sphere}"
+        if reason == "sliding":
+            message = (f"at t = {time:.6g} sphere {who} touches the container wall and moves "
+                       "along it: it would slide along the wall, which point reflections "
+                       "cannot model (its reflection would change nothing and repeat "
+                       "forever); give it a velocity component off the wall")
+        else:
+            message = (f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
+                       "the collisions and reflections at that instant do not end, as for a "
+                       "light sphere trapped between a wall and a much heavier sphere "
+                       "(within the simultaneity window); outside what the model resolves")
+        super().__init__(message)
+
+    def named(self, names):
+        """The same error, naming the sphere by ``names``."""
+        return StuckError(self.reason, self.time, self.sphere, names)
 
 
 @dataclass
@@ -147,7 +185,10 @@ def check_scenario(scn, container):
         container: radius of the spherical container [length].
 
     Raises:
-        ScenarioError: naming the first offending line.
+        ScenarioError: naming the first offending line: a sphere outside,
+            a pair overlapping, or a sphere touching the wall and moving
+            along it (its reflection would change nothing: see
+            :class:`StuckError`).
     """
     slack = TOUCH_TOL * container
     for i, (p, r, v) in enumerate(zip(scn.positions, scn.radii, scn.velocities)):
@@ -160,6 +201,13 @@ def check_scenario(scn, container):
             raise ScenarioError(
                 f"sphere {scn.names[i]!r} fills the container and cannot move; "
                 "give it zero velocity or a smaller radius", scn.lines[i])
+        if (wall_time(*p, *v, container - r) == 0.0
+                and reflect(*p, *v) == 0.0):
+            raise ScenarioError(
+                f"sphere {scn.names[i]!r} touches the container wall and moves along it "
+                "(velocity perpendicular to its position): it would slide along the "
+                "wall, which point reflections cannot model; give it a velocity "
+                "component off the wall or move it inward", scn.lines[i])
     pair = find_overlap(scn.positions, scn.radii)
     if pair is not None:
         i, j = pair
