@@ -138,7 +138,9 @@ F_W = 5          # cell width
 F_WINDOW = 6     # simultaneity window
 F_WALL_IMPULSE = 7   # sum of impulse magnitudes delivered to the wall
 F_VIRIAL = 8         # sum over collisions of r_ij . dp_i
-F_NF = 9
+F_OFFSET = 9         # absolute time of the time origin (the engine's offset)
+F_STREAK = 10        # time of the first event of the current C_FROZEN streak
+F_NF = 11
 
 # indices into the int64 array `c` of counters
 C_NC = 0         # cells per axis
@@ -147,8 +149,9 @@ C_WALL = 2       # reflections processed
 C_CROSS = 3      # cell crossings processed
 C_STALE = 4      # stale predictions discarded
 C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
-C_FROZEN = 6     # collisions and reflections in a row at the anchor's instant
-C_NC_ = 7
+C_FROZEN = 6     # collisions and reflections in a row with the clock not advancing
+C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
+C_NC_ = 8
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = 4
@@ -529,6 +532,7 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
         i = stack[n + q]
         if K[i, FRESH] != serial:
             K[i, FRESH] = serial
+            c[C_REFRESHED] += 1
             predict(S, K, T, head, nxt, f, c, i, t)
             _schedule(heap, HT, HKEY, T, K, i)
 
@@ -551,7 +555,8 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
         ever happen, or ``until`` is NaN), 1 = ``max_events``, 2 =
         ``max_collisions``, 3 = record full, 4 (:data:`STOP_FROZEN`) = the
         next collision or reflection would be one more than
-        ``physics.frozen_limit(N)`` in a row at one instant, 5
+        ``physics.frozen_limit(N)`` in a row with the clock not advancing
+        (by more than ``physics.FROZEN_RELATIVE`` of its value), 5
         (:data:`STOP_SLIDING`) = the next event is a reflection that would
         not change the velocity (a sphere at the wall moving along it).
         For 4 and 5 the event is left pending and sphere ``heap[0]`` is the
@@ -626,12 +631,14 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
                 tp = f[F_CLOCK]
         anchor = f[F_ANCHOR]
         if not stale and kind != NONE:
-            # a collision or reflection: count those in a row at one instant
-            if te == anchor:
+            # a collision or reflection: count those in a row during which
+            # the clock has not advanced (physics.FROZEN_RELATIVE)
+            if te - f[F_STREAK] <= physics.FROZEN_RELATIVE * abs(te + f[F_OFFSET]):
                 if c[C_FROZEN] >= frozen_limit:
                     return done, STOP_FROZEN
             else:
                 c[C_FROZEN] = 0
+                f[F_STREAK] = te
         if kind == COLLISION and not stale:
             c[C_FROZEN] += 1
             f[F_CLOCK] = te
@@ -738,6 +745,8 @@ def rebase(S, T, HT, f):
         T[i, CR_T] -= t
         HT[i] -= t
     f[F_ANCHOR] -= t
+    f[F_STREAK] -= t
+    f[F_OFFSET] += t
     f[F_CLOCK] = 0.0
     return t
 

@@ -66,6 +66,7 @@ class Engine:
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
+        self.f[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
         self.f[core.F_WINDOW] = window
         self.container = None if container is None else float(container)
         self.box = None if box is None else float(box)
@@ -211,8 +212,12 @@ class Engine:
         eng = cls.__new__(cls)
         for k in cls._SAVED:
             setattr(eng, k, np.array(data[k]))
-        if eng.c.shape[0] < core.C_NC_:  # saved before the frozen-clock counter
+        if eng.c.shape[0] < core.C_NC_:  # saved before the last two counters
             eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
+        if eng.f.shape[0] < core.F_NF:  # saved before the frozen-clock streak
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
+            eng.f[core.F_OFFSET] = offset
+            eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -226,22 +231,33 @@ class Engine:
         return eng
 
     # ---- state ------------------------------------------------------------
-    def positions_at(self, t=None, out=None):
+    def positions_at(self, t=None, out=None, spheres=None):
         """Centres of all spheres at absolute time ``t`` (default: now) [length].
 
-        In a periodic box the centres are wrapped into the box.
+        In a periodic box the centres are wrapped into the box.  With
+        ``spheres`` (indices), only their rows of ``out`` are filled (the
+        same bits), in time independent of the number of spheres.
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
+        if spheres is not None and self.box is None:
+            t -= self.offset
+            for k in spheres:  # a few: Python floats beat numpy's set-up
+                x, y, z, vx, vy, vz, tk = self.S[k, :7].tolist()
+                dt = t - tk
+                out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
+            return out
         core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
         return out
 
     @property
     def counters(self):
-        """Dict of event counts: collisions, reflections, crossings, stale."""
+        """Dict of event counts: collisions, reflections, crossings, stale
+        (predictions dropped), refreshed (made afresh by the window rule)."""
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
-                "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
+                "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE]),
+                "refreshed": int(c[core.C_REFRESHED])}
 
     @property
     def wall_impulse(self):
