@@ -151,7 +151,7 @@ class Engine:
                 sliding along the wall, or a frozen clock).  Events before
                 it are returned first, and the call after raises.
         """
-        if until != until:
+        if np.isnan(until):
             raise ValueError("until must be a time, not NaN")
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
@@ -216,7 +216,7 @@ class Engine:
             eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
         if eng.f.shape[0] < core.F_NF:  # saved before the frozen-clock streak
             eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
-            eng.f[core.F_OFFSET] = offset
+            eng.f[core.F_OFFSET] = float(data["meta"][0])  # the saved offset
             eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset

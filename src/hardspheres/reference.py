@@ -31,8 +31,15 @@ And two of the model's own (both engines stop the same way, with
 Pure Python floats throughout (no numpy): see :mod:`hardspheres.physics`.
 """
 
-from .physics import (FROZEN_RELATIVE, INF, collide, frozen_limit, pair_time, reflect,
-                      wall_time)
+from .physics import (
+    FROZEN_RELATIVE,
+    INF,
+    collide,
+    frozen_limit,
+    pair_time,
+    reflect,
+    wall_time,
+)
 from .scenario import StuckError
 
 #: Events closer than this to the current time happen now [time].
