@@ -30,9 +30,14 @@ Lubachevsky, as in the fastest public codes):
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first.  With a simultaneity ``window > 0`` (the
   assignment's 1e-8 s), events less than ``window`` after the last one
-  happen *at* its time, and after each event every sphere whose event falls
-  in the window is predicted afresh (:func:`refresh_window`), so the tie
-  order decides among them exactly as in the reference.
+  happen *at* its time, and whenever that time (the anchor) moves, every
+  sphere whose event falls in the new window is predicted afresh
+  (:func:`refresh_window`), so the tie order decides among them exactly as
+  in the reference.  An event at the anchor's own instant changes no other
+  prediction: only the spheres it touched are predicted again.
+* **Events that would not end** stop the loop (see :func:`run`): a
+  reflection that would change nothing, and a clock that does not advance
+  over ``physics.frozen_limit(N)`` collisions and reflections.
 * **Time origin.**  :func:`rebase` moves the time origin to the clock, so
   long runs keep the precision of short ones.
 """
