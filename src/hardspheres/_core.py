@@ -410,8 +410,10 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
                         touch = cc <= 0.0
                         miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
-                        inrange = (ar2 >= physics.RANGE_LO) & (ar2 <= physics.RANGE_HI)
-                        if (inrange ^ True) | ((recede ^ True) & (
+                        # (past RANGE_HI no test here rejects wrongly: an
+                        # overflow makes them false, or NaN, so the kernel
+                        # decides; below RANGE_LO, b may underflow)
+                        if (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
                                 touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
