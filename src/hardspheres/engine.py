@@ -17,6 +17,16 @@ CHUNK = 1 << 14
 REBASE_EVERY = 64
 
 
+class CheckpointError(ValueError):
+    """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
+
+
+def _record():
+    """The arrays the core records events into (t, kind, i, j, impulse, impulse vector)."""
+    return [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
+            np.zeros(CHUNK, np.int64), np.zeros(CHUNK), np.zeros((CHUNK, 3))]
+
+
 class Engine:
     """Exact event-driven dynamics of hard spheres, compiled.
 
@@ -63,6 +73,7 @@ class Engine:
         self.HT = np.zeros(n)
         self.HKEY = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
+        self.img = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -71,8 +82,7 @@ class Engine:
         self.container = None if container is None else float(container)
         self.box = None if box is None else float(box)
         self._grid(n)
-        self._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                     np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        self._rec = _record()
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = 0, 0
@@ -119,6 +129,8 @@ class Engine:
     def _build(self):
         core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
                    self.HT, self.HKEY, self.f, self.c)
+        self.f[core.F_T_KIN] = self.f[core.F_CLOCK]
+        core.kinetic_sums(self.S, self.mass, self.f)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -143,7 +155,8 @@ class Engine:
         Returns:
             A dict of arrays ``t`` [time], ``kind`` (0 reflection,
             1 collision), ``i``, ``j`` (``-1`` for reflections), ``impulse``
-            [mass*length/time] of the events processed, in order.
+            [mass*length/time], ``dp`` ``(E, 3)`` the impulse vector on
+            sphere ``i`` [mass*length/time], of the events processed, in order.
 
         Raises:
             ValueError: ``until`` is NaN.
@@ -166,7 +179,7 @@ class Engine:
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
                                     self.prv, self.heap, self.HT, self.HKEY, self.f,
-                                    self.c, self.stack,
+                                    self.c, self.stack, self.img,
                                     until - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -192,10 +205,11 @@ class Engine:
         else:
             cols = [a[:0].copy() for a in rec]
         return {"t": cols[0], "kind": cols[1], "i": cols[2], "j": cols[3],
-                "impulse": cols[4]}
+                "impulse": cols[4], "dp": cols[5]}
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
+              "img")
 
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -208,16 +222,22 @@ class Engine:
 
     @classmethod
     def restore(cls, data):
-        """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state."""
+        """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state.
+
+        Every array is checked first (:func:`check_arrays`): the compiled
+        core trusts its indices, so a damaged file must not reach it.
+
+        Raises:
+            CheckpointError: an array is missing or inconsistent.
+        """
+        check_arrays(data)
         eng = cls.__new__(cls)
         for k in cls._SAVED:
+            if k == "img" and k not in data:  # checkpoints from before image counts
+                data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
             setattr(eng, k, np.array(data[k]))
         if eng.c.shape[0] < core.C_NC_:  # saved before the last two counters
             eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
-        if eng.f.shape[0] < core.F_NF:  # saved before the frozen-clock streak
-            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
-            eng.f[core.F_OFFSET] = float(data["meta"][0])  # the saved offset
-            eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -225,8 +245,16 @@ class Engine:
         eng.container = None if np.isnan(container) else container
         eng.box = None if np.isnan(box) else box
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
-        eng._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                    np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        eng._rec = _record()
+        saved = eng.f.shape[0]
+        if saved < core.F_NF:  # checkpoints from before the last scalars
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - saved)])
+        if saved <= core.F_T_KIN:  # before the transport tallies
+            eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
+            core.kinetic_sums(eng.S, eng.mass, eng.f)
+        if saved <= core.F_OFFSET:  # before the frozen-clock streak
+            eng.f[core.F_OFFSET] = offset
+            eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
         eng.last_reason, eng.last_done = 0, 0
         return eng
 
@@ -250,6 +278,24 @@ class Engine:
         core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
         return out
 
+    def unwrapped_at(self, t=None, out=None):
+        """Unwrapped centres at absolute time ``t`` (default: now) [length].
+
+        Periodic box: the centre in the box plus ``images * box``, with
+        :attr:`img` the exact count of box crossings of each sphere; in a
+        spherical container the same as :meth:`positions_at`.
+        """
+        t = self.time if t is None else t
+        out = np.empty((self.n, 3)) if out is None else out
+        core.unwrapped_at(self.S, self.img, t - self.offset, out,
+                          0.0 if self.box is None else self.box)
+        return out
+
+    @property
+    def idle(self):
+        """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
+        return self.n == 0 or not self.HT[0] < np.inf
+
     @property
     def counters(self):
         """Dict of event counts: collisions, reflections, crossings, stale
@@ -258,6 +304,25 @@ class Engine:
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
                 "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE]),
                 "refreshed": int(c[core.C_REFRESHED])}
+
+    def transport_tallies(self, t=None):
+        """The transport tallies at absolute time ``t`` (default: now; periodic box).
+
+        Returns:
+            dict of arrays: ``virial`` (6,) the collisional virial tensor
+            ``sum r_ij dp_i``; ``kinetic`` (6,) ``int sum m v v dt``;
+            ``heat_collisional`` (3,) ``sum r_ij dE_i``; ``heat_kinetic``
+            (3,) ``int sum v E dt``.  Tensors in the order xx yy zz xy xz yz;
+            all summed since the engine was built.
+        """
+        f = self.f
+        dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
+        return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
+                "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
+                            + dt * f[core.F_KIN_T:core.F_KIN_T + 6]),
+                "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
+                "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
+                                 + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}
 
     @property
     def wall_impulse(self):
@@ -287,3 +352,142 @@ class Engine:
     def kinetic_energy(self):
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(0.5 * np.sum(self.mass * np.sum(self.vel ** 2, axis=1)))
+
+
+# ---- checking a checkpoint ------------------------------------------------------
+def _bad(what):
+    raise CheckpointError(f"damaged checkpoint: {what}")
+
+
+def _array(data, key, dtype, shape):
+    if key not in data:
+        _bad(f"no array {key!r}")
+    a = np.asarray(data[key])
+    if a.dtype != dtype or a.shape != shape:
+        _bad(f"{key!r} is {a.dtype}{list(a.shape)}, expected {np.dtype(dtype)}{list(shape)}")
+    return a
+
+
+def check_arrays(data):
+    """Check :meth:`Engine.checkpoint`'s arrays before the compiled core sees them.
+
+    Everything the core indexes with is checked (heap, cell lists, partners,
+    cell coordinates, counters), and everything it computes with is finite
+    where it must be, so that a damaged or crafted file is refused rather
+    than crashing the interpreter or running on NaNs.  O(N).
+
+    Args:
+        data: mapping of array name to array, as :meth:`Engine.checkpoint`
+            returns it (or as read back from a file).
+
+    Raises:
+        CheckpointError: naming the first problem found.
+    """
+    mass = np.asarray(data.get("mass", np.zeros((0, 0))))
+    if mass.ndim != 1:
+        _bad("'mass' is not a list of masses")
+    n = mass.shape[0]
+    _array(data, "mass", np.float64, (n,))
+    S = _array(data, "S", np.float64, (n, 8))
+    K = _array(data, "K", np.int64, (n, core.K_COLS))
+    T = _array(data, "T", np.float64, (n, 2))
+    nxt = _array(data, "nxt", np.int64, (n,))
+    prv = _array(data, "prv", np.int64, (n,))
+    heap = _array(data, "heap", np.int64, (n,))
+    HT = _array(data, "HT", np.float64, (n,))
+    HKEY = _array(data, "HKEY", np.int64, (n,))
+    f = np.asarray(data.get("f", np.zeros(0)))
+    if f.dtype != np.float64 or f.ndim != 1 or not core.F_WINDOW < f.shape[0] <= core.F_NF:
+        _bad(f"'f' is {f.dtype}{list(f.shape)}, expected float64[{core.F_NF}]")
+    if "img" in data:  # periodic image counts, where the core keeps them
+        _array(data, "img", np.int64, (n, 3))
+    if "c" not in data:
+        _bad("no array 'c'")
+    c = np.asarray(data["c"])
+    if c.dtype != np.int64 or c.ndim != 1 or not core.C_SERIAL < c.shape[0] <= core.C_NC_:
+        _bad(f"'c' is {c.dtype}{list(c.shape)}, expected int64[{core.C_NC_}]")
+    meta = _array(data, "meta", np.float64, (5,))
+    nc = int(c[core.C_NC])
+    if not 1 <= nc <= 1 << 10:
+        _bad(f"{nc} cells per axis")
+    head = _array(data, "head", np.int64, (nc ** 3,))
+    # the physical state
+    if not np.all(np.isfinite(mass) & (mass > 0)):
+        _bad("a mass is not a finite number > 0")
+    if not np.all(np.isfinite(S)):
+        _bad("a position, velocity, time or radius is not finite")
+    if np.any(S[:, core.RAD] < 0):
+        _bad("a negative radius")
+    if np.any(np.isnan(T)) or np.any(np.isnan(HT)):
+        _bad("a predicted time is NaN")
+    if not np.all(np.isfinite(f)) or f[core.F_W] <= 0 or f[core.F_WINDOW] < 0:
+        _bad("the scalars (clock, grid, window) are not finite and positive where needed")
+    if np.any(c < 0):
+        _bad("a negative counter")
+    offset, since, rebase_on, container, box = meta.tolist()
+    if not (np.isfinite(offset) and np.isfinite(since) and since >= 0):
+        _bad("the time origin is not finite")
+    if np.isnan(container) == np.isnan(box):
+        _bad("neither or both of container and box")
+    size = box if np.isnan(container) else container
+    if not (np.isfinite(size) and size > 0):
+        _bad("the container size is not a finite number > 0")
+    if (f[core.F_BOX] if np.isnan(container) else f[core.F_CONTAINER]) != size:
+        _bad("the container size disagrees with the core's")
+    if n == 0:
+        if np.any(head != -1):
+            _bad("cells hold spheres that do not exist")
+        return
+    ids = np.arange(n)
+    # cells: coordinates in the grid, and each cell's list holds exactly its spheres
+    cxyz = K[:, core.CX:core.CZ + 1]
+    if np.any((cxyz < 0) | (cxyz >= nc)):
+        _bad("a cell coordinate outside the grid")
+    if np.any(K[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
+        _bad("a cell index disagrees with its coordinates")
+    for name, a in (("head", head), ("nxt", nxt), ("prv", prv)):
+        if np.any((a < -1) | (a >= n)):
+            _bad(f"{name!r} points outside the spheres")
+    seen = np.zeros(n, bool)
+    for cell in np.nonzero(head >= 0)[0].tolist():
+        j, before = int(head[cell]), -1
+        while j >= 0:
+            if seen[j] or K[j, core.CELL] != cell or prv[j] != before:
+                _bad("the cell lists are inconsistent")
+            seen[j] = True
+            before, j = j, int(nxt[j])
+    if not np.all(seen):
+        _bad("a sphere is in no cell list")
+    # the calendar: a heap over all spheres, each entry its sphere's earlier event
+    if not np.array_equal(np.sort(heap), ids) or np.any(K[heap, core.HPOS] != ids):
+        _bad("the event calendar is not a permutation of the spheres")
+    kind, partner = K[:, core.EV_KIND], K[:, core.EV_PARTNER]
+    coll = kind == core.COLLISION
+    if np.any(~np.isin(kind, (core.WALL, core.COLLISION, core.NONE))):
+        _bad("an unknown event kind")
+    if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
+        _bad("a collision partner outside the spheres")
+    lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
+    key = np.where(coll, _key(core.COLLISION, lo, hi, n),
+                   np.where(kind == core.WALL, _key(core.WALL, ids, -1, n),
+                            _key(core.NONE, n, n - 1, n)))
+    if np.any(K[:, core.EV_KEY] != key):
+        _bad("an event key disagrees with its event")
+    code = K[:, core.CR_CODE]
+    if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (T[:, core.CR_T] < np.inf)):
+        _bad("an unknown cell crossing")
+    cross_key = _key(core.CROSS, ids, -1, n)
+    ev_t, cr_t = T[:, core.EV_T], T[:, core.CR_T]
+    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
+    if (np.any(HT[K[:, core.HPOS]] != np.where(first, cr_t, ev_t))
+            or np.any(HKEY[K[:, core.HPOS]] != np.where(first, cross_key, key))):
+        _bad("the event calendar disagrees with the predictions")
+    k = np.arange(1, n)
+    p = (k - 1) >> 1
+    if np.any((HT[k] < HT[p]) | ((HT[k] == HT[p]) & (HKEY[k] < HKEY[p]))):
+        _bad("the event calendar is out of order")
+
+
+def _key(kind, a, b, n):
+    """The core's tie key, on arrays (its Python source, not a second copy)."""
+    return core._key.py_func(kind, a, b, n)

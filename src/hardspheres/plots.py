@@ -1,4 +1,4 @@
-"""Diagnostic plots (PNG, matplotlib Agg, no display needed).
+"""Diagnostic plots (PNG, PDF or SVG by the extension; matplotlib Agg, no display needed).
 
 ::
 
@@ -6,8 +6,12 @@
     plots.plot_conservation(frames, "conservation.png")  # energy, momentum
     plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
+    plots.plot_sweep("study/results.parquet", "Z.png")   # a study, Z against Hansen-Goos
+    plots.plot_gr(frames, "gr.png")                      # g(r), periodic box
+    plots.plot_msd(frames, "msd.png")                    # MSD and D, periodic box
 
-Each function writes a PNG of ``size`` pixels (default 960 x 720) and returns
+Each function writes a PNG of ``size`` pixels (default 960 x 720), or a PDF or
+SVG of the same proportions, as the file name's extension says, and returns
 its path.
 """
 
@@ -16,6 +20,8 @@ import math
 from pathlib import Path
 
 import numpy as np
+
+from .eos import carnahan_starling, hansen_goos
 
 SIZE = (960, 720)
 
@@ -29,20 +35,21 @@ def _figure(size, dpi):
     return fig
 
 
+#: File formats the plots write, by extension (matplotlib's backends).
+FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
 def _save(fig, path, dpi):
+    """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
+    from .fileio import atomic_write
     path = Path(path)
-    fig.savefig(path, dpi=dpi, format="png")
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise ValueError(f"{path.name}: plots are written as {', '.join(FORMATS)}, "
+                         f"not {path.suffix or 'a name without extension'}")
+    with atomic_write(path, "wb") as fh:
+        fig.savefig(fh, dpi=dpi, format=fmt)
     return path
-
-
-def carnahan_starling(phi):
-    """Carnahan-Starling ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.
-
-    >>> round(float(carnahan_starling(0.3)), 4)
-    3.9738
-    """
-    phi = np.asarray(phi, dtype=float)
-    return (1.0 + phi + phi ** 2 - phi ** 3) / (1.0 - phi) ** 3
 
 
 def maxwell_speed_density(v, kT, m):
@@ -264,4 +271,136 @@ def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
     dx.legend(loc="best", fontsize="small")
     dx.set_title("Deviations")
     dx.grid(alpha=0.3)
+    return _save(fig, path, dpi)
+
+
+def read_table(path):
+    """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
+    import pandas as pd
+    path = str(path)
+    try:
+        if path.endswith(".csv"):
+            return pd.read_csv(path)
+        return pd.read_parquet(path)
+    except (OSError, ValueError) as e:
+        if isinstance(e, FileNotFoundError):
+            raise OSError(f"{path}: no such file") from None
+        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError(f"{path}: not a study's results table (.parquet or .csv): "
+                         f"{reason}") from None
+
+
+def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
+    """A study's observable ``y`` against the parameter ``x``, with error bars.
+
+    ``table`` is a study's ``results.parquet`` (one row per run: averaged
+    here over seeds, :func:`hardspheres.studies.summarize`) or its
+    ``summary.parquet`` (or either as ``.csv``).  Points are the means, error
+    bars one standard error; one series per value of the other parameters
+    that vary (N, ratios, container).  For ``Z`` against ``packing`` of
+    equal spheres in a periodic box, the Hansen-Goos (2016) curve is drawn,
+    with Carnahan-Starling dashed, and a lower panel shows ``Z / Z_HG - 1``.
+
+    Args:
+        table: path of the results or summary table.
+        path: the PNG to write.
+        x: a grid parameter (column), e.g. ``packing`` or ``n``.
+        y: a measured observable, e.g. ``Z``.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+
+    Raises:
+        ValueError: a column missing (the message lists those present).
+    """
+    from .studies import GRID, measured, summarize
+    df = read_table(table) if not hasattr(table, "columns") else table
+    if "seed" in df.columns:
+        df = summarize(df)
+    params = [c for c in GRID if c in df.columns and c != "seed"]
+    if x not in params:
+        raise ValueError(f"--x {x!r} is not a parameter of {table} (parameters: "
+                         f"{', '.join(params)})")
+    obs = measured(df)
+    if y not in obs:
+        raise ValueError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
+    df = df.sort_values(x, kind="stable")
+    others = [c for c in params if c != x and df[c].nunique() > 1]
+    groups = list(df.groupby(others, sort=True)) if others else [((), df)]
+    reference = (y in ("Z", "compressibility") and x == "packing"
+                 and (df["container"] == "box").all() and (df["radius_ratio"] == 1).all())
+
+    fig = _figure(size, dpi)
+    if reference:
+        ax, dx = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
+    else:
+        ax, dx = fig.subplots(), None
+    if reference:
+        top = float(df[x].max())
+        grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
+        ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
+        ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--",
+                label="Carnahan-Starling")
+        dx.axhline(0.0, color="C3", lw=1)
+        dx.plot(grid[1:], 100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
+                color="0.4", lw=1, ls="--")
+    colors = ["C0", "C1", "C2", "C4", "C5", "C6", "C7", "C8", "C9"]  # C3 is the reference
+    for k, (key, g) in enumerate(groups):
+        key = key if isinstance(key, tuple) else (key,)
+        color = colors[k % len(colors)]
+        label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
+        ax.errorbar(g[x], g[y], yerr=g[f"{y}_err"], fmt="o", ms=4, capsize=3,
+                    color=color, label=label)
+        if dx is not None:
+            ref = hansen_goos(g[x].to_numpy(float))
+            dx.errorbar(g[x], 100.0 * (g[y] / ref - 1.0), yerr=100.0 * g[f"{y}_err"] / ref,
+                        fmt="o", ms=4, capsize=3, color=color)
+    ax.set_ylabel(y)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    seeds = df["seeds"] if "seeds" in df.columns else None
+    note = (f", {int(seeds.min())}-{int(seeds.max())} seeds per point" if seeds is not None
+            and seeds.min() != seeds.max() else f", {int(seeds.iloc[0])} seeds per point"
+            if seeds is not None else "")
+    ax.set_title(f"{y} against {x}: mean ± standard error{note}")
+    last = dx if dx is not None else ax
+    if dx is not None:
+        dx.set_ylabel(f"{y} / Z_HG - 1 [%]")
+        dx.grid(alpha=0.3)
+    last.set_xlabel(x)
+    return _save(fig, path, dpi)
+
+
+def plot_gr(frames, path, *, size=SIZE, dpi=100):
+    """g(r) of a periodic-box trajectory, averaged over its frames, with g(sigma) and Z.
+
+    Uses :class:`hardspheres.structure.RDF` (freud).  Returns ``path``.
+    """
+    from .structure import RDF
+    rdf = RDF().compute(frames)
+    fig = _figure(size, dpi)
+    ax = rdf.plot(fig.add_subplot())
+    try:
+        g, err = rdf.contact_value()
+        z, z_err = rdf.compressibility()
+        ax.plot([1.0], [g], "o", label=f"g(sigma+) = {g:.4g} +- {err:.2g}: "
+                f"Z = 1 + 4 phi g = {z:.4g} +- {z_err:.2g}")
+        ax.legend()
+    except ValueError:  # unequal spheres: no single contact value
+        pass
+    return _save(fig, path, dpi)
+
+
+def plot_msd(frames, path, *, size=SIZE, dpi=100):
+    """Mean squared displacement of a periodic-box trajectory (all origins), with D.
+
+    Uses :class:`hardspheres.transport.MSD` (freud) on the unwrapped
+    positions.  Returns ``path``.
+    """
+    from .transport import MSD
+    msd = MSD().compute(frames)
+    D, err = msd.diffusion()
+    fig = _figure(size, dpi)
+    ax = msd.plot(fig.add_subplot())
+    ax.set_title(f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)")
     return _save(fig, path, dpi)
