@@ -145,7 +145,8 @@ def _simulation(args):
     if isinstance(container, SphericalContainer):
         check_scenario(scn, container.radius)
     ensure_compiled()  # before any clock starts: no rate below includes compilation
-    return Simulation.from_scenario(source, container)
+    from .state import State
+    return Simulation(State.from_scenario(scn), container)
 
 
 def _writer(args, sim, every):
