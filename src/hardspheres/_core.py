@@ -30,9 +30,14 @@ Lubachevsky, as in the fastest public codes):
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first.  With a simultaneity ``window > 0`` (the
   assignment's 1e-8 s), events less than ``window`` after the last one
-  happen *at* its time, and after each event every sphere whose event falls
-  in the window is predicted afresh (:func:`refresh_window`), so the tie
-  order decides among them exactly as in the reference.
+  happen *at* its time, and whenever that time (the anchor) moves, every
+  sphere whose event falls in the new window is predicted afresh
+  (:func:`refresh_window`), so the tie order decides among them exactly as
+  in the reference.  An event at the anchor's own instant changes no other
+  prediction: only the spheres it touched are predicted again.
+* **Events that would not end** stop the loop (see :func:`run`): a
+  reflection that would change nothing, and a clock that does not advance
+  over ``physics.frozen_limit(N)`` collisions and reflections.
 * **Time origin.**  :func:`rebase` moves the time origin to the clock, so
   long runs keep the precision of short ones.
 """
@@ -99,11 +104,19 @@ _inline = _compiler(inline="always")
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
 _kernel = _compiler(inline="always")
-pair_time = _kernel(physics.pair_time)
 pair_time_within = _kernel(physics.pair_time_within)
+
+
+@_kernel
+def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
+    """physics.pair_time (whose call of pair_time_within numba cannot follow)."""
+    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, np.inf)
+
+
 wall_time = _kernel(physics.wall_time)
 collide = _kernel(physics.collide)
 reflect = _kernel(physics.reflect)
+frozen_limit_of = _kernel(physics.frozen_limit)
 
 #: Event kinds (also the tie order at equal times): the public ones are
 #: :class:`hardspheres.events.EventKind`'s numbers; crossings and "nothing"
@@ -146,7 +159,9 @@ F_T_KIN = 27     # time the integrals were last brought up to date
 F_HEAT_COLL = 28  # heat Helfand moment, collisional part: sum over collisions of r_ij dE_i
 F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
 F_HEAT_INT = 34  # its time integral up to F_T_KIN
-F_NF = 37
+F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
+F_STREAK = 38    # time of the first event of the current C_FROZEN streak
+F_NF = 39
 
 # indices into the int64 array `c` of counters
 C_NC = 0         # cells per axis
@@ -155,7 +170,13 @@ C_WALL = 2       # reflections processed
 C_CROSS = 3      # cell crossings processed
 C_STALE = 4      # stale predictions discarded
 C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
-C_NC_ = 6
+C_FROZEN = 6     # collisions and reflections in a row with the clock not advancing
+C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
+C_NC_ = 8
+
+# stop reasons of run() beyond 0..3 (see its docstring)
+STOP_FROZEN = int(events.StopReason.FROZEN)
+STOP_SLIDING = int(events.StopReason.SLIDING)
 
 
 # ---- the calendar: an indexed binary heap over spheres -------------------------
@@ -391,16 +412,24 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         # the same expressions, combined without branches (half
                         # the pairs recede, at random, and a branch on that
                         # mispredicts half the time): a pair they reject is
-                        # inf for it too.  The rest, NaNs and tiny speeds
-                        # (which it rescales) go through it.
+                        # inf for it too.  The rest, NaNs and the pairs it
+                        # rescales (|dv|^2 |dr|^2 out of range) go through it.
+                        # The miss test is b^2 - a c < 0 by a margin that
+                        # covers its rounding and that of the kernel's own
+                        # discriminant (physics.MISS_MARGIN).
                         b = dx * dvx + dy * dvy + dz * dvz
                         a = dvx * dvx + dvy * dvy + dvz * dvz
-                        cc = (dx * dx + dy * dy + dz * dz) - sigma * sigma
+                        r2 = dx * dx + dy * dy + dz * dz
+                        cc = r2 - sigma * sigma
+                        ar2 = a * r2
                         recede = b >= 0.0
                         beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
                         touch = cc <= 0.0
-                        miss = b * b - a * cc <= 0.0
-                        if (a < physics.TINY_V2) | ((recede ^ True) & (
+                        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
+                        # (past RANGE_HI no test here rejects wrongly: an
+                        # overflow makes them false, or NaN, so the kernel
+                        # decides; below RANGE_LO, b may underflow)
+                        if (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
                                 touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
@@ -526,6 +555,7 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
         i = stack[n + q]
         if K[i, FRESH] != serial:
             K[i, FRESH] = serial
+            c[C_REFRESHED] += 1
             predict(S, K, T, head, nxt, f, c, i, t)
             _schedule(heap, HT, HKEY, T, K, i)
 
@@ -618,8 +648,23 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
 
     Returns:
         ``(recorded, reason)``, reason a :class:`hardspheres.events.StopReason`
-        number: ``until`` reached (or nothing will ever happen),
-        ``max_events``, ``max_collisions``, or the record full.
+        number: 0 = ``until`` reached (or nothing will
+        ever happen, or ``until`` is NaN), 1 = ``max_events``, 2 =
+        ``max_collisions``, 3 = record full, 4 (:data:`STOP_FROZEN`) = the
+        next collision or reflection would be one more than
+        ``physics.frozen_limit(N)`` in a row with the clock not advancing
+        (by more than ``physics.FROZEN_RELATIVE`` of its value), 5
+        (:data:`STOP_SLIDING`) = the next event is a reflection that would
+        not change the velocity (a sphere at the wall moving along it).
+        For 4 and 5 the event is left pending and sphere ``heap[0]`` is the
+        one involved.
+
+    The simultaneity window is applied when a prediction is made, with
+    the anchor of that time: so all spheres with an event in the window
+    are predicted afresh (:func:`refresh_window`) when the anchor moves,
+    and only then; an event at the anchor's own instant leaves every other
+    prediction as valid as it was, and only the spheres it touched are
+    predicted again.
     """
     n = S.shape[0]
     if n == 0:
@@ -630,6 +675,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
     cap = rec_t.shape[0]
     done = 0
     coll0 = c[C_COLL]
+    frozen_limit = frozen_limit_of(n)
     while True:
         if done >= max_events:
             return done, STOP_MAX_EVENTS
@@ -639,7 +685,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             return done, STOP_RECORD_FULL
         i = heap[0]
         te = HT[0]
-        if te > until or te == np.inf:
+        if not te <= until or te == np.inf:  # NaN `until` too
             return done, STOP_UNTIL
         if HKEY[0] != K[i, EV_KEY]:
             # leaving the cell: not an event of the physics (the clock
@@ -681,7 +727,18 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
                 c[C_STALE] += 1
                 stale = True
                 tp = f[F_CLOCK]
+        anchor = f[F_ANCHOR]
+        if not stale and kind != NONE:
+            # a collision or reflection: count those in a row during which
+            # the clock has not advanced (physics.FROZEN_RELATIVE)
+            if te - f[F_STREAK] <= physics.FROZEN_RELATIVE * abs(te + f[F_OFFSET]):
+                if c[C_FROZEN] >= frozen_limit:
+                    return done, STOP_FROZEN
+            else:
+                c[C_FROZEN] = 0
+                f[F_STREAK] = te
         if kind == COLLISION and not stale:
+            c[C_FROZEN] += 1
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
             _advance(S, i, te)
@@ -724,11 +781,19 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             rec_dp[done, 2] = -mass[a] * k1 * dz
             done += 1
         elif kind == WALL:
+            clock0 = f[F_CLOCK]
             f[F_CLOCK] = te
             f[F_ANCHOR] = te
             _advance(S, i, te)
             px, py, pz = S[i, X], S[i, Y], S[i, Z]
             k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
+            if k == 0.0:
+                # nothing would change, and the same reflection would come
+                # again: not an event (the clock keeps its time)
+                f[F_CLOCK] = clock0
+                f[F_ANCHOR] = anchor
+                return done, STOP_SLIDING
+            c[C_FROZEN] += 1
             S[i, VX] -= k * px
             S[i, VY] -= k * py
             S[i, VZ] -= k * pz
@@ -755,7 +820,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             _schedule(heap, HT, HKEY, T, K, x)
         if stale:
             continue
-        if window > 0.0:
+        if window > 0.0 and te != anchor:
             refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
 
 
@@ -797,6 +862,8 @@ def rebase(S, T, HT, f):
         HT[i] -= t
     f[F_ANCHOR] -= t
     f[F_T_KIN] -= t
+    f[F_STREAK] -= t
+    f[F_OFFSET] += t
     f[F_CLOCK] = 0.0
     return t
 

@@ -10,6 +10,7 @@ import os
 
 from . import reference
 from .report import JSONLReport, TextReport
+from .scenario import StuckError
 
 #: Up to this many spheres the reference loop runs (its O(N^2) prediction
 #: per event costs less than loading the compiled core).
@@ -28,7 +29,18 @@ def write_report(scn, container, end, out, fmt="text"):
     """Simulate ``scn`` in a sphere of radius ``container`` until ``end``, writing the report.
 
     ``fmt`` is ``"text"`` (the assignment's layout) or ``"jsonl"``.
+
+    Raises:
+        StuckError: the run cannot go on (naming the sphere); the events
+            before are written.
     """
+    try:
+        _write_events(scn, container, end, out, fmt)
+    except StuckError as e:
+        raise e.named(scn.names) from None
+
+
+def _write_events(scn, container, end, out, fmt):
     rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
     p, v = scn.positions, scn.velocities
     rep.initial(container, end, p, v)
@@ -43,9 +55,12 @@ def write_report(scn, container, end, out, fmt="text"):
     eng = Engine(scn.masses, scn.radii, p, v, container=container,
                  window=reference.SIMULTANEOUS, rebase=False)
     here = eng.positions_at()
+    # the text report shows every sphere; the JSONL one only those involved
+    everyone = fmt == "text"
     while True:
         ev = eng.advance(until=end, events=1)
         if len(ev) == 0:
             return
         t, kind, i, j = float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
-        rep.event(t, kind, i, j, eng.positions_at(t, here), eng.vel)
+        rep.event(t, kind, i, j,
+                  eng.positions_at(t, here, None if everyone else [i, max(j, i)]), eng.vel)

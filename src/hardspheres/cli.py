@@ -13,7 +13,8 @@ import sys
 
 from .messages import oserror_line, quote
 from .report import PROMPT
-from .scenario import MAX_MAGNITUDE, ScenarioError, check_scenario, parse_scenario
+from .scenario import (MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario,
+                       parse_scenario)
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 HELP = f"""{USAGE}
@@ -114,7 +115,12 @@ def run_spheres(argv, stdin, stdout):
         print(f"spheres: {e}{hint}", file=sys.stderr)
         return 1
     from .assignment import write_report
-    write_report(scn, container, end, stdout, fmt)
+    try:
+        write_report(scn, container, end, stdout, fmt)
+    except StuckError as e:
+        stdout.flush()
+        print(f"spheres: {e}", file=sys.stderr)
+        return 1
     stdout.flush()
     return 0
 

@@ -254,6 +254,17 @@ class SphericalContainer:
             return f"is not wholly inside the container: |p| + R = {reach:g} > {self.radius:g}"
         if r >= self.radius and (v[0] or v[1] or v[2]):
             return "fills the container and cannot move; give it zero velocity or a smaller radius"
+        from .physics import reflect, wall_time
+
+        px, py, pz, vx, vy, vz = p[0], p[1], p[2], v[0], v[1], v[2]
+        if wall_time(px, py, pz, vx, vy, vz, self.radius - r) == 0.0 and (
+            reflect(px, py, pz, vx, vy, vz) == 0.0
+        ):
+            return (
+                "touches the container wall and moves along it (velocity perpendicular to its "
+                "position): it would slide along the wall, which point reflections cannot "
+                "model; give it a velocity component off the wall or move it inward"
+            )
         return None
 
     def outline(

@@ -57,13 +57,18 @@ class StopReason(IntEnum):
     ``UNTIL``: the next event is after the requested time (or nothing
     will ever happen); ``MAX_EVENTS``: the event budget is spent;
     ``MAX_COLLISIONS``: the collision budget is spent; ``RECORD_FULL``: the
-    event record is full (the engine calls again).
+    event record is full (the engine calls again); ``FROZEN``: the next
+    collision or reflection would be one too many in a row with the clock
+    not advancing; ``SLIDING``: the next event is a reflection that would
+    change nothing (a sphere at the wall moving along it).
     """
 
     UNTIL = 0
     MAX_EVENTS = 1
     MAX_COLLISIONS = 2
     RECORD_FULL = 3
+    FROZEN = 4
+    SLIDING = 5
 
 
 #: Event kind names by number: ``KIND_LABELS[kind]``.

@@ -19,12 +19,49 @@ import math
 
 INF = math.inf
 
-#: Below this squared speed [length^2/time^2] the quadratics' coefficients
-#: (|v|^2, p.v and their squares) underflow: the velocity is scaled up by
-#: :data:`TINY_SCALE` (a power of two, so exactly) and the time scaled back.
-#: Above it nothing changes (the results are bit for bit those without it).
-TINY_V2 = 1e-200
-TINY_SCALE = 2.0 ** 600
+#: The quadratics' coefficients are solved as given while ``|dv|^2 |dr|^2``
+#: (``|v|^2 (|p|^2 + reach^2)`` for the wall) lies in ``[RANGE_LO,
+#: RANGE_HI]`` [length^4/time^2]: then ``b^2``, ``a c`` and ``a sigma^2`` are
+#: normal doubles (at most that product).  Outside it (speeds or lengths
+#: near the ends of the double range, a sphere at rest) lengths and speeds
+#: are each scaled by a power of two (exact) to order 1 first, and the time
+#: scaled back: inside it, the results are bit for bit those without it.
+RANGE_LO = 1e-200
+RANGE_HI = 1e300
+
+#: :func:`pair_time_within` takes the discriminant ``b^2 - a c`` as Lagrange's
+#: ``|dv|^2 sigma^2 - |dr x dv|^2`` when ``|dr|^2 > LAGRANGE_RATIO sigma^2``
+#: (more than 4 contact distances apart), where ``b^2 - a c`` would cancel;
+#: nearer, as ``b^2 - a c`` (it then loses at most 4 bits, and the official
+#: examples keep their bits: see docs/numerics.md).
+LAGRANGE_RATIO = 16.0
+
+#: The compiled core rejects a pair without calling :func:`pair_time_within`
+#: when ``b^2 - a c < -MISS_MARGIN |dv|^2 |dr|^2`` (computed as ``b*b - a*c``):
+#: the rounding of that expression and of either form of the discriminant is
+#: below ``25 u |dv|^2 |dr|^2`` (``u = 2^-53``), so such a pair misses for the
+#: kernel too.
+MISS_MARGIN = 1e-13
+
+
+#: The clock "does not advance" over events less than this fraction of its
+#: own value apart (see :func:`frozen_limit`).
+FROZEN_RELATIVE = 2.0 ** -30
+
+
+def frozen_limit(n):
+    """How many collisions and reflections in a row may leave the clock where it was.
+
+    One more stops a run (both engines), counting from the first event of
+    the streak at time ``t0``; an event at ``t > t0 + FROZEN_RELATIVE |t|``
+    starts a new streak.  A genuine cascade of ``n`` touching spheres at
+    one instant takes far fewer (a simple cubic lattice of 91125: 37 per
+    sphere), and ``frozen_limit(n)`` events of a genuine gas take at least
+    2000 mean free times, which the clock outgrows only past 10^12 of them;
+    a light sphere trapped between a wall and a sphere 10^200 times heavier
+    would take ~10^100.
+    """
+    return 100_000 + 1000 * n
 
 
 def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
@@ -44,26 +81,7 @@ def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
         >>> pair_time(-10.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0)
         4.0
     """
-    b = dx * dvx + dy * dvy + dz * dvz
-    if b > 0.0:
-        return INF
-    a = dvx * dvx + dvy * dvy + dvz * dvz
-    scale = 1.0
-    if a < TINY_V2:  # |dv|^2, b and b^2 may underflow: solve for dv * 2^600
-        scale = TINY_SCALE
-        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
-        a = dvx * dvx + dvy * dvy + dvz * dvz
-        b = dx * dvx + dy * dvy + dz * dvz
-    if b >= 0.0:
-        return INF
-    c = (dx * dx + dy * dy + dz * dz) - sigma * sigma
-    if c <= 0.0:
-        return 0.0
-    disc = b * b - a * c
-    if disc <= 0.0:
-        return INF
-    # smaller root of a t^2 + 2 b t + c = 0 with b < 0, without cancellation
-    return c / (math.sqrt(disc) - b) * scale
+    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, INF)
 
 
 def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
@@ -72,7 +90,12 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     The root is at least ``c / (-2 b)``; a pair with ``c > -2 b horizon (1 +
     1e-12)`` cannot meet by ``horizon`` [time], and its exact time is not
     computed (no square root, no division).  Otherwise the result is
-    bit-identical to :func:`pair_time`'s.
+    :func:`pair_time`'s (``horizon = inf``).
+
+    The quadratic is ``a t^2 + 2 b t + c = 0`` with ``a = |dv|^2``,
+    ``b = dr . dv``, ``c = |dr|^2 - sigma^2``; its discriminant ``b^2 - a c``
+    is computed as ``a sigma^2 - |dr x dv|^2`` (Lagrange's identity), which
+    does not cancel when ``sigma`` is small against ``|dr|``.
 
     Example:
         >>> pair_time_within(-10.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 2.0)
@@ -84,23 +107,43 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     if b > 0.0:
         return INF
     a = dvx * dvx + dvy * dvy + dvz * dvz
-    scale = 1.0
-    if a < TINY_V2:  # as in pair_time
-        scale = TINY_SCALE
-        dvx, dvy, dvz = dvx * scale, dvy * scale, dvz * scale
+    r2 = dx * dx + dy * dy + dz * dz
+    shift = 0
+    if not RANGE_LO <= a * r2 <= RANGE_HI:
+        # lengths and speeds to order 1, each by a power of two; t = t' 2^shift
+        # binary exponents of the largest length and speed (each < 2^e)
+        er = math.frexp(max(abs(dx), abs(dy), abs(dz), sigma))[1]
+        ev = math.frexp(max(abs(dvx), abs(dvy), abs(dvz)))[1]
+        dx, dy, dz = math.ldexp(dx, -er), math.ldexp(dy, -er), math.ldexp(dz, -er)
+        sigma = math.ldexp(sigma, -er)
+        dvx, dvy, dvz = math.ldexp(dvx, -ev), math.ldexp(dvy, -ev), math.ldexp(dvz, -ev)
+        shift = er - ev
+        horizon = math.ldexp(horizon, -shift)
         a = dvx * dvx + dvy * dvy + dvz * dvz
         b = dx * dvx + dy * dvy + dz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
     if b >= 0.0:
         return INF
-    c = (dx * dx + dy * dy + dz * dz) - sigma * sigma
+    c = r2 - sigma * sigma
     if c <= 0.0:
         return 0.0
-    if c > -2.0 * b * (horizon / scale) * (1.0 + 1e-12):
+    if c > -2.0 * b * horizon * (1.0 + 1e-12):
         return INF
-    disc = b * b - a * c
+    s2 = sigma * sigma
+    if r2 > LAGRANGE_RATIO * s2:
+        # far apart: b^2 and a c agree to many digits, so take
+        # b^2 - a c = |dv|^2 sigma^2 - |dr x dv|^2 (Lagrange's identity)
+        ux = dy * dvz - dz * dvy
+        uy = dz * dvx - dx * dvz
+        uz = dx * dvy - dy * dvx
+        disc = a * s2 - (ux * ux + uy * uy + uz * uz)
+    else:
+        disc = b * b - a * c
     if disc <= 0.0:
         return INF
-    return c / (math.sqrt(disc) - b) * scale
+    # smaller root of a t^2 + 2 b t + c = 0 with b < 0, without cancellation
+    t = c / (math.sqrt(disc) - b)
+    return t if shift == 0 else math.ldexp(t, shift)
 
 
 def wall_time(px, py, pz, vx, vy, vz, reach):
@@ -113,32 +156,41 @@ def wall_time(px, py, pz, vx, vy, vz, reach):
 
     Returns:
         The larger root ``t >= 0`` of ``|p + t v| = reach`` [time]; ``0`` for
-        a sphere at or beyond ``reach`` that moves outward, ``inf`` for a
-        sphere at rest.
+        a sphere at or beyond ``reach`` that moves outward or along the wall,
+        ``inf`` for a sphere at rest.
 
     Example:
         >>> wall_time(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 10.0)
         5.0
     """
     a = vx * vx + vy * vy + vz * vz
-    scale = 1.0
-    if a < TINY_V2:  # |v|^2 and b^2 would underflow: solve for v * 2^600
+    pp = px * px + py * py + pz * pz
+    shift = 0
+    if not RANGE_LO <= a * (pp + reach * reach) <= RANGE_HI:
+        # as in pair_time_within (a sphere at the centre or at rest lands here)
         if vx == 0.0 and vy == 0.0 and vz == 0.0:
             return INF
-        scale = TINY_SCALE
-        vx, vy, vz = vx * scale, vy * scale, vz * scale
+        er = math.frexp(max(abs(px), abs(py), abs(pz), abs(reach)))[1]
+        ev = math.frexp(max(abs(vx), abs(vy), abs(vz)))[1]
+        px, py, pz = math.ldexp(px, -er), math.ldexp(py, -er), math.ldexp(pz, -er)
+        reach = math.ldexp(reach, -er)
+        vx, vy, vz = math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev)
+        shift = er - ev
         a = vx * vx + vy * vy + vz * vz
+        pp = px * px + py * py + pz * pz
     b = px * vx + py * vy + pz * vz
-    c = (px * px + py * py + pz * pz) - reach * reach
+    c = pp - reach * reach
     if c >= 0.0 and b > 0.0:
         return 0.0
     disc = b * b - a * c
     if disc < 0.0:
         disc = 0.0
     if b <= 0.0:
-        return (math.sqrt(disc) - b) / a * scale
-    # b > 0 and c < 0: larger root = c / (smaller root's numerator)
-    return -c / (math.sqrt(disc) + b) * scale
+        t = (math.sqrt(disc) - b) / a
+    else:
+        # b > 0 and c < 0: larger root = c / (smaller root's numerator)
+        t = -c / (math.sqrt(disc) + b)
+    return t if shift == 0 else math.ldexp(t, shift)
 
 
 def collide(m1, m2, dx, dy, dz, dvx, dvy, dvz):

@@ -20,12 +20,29 @@ Rules of the assignment (``shared/conformance/README.md``):
   input index first, pairs ``(i, j)`` with ``i < j`` in input order;
 * events at times ``<= end`` are reported, none after.
 
+And two of the model's own (both engines stop the same way, with
+:class:`~hardspheres.scenario.StuckError`, before the event):
+
+* a reflection that would not change the velocity (a sphere at the wall
+  moving along it) is not an event: it would come again at once, forever;
+* more than :func:`~hardspheres.physics.frozen_limit` collisions and
+  reflections in a row with the clock not advancing: it is stuck.
+
 Pure Python floats throughout (no numpy): see :mod:`hardspheres.physics`.
 """
 
 from .containers import as_container
 from .events import EventKind
-from .physics import INF, collide, pair_time, reflect, wall_time
+from .physics import (
+    FROZEN_RELATIVE,
+    INF,
+    collide,
+    frozen_limit,
+    pair_time,
+    reflect,
+    wall_time,
+)
+from .scenario import StuckError
 
 #: Events closer than this to the current time happen now [time].
 SIMULTANEOUS = 1e-8
@@ -145,10 +162,26 @@ def events(masses, radii, positions, velocities, container, end,
     p, v = positions, velocities
     tloc = [0.0] * len(p)
     clock = 0.0
+    limit = frozen_limit(len(p))
+    frozen = 0  # collisions and reflections in a row with the clock not advancing
+    streak = 0.0  # time of the first of them
     while True:
         t, kind, i, j = next_event(p, v, tloc, radii, container, clock, window)
-        if kind < 0 or t > end:
+        if kind < 0 or not t <= end:
             return
+        if t - streak <= FROZEN_RELATIVE * abs(t):
+            if frozen >= limit:
+                raise StuckError("frozen", t, i)
+        else:
+            frozen = 0
+            streak = t
+        if kind == REFLECTION:
+            pi, vi = p[i], v[i]
+            dt = t - tloc[i]
+            if reflect(pi[0] + vi[0] * dt, pi[1] + vi[1] * dt, pi[2] + vi[2] * dt,
+                       vi[0], vi[1], vi[2]) == 0.0:
+                raise StuckError("sliding", t, i)
+        frozen += 1
         clock = t
         advance(p, v, tloc, i, t)
         if j >= 0:

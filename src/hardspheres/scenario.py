@@ -42,6 +42,42 @@ class ScenarioError(ValueError):
         super().__init__(f"line {line}: {message}" if line is not None else message)
 
 
+class StuckError(ScenarioError):
+    """A run that cannot go on: its next event would repeat without end.
+
+    Raised by both engines, with the run stopped before that event (the
+    spheres stay where they are, at the last event's time).
+
+    Attributes:
+        reason: ``"sliding"`` (a sphere touching the wall moves along it: its
+            reflection would change nothing and come again at once) or
+            ``"frozen"`` (the clock stopped advancing: more than
+            :func:`hardspheres.physics.frozen_limit` collisions and
+            reflections in a row without the clock advancing).
+        time: the instant [time].
+        sphere: index of a sphere involved (the one at the wall).
+    """
+
+    def __init__(self, reason, time, sphere, names=None):
+        self.reason, self.time, self.sphere = reason, time, sphere
+        who = quote(names[sphere]) if names is not None else f"#{sphere}"
+        if reason == "sliding":
+            message = (f"at t = {time:.6g} sphere {who} touches the container wall and moves "
+                       "along it: it would slide along the wall, which point reflections "
+                       "cannot model (its reflection would change nothing and repeat "
+                       "forever); give it a velocity component off the wall")
+        else:
+            message = (f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
+                       "collisions and reflections at that instant do not end, as for a "
+                       "light sphere trapped between the wall and a far heavier sphere; "
+                       "outside what the model resolves")
+        super().__init__(message)
+
+    def named(self, names):
+        """The same error, naming the sphere by ``names``."""
+        return StuckError(self.reason, self.time, self.sphere, names)
+
+
 @dataclass
 class Scenario:
     """Spheres in input order; plain lists, one entry per sphere.
@@ -150,7 +186,10 @@ def check_scenario(scn: Scenario, container) -> None:
             radius of a spherical container [length].
 
     Raises:
-        ScenarioError: naming the first offending line.
+        ScenarioError: naming the first offending line: a sphere outside,
+            a pair overlapping, or a sphere touching the wall and moving
+            along it (its reflection would change nothing: see
+            :class:`StuckError`).
     """
     from .containers import as_container
     container = as_container(container)
