@@ -12,7 +12,7 @@ from hardspheres.builders import random_spheres
 from hardspheres.engine import Engine
 
 
-@njit(cache=True)
+@njit  # no cache: numba would not see changes to the _core functions it calls
 def brute_force(mass, rad, pos, vel, container, n_events, window):
     """The reference loop of hardspheres.reference, on arrays, compiled.
 
