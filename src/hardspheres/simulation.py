@@ -211,7 +211,7 @@ class Simulation:
             raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
                              "the past is not kept: ask for states as you run")
         eng = self._engine
-        return State(eng.mass.copy(), eng.rad.copy(), eng.positions_at(t), eng.vel.copy(),
+        return State(eng.mass.copy(), eng.radii_at(t), eng.positions_at(t), eng.vel.copy(),
                      list(self.names), t)
 
     # ---- checkpoints ---------------------------------------------------------
