@@ -129,6 +129,11 @@ class Engine:
         self.offset += core.rebase(self.S, self.T, self.HT, self.f)
         self._since_rebase = 0
 
+    @property
+    def window(self):
+        """The simultaneity window [time]."""
+        return float(self.f[core.F_WINDOW])
+
     # ---- growth and velocities -----------------------------------------------
     @property
     def growth(self):
@@ -169,6 +174,14 @@ class Engine:
             return np.inf
         w = float(self.f[core.F_W]) / (1.0 + 1e-6)
         return self.offset + (w / (2.0 * rmax) - 1.0) / g
+
+    def move_clock(self, t):
+        """Move the clock to absolute time ``t`` (no event may be pending before it)."""
+        t = float(t) - self.offset
+        if self.n and self.HT[0] < t:
+            raise ValueError("events are pending before that time: advance first")
+        if t > self.f[core.F_CLOCK]:
+            self.f[core.F_CLOCK] = t
 
     def radii_at(self, t=None):
         """``(N,)`` radii at absolute time ``t`` (default: now) [length]."""

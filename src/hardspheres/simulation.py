@@ -69,6 +69,7 @@ class Simulation:
         self.container = container
         self.names = list(state.names)
         self.writers = []
+        self.thermostat = None
         positions = state.positions
         if isinstance(container, PeriodicBox):
             L = container.length
@@ -193,6 +194,68 @@ class Simulation:
                 if stop >= until:
                     break
 
+    # ---- dense matter ----------------------------------------------------------
+    def compress(self, packing=None, rate=1e-3, pressure=1e3, collisions=None,
+                 progress=None):
+        """Compress by growing every radius in proportion (Lubachevsky-Stillinger).
+
+        Radii grow linearly in time; colliding spheres part faster than
+        their contact distance grows, and velocities are rescaled every few
+        collisions per sphere to keep ``kT`` at its value at the start.
+
+        Args:
+            packing: stop at this packing fraction (must be above the
+                present one and below what the geometry allows: 0.7405 for
+                equal spheres).
+            rate: growth speed of the largest diameter in units of the
+                thermal speed ``sqrt(kT/m)`` (Skoge et al.'s ``gamma``); > 0.
+            pressure: stop when the reduced pressure ``Z = PV/(NkT)``
+                passes this (jammed; ``None``: no threshold).
+            collisions: stop after this many collisions.
+            progress: called as ``progress(packing, Z, collisions)`` at
+                each velocity rescale.
+
+        Returns:
+            :class:`hardspheres.dense.CompressResult` (``jammed`` says
+            whether it stopped on the pressure: not an error).
+
+        Raises:
+            CompressionError: a bad option (the message names it).
+
+        Example:
+            >>> import hardspheres as hs
+            >>> sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1),
+            ...                     hs.PeriodicBox(10.0))
+            >>> res = sim.compress(packing=0.45, rate=0.01)
+            >>> res.reason, round(res.packing, 6)
+            ('packing', 0.45)
+        """
+        from .dense import compress
+        return compress(self, packing=packing, rate=rate, pressure=pressure,
+                        collisions=collisions, progress=progress)
+
+    @property
+    def packing(self):
+        """Packing fraction now: volume of the spheres over the container's."""
+        from .dense import packing_fraction
+        return packing_fraction(self._engine.radii_at(), self.container)
+
+    def set_thermostat(self, thermostat):
+        """Hold the temperature with a thermostat (``None``: NVE, the default).
+
+        ``thermostat`` is a :class:`hardspheres.dense.Andersen` or
+        :class:`hardspheres.dense.VelocityRescale`; checkpoints keep it.
+        """
+        if thermostat is not None and self._engine.window > 0.0:
+            raise ValueError("thermostat: not with a simultaneity window (window=0)")
+        old = getattr(self, "thermostat", None)
+        if old is not None:
+            self.writers.remove(old)
+        self.thermostat = thermostat
+        if thermostat is not None:
+            self.writers.append(thermostat)
+        return self
+
     def _interrupted(self):
         return getattr(self, "stop_requested", False)
 
@@ -221,13 +284,15 @@ class Simulation:
         The file is written to a temporary name and renamed, so an
         interrupted save never leaves a broken checkpoint.
         """
+        th = getattr(self, "thermostat", None)
+        extra = {} if th is None else {"thermostat": np.array(th.state())}
         tmp = f"{path}.tmp"
         with open(tmp, "wb") as fh:
             np.savez(fh, names=np.array(self.names, dtype=str).reshape(-1),
                      container=np.array([type(self.container).__name__,
                                          repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
-                     clock=np.array(self._clock),
+                     clock=np.array(self._clock), **extra,
                      **self._engine.checkpoint())
         os.replace(tmp, path)
 
@@ -245,9 +310,14 @@ class Simulation:
         sim.writers = []
         mark = data.pop("obs")
         sim._clock = float(data.pop("clock"))
+        th = data.pop("thermostat", None)
         sim._engine = Engine.restore(data)
         sim.observables = Observables(sim)
         sim.observables._mark = tuple(mark.tolist())
+        sim.thermostat = None
+        if th is not None:
+            from .dense import thermostat_from_state
+            sim.set_thermostat(thermostat_from_state(str(th)))
         return sim
 
 
