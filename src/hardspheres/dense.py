@@ -259,3 +259,95 @@ def thermostat_from_state(text):
         th = VelocityRescale(d["kT"], d["interval"])
     th.next_time = d["next_time"]
     return th
+
+
+# ---- commands -------------------------------------------------------------------
+
+def generate_compressed(n, packing, container=None, box=None, seed=0, rate=0.01,
+                        radius_ratio=1.0, mass_ratio=1.0, kT=1.0):
+    """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
+
+    The spheres start on random FCC sites at packing ``min(packing, 0.2)``,
+    run ``2 N`` collisions to lose the lattice, and are compressed at
+    ``rate``.
+
+    Raises:
+        CompressionError: the spheres jammed before ``packing``.
+    """
+    from .builders import random_spheres
+    from .containers import SphericalContainer
+    from .simulation import Simulation
+    start = min(packing * 0.9, 0.2)
+    if box is not None:
+        state = random_spheres(n, start, box=box, seed=seed, radius_ratio=radius_ratio,
+                               mass_ratio=mass_ratio, kT=kT)
+        sim = Simulation(state, PeriodicBox(box))
+    else:
+        state = random_spheres(n, start, container=container, seed=seed,
+                               radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT)
+        sim = Simulation(state, SphericalContainer(container))
+    names = list(state.names)
+    if n > 1:
+        sim.run(collisions=2 * n)
+    if packing > start:
+        res = sim.compress(packing=packing, rate=rate)
+        if res.reason != "packing":
+            raise CompressionError(
+                f"--packing {packing:g}: the spheres jammed at {res.packing:.4f} "
+                f"(Z = {res.pressure:.3g}); lower --packing or --rate")
+    out = sim.state()
+    out.names = names
+    return out
+
+
+def compress_command(args):
+    """``hardspheres compress``; returns the exit status."""
+    import sys
+
+    from .runner import Progress, _simulation
+    if args.packing is None and args.collisions is None and args.pressure is None:
+        raise CompressionError("give --packing, --pressure or --collisions")
+    sim = _simulation(args)
+    phi0 = sim.packing
+    target = args.packing
+    if target is not None:
+        top = max_packing(sim._engine.radii_at())
+        if target >= top:
+            raise CompressionError(f"--packing {target:g} is not below {top:.4f}, "
+                                   "the densest the geometry allows")
+        if target <= phi0:
+            raise CompressionError(f"--packing {target:g} is not above the scenario's "
+                                   f"packing {phi0:.6g}")
+    progress = Progress(1.0)
+
+    def show(phi, z, coll):
+        done = (phi - phi0) / (target - phi0) if target else 0.0
+        progress.update(done, f"packing {phi:.5f}  Z {z:.4g}  collisions {coll}")
+
+    try:
+        res = compress(sim, packing=target, rate=args.rate, pressure=args.pressure,
+                       collisions=None if args.collisions is None else int(args.collisions),
+                       progress=show)
+    finally:
+        progress.close()
+    text = sim.state().to_text()
+    _write_atomic(args.output, text)
+    if args.checkpoint:
+        sim.save(args.checkpoint)
+    if res.jammed:
+        what = (f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed "
+                f"--pressure {args.pressure:g}")
+    elif res.reason == "collisions":
+        what = f"stopped after {res.collisions} collisions at packing {res.packing:.6f}"
+    else:
+        what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
+    print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
+    return 0
+
+
+def _write_atomic(path, text):
+    import os
+    tmp = f"{path}.tmp"
+    with open(tmp, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
