@@ -7,7 +7,7 @@
 
 Everything is in a periodic box with equal masses and kT = 1; results
 print as Markdown table rows (docs/validation.md quotes them).  Pressure
-error bars are from block averages (10 blocks; sigma of the mean).
+error bars are from block averages (20 blocks; sigma of the mean).
 """
 
 import math
@@ -58,7 +58,10 @@ def box_for(n, phi, radius=1.0):
     return (n * 4.0 / 3.0 * math.pi * radius ** 3 / phi) ** (1.0 / 3.0)
 
 
-def measure_z(sim, collisions, blocks=10):
+EQUIL = 200  # collisions per sphere after a compression, before measuring
+
+
+def measure_z(sim, collisions, blocks=20):
     """Z = PV/NkT in blocks of collisions: (mean, sigma of the mean)."""
     zs = []
     for _ in range(blocks):
@@ -70,18 +73,10 @@ def measure_z(sim, collisions, blocks=10):
 
 
 def q6(sim):
-    """Mean Steinhardt q6 (12 nearest neighbours) and the fraction of
-    crystal-like spheres (freud SolidLiquid: q6 bonds > 0.7, >= 7 of them)."""
-    import freud
-    L = sim.container.length
-    pts = sim.state().positions.astype(np.float32)
-    box = freud.box.Box.cube(L)
-    nb = {"num_neighbors": 12}
-    st = freud.order.Steinhardt(6)
-    st.compute((box, pts), neighbors=nb)
-    sl = freud.order.SolidLiquid(6, q_threshold=0.7, solid_threshold=7)
-    sl.compute((box, pts), neighbors=nb)
-    return float(np.mean(st.particle_order)), float(np.mean(sl.num_connections >= 7))
+    """Mean Steinhardt q6 and the fraction of crystal-like spheres."""
+    from hardspheres.dense import crystal_order
+    order = crystal_order(sim)
+    return order.mean_q6, order.fraction
 
 
 def fluid(n, phi0, seed=1):
@@ -108,13 +103,13 @@ def jam(n, rates, pressure=1e4):
               f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
 
 
-def fluid_eos(n, phis, per_sphere=200):
+def fluid_eos(n, phis, per_sphere=500):
     print("| N | phi | Z measured | CS | Kolafa et al. | (Z - Kolafa)/sigma | q6 | crystal-like |")
     print("|---|---|---|---|---|---|---|---|")
     for phi in phis:
         sim = fluid(n, 0.3)
         sim.compress(packing=phi, rate=0.05)
-        sim.run(collisions=20 * n)
+        sim.run(collisions=EQUIL * n)
         z, s = measure_z(sim, per_sphere * n)
         q, xtal = q6(sim)
         zk = z_kolafa(phi)
@@ -122,7 +117,7 @@ def fluid_eos(n, phis, per_sphere=200):
               f"{(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
 
 
-def fcc_eos(k, phis, per_sphere=200, seed=1):
+def fcc_eos(k, phis, per_sphere=500, seed=1):
     n = 4 * k ** 3
     print("| N | phi | Z measured | Speedy (1998) | (Z - Speedy)/sigma | q6 |")
     print("|---|---|---|---|---|---|")
@@ -132,7 +127,7 @@ def fcc_eos(k, phis, per_sphere=200, seed=1):
         rng = np.random.default_rng(seed)
         vel = maxwell_boltzmann(rng, np.ones(n))
         sim = hs.Simulation.from_arrays(np.ones(n), np.ones(n), pos, vel, hs.PeriodicBox(L))
-        sim.run(collisions=20 * n)
+        sim.run(collisions=EQUIL * n)
         z, s = measure_z(sim, per_sphere * n)
         q, _ = q6(sim)
         zs = z_speedy_crystal(phi)
@@ -140,7 +135,7 @@ def fcc_eos(k, phis, per_sphere=200, seed=1):
               flush=True)
 
 
-def mix_eos(n, phis, ratio=1.4, per_sphere=200, seed=1):
+def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1):
     print("| N | phi | Z measured | BMCSL | (Z - BMCSL)/sigma |")
     print("|---|---|---|---|---|")
     for phi in phis:
@@ -153,7 +148,7 @@ def mix_eos(n, phis, ratio=1.4, per_sphere=200, seed=1):
                                         state.velocities, hs.PeriodicBox(L))
         sim.run(collisions=5 * n)
         sim.compress(packing=phi, rate=0.05)
-        sim.run(collisions=20 * n)
+        sim.run(collisions=EQUIL * n)
         z, s = measure_z(sim, per_sphere * n)
         zb = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5])
         print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} |",
