@@ -32,6 +32,11 @@ def z_kolafa(eta):
     return (1 + eta + eta ** 2 - 2.0 / 3.0 * eta ** 3 * (1 + eta)) / (1 - eta) ** 3
 
 
+def z_liu(eta):
+    """Liu (2021), a Carnahan-Starling-type fit to the stable and metastable fluid."""
+    return (1 + eta + eta ** 2 - 8.0 / 13.0 * eta ** 3 - eta ** 4 + 0.5 * eta ** 5) / (1 - eta) ** 3
+
+
 def z_speedy_crystal(eta):
     """Speedy (1998), FCC: Z = 3/(1-z) - a (z-b)/(z-c), z = eta/eta_cp."""
     z = eta / (math.pi / math.sqrt(18.0))
@@ -103,16 +108,16 @@ def jam(n, rates, pressure=1e4):
               f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
 
 
-def fluid_eos(n, phis, per_sphere=500):
-    print("| N | phi | Z measured | CS | Kolafa et al. | (Z - Kolafa)/sigma | q6 | crystal-like |")
+def fluid_eos(n, phis, per_sphere=500, rate=0.005):
+    print("| N | phi | Z measured | CS | Liu | (Z - Liu)/sigma | q6 | crystal-like |")
     print("|---|---|---|---|---|---|---|---|")
     for phi in phis:
         sim = fluid(n, 0.3)
-        sim.compress(packing=phi, rate=0.05)
+        sim.compress(packing=phi, rate=rate)
         sim.run(collisions=EQUIL * n)
         z, s = measure_z(sim, per_sphere * n)
         q, xtal = q6(sim)
-        zk = z_kolafa(phi)
+        zk = z_liu(phi)
         print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zk:.4f} | "
               f"{(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
 
