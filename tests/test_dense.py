@@ -274,3 +274,69 @@ def test_no_thermostat_no_growth_is_nve():
     a.run(collisions=3000)
     b.run(collisions=3000)
     assert np.array_equal(a._engine.S, b._engine.S)
+
+
+# ---- the command line and README ------------------------------------------------------
+
+def test_assignment_program_refuses_thermostats():
+    import subprocess
+    import sys
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    res = subprocess.run([sys.executable, "spheres.py", "10", "5", "--thermostat", "andersen"],
+                         input="1 1 0 0 0 1 0 0 a\n", capture_output=True, text=True, cwd=root)
+    assert res.returncode == 1
+    assert "--thermostat" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+
+
+def test_compress_command(tmp_path):
+    from hardspheres.commands import main
+    scn = tmp_path / "a.txt"
+    state = hs.random_spheres(150, 0.3, box=10.0, seed=2)
+    scn.write_text(state.to_text())
+    out = tmp_path / "d.txt"
+    assert main(["compress", str(scn), "--box", "10", "--packing", "0.45", "--rate", "0.02",
+                 "-o", str(out), "--checkpoint", str(tmp_path / "c.npz")]) == 0
+    sim = hs.Simulation.from_scenario(str(out), hs.PeriodicBox(10.0))
+    assert sim.packing == pytest.approx(0.45, rel=1e-9)
+    assert [s.split()[-1] for s in out.read_text().splitlines()] == state.names
+    assert hs.Simulation.load(tmp_path / "c.npz").packing == pytest.approx(0.45, rel=1e-9)
+    # jammed: reported, not an error
+    assert main(["compress", str(scn), "--box", "10", "--packing", "0.7", "--rate", "0.3",
+                 "--pressure", "200", "-o", str(out)]) == 0
+    # bad input: one line naming the option, status 1
+    assert main(["compress", str(scn), "--box", "10", "--packing", "0.75", "--rate", "0.02",
+                 "-o", str(out)]) == 1
+    assert main(["compress", str(scn), "--box", "10", "--packing", "0.2", "--rate", "0.02",
+                 "-o", str(out)]) == 1
+
+
+def test_generate_method_compress(tmp_path, capsys):
+    from hardspheres.commands import main
+    assert main(["generate", "--n", "200", "--box", "10", "--packing", "0.5", "--method",
+                 "compress", "--radius-ratio", "1.4", "--seed", "3"]) == 0
+    text = capsys.readouterr().out
+    (tmp_path / "g.txt").write_text(text)
+    sim = hs.Simulation.from_scenario(str(tmp_path / "g.txt"), hs.PeriodicBox(10.0))
+    assert sim.n == 200 and sim.packing == pytest.approx(0.5, rel=1e-9)
+
+
+def test_readme_dense_section_runs(tmp_path, monkeypatch):
+    import re
+    import subprocess
+    from pathlib import Path
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    sec = readme[readme.index("## Dense matter"):readme.index("## Pictures")]
+    blocks = re.findall(r"```python\n(.*?)```", sec, re.S)
+    assert len(blocks) == 2
+    monkeypatch.chdir(tmp_path)
+    jam = blocks[0].replace("1000, 0.3, box=18.0", "200, 0.3, box=10.5").replace(
+        "PeriodicBox(18.0)", "PeriodicBox(10.5)")
+    exec(compile(jam, "README.md", "exec"), {})
+    xtal = blocks[1].replace("2_000_000", "20_000")
+    exec(compile(xtal, "README.md", "exec"), {})
+    cmds = re.search(r"```sh\n(.*?)```", sec, re.S).group(1)
+    for line in cmds.strip().splitlines():
+        line = line.replace("--n 1000", "--n 200")
+        res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
+        assert res.returncode == 0, (line, res.stderr)
