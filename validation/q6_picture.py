@@ -23,7 +23,7 @@ xtal = hs.Simulation(hs.random_spheres(500, 0.3, box=14.0, seed=1), hs.PeriodicB
 xtal.compress(packing=0.56, rate=1e-3)
 xtal.run(collisions=1_500_000)
 
-fig = plt.figure(figsize=(10, 5), dpi=100)
+fig = plt.figure(figsize=(9.6, 7.2), dpi=100)  # 960 x 720, as the other pictures
 for k, (sim, title) in enumerate([
         (jam, f"fast (rate 0.01): jammed at {res_j.packing:.3f}"),
         (xtal, "slow (rate 0.001) to 0.56, then a run: crystal")]):
