@@ -327,7 +327,7 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
     from pathlib import Path
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     sec = readme[readme.index("## Dense matter"):readme.index("## Pictures")]
-    blocks = re.findall(r"```python\n(.*?)```", sec, re.S)
+    blocks = re.findall(r"```python\n(.*?)```", sec, re.DOTALL)
     assert len(blocks) == 2
     monkeypatch.chdir(tmp_path)
     jam = blocks[0].replace("1000, 0.3, box=18.0", "200, 0.3, box=10.5").replace(
@@ -335,7 +335,7 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
     exec(compile(jam, "README.md", "exec"), {})
     xtal = blocks[1].replace("2_000_000", "20_000")
     exec(compile(xtal, "README.md", "exec"), {})
-    cmds = re.search(r"```sh\n(.*?)```", sec, re.S).group(1)
+    cmds = re.search(r"```sh\n(.*?)```", sec, re.DOTALL).group(1)
     for line in cmds.strip().splitlines():
         line = line.replace("--n 1000", "--n 200")
         res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)

@@ -19,7 +19,6 @@ import numpy as np
 import hardspheres as hs
 from hardspheres.builders import _fcc, maxwell_boltzmann
 
-
 # ---- equations of state (sources in docs/validation.md) -----------------------------
 
 def z_cs(eta):

@@ -11,10 +11,10 @@ import sys
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-import hardspheres as hs  # noqa: E402
-from hardspheres.dense import crystal_order  # noqa: E402
+import hardspheres as hs
+from hardspheres.dense import crystal_order
 
 out = sys.argv[1] if len(sys.argv) > 1 else "docs/images/dense_q6.png"
 jam = hs.Simulation(hs.random_spheres(1000, 0.3, box=18.0, seed=1), hs.PeriodicBox(18.0))
