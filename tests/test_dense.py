@@ -341,3 +341,55 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
         line = line.replace("--n 1000", "--n 200")
         res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
         assert res.returncode == 0, (line, res.stderr)
+
+
+# ---- the engine while growing against a brute-force loop ---------------------------------
+
+def _brute_force_growth(m, r0, x, v, container, h, n_events):
+    """All pairs and walls each step, everything at one common time (no cells)."""
+    x, v = x.copy(), v.copy()
+    n, t, out = len(m), 0.0, []
+    for _ in range(n_events):
+        best, what = math.inf, None
+        for i in range(n):
+            reach = container - r0[i] * (1.0 + h * t)
+            dt = physics.wall_time_grow(*x[i], *v[i], reach, r0[i] * h)
+            if dt < best:
+                best, what = dt, (0, i, -1)
+            for j in range(i + 1, n):
+                s0 = r0[i] + r0[j]
+                dt = physics.pair_time_grow(*(x[i] - x[j]), *(v[i] - v[j]), s0 * (1.0 + h * t),
+                                            s0 * h, math.inf)
+                if dt < best:
+                    best, what = dt, (1, i, j)
+        x += v * best
+        t += best
+        kind, i, j = what
+        if kind == 1:
+            k1, k2 = physics.collide_grow(m[i], m[j], *(x[i] - x[j]), *(v[i] - v[j]),
+                                          (r0[i] + r0[j]) * h)
+            d = x[i] - x[j]
+            v[i] -= k1 * d
+            v[j] += k2 * d
+        else:
+            v[i] -= physics.reflect_grow(*x[i], *v[i], r0[i] * h) * x[i]
+        out.append((t, kind, i, j))
+    return out
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_growing_engine_matches_brute_force(seed):
+    state = hs.random_spheres(16, 0.08, container=5.0, seed=seed, radius_ratio=1.4,
+                              mass_ratio=3.0)
+    h = 0.08
+    eng = Engine(state.masses, state.radii, state.positions, state.velocities, container=5.0)
+    eng.set_growth(h)
+    ev = eng.advance(events=120)
+    ref = _brute_force_growth(state.masses, state.radii, state.positions, state.velocities,
+                              5.0, h, 120)
+    assert len(ev["t"]) == 120
+    for k, (t, kind, i, j) in enumerate(ref):
+        assert (ev["kind"][k], ev["i"][k], ev["j"][k]) == (kind, i, j), k
+        assert ev["t"][k] == pytest.approx(t, rel=1e-9), k
+    # the radii grew by 1 + h t
+    assert np.allclose(eng.radii_at(), state.radii * (1.0 + h * eng.time), rtol=1e-12)
