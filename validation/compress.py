@@ -17,23 +17,21 @@ import time
 import numpy as np
 
 import hardspheres as hs
+from hardspheres import eos
 from hardspheres.builders import _fcc, maxwell_boltzmann
 
 # ---- equations of state (sources in docs/validation.md) -----------------------------
 
 def z_cs(eta):
-    """Carnahan-Starling (1969)."""
-    return (1 + eta + eta ** 2 - eta ** 3) / (1 - eta) ** 3
+    return float(eos.carnahan_starling(eta))
 
 
-def z_kolafa(eta):
-    """Kolafa, Labik & Malijevsky (2004) fit, as Z = (1+e+e^2-2/3 e^3(1+e))/(1-e)^3."""
-    return (1 + eta + eta ** 2 - 2.0 / 3.0 * eta ** 3 * (1 + eta)) / (1 - eta) ** 3
+def z_hg(eta):
+    return float(eos.hansen_goos(eta))
 
 
-def z_liu(eta):
-    """Liu (2021), a Carnahan-Starling-type fit to the stable and metastable fluid."""
-    return (1 + eta + eta ** 2 - 8.0 / 13.0 * eta ** 3 - eta ** 4 + 0.5 * eta ** 5) / (1 - eta) ** 3
+def z_klm(eta):
+    return float(eos.kolafa(eta))
 
 
 def z_speedy_crystal(eta):
@@ -108,17 +106,18 @@ def jam(n, rates, pressure=1e4):
 
 
 def fluid_eos(n, phis, per_sphere=500, rate=0.005):
-    print("| N | phi | Z measured | CS | Liu | (Z - Liu)/sigma | q6 | crystal-like |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| N | phi | Z measured | CS | Hansen-Goos | KLM | (Z - HG)/sigma | (Z - KLM)/sigma |"
+          " q6 | crystal-like |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for phi in phis:
         sim = fluid(n, 0.3)
         sim.compress(packing=phi, rate=rate)
         sim.run(collisions=EQUIL * n)
         z, s = measure_z(sim, per_sphere * n)
         q, xtal = q6(sim)
-        zk = z_liu(phi)
-        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zk:.4f} | "
-              f"{(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
+        zh, zk = z_hg(phi), z_klm(phi)
+        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zh:.4f} | {zk:.4f} | "
+              f"{(z - zh) / s:+.1f} | {(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
 
 
 def fcc_eos(k, phis, per_sphere=500, seed=1):

@@ -20,5 +20,11 @@ hardspheres plot speeds run.gsd -o speeds.png
 hardspheres plot eos docs/validation.csv -o eos.png
 # ---- end of picture commands
 
-mv viewer.png still.png conservation.png speeds.png eos.png "$root/docs/images/"
+# ---- the study of README.md's "Studies" (its TOML block; a few minutes)
+sed -n '/^## Studies/,/^## Pictures/p' "$root/README.md" \
+  | awk '/^```toml/{f=1; next} /^```/{f=0} f' > eos.toml
+hardspheres sweep eos.toml
+hardspheres plot sweep eos/results.parquet --x packing --y Z -o eos-study.png
+
+mv viewer.png still.png conservation.png speeds.png eos.png eos-study.png "$root/docs/images/"
 ls -l "$root"/docs/images/*.png

@@ -18,7 +18,10 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
          "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
-         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames"}
+         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
+         "sweep": "studies", "StudyError": "studies",
+         "CheckpointError": "engine", "FileInUseError": "fileio",
+         "TruncatedTrajectory": "trajectory"}
 
 
 def __getattr__(name):
@@ -27,7 +30,9 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BuildError", "Event", "Frames", "GSDWriter", "Observables", "PeriodicBox", "Scenario", "ScenarioError",
-           "Simulation", "SphericalContainer", "State", "maxwell_boltzmann", "parse_scenario",
-           "random_spheres", "read_trajectory", "XYZWriter"]
+__all__ = ["BuildError", "CheckpointError", "Event", "FileInUseError", "Frames", "GSDWriter",
+           "Observables", "PeriodicBox", "Scenario", "ScenarioError", "Simulation",
+           "SphericalContainer", "State", "StudyError", "TruncatedTrajectory",
+           "maxwell_boltzmann", "parse_scenario", "random_spheres", "read_trajectory", "sweep",
+           "XYZWriter"]
 __version__ = "0.1.0"

@@ -39,7 +39,12 @@ def maxwell_boltzmann(rng, masses, kT=1.0):
 
     Returns:
         ``(N, 3)`` velocities [length/time].
+
+    Raises:
+        BuildError: ``kT`` is not a finite number >= 0.
     """
+    if not (np.isfinite(kT) and kT >= 0):
+        raise BuildError(f"kT must be a finite number >= 0 [energy], got {kT!r}")
     n = len(masses)
     v = rng.normal(size=(n, 3)) * np.sqrt(kT / masses)[:, None]
     if n > 1:
@@ -72,7 +77,8 @@ def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.
         A :class:`State` with spheres named ``s0 ... s{n-1}``.
 
     Raises:
-        BuildError: if the lattice cannot hold the spheres at that packing.
+        BuildError: if the lattice cannot hold the spheres at that packing,
+            or an argument is out of range (``kT < 0``, NaN, ...).
 
     Example:
         >>> s = random_spheres(100, 0.3, container=10.0, seed=1)
@@ -81,9 +87,15 @@ def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.
     """
     if (container is None) == (box is None):
         raise BuildError("give exactly one of container and box")
+    for what, x in (("container", container), ("box", box)):
+        if x is not None and not (np.isfinite(x) and x > 0):
+            raise BuildError(f"{what} must be a finite number > 0 [length], got {x!r}")
+    if not (isinstance(n, (int, np.integer)) and n >= 0):
+        raise BuildError(f"n must be a whole number >= 0, got {n!r}")
     if not (0.0 < packing < 0.74):
         raise BuildError(f"packing fraction must be in (0, 0.74), got {packing}")
-    if radius_ratio < 1.0 or mass_ratio < 1.0:
+    if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(
+            radius_ratio * mass_ratio):
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
     volume = (4.0 / 3.0) * np.pi * container ** 3 if box is None else box ** 3

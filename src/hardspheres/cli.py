@@ -5,10 +5,13 @@ input gives one line on stderr and exit status 1, never a traceback; Ctrl-C
 exits 130 and a closed stdout (``| head``) exits quietly.
 """
 
+import io
 import math
 import os
+import signal
 import sys
 
+from .messages import oserror_line, quote
 from .report import PROMPT, TextReport
 from .scenario import (MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario,
                        parse_scenario)
@@ -30,9 +33,9 @@ def _positive_number(token, what, allow_zero, limit=math.inf):
         x = math.nan
     if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
-        raise UsageError(f"{what} must be a finite number {bound}, got {token!r}")
+        raise UsageError(f"{what} must be a finite number {bound}, got {quote(token)}")
     if x > limit:
-        raise UsageError(f"{what} must be at most {limit:g}, got {token!r}")
+        raise UsageError(f"{what} must be at most {limit:g}, got {quote(token)}")
     return x
 
 
@@ -55,7 +58,7 @@ def parse_spheres_args(argv):
             else:
                 raise UsageError("--format needs a value: text or jsonl")
             if value not in FORMATS:
-                raise UsageError(f"--format must be text or jsonl, got {value!r}")
+                raise UsageError(f"--format must be text or jsonl, got {quote(value)}")
             fmt = value
             break
     for arg in argv:
@@ -96,30 +99,82 @@ def run_spheres(argv, stdin, stdout):
     return 0
 
 
-def _guarded(main):
-    """Run ``main()`` mapping Ctrl-C to 130 and a closed stdout to a quiet exit."""
+def _stdout_name():
+    """What stdout is, for a message: ``stdout`` and its file where the OS says."""
+    try:
+        target = os.readlink(f"/proc/self/fd/{sys.stdout.fileno()}")
+    except (OSError, ValueError, AttributeError):
+        return "stdout"
+    return f"stdout ({target})" if target.startswith("/") else "stdout"
+
+
+def _drop_stdout():
+    """Point stdout at /dev/null, so Python's flush at exit does not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _checked_stdout():
+    """Make every byte written to stdout count, or fail.
+
+    With ``PYTHONUNBUFFERED`` (or ``-u``) stdout's text layer writes to the
+    raw file directly and ignores a short write (a disk filling up): the
+    output is cut and the exit status 0.  A buffered layer in between
+    retries short writes, so a full disk raises ENOSPC.
+    """
+    out = sys.stdout
+    raw = getattr(out, "buffer", None)
+    if isinstance(raw, io.RawIOBase):
+        sys.stdout = io.TextIOWrapper(io.BufferedWriter(raw), encoding=out.encoding,
+                                      errors=out.errors, line_buffering=out.line_buffering,
+                                      write_through=True)
+
+
+def _guarded(main, prog):
+    """Run ``main()`` mapping Ctrl-C to 130 and a closed stdout to a quiet exit.
+
+    stdout is flushed and checked here: a write that fails (a full disk:
+    ENOSPC) exits 1 with one line naming stdout's file, not a traceback
+    and not a silent exit 0 with the output cut short.
+    """
     try:
         status = main()
+        sys.stdout.flush()
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         status = 130
     except BrokenPipeError:
         # stdout's reader went away (e.g. `| head`): stop quietly, and keep
         # Python from complaining again when it flushes stdout at exit
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _drop_stdout()
         status = 141
+    except OSError as e:  # only stdout's reach here: the commands name their files
+        name = oserror_line(e) if e.filename is not None else (
+            f"cannot write to {_stdout_name()}: {oserror_line(e)}")
+        _drop_stdout()
+        print(f"{prog}: {name}", file=sys.stderr)
+        status = 1
     return status
 
 
 def spheres_main(argv=None):
     """Entry point of the ``spheres`` console script."""
     argv = sys.argv[1:] if argv is None else argv
-    sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout)))
+    _checked_stdout()
+    sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout), "spheres"))
 
 
 def hardspheres_main(argv=None):
     """Entry point of the ``hardspheres`` console script (subcommands)."""
     from .commands import main
     argv = sys.argv[1:] if argv is None else argv
-    sys.exit(_guarded(lambda: main(argv)))
+    _checked_stdout()
+    status = _guarded(lambda: main(argv), "hardspheres")
+    # the command is done (a run's checkpoint written): a late Ctrl-C or
+    # SIGTERM while the interpreter shuts down must not change the status
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
+    sys.exit(status)

@@ -6,12 +6,18 @@ as one line on stderr with exit status 1.
 """
 
 import argparse
+import re
 import sys
+import warnings
+
+from .messages import QUOTE_LIMIT, oserror_line, quote
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.print_usage(sys.stderr)
+        # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
+        message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
         raise SystemExit(f"{self.prog}: {message}")
 
 
@@ -19,21 +25,21 @@ def _positive(text):
     import math
     x = float(text)
     if not math.isfinite(x) or x <= 0.0:
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {quote(text)}")
     return x
 
 
 def _ratio(text):
     x = _positive(text)
     if x < 1.0:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {quote(text)}")
     return x
 
 
 def _count(text):
     x = int(text)
     if x < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {quote(text)}")
     return x
 
 
@@ -69,14 +75,30 @@ def cmd_bench(args):
 
 
 def cmd_validate(args):
-    from .validate import PACKINGS, validate
-    rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
-                    n=args.n, collisions=args.collisions, equilibrate=args.equilibrate,
-                    seed=args.seed)
+    from .validate import PACKINGS, validate, verdict
+    if args.quick:  # a smoke test of the whole path, seconds (N = 500 crystallizes at 0.49)
+        for key, value in (("n", 500), ("collisions", 100), ("equilibrate", 50),
+                           ("packings", [0.1, 0.3, 0.45])):
+            if getattr(args, key) is None:
+                setattr(args, key, value)
+    client = None
+    if args.scheduler:
+        from .studies import connect
+        client = connect(args.scheduler, timeout=args.timeout)
+    try:
+        rows = validate(packings=args.packings or PACKINGS, csv_path=args.csv, out=sys.stdout,
+                        n=4000 if args.n is None else args.n,
+                        collisions=500 if args.collisions is None else args.collisions,
+                        equilibrate=args.equilibrate if args.equilibrate is not None else 200,
+                        seed=args.seed, seeds=args.seeds, client=client, serial=args.serial,
+                        workers=args.workers, folder=args.output,
+                        progress=sys.stderr if sys.stderr.isatty() else None)
+    finally:
+        if client is not None:
+            client.close()
     print(f"wrote {args.csv}")
-    worst_z = max(abs(r.rel_diff) for r in rows)
-    worst_g = max(abs(r.gamma_rel_diff) for r in rows)
-    print(f"largest |Z/Z_CS - 1| = {worst_z:.3%}, largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}")
+    for line in verdict(rows):
+        print(line)
     return 0
 
 
@@ -87,11 +109,17 @@ def _frames(args):
     if path.endswith((".gsd", ".xyz", ".extxyz")):
         if args.container or args.box or args.until:
             raise ValueError("--container/--box/--until are for scenarios, not trajectories")
-        return read_trajectory(path)
+        from .trajectory import TruncatedTrajectory
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TruncatedTrajectory)
+            frames = read_trajectory(path)
+        for w in caught:  # one line each, not Python's two-line warning format
+            print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
+        return frames
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
     if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{path!r} is not a trajectory (.gsd, .xyz), so it is read as a "
+        raise ValueError(f"{quote(path)} is not a trajectory (.gsd, .xyz), so it is read as a "
                          "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
@@ -105,7 +133,7 @@ def _frames(args):
 def cmd_view(args):
     from .viewer import screenshot, write_viewer
     if args.screenshot and not args.screenshot.lower().endswith(".png"):
-        raise ValueError(f"--screenshot writes a .png, not {args.screenshot!r}")
+        raise ValueError(f"--screenshot writes a .png, not {quote(args.screenshot)}")
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
@@ -136,6 +164,8 @@ def cmd_plot(args):
     from . import plots
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
+    elif args.what == "sweep":
+        plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
     else:
         frames = _frames(args)
         if args.what == "conservation":
@@ -159,6 +189,11 @@ def _picture_args(q, output_default):
 def cmd_run(args):
     from .runner import run_command
     return run_command(args)
+
+
+def cmd_sweep(args):
+    from .studies import main
+    return main(args)
 
 
 def build_parser():
@@ -227,21 +262,49 @@ def build_parser():
     r.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
     r.add_argument("--every", type=_positive, help="time between frames [s]")
     r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
-    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario")
+    r.add_argument("--resume", help="continue from this checkpoint instead of a scenario "
+                   "(an existing --trajectory that ends where it starts is continued)")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace an existing --trajectory file (refused otherwise)")
     r.set_defaults(func=cmd_run)
 
+    s = sub.add_parser("sweep", help="run a study (a parameter grid in a TOML file) on Dask; "
+                       "reruns skip finished tasks")
+    s.add_argument("study", help="study file (TOML)")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="an existing Dask scheduler (default: a LocalCluster, one worker per core)")
+    s.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    s.add_argument("--serial", action="store_true", help="run the tasks here, one by one, no Dask")
+    s.add_argument("--timeout", type=_positive, default=10.0,
+                   help="seconds to wait for --scheduler (default 10)")
+    s.set_defaults(func=cmd_sweep)
+
     v = sub.add_parser("validate",
-                       help="equation of state and collision rate against theory")
-    v.add_argument("--n", type=_count, default=4000, help="spheres (default 4000)")
-    v.add_argument("--collisions", type=_count, default=500,
+                       help="equation of state (z-scores against Hansen-Goos and KLM) and "
+                       "collision rate against theory, run as a study")
+    v.add_argument("--n", type=_count, default=None, help="spheres (default 4000)")
+    v.add_argument("--collisions", type=_count, default=None,
                    help="collisions per sphere measured at each packing (default 500)")
-    v.add_argument("--equilibrate", type=_count, default=50,
-                   help="collisions per sphere before measuring (default 50)")
+    v.add_argument("--equilibrate", type=_count, default=None,
+                   help="collisions per sphere before measuring (default 200: the FCC "
+                   "start takes about 75 to melt at packing 0.49)")
     v.add_argument("--packings", type=lambda t: [float(x) for x in t.split(",")],
                    default=None, help="comma-separated packing fractions "
-                   "(default 0.1,0.2,0.3,0.4,0.45)")
+                   "(default 0.1,0.2,0.3,0.4,0.45,0.49)")
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
     v.add_argument("--seed", type=int, default=0)
+    v.add_argument("--seeds", type=_count, default=1,
+                   help="runs per packing, seeds SEED.. (default 1)")
+    v.add_argument("--quick", action="store_true",
+                   help="a few seconds: N 500, 100 collisions per sphere (50 to equilibrate) "
+                   "at packings 0.1,0.3,0.45")
+    v.add_argument("--output", metavar="DIR",
+                   help="keep the study here (a rerun skips finished runs); default: temporary")
+    v.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler")
+    v.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    v.add_argument("--serial", action="store_true", help="run here, one packing after another")
+    v.add_argument("--timeout", type=_positive, default=10.0,
+                   help="seconds to wait for --scheduler (default 10)")
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
@@ -259,11 +322,15 @@ def build_parser():
                    help="still (.png): draw the frame nearest this time (default: the last)")
     m.set_defaults(func=cmd_render)
 
-    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos"],
-                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, or "
-                    "the validate CSV vs Carnahan-Starling")
+    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos, sweep")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep"],
+                    help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
+                    "the validate CSV vs Carnahan-Starling, or a study's results "
+                    "(--x PARAMETER --y OBSERVABLE)")
     _picture_args(pl, "plot.png")
+    pl.add_argument("--x", default="packing", help="sweep: parameter on the x axis "
+                    "(default packing)")
+    pl.add_argument("--y", default="Z", help="sweep: observable on the y axis (default Z)")
     pl.set_defaults(func=cmd_plot)
     return p
 
@@ -275,6 +342,16 @@ def main(argv):
         return args.func(args)
     except BrokenPipeError:
         raise  # the caller exits quietly
-    except (ValueError, OSError) as e:
-        print(f"hardspheres {args.command}: {e}", file=sys.stderr)
+    except OSError as e:
+        if e.filename is None:
+            raise  # stdout's: the caller names it
+        print(f"hardspheres {args.command}: {oserror_line(e)}", file=sys.stderr)
         return 1
+    except ValueError as e:
+        print(f"hardspheres {args.command}: {_one_line(e)}", file=sys.stderr)
+        return 1
+
+
+def _one_line(err):
+    """An error's message on one line (a library's message may hold newlines)."""
+    return " ".join(str(err).split("\n"))

@@ -17,6 +17,10 @@ CHUNK = 1 << 14
 REBASE_EVERY = 64
 
 
+class CheckpointError(ValueError):
+    """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
+
+
 class Engine:
     """Exact event-driven dynamics of hard spheres, compiled.
 
@@ -301,7 +305,15 @@ class Engine:
 
     @classmethod
     def restore(cls, data):
-        """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state."""
+        """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state.
+
+        Every array is checked first (:func:`check_arrays`): the compiled
+        core trusts its indices, so a damaged file must not reach it.
+
+        Raises:
+            CheckpointError: an array is missing or inconsistent.
+        """
+        check_arrays(data)
         eng = cls.__new__(cls)
         for k in cls._SAVED:
             setattr(eng, k, np.array(data[k]))
@@ -371,3 +383,138 @@ class Engine:
     def kinetic_energy(self):
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(0.5 * np.sum(self.mass * np.sum(self.vel ** 2, axis=1)))
+
+
+# ---- checking a checkpoint ------------------------------------------------------
+def _bad(what):
+    raise CheckpointError(f"damaged checkpoint: {what}")
+
+
+def _array(data, key, dtype, shape):
+    if key not in data:
+        _bad(f"no array {key!r}")
+    a = np.asarray(data[key])
+    if a.dtype != dtype or a.shape != shape:
+        _bad(f"{key!r} is {a.dtype}{list(a.shape)}, expected {np.dtype(dtype)}{list(shape)}")
+    return a
+
+
+def check_arrays(data):
+    """Check :meth:`Engine.checkpoint`'s arrays before the compiled core sees them.
+
+    Everything the core indexes with is checked (heap, cell lists, partners,
+    cell coordinates, counters), and everything it computes with is finite
+    where it must be, so that a damaged or crafted file is refused rather
+    than crashing the interpreter or running on NaNs.  O(N).
+
+    Args:
+        data: mapping of array name to array, as :meth:`Engine.checkpoint`
+            returns it (or as read back from a file).
+
+    Raises:
+        CheckpointError: naming the first problem found.
+    """
+    mass = np.asarray(data.get("mass", np.zeros((0, 0))))
+    if mass.ndim != 1:
+        _bad("'mass' is not a list of masses")
+    n = mass.shape[0]
+    _array(data, "mass", np.float64, (n,))
+    S = _array(data, "S", np.float64, (n, 8))
+    K = _array(data, "K", np.int64, (n, core.K_COLS))
+    T = _array(data, "T", np.float64, (n, 2))
+    nxt = _array(data, "nxt", np.int64, (n,))
+    prv = _array(data, "prv", np.int64, (n,))
+    heap = _array(data, "heap", np.int64, (n,))
+    HT = _array(data, "HT", np.float64, (n,))
+    HKEY = _array(data, "HKEY", np.int64, (n,))
+    f = np.asarray(data.get("f", np.zeros(0)))
+    if f.dtype != np.float64 or f.ndim != 1 or not core.F_WINDOW < f.shape[0] <= core.F_NF:
+        _bad(f"'f' is {f.dtype}{list(f.shape)}, expected float64[{core.F_NF}]")
+    if "img" in data:  # periodic image counts, where the core keeps them
+        _array(data, "img", np.int64, (n, 3))
+    c = _array(data, "c", np.int64, (core.C_NC_,))
+    meta = _array(data, "meta", np.float64, (5,))
+    nc = int(c[core.C_NC])
+    if not 1 <= nc <= 1 << 10:
+        _bad(f"{nc} cells per axis")
+    head = _array(data, "head", np.int64, (nc ** 3,))
+    # the physical state
+    if not np.all(np.isfinite(mass) & (mass > 0)):
+        _bad("a mass is not a finite number > 0")
+    if not np.all(np.isfinite(S)):
+        _bad("a position, velocity, time or radius is not finite")
+    if np.any(S[:, core.RAD] < 0):
+        _bad("a negative radius")
+    if np.any(np.isnan(T)) or np.any(np.isnan(HT)):
+        _bad("a predicted time is NaN")
+    if not np.all(np.isfinite(f)) or f[core.F_W] <= 0 or f[core.F_WINDOW] < 0:
+        _bad("the scalars (clock, grid, window) are not finite and positive where needed")
+    if np.any(c < 0):
+        _bad("a negative counter")
+    offset, since, rebase_on, container, box = meta.tolist()
+    if not (np.isfinite(offset) and np.isfinite(since) and since >= 0):
+        _bad("the time origin is not finite")
+    if np.isnan(container) == np.isnan(box):
+        _bad("neither or both of container and box")
+    size = box if np.isnan(container) else container
+    if not (np.isfinite(size) and size > 0):
+        _bad("the container size is not a finite number > 0")
+    if (f[core.F_BOX] if np.isnan(container) else f[core.F_CONTAINER]) != size:
+        _bad("the container size disagrees with the core's")
+    if n == 0:
+        if np.any(head != -1):
+            _bad("cells hold spheres that do not exist")
+        return
+    ids = np.arange(n)
+    # cells: coordinates in the grid, and each cell's list holds exactly its spheres
+    cxyz = K[:, core.CX:core.CZ + 1]
+    if np.any((cxyz < 0) | (cxyz >= nc)):
+        _bad("a cell coordinate outside the grid")
+    if np.any(K[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
+        _bad("a cell index disagrees with its coordinates")
+    for name, a in (("head", head), ("nxt", nxt), ("prv", prv)):
+        if np.any((a < -1) | (a >= n)):
+            _bad(f"{name!r} points outside the spheres")
+    seen = np.zeros(n, bool)
+    for cell in np.nonzero(head >= 0)[0].tolist():
+        j, before = int(head[cell]), -1
+        while j >= 0:
+            if seen[j] or K[j, core.CELL] != cell or prv[j] != before:
+                _bad("the cell lists are inconsistent")
+            seen[j] = True
+            before, j = j, int(nxt[j])
+    if not np.all(seen):
+        _bad("a sphere is in no cell list")
+    # the calendar: a heap over all spheres, each entry its sphere's earlier event
+    if not np.array_equal(np.sort(heap), ids) or np.any(K[heap, core.HPOS] != ids):
+        _bad("the event calendar is not a permutation of the spheres")
+    kind, partner = K[:, core.EV_KIND], K[:, core.EV_PARTNER]
+    coll = kind == core.COLLISION
+    if np.any(~np.isin(kind, (core.WALL, core.COLLISION, core.NONE))):
+        _bad("an unknown event kind")
+    if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
+        _bad("a collision partner outside the spheres")
+    lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
+    key = np.where(coll, _key(core.COLLISION, lo, hi, n),
+                   np.where(kind == core.WALL, _key(core.WALL, ids, -1, n),
+                            _key(core.NONE, n, n - 1, n)))
+    if np.any(K[:, core.EV_KEY] != key):
+        _bad("an event key disagrees with its event")
+    code = K[:, core.CR_CODE]
+    if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (T[:, core.CR_T] < np.inf)):
+        _bad("an unknown cell crossing")
+    cross_key = _key(core.CROSS, ids, -1, n)
+    ev_t, cr_t = T[:, core.EV_T], T[:, core.CR_T]
+    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
+    if (np.any(HT[K[:, core.HPOS]] != np.where(first, cr_t, ev_t))
+            or np.any(HKEY[K[:, core.HPOS]] != np.where(first, cross_key, key))):
+        _bad("the event calendar disagrees with the predictions")
+    k = np.arange(1, n)
+    p = (k - 1) >> 1
+    if np.any((HT[k] < HT[p]) | ((HT[k] == HT[p]) & (HKEY[k] < HKEY[p]))):
+        _bad("the event calendar is out of order")
+
+
+def _key(kind, a, b, n):
+    """The core's tie key, on arrays (its Python source, not a second copy)."""
+    return core._key.py_func(kind, a, b, n)

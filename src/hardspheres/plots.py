@@ -6,6 +6,7 @@
     plots.plot_conservation(frames, "conservation.png")  # energy, momentum
     plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
+    plots.plot_sweep("study/results.parquet", "Z.png")   # a study, Z against Hansen-Goos
 
 Each function writes a PNG of ``size`` pixels (default 960 x 720) and returns
 its path.
@@ -16,6 +17,8 @@ import math
 from pathlib import Path
 
 import numpy as np
+
+from .eos import carnahan_starling, hansen_goos
 
 SIZE = (960, 720)
 
@@ -30,19 +33,11 @@ def _figure(size, dpi):
 
 
 def _save(fig, path, dpi):
+    from .fileio import atomic_write
     path = Path(path)
-    fig.savefig(path, dpi=dpi, format="png")
+    with atomic_write(path, "wb") as fh:
+        fig.savefig(fh, dpi=dpi, format="png")
     return path
-
-
-def carnahan_starling(phi):
-    """Carnahan-Starling ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.
-
-    >>> round(float(carnahan_starling(0.3)), 4)
-    3.9738
-    """
-    phi = np.asarray(phi, dtype=float)
-    return (1.0 + phi + phi ** 2 - phi ** 3) / (1.0 - phi) ** 3
 
 
 def maxwell_speed_density(v, kT, m):
@@ -264,4 +259,101 @@ def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
     dx.legend(loc="best", fontsize="small")
     dx.set_title("Deviations")
     dx.grid(alpha=0.3)
+    return _save(fig, path, dpi)
+
+
+def read_table(path):
+    """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
+    import pandas as pd
+    path = str(path)
+    try:
+        if path.endswith(".csv"):
+            return pd.read_csv(path)
+        return pd.read_parquet(path)
+    except (OSError, ValueError) as e:
+        if isinstance(e, FileNotFoundError):
+            raise OSError(f"{path}: no such file") from None
+        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError(f"{path}: not a study's results table (.parquet or .csv): "
+                         f"{reason}") from None
+
+
+def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
+    """A study's observable ``y`` against the parameter ``x``, with error bars.
+
+    ``table`` is a study's ``results.parquet`` (one row per run: averaged
+    here over seeds, :func:`hardspheres.studies.summarize`) or its
+    ``summary.parquet`` (or either as ``.csv``).  Points are the means, error
+    bars one standard error; one series per value of the other parameters
+    that vary (N, ratios, container).  For ``Z`` against ``packing`` of
+    equal spheres in a periodic box, the Hansen-Goos (2016) curve is drawn,
+    with Carnahan-Starling dashed, and a lower panel shows ``Z / Z_HG - 1``.
+
+    Args:
+        table: path of the results or summary table.
+        path: the PNG to write.
+        x: a grid parameter (column), e.g. ``packing`` or ``n``.
+        y: a measured observable, e.g. ``Z``.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+
+    Raises:
+        ValueError: a column missing (the message lists those present).
+    """
+    from .studies import GRID, measured, summarize
+    df = read_table(table) if not hasattr(table, "columns") else table
+    if "seed" in df.columns:
+        df = summarize(df)
+    params = [c for c in GRID if c in df.columns and c != "seed"]
+    if x not in params:
+        raise ValueError(f"--x {x!r} is not a parameter of {table} (parameters: "
+                         f"{', '.join(params)})")
+    obs = measured(df)
+    if y not in obs:
+        raise ValueError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
+    df = df.sort_values(x, kind="stable")
+    others = [c for c in params if c != x and df[c].nunique() > 1]
+    groups = list(df.groupby(others, sort=True)) if others else [((), df)]
+    reference = (y in ("Z", "compressibility") and x == "packing"
+                 and (df["container"] == "box").all() and (df["radius_ratio"] == 1).all())
+
+    fig = _figure(size, dpi)
+    if reference:
+        ax, dx = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
+    else:
+        ax, dx = fig.subplots(), None
+    if reference:
+        top = float(df[x].max())
+        grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
+        ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
+        ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--",
+                label="Carnahan-Starling")
+        dx.axhline(0.0, color="C3", lw=1)
+        dx.plot(grid[1:], 100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
+                color="0.4", lw=1, ls="--")
+    colors = ["C0", "C1", "C2", "C4", "C5", "C6", "C7", "C8", "C9"]  # C3 is the reference
+    for k, (key, g) in enumerate(groups):
+        key = key if isinstance(key, tuple) else (key,)
+        color = colors[k % len(colors)]
+        label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
+        ax.errorbar(g[x], g[y], yerr=g[f"{y}_err"], fmt="o", ms=4, capsize=3,
+                    color=color, label=label)
+        if dx is not None:
+            ref = hansen_goos(g[x].to_numpy(float))
+            dx.errorbar(g[x], 100.0 * (g[y] / ref - 1.0), yerr=100.0 * g[f"{y}_err"] / ref,
+                        fmt="o", ms=4, capsize=3, color=color)
+    ax.set_ylabel(y)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    seeds = df["seeds"] if "seeds" in df.columns else None
+    note = (f", {int(seeds.min())}-{int(seeds.max())} seeds per point" if seeds is not None
+            and seeds.min() != seeds.max() else f", {int(seeds.iloc[0])} seeds per point"
+            if seeds is not None else "")
+    ax.set_title(f"{y} against {x}: mean ± standard error{note}")
+    last = dx if dx is not None else ax
+    if dx is not None:
+        dx.set_ylabel(f"{y} / Z_HG - 1 [%]")
+        dx.grid(alpha=0.3)
+    last.set_xlabel(x)
     return _save(fig, path, dpi)

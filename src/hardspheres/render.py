@@ -234,7 +234,8 @@ def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_fr
 
     bar = _Progress(len(keep), progress)
     try:
-        with writer.saving(fig, str(path), dpi):
+        from .fileio import atomic_path
+        with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):
             for f in range(len(keep)):
                 show(f)
                 writer.grab_frame()
@@ -275,5 +276,7 @@ def render_still(frames, path, time=None, size=(640, 480), *, color_by="speed", 
         k = int(np.argmin(np.abs(times - float(time))))
     fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi)
     show(0)
-    fig.savefig(path, dpi=dpi, format="png")
+    from .fileio import atomic_write
+    with atomic_write(path, "wb") as fh:
+        fig.savefig(fh, dpi=dpi, format="png")
     return path

@@ -15,6 +15,7 @@ Pure Python (no numpy), so that the assignment's program starts fast.
 import math
 from dataclasses import dataclass, field
 
+from .messages import quote
 from .physics import reflect, wall_time
 
 #: Relative tolerance for "touching within rounding": two spheres overlap only
@@ -109,11 +110,11 @@ def _number(token, what, lineno):
         x = None
     # float() also takes digit-group underscores and non-ASCII digits
     if x is None or "_" in token or not token.isascii():
-        raise ScenarioError(f"{what} is not a number: {token!r}", lineno)
+        raise ScenarioError(f"{what} is not a number: {quote(token)}", lineno)
     if not math.isfinite(x):
-        raise ScenarioError(f"{what} is not a finite number: {token!r}", lineno)
+        raise ScenarioError(f"{what} is not a finite number: {quote(token)}", lineno)
     if abs(x) > MAX_MAGNITUDE:
-        raise ScenarioError(f"{what} is too large: {token} (at most {MAX_MAGNITUDE:g} "
+        raise ScenarioError(f"{what} is too large: {quote(token)} (at most {MAX_MAGNITUDE:g} "
                             "in magnitude, so that squares and energies stay finite)",
                             lineno)
     return x
@@ -160,12 +161,12 @@ def parse_scenario(data):
             _number(tok, what, lineno) for tok, what in zip(tokens[:8], FIELDS))
         name = tokens[8]
         if m <= 0.0:
-            raise ScenarioError(f"mass must be > 0, got {tokens[0]}", lineno)
+            raise ScenarioError(f"mass must be > 0, got {quote(tokens[0])}", lineno)
         if r < 0.0:
-            raise ScenarioError(f"radius must be >= 0, got {tokens[1]}", lineno)
+            raise ScenarioError(f"radius must be >= 0, got {quote(tokens[1])}", lineno)
         if name in seen:
             raise ScenarioError(
-                f"name {name!r} is already used on line {seen[name]}; names are IDs",
+                f"name {quote(name)} is already used on line {seen[name]}; names are IDs",
                 lineno)
         seen[name] = lineno
         scn.masses.append(m)
@@ -195,16 +196,16 @@ def check_scenario(scn, container):
         dist = math.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
         if dist + r > container + slack:
             raise ScenarioError(
-                f"sphere {scn.names[i]!r} is not wholly inside the container: "
+                f"sphere {quote(scn.names[i])} is not wholly inside the container: "
                 f"|p| + R = {dist + r:g} > {container:g}", scn.lines[i])
         if r >= container and (v[0] or v[1] or v[2]):
             raise ScenarioError(
-                f"sphere {scn.names[i]!r} fills the container and cannot move; "
+                f"sphere {quote(scn.names[i])} fills the container and cannot move; "
                 "give it zero velocity or a smaller radius", scn.lines[i])
         if (wall_time(*p, *v, container - r) == 0.0
                 and reflect(*p, *v) == 0.0):
             raise ScenarioError(
-                f"sphere {scn.names[i]!r} touches the container wall and moves along it "
+                f"sphere {quote(scn.names[i])} touches the container wall and moves along it "
                 "(velocity perpendicular to its position): it would slide along the "
                 "wall, which point reflections cannot model; give it a velocity "
                 "component off the wall or move it inward", scn.lines[i])
@@ -212,7 +213,7 @@ def check_scenario(scn, container):
     if pair is not None:
         i, j = pair
         raise ScenarioError(
-            f"sphere {scn.names[j]!r} overlaps sphere {scn.names[i]!r} "
+            f"sphere {quote(scn.names[j])} overlaps sphere {quote(scn.names[i])} "
             f"(line {scn.lines[i]}); move them apart", scn.lines[j])
 
 

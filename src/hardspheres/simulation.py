@@ -16,18 +16,26 @@ Example:
     (10.0, [-7.0, 7.0])
 """
 
-import os
+import math
+import zipfile
 from typing import NamedTuple
 
 import numpy as np
 
 from .containers import PeriodicBox, SphericalContainer
-from .engine import Engine
+from .engine import CheckpointError, Engine
+from .fileio import atomic_write
+from .messages import quote
 from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
 from .state import State
 
 KINDS = ("reflection", "collision")
+
+#: What :meth:`Simulation.save` writes in its ``format`` array, and the
+#: version of the layout; :meth:`Simulation.load` refuses anything else.
+CHECKPOINT_FORMAT = "hardspheres-checkpoint"
+CHECKPOINT_VERSION = 1
 
 
 class Event(NamedTuple):
@@ -60,12 +68,17 @@ class Simulation:
             uses 1e-8 s; 0, the default, keeps exact times).
 
     Raises:
-        ScenarioError: spheres outside the container or overlapping.
+        ScenarioError: a mass, radius, position or velocity that is not a
+            finite number (masses > 0, radii >= 0), repeated names, spheres
+            outside the container or overlapping.
+        ValueError: a window that is not a finite number >= 0.
     """
 
     def __init__(self, state, container, window=0.0):
         if not isinstance(container, (SphericalContainer, PeriodicBox)):
             raise TypeError("container must be a SphericalContainer or a PeriodicBox")
+        state.check()
+        window = _number(window, "window", "a finite number >= 0 [time]", minimum=0.0)
         self.container = container
         self.names = list(state.names)
         self.writers = []
@@ -160,10 +173,17 @@ class Simulation:
     def _chunks(self, until, collisions, events, record):
         if until is None and collisions is None and events is None:
             raise ValueError("give until, collisions or events: the run never ends otherwise")
-        until = np.inf if until is None else float(until)
-        coll_left = np.inf if collisions is None else int(collisions)
-        ev_left = np.inf if events is None else int(events)
+        if until is None:
+            until = np.inf
+        else:
+            until = _number(until, "until", f"a finite time >= the clock ({self.time!r})")
+            if until < self.time:
+                raise ValueError(f"until={until!r} is before the simulation's clock "
+                                 f"({self.time!r}); give a later time")
+        coll_left = np.inf if collisions is None else _count(collisions, "collisions")
+        ev_left = np.inf if events is None else _count(events, "events")
         eng = self._engine
+        self._run_until = until  # the writers record it (a cut-short file shows)
         for w in self.writers:
             w.attach(self)
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
@@ -267,7 +287,7 @@ class Simulation:
         last event; in a periodic box they are wrapped into the box.
         A ``time`` past the clock runs the simulation to it first.
         """
-        t = self.time if time is None else float(time)
+        t = self.time if time is None else _number(time, "time", "a finite time [time]")
         if t > self.time:
             self.run(until=t)
         if t < self.time:
@@ -281,44 +301,149 @@ class Simulation:
     def save(self, path):
         """Write a checkpoint; :meth:`load` resumes it bit for bit.
 
-        The file is written to a temporary name and renamed, so an
-        interrupted save never leaves a broken checkpoint.
+        The file (an ``.npz`` with a ``format`` name and ``version``) is
+        written through :func:`hardspheres.fileio.atomic_write`: a unique
+        temporary in the same folder, fsync-ed and renamed, under a lock, so
+        an interrupted save leaves the old checkpoint, and two saves to one
+        file never mix.
+
+        Raises:
+            FileInUseError: another writer holds ``path``.
+            OSError: naming ``path``.
         """
+        self._save(path, lock=True)
+
+    def _save(self, path, lock):
         th = getattr(self, "thermostat", None)
         extra = {} if th is None else {"thermostat": np.array(th.state())}
-        tmp = f"{path}.tmp"
-        with open(tmp, "wb") as fh:
-            np.savez(fh, names=np.array(self.names, dtype=str).reshape(-1),
+        with atomic_write(path, "wb", lock=lock) as fh:
+            np.savez(fh, format=np.array(CHECKPOINT_FORMAT),
+                     version=np.array(CHECKPOINT_VERSION),
+                     names=np.array(self.names, dtype=str).reshape(-1),
                      container=np.array([type(self.container).__name__,
                                          repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
                      clock=np.array(self._clock), **extra,
                      **self._engine.checkpoint())
-        os.replace(tmp, path)
 
     @classmethod
     def load(cls, path):
-        """Resume a checkpoint written by :meth:`save`."""
-        with np.load(path, allow_pickle=False) as z:
-            data = {k: z[k] for k in z.files}
-        kind, size = data.pop("container")
-        container = (SphericalContainer if kind == "SphericalContainer" else PeriodicBox)(
-            float(size))
+        """Resume a checkpoint written by :meth:`save`.
+
+        Every array is checked before the compiled core sees it.
+
+        Raises:
+            CheckpointError: the file is not a checkpoint of this format and
+                version, is truncated or damaged (one line says which).
+            OSError: the file cannot be read.
+        """
+        data = _read_checkpoint(path)
+        try:
+            kind, size = (str(x) for x in data.pop("container").tolist())
+            size = float(size)
+            container = {"SphericalContainer": SphericalContainer,
+                         "PeriodicBox": PeriodicBox}[kind](size)
+        except (KeyError, ValueError, TypeError, AttributeError):
+            raise CheckpointError(f"{path}: damaged checkpoint: no valid container") from None
         sim = cls.__new__(cls)
         sim.container = container
-        sim.names = [str(x) for x in data.pop("names")]
-        sim.writers = []
-        mark = data.pop("obs")
-        sim._clock = float(data.pop("clock"))
+        names = data.pop("names", None)
+        mark = data.pop("obs", None)
+        clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
-        sim._engine = Engine.restore(data)
+        try:
+            sim._engine = Engine.restore(data)
+        except CheckpointError as e:
+            raise CheckpointError(f"{path}: {e}") from None
+        n = sim._engine.n
+        if (names is None or names.dtype.kind != "U" or names.shape != (n,)
+                or len(set(names.tolist())) != n):
+            raise CheckpointError(f"{path}: damaged checkpoint: not {n} distinct names")
+        if (mark is None or mark.dtype != np.float64 or mark.ndim != 1
+                or not np.all(np.isfinite(mark))):
+            raise CheckpointError(f"{path}: damaged checkpoint: bad observables mark")
+        if clock is None or clock.shape != () or not np.isfinite(clock):
+            raise CheckpointError(f"{path}: damaged checkpoint: bad clock")
+        eng = sim._engine
+        if (eng.box is None) != isinstance(container, SphericalContainer) or (
+                _container_size(container) != (eng.container or eng.box)):
+            raise CheckpointError(f"{path}: damaged checkpoint: the container disagrees "
+                                  "with the core's")
+        sim.names = [str(x) for x in names]
+        sim.writers = []
+        sim._clock = float(clock)
         sim.observables = Observables(sim)
         sim.observables._mark = tuple(mark.tolist())
+        if n:
+            worst = eng.max_overlap()
+            if not worst <= 1e-6 or eng.outside(tol=1e-6):
+                raise CheckpointError(f"{path}: damaged checkpoint: spheres overlap or "
+                                      "leave the container")
         sim.thermostat = None
         if th is not None:
             from .dense import thermostat_from_state
-            sim.set_thermostat(thermostat_from_state(str(th)))
+            try:
+                sim.set_thermostat(thermostat_from_state(str(th)))
+            except (ValueError, KeyError, TypeError) as e:
+                raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") \
+                    from None
         return sim
+
+
+def _read_checkpoint(path):
+    """The arrays of a checkpoint file, after checking its format and version."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            if not hasattr(z, "files"):
+                raise ValueError("a bare .npy array")
+            data = {k: z[k] for k in z.files}
+    except OSError as e:
+        if isinstance(e, (FileNotFoundError, PermissionError, IsADirectoryError)):
+            raise
+        raise CheckpointError(f"{path}: not a readable checkpoint ({_why(e)})") from None
+    except (ValueError, EOFError, zipfile.BadZipFile, KeyError, RuntimeError) as e:
+        raise CheckpointError(f"{path}: not a checkpoint, or truncated or damaged "
+                              f"({_why(e)})") from None
+    fmt = data.pop("format", None)
+    version = data.pop("version", None)
+    if fmt is None or fmt.shape != () or str(fmt) != CHECKPOINT_FORMAT:
+        raise CheckpointError(f"{path}: not a hardspheres checkpoint (no format "
+                              f"{CHECKPOINT_FORMAT!r}); give a file written by "
+                              "--checkpoint or Simulation.save")
+    if version is None or version.shape != () or version.dtype.kind not in "iu" or (
+            int(version) != CHECKPOINT_VERSION):
+        raise CheckpointError(f"{path}: checkpoint version {version} is not "
+                              f"{CHECKPOINT_VERSION}, the one this hardspheres reads")
+    return data
+
+
+def _why(err):
+    """A short reason from an exception: its first line, cut to 80 characters."""
+    text = (str(err).splitlines() or [type(err).__name__])[0]
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _number(x, what, expected, minimum=-math.inf):
+    """``x`` as a float, or a ValueError saying what was expected."""
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not (math.isfinite(v) and v >= minimum):
+        raise ValueError(f"{what} must be {expected}, got {x!r}")
+    return v
+
+
+def _count(x, what):
+    """``x`` as an int >= 0, or a ValueError."""
+    try:
+        v = int(x)
+        ok = v == x and v >= 0
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{what} must be a whole number >= 0, got {x!r}")
+    return v
 
 
 def _container_size(container):
@@ -332,5 +457,5 @@ def _check_inside(state, container):
     bad = np.nonzero(reach > container.radius * (1.0 + TOUCH_TOL))[0]
     if len(bad):
         i = int(bad[0])
-        raise ScenarioError(f"sphere {state.names[i]!r} is not wholly inside the container: "
+        raise ScenarioError(f"sphere {quote(state.names[i])} is not wholly inside the container: "
                             f"|p| + R = {reach[i]:g} > {container.radius:g}")

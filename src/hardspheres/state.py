@@ -32,16 +32,83 @@ class State:
 
     @classmethod
     def from_arrays(cls, masses, radii, positions, velocities, names=None, time=0.0):
-        """Build a state from array-likes, naming spheres ``s0, s1, ...`` if unnamed."""
-        masses = np.asarray(masses, dtype=np.float64).reshape(-1)
-        n = masses.shape[0]
+        """Build a state from array-likes, naming spheres ``s0, s1, ...`` if unnamed.
+
+        Raises:
+            ScenarioError: arrays of the wrong shape, or numbers that
+                :meth:`check` refuses.
+        """
+        from .scenario import ScenarioError
+        try:
+            masses = np.asarray(masses, dtype=np.float64).reshape(-1)
+            n = masses.shape[0]
+            arrays = [np.asarray(radii, dtype=np.float64), np.asarray(positions, np.float64),
+                      np.asarray(velocities, dtype=np.float64)]
+        except (TypeError, ValueError) as e:
+            raise ScenarioError(f"masses, radii, positions and velocities must be "
+                                f"numbers ({_first_line(e)})") from None
+        for what, a, shape in zip(("radii", "positions", "velocities"), arrays,
+                                  ((n,), (n, 3), (n, 3))):
+            if a.size != int(np.prod(shape)):
+                raise ScenarioError(f"{what} has shape {list(a.shape)} for {n} masses; "
+                                    f"give {list(shape)}")
         names = [f"s{i}" for i in range(n)] if names is None else [str(x) for x in names]
         if len(names) != n:
-            raise ValueError(f"{len(names)} names for {n} spheres")
-        return cls(masses, np.asarray(radii, dtype=np.float64).reshape(n),
-                   np.asarray(positions, dtype=np.float64).reshape(n, 3).copy(),
-                   np.asarray(velocities, dtype=np.float64).reshape(n, 3).copy(),
-                   names, float(time))
+            raise ScenarioError(f"{len(names)} names for {n} spheres; give one per sphere")
+        state = cls(masses, arrays[0].reshape(n), arrays[1].reshape(n, 3).copy(),
+                    arrays[2].reshape(n, 3).copy(), names, time)
+        state.check()
+        state.time = float(state.time)
+        return state
+
+    def check(self):
+        """Check that the state can be simulated.
+
+        Raises:
+            ScenarioError: saying which sphere and what is wrong: a mass
+                that is not a finite number > 0, a radius that is not a
+                finite number >= 0, a position or velocity that is not
+                finite, a repeated name, mismatched lengths, or a time that
+                is not finite.
+        """
+        from .messages import quote
+        from .scenario import ScenarioError
+        n = len(self.masses)
+        for what, a, shape in (("masses", self.masses, (n,)), ("radii", self.radii, (n,)),
+                               ("positions", self.positions, (n, 3)),
+                               ("velocities", self.velocities, (n, 3))):
+            if np.shape(a) != shape:
+                raise ScenarioError(f"{what} has shape {list(np.shape(a))}, expected "
+                                    f"{list(shape)}")
+        if len(self.names) != n:
+            raise ScenarioError(f"{len(self.names)} names for {n} spheres; give one per sphere")
+
+        def refuse(values, ok, what):
+            bad = np.nonzero(~ok)[0]
+            if len(bad):
+                i = int(bad[0])
+                raise ScenarioError(f"sphere {i} ({quote(self.names[i])}): {what}, got "
+                                    f"{np.asarray(values)[i].tolist()!r}")
+
+        m, r = self.masses, self.radii
+        refuse(m, np.isfinite(m) & (m > 0), "mass must be a finite number > 0")
+        refuse(r, np.isfinite(r) & (r >= 0), "radius must be a finite number >= 0")
+        refuse(self.positions, np.all(np.isfinite(self.positions), axis=1),
+               "position must be finite")
+        refuse(self.velocities, np.all(np.isfinite(self.velocities), axis=1),
+               "velocity must be finite")
+        seen = {}
+        for i, name in enumerate(self.names):
+            if name in seen:
+                raise ScenarioError(f"sphere {i}: name {quote(name)} is already sphere "
+                                    f"{seen[name]}'s; names are IDs")
+            seen[name] = i
+        try:
+            ok = np.isfinite(float(self.time))
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ScenarioError(f"time must be a finite number, got {self.time!r}")
 
     @classmethod
     def from_scenario(cls, scn):
@@ -69,3 +136,8 @@ class State:
                                           self.positions.tolist(), self.velocities.tolist(),
                                           self.names)]
         return "".join(rows)
+
+
+def _first_line(err):
+    text = (str(err).splitlines() or [type(err).__name__])[0]
+    return text if len(text) <= 80 else text[:77] + "..."

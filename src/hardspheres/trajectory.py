@@ -37,10 +37,12 @@ Example:
 
 import math
 import os
+import warnings
 
 import numpy as np
 
 from .containers import PeriodicBox, SphericalContainer
+from .fileio import PathLock
 from .frames import Frames
 
 _EMPTY_EVENTS = np.zeros((0, 5))
@@ -53,37 +55,68 @@ def _check_every(every):
     return every
 
 
+class TruncatedTrajectory(UserWarning):
+    """A trajectory file ends before the run that wrote it meant to (cut short)."""
+
+
+class NotAContinuation(ValueError):
+    """An ``append=True`` writer's file does not end where the simulation is."""
+
+
 class _FrameWriter:
     """Frames at ``t0, t0 + every, t0 + 2 every, ...`` from the time it is attached.
 
     Subclasses write a frame in ``_write_frame(sim, state, events)``, may
     check the simulation once in ``_start(sim)``, and keep their open file,
-    if any, in ``_file``.
+    if any, in ``_file`` (and its lock in ``_lock``).  ``_count`` is the
+    index of the next frame in the file; ``_k`` the number of frames this
+    writer has written (in an appended file the first, already there, is
+    not written again).  ``last_time`` is the time of the last frame in the
+    file [time].
     """
 
     _file = None
+    _lock = None
+    _closed = False
+    _failed = False
+    path = None
+    #: The end time [time] recorded in each frame (``log/hardspheres/run_end``):
+    #: ``None`` takes each ``run(until=...)``'s; a driver that runs in pieces
+    #: (``hardspheres run``) sets its final end here.
+    until = None
 
     def __init__(self, every, events=True):
         self.every = _check_every(every)
         self.wants_events = bool(events)
         self.next_time = math.inf
+        self.last_time = None
         self._t0 = None
         self._count = 0
+        self._k = 0
         self._events = []
+        self._run_end = (math.inf, math.inf)
 
     def _start(self, sim):
         pass
 
+    def _check_open(self):
+        if self._closed:
+            raise ValueError(f"{type(self).__name__}({self.path or ''!r}) is closed; "
+                             "open a new writer to write more frames")
+
     def attach(self, sim):
+        self._check_open()
         if self._t0 is None:
             self._t0 = sim.time
-            self._start(sim)
-            self._frame(sim, sim.time)
-        self.next_time = self._t0 + self._count * self.every
+            if self._start(sim) == "continues":
+                self._k = 1  # the file's last frame is this one
+            else:
+                self._frame(sim, sim.time)
+        self.next_time = self._t0 + self._k * self.every
 
     def write(self, sim, t):
         self._frame(sim, t)
-        self.next_time = self._t0 + self._count * self.every
+        self.next_time = self._t0 + self._k * self.every
 
     def observe(self, ev):
         if len(ev["t"]):
@@ -96,8 +129,20 @@ class _FrameWriter:
         return out
 
     def _frame(self, sim, t):
-        self._write_frame(sim, sim.state(t), self._take_events())
+        self._check_open()
+        until = self.until if self.until is not None else getattr(sim, "_run_until", math.inf)
+        self._run_end = (float(until),
+                         self._t0 + (self._k + 1) * self.every)
+        try:
+            self._write_frame(sim, sim.state(t), self._take_events())
+        except OSError as e:
+            self._failed = True
+            if self.path is not None and e.filename is None:
+                raise type(e)(e.errno, e.strerror, self.path) from None
+            raise
         self._count += 1
+        self._k += 1
+        self.last_time = t
 
     def __enter__(self):
         return self
@@ -107,27 +152,90 @@ class _FrameWriter:
         return False
 
     def close(self):
-        """Flush and close the file (further frames are an error)."""
-        if self._file is not None:
-            self._file.close()
-            self._file = None
+        """Flush and close the file and release its lock (further frames are an error).
+
+        Raises:
+            OSError: naming the file, if the last data cannot be written
+                (not raised again after a failed frame).
+        """
+        self._closed = True
+        try:
+            if self._file is not None:
+                fh, self._file = self._file, None
+                try:
+                    fh.close()
+                except OSError as e:
+                    if not self._failed:
+                        if e.filename is None:
+                            raise type(e)(e.errno, e.strerror, self.path) from None
+                        raise
+        finally:
+            if self._lock is not None:
+                self._lock.release()
+                self._lock = None
+
+    def _take_lock(self, path):
+        """Lock ``path`` for this writer, or raise (:class:`PathLock`)."""
+        self.path = os.fspath(path)
+        self._lock = PathLock(self.path)
+
+
+def _continues(path, last, sim):
+    """Raise unless the frame ``last`` of ``path`` is where ``sim`` is now."""
+    c = sim.container
+    size = c.radius if isinstance(c, SphericalContainer) else c.length
+    same = (last["time"] == sim.time and last["n"] == sim.n and last["names"] == sim.names
+            and last["container"] == (type(c).__name__, size))
+    if not same:
+        raise NotAContinuation(
+            f"{path} does not end where this simulation is (it ends at t={last['time']!r} "
+            f"with {last['n']} spheres; the simulation is at t={sim.time!r} with {sim.n}): "
+            "it belongs to another run; write to another file")
 
 
 class GSDWriter(_FrameWriter):
     """Frames to a GSD file (HOOMD schema, double precision).
 
     Args:
-        path: the file (overwritten).
+        path: the file (overwritten, unless ``append``).
         every: time between frames [time].
         events: also keep the events between frames (``log/hardspheres/events``).
+        append: continue an existing file written by an earlier part of the
+            same run (checked when the writer is attached); a missing
+            file is created.
+
+    Raises:
+        FileInUseError: another writer holds the file.
+        OSError: naming the file.
     """
 
-    def __init__(self, path, every, events=True):
+    def __init__(self, path, every, events=True, append=False):
         super().__init__(every, events)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
-        self.path = os.fspath(path)
-        self._file = gsd.hoomd.open(self.path, mode="w", precision="double")
+        self._take_lock(path)
+        self._append = bool(append) and os.path.exists(self.path)
+        try:
+            self._file = gsd.hoomd.open(self.path, mode="r+" if self._append else "w",
+                                        precision="double")
+            self._count = len(self._file) if self._append else 0
+        except (OSError, RuntimeError) as e:
+            self.close()
+            if isinstance(e, OSError) and e.filename is not None:
+                raise
+            raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
         self._hoomd = gsd.hoomd
+
+    def _start(self, sim):
+        if not self._append or self._count == 0:
+            return None
+        try:
+            last = _gsd_last(self._file)
+        except (KeyError, IndexError, ValueError) as e:
+            raise ValueError(f"{self.path}: not a hardspheres trajectory ({e}); "
+                             "write to another file") from None
+        _continues(self.path, last, sim)
+        self.last_time = last["time"]
+        return "continues"
 
     def _write_frame(self, sim, state, events):
         f = self._hoomd.Frame()
@@ -151,6 +259,7 @@ class GSDWriter(_FrameWriter):
             f.log["hardspheres/names"] = np.frombuffer(
                 "\n".join(state.names).encode("utf-8"), dtype=np.uint8)
         f.log["hardspheres/time"] = np.array([state.time])
+        f.log["hardspheres/run_end"] = np.array(self._run_end)
         if self.wants_events:
             f.log["hardspheres/events"] = events
         self._file.append(f)
@@ -167,20 +276,43 @@ class XYZWriter(_FrameWriter):
     not contain whitespace or quotes here. Events are not written.
 
     Args:
-        path: the file (overwritten).
+        path: the file (overwritten, unless ``append``).
         every: time between frames [time].
+        append: continue an existing file written by an earlier part of the
+            same run (checked when the writer is attached).
+
+    Raises:
+        FileInUseError: another writer holds the file.
+        OSError: naming the file.
     """
 
-    def __init__(self, path, every):
+    def __init__(self, path, every, append=False):
         super().__init__(every, events=False)
-        self.path = os.fspath(path)
-        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
+        self._take_lock(path)
+        self._append = bool(append) and os.path.exists(self.path)
+        try:
+            self._file = open(self.path, "a" if self._append else "w", encoding="utf-8",
+                              newline="\n")
+        except OSError:
+            self.close()
+            raise
 
     def _start(self, sim):
+        from .messages import quote
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:
-            raise ValueError(f"sphere name {bad[0]!r} cannot be written to XYZ "
+            raise ValueError(f"sphere name {quote(bad[0])} cannot be written to XYZ "
                              "(whitespace or quotes); use GSD")
+        if not self._append or os.path.getsize(self.path) == 0:
+            return None
+        old = _read_xyz(self.path, check_end=False)
+        self._count = len(old.times)
+        c = ("PeriodicBox", old.box) if old.box is not None else (
+            "SphericalContainer", old.container)
+        _continues(self.path, {"time": float(old.times[-1]), "n": old.n,
+                               "names": list(old.names), "container": c}, sim)
+        self.last_time = float(old.times[-1])
+        return "continues"
 
     def _write_frame(self, sim, state, events):
         c = sim.container
@@ -192,7 +324,8 @@ class XYZWriter(_FrameWriter):
         header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
                   f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" '
                   "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1 "
-                  f"Time={state.time!r} {size}\n")
+                  f"Time={state.time!r} {size} "
+                  f"run_end=\"{self._run_end[0]!r} {self._run_end[1]!r}\"\n")
         fh = self._file
         fh.write(header)
         if state.n:
@@ -216,6 +349,9 @@ def _event_fields(blocks):
 def read_trajectory(path):
     """Read a trajectory written by :class:`GSDWriter` or :class:`XYZWriter`.
 
+    Warns :class:`TruncatedTrajectory` (one line: the file, where it ends
+    and where its run meant to end) if the file was cut short.
+
     Returns:
         :class:`hardspheres.frames.Frames`.
 
@@ -228,6 +364,35 @@ def read_trajectory(path):
     if path.endswith((".xyz", ".extxyz")):
         return _read_xyz(path)
     raise ValueError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
+
+
+def _warn_if_cut(path, last_time, run_end):
+    """Warn if the run that wrote the last frame had another frame due before its end."""
+    try:
+        until, due = (float(x) for x in run_end)
+    except (TypeError, ValueError):
+        return  # not ours to judge
+    if due <= until and last_time < until:
+        warnings.warn(f"{path} ends at t={last_time!r}, but the run writing it was to reach "
+                      f"t={until!r} (next frame due at t={due!r}): the file was cut short "
+                      "(disk full, run killed or interrupted)", TruncatedTrajectory,
+                      stacklevel=3)
+
+
+def _gsd_last(traj):
+    """What :func:`_continues` compares, from the last frame of an open GSD file."""
+    first, last = traj[0], traj[len(traj) - 1]
+    n = int(first.particles.N)
+    raw = bytes(np.asarray(first.log.get("hardspheres/names", np.zeros(0, np.uint8)),
+                           dtype=np.uint8))
+    names = raw.decode("utf-8").split("\n") if n else []
+    log = last.log
+    if "hardspheres/box_length" in log:
+        container = ("PeriodicBox", float(log["hardspheres/box_length"][0]))
+    else:
+        container = ("SphericalContainer", float(log["hardspheres/container_radius"][0]))
+    return {"time": float(log["hardspheres/time"][0]), "n": int(last.particles.N),
+            "names": names, "container": container}
 
 
 def _read_gsd(path):
@@ -261,6 +426,9 @@ def _read_gsd(path):
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
             if "hardspheres/events" in f.log:
                 events.append(np.asarray(f.log["hardspheres/events"], np.float64).reshape(-1, 5))
+            run_end = f.log.get("hardspheres/run_end")
+        if run_end is not None and len(run_end) == 2:
+            _warn_if_cut(path, times[-1], run_end)
         return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
@@ -278,8 +446,9 @@ def _xyz_keys(comment):
     return out
 
 
-def _read_xyz(path):
+def _read_xyz(path, check_end=True):
     times, pos, vel, names, radii, masses = [], [], [], None, None, None
+    run_end = None
     container = box = None
     with open(path, encoding="utf-8") as fh:
         lines = fh.read().split("\n")
@@ -289,6 +458,7 @@ def _read_xyz(path):
             n = int(lines[k])
             keys = _xyz_keys(lines[k + 1])
             times.append(float(keys["Time"]))
+            run_end = keys["run_end"].split() if "run_end" in keys else None
             if "box_length" in keys:
                 box = float(keys["box_length"])
             else:
@@ -308,6 +478,8 @@ def _read_xyz(path):
                          f"(near line {k + 1}: {e})") from None
     if not times:
         raise ValueError(f"{path}: no frames")
+    if check_end and run_end is not None and len(run_end) == 2:
+        _warn_if_cut(path, times[-1], run_end)
     n = len(names)
     return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                   np.array(vel).reshape(-1, n, 3), radii, masses, names,

@@ -188,7 +188,9 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
             .replace("__TITLE__", html.escape(data["title"]))
             .replace("__JS__", _script_json(_vendored_js()))
             .replace("__DATA__", _script_json(data)))
-    path.write_text(page, encoding="utf-8")
+    from .fileio import atomic_write
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write(page)
     return path
 
 
@@ -259,7 +261,9 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
                     if page.evaluate("window.viewerState.playing"):
                         page.click("#play")  # pause: the picture shows the Play button
                 page.wait_for_timeout(100)
-                page.screenshot(path=str(png_path))
+                from .fileio import atomic_path
+                with atomic_path(png_path) as tmp:
+                    page.screenshot(path=tmp, type="png")
             finally:
                 browser.close()
     except PlaywrightError as e:
