@@ -327,7 +327,8 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
     import subprocess
     from pathlib import Path
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    sec = readme[readme.index("## Dense matter"):readme.index("## Pictures")]
+    start = readme.index("## Dense matter")
+    sec = readme[start:readme.index("\n## ", start + 1)]
     blocks = re.findall(r"```python\n(.*?)```", sec, re.DOTALL)
     assert len(blocks) == 2
     monkeypatch.chdir(tmp_path)

@@ -345,3 +345,47 @@ def compress_command(args):
         what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
     print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
     return 0
+
+
+# ---- crystal order ---------------------------------------------------------------
+
+class CrystalOrder(NamedTuple):
+    """Bond-orientational order of the spheres now (see :func:`crystal_order`).
+
+    Attributes:
+        q6: ``(N,)`` Steinhardt q6 of each sphere (12 nearest neighbours).
+        mean_q6: their mean (FCC ~0.57, a fluid or glass ~0.3-0.4).
+        crystal_like: ``(N,)`` bool: at least 7 of the 12 bonds crystal-like
+            (normalised q6 dot product > 0.7; ten Wolde, Ruiz-Montero and
+            Frenkel's criterion).
+        fraction: fraction of crystal-like spheres.
+    """
+
+    q6: np.ndarray
+    mean_q6: float
+    crystal_like: np.ndarray
+    fraction: float
+
+
+def crystal_order(sim):
+    """Steinhardt q6 and crystal-like spheres of ``sim`` now, with freud.
+
+    A thin wrapper of ``freud.order.Steinhardt`` and ``SolidLiquid`` (12
+    nearest neighbours), so that a compression can be checked for
+    crystallisation.  Needs the ``freud-analysis`` package.
+    """
+    import freud
+    state = sim.state()
+    pts = np.ascontiguousarray(state.positions, dtype=np.float32)
+    if isinstance(sim.container, PeriodicBox):
+        box = freud.box.Box.cube(sim.container.length)
+    else:  # a box wide enough that no sphere sees an image
+        box = freud.box.Box.cube(4.0 * sim.container.radius)
+    nb = {"num_neighbors": 12}
+    st = freud.order.Steinhardt(6)
+    st.compute((box, pts), neighbors=nb)
+    sl = freud.order.SolidLiquid(6, q_threshold=0.7, solid_threshold=7)
+    sl.compute((box, pts), neighbors=nb)
+    q6 = np.asarray(st.particle_order, dtype=np.float64)
+    xtal = np.asarray(sl.num_connections) >= 7
+    return CrystalOrder(q6, float(q6.mean()), xtal, float(xtal.mean()))
