@@ -201,6 +201,13 @@ def events_of(out):
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _compiled_core():
+    """The core compiled up front, silently: a cold cache's note is not a test's stderr."""
+    from hardspheres.warmup import ensure_compiled
+    ensure_compiled(quiet=True)
+
+
 @ENGINES
 def test_blank_and_whitespace_lines_ignored(engine, monkeypatch, capsys):
     monkeypatch.setenv("HARDSPHERES_ENGINE", engine)

@@ -24,7 +24,7 @@ pytest.importorskip("gsd")
 from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres.trajectory import read_trajectory  # noqa: E402
-from hardspheres.viewer import find_chromium  # noqa: E402
+from hardspheres.screenshot import find_chromium  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 N, R, UNTIL, EVERY = 60, 6.0, 2.0, 0.1
@@ -66,9 +66,10 @@ def run(tmp_path_factory):
     d = tmp_path_factory.mktemp("pictures")
     scn = hs("generate", "--n", N, "--container", R, "--packing", 0.2, "--seed", 2, cwd=d).stdout
     (d / "scn.txt").write_text(scn)
-    for name in ("run.gsd", "run.xyz"):
-        hs("run", "scn.txt", "--container", R, "--until", UNTIL, "--trajectory", name,
-           "--every", EVERY, cwd=d)
+    hs("run", "scn.txt", "--container", R, "--until", UNTIL, "--trajectory", "run.gsd",
+       "--every", EVERY, "--events", cwd=d)
+    hs("run", "scn.txt", "--container", R, "--until", UNTIL, "--trajectory", "run.xyz",
+       "--every", EVERY, cwd=d)
     return d
 
 
@@ -98,9 +99,10 @@ def test_view_trajectory(run, traj):
 
 
 def test_render_gif(run):
-    hs("render", "run.gsd", "-o", "movie.gif", "--fps", 10, cwd=run)
+    res = hs("render", "run.gsd", "-o", "movie.gif", "--fps", 10, cwd=run)
+    assert f"rendering {N_FRAMES} frames to movie.gif, about" in res.stderr  # says how long
     with Image.open(run / "movie.gif") as im:
-        assert im.size == (640, 480)
+        assert im.size == (960, 540)  # 16:9, for slides
         images = [f.convert("RGB") for f in ImageSequence.Iterator(im)]
     assert len(images) == N_FRAMES
     for img in (images[0], images[-1]):
@@ -112,8 +114,8 @@ def test_render_gif(run):
 def test_render_still(run):
     hs("render", "run.xyz", "-o", "last.png", cwd=run)
     hs("render", "run.gsd", "-o", "first.png", "--time", 0.01, cwd=run)
-    last = assert_picture(run / "last.png", (640, 480))
-    first = assert_picture(run / "first.png", (640, 480))
+    last = assert_picture(run / "last.png", (1280, 720))
+    first = assert_picture(run / "first.png", (1280, 720))
     assert np.any(first != last)
 
 
@@ -180,7 +182,7 @@ def test_readme_pictures_are_made_by_make_sh():
     readme = (ROOT / "README.md").read_text()
     for line in _readme_pictures_block():
         assert line in script, f"README line not in docs/images/make.sh: {line}"
-    sizes = {"viewer.png": (960, 640), "still.png": (640, 480)}
+    sizes = {"viewer.png": (960, 640), "still.png": (1280, 720), "inside.png": (1280, 720)}
     shown = re.findall(r"!\[[^\]]*\]\((docs/images/[^)]+\.png)\)", readme)
     assert len(shown) >= 4
     for rel in shown:
@@ -199,7 +201,7 @@ def test_readme_pictures_commands_run(tmp_path):
         res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True,
                              timeout=180)
         assert res.returncode == 0, (line, res.stderr)
-    assert_picture(tmp_path / "still.png", (640, 480))
+    assert_picture(tmp_path / "still.png", (1280, 720))
     for name in ("conservation.png", "speeds.png", "eos.png"):
         assert_picture(tmp_path / name, (960, 720))
     if not browser:

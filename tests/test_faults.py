@@ -246,7 +246,10 @@ def test_full_trajectory_disk_still_checkpoints(small_disk, tmp_path):
                "--trajectory", small_disk / "t.gsd", "--checkpoint", tmp_path / "c.npz",
                cwd=tmp_path)
     assert r.returncode == 1
-    one_line(r.stderr, str(small_disk / "t.gsd"), "No space left on device", "--resume")
+    # the run warned at its start that the file would not fit, then failed as told
+    warning, error = r.stderr.splitlines(keepends=True)
+    assert "will grow to about" in warning and "is free there" in warning
+    one_line(error, str(small_disk / "t.gsd"), "No space left on device", "--resume")
     sim = hs.Simulation.load(tmp_path / "c.npz")
     assert 0 < sim.time < 2
     with pytest.warns(TruncatedTrajectory):

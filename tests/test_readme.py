@@ -30,6 +30,7 @@ def test_readme_commands_run(tmp_path):
     cmds = re.search(r"## Commands\n\n```sh\n(.*?)```", README, re.S).group(1)
     for line in cmds.strip().splitlines():
         line = line.replace("--collisions 2000000", "--collisions 20000")
+        line = line.replace("--collisions 2e6", "--collisions 2e4")
         line = line.replace("hardspheres validate --csv validation.csv",
                             "hardspheres validate --n 500 --collisions 20 --equilibrate 5 "
                             "--packings 0.2 --csv validation.csv")

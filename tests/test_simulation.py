@@ -159,7 +159,7 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "hardspheres", "run", str(scn),
                              "--container", "20", "--until", "1e9", "--checkpoint", str(ck)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    time.sleep(4.0)
+    time.sleep(8.0)  # past the start-up (about 4 s of wall time on a loaded 2-core machine)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err

@@ -16,7 +16,9 @@ import numpy as np
 import pytest
 
 from hardspheres.frames import Frames
-from hardspheres.viewer import CHROMIUM_ARGS, frame_indices, write_viewer
+from hardspheres.frames import frame_indices
+from hardspheres.screenshot import CHROMIUM_ARGS
+from hardspheres.viewer import write_viewer
 
 CHROMIUM = "/usr/bin/chromium"
 ARTIFACTS = Path(__file__).resolve().parent.parent / "test-artifacts"
@@ -156,3 +158,17 @@ def test_viewer_in_chromium(tmp_path):
         finally:
             browser.close()
     assert not errors, errors
+
+
+def test_page_is_a_packaged_file_and_render_does_not_import_the_viewer():
+    """The page lives in _static/viewer.html (package data), not in a Python string."""
+    from importlib import resources
+    import subprocess
+    import sys
+    page = (resources.files("hardspheres") / "_static" / "viewer.html").read_text(encoding="utf-8")
+    assert page.startswith("<!DOCTYPE html>") and "__DATA__" in page and "__JS__" in page
+    viewer_src = (resources.files("hardspheres") / "viewer.py").read_text(encoding="utf-8")
+    assert "<!DOCTYPE" not in viewer_src
+    code = "import sys, hardspheres.render; print('hardspheres.viewer' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

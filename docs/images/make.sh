@@ -12,9 +12,10 @@ ln -s "$root/docs" docs   # for docs/validation.csv
 
 # ---- picture commands (README.md, "Pictures")
 hardspheres generate --n 400 --container 10 --packing 0.25 --seed 1 > scn.txt
-hardspheres run scn.txt --container 10 --until 10 --trajectory run.gsd --every 0.05
+hardspheres run scn.txt --container 10 --until 10 --trajectory run.gsd --every 0.05 --events
 hardspheres view run.gsd -o viewer.html --title "400 spheres, phi = 0.25" --screenshot viewer.png
 hardspheres render run.gsd -o still.png
+hardspheres render run.gsd -o inside.png --slice 0
 hardspheres plot conservation run.gsd -o conservation.png
 hardspheres plot speeds run.gsd -o speeds.png
 hardspheres plot eos docs/validation.csv -o eos.png
@@ -26,5 +27,5 @@ sed -n '/^## Studies/,/^## Pictures/p' "$root/README.md" \
 hardspheres sweep eos.toml
 hardspheres plot sweep eos/results.parquet --x packing --y Z -o eos-study.png
 
-mv viewer.png still.png conservation.png speeds.png eos.png eos-study.png "$root/docs/images/"
+mv viewer.png still.png inside.png conservation.png speeds.png eos.png eos-study.png "$root/docs/images/"
 ls -l "$root"/docs/images/*.png

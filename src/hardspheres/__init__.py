@@ -10,7 +10,7 @@ Example:
 
 import importlib
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .scenario import Scenario, ScenarioError, parse_scenario
 
 # numpy and numba load on first use, so that the assignment's program
@@ -21,7 +21,10 @@ _LAZY = {"BuildError": "builders", "maxwell_boltzmann": "builders",
          "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
          "sweep": "studies", "StudyError": "studies",
          "CheckpointError": "engine", "FileInUseError": "fileio",
-         "TruncatedTrajectory": "trajectory"}
+         "TruncatedTrajectory": "trajectory",
+         "RDF": "structure", "StructureFactor": "structure", "BondOrder": "structure",
+         "MSD": "transport", "VACF": "transport", "ShearViscosity": "transport",
+         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport"}
 
 
 def __getattr__(name):
@@ -34,5 +37,7 @@ __all__ = ["BuildError", "CheckpointError", "Event", "FileInUseError", "Frames",
            "Observables", "PeriodicBox", "Scenario", "ScenarioError", "Simulation",
            "SphericalContainer", "State", "StudyError", "TruncatedTrajectory",
            "maxwell_boltzmann", "parse_scenario", "random_spheres", "read_trajectory", "sweep",
-           "XYZWriter"]
+           "XYZWriter",
+           "BondOrder", "MSD", "PeriodicBoxRequired", "RDF", "ShearViscosity", "StructureFactor",
+           "ThermalConductivity", "VACF", "enskog", "yeh_hummer"]
 __version__ = "0.1.0"

@@ -142,8 +142,16 @@ F_W = 5          # cell width
 F_WINDOW = 6     # simultaneity window
 F_WALL_IMPULSE = 7   # sum of impulse magnitudes delivered to the wall
 F_VIRIAL = 8         # sum over collisions of r_ij . dp_i
-F_GROW = 9           # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
-F_NF = 10
+# transport tallies (periodic box; 6 tensor components in the order xx yy zz xy xz yz)
+F_VIR_T = 9      # collisional virial tensor, sum over collisions of r_ij dp_i
+F_KIN_T = 15     # kinetic tensor now, sum_i m_i v_i v_i
+F_KIN_INT = 21   # its time integral up to F_T_KIN
+F_T_KIN = 27     # time the integrals were last brought up to date
+F_HEAT_COLL = 28  # heat Helfand moment, collisional part: sum over collisions of r_ij dE_i
+F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
+F_HEAT_INT = 34  # its time integral up to F_T_KIN
+F_GROW = 37     # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
+F_NF = 38
 
 # indices into the int64 array `c` of counters
 C_NC = 0         # cells per axis
@@ -552,12 +560,85 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
             _schedule(heap, HT, HKEY, T, K, i)
 
 
+# ---- transport tallies -----------------------------------------------------------
+
+@_inline
+def _kinetic_terms(f, m, vx, vy, vz, sign):
+    """Add ``sign`` times one sphere's share to the kinetic tensor and energy current now."""
+    f[F_KIN_T] += sign * m * vx * vx
+    f[F_KIN_T + 1] += sign * m * vy * vy
+    f[F_KIN_T + 2] += sign * m * vz * vz
+    f[F_KIN_T + 3] += sign * m * vx * vy
+    f[F_KIN_T + 4] += sign * m * vx * vz
+    f[F_KIN_T + 5] += sign * m * vy * vz
+    e = 0.5 * m * (vx * vx + vy * vy + vz * vz)
+    f[F_HEAT_KIN] += sign * vx * e
+    f[F_HEAT_KIN + 1] += sign * vy * e
+    f[F_HEAT_KIN + 2] += sign * vz * e
+
+
+@_inline
+def _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2):
+    """Before the velocities of ``a`` and ``b`` change at ``te``: the transport tallies.
+
+    The Helfand moments of momentum (``sum m x v``) and energy (``sum x E``)
+    change by free flight, ``int sum m v v dt`` and ``int sum v E dt``,
+    integrated exactly here (the sums are constant between collisions), and
+    at a collision by ``r_ab dp_a`` and ``r_ab dE_a`` (minimum image:
+    the moments' periodic form).  Their growth gives the shear viscosity
+    and the thermal conductivity by the Einstein-Helfand route.  Reads the
+    velocities only: the caller changes them.
+    """
+    dtk = te - f[F_T_KIN]
+    for q in range(6):
+        f[F_KIN_INT + q] += f[F_KIN_T + q] * dtk
+    for q in range(3):
+        f[F_HEAT_INT + q] += f[F_HEAT_KIN + q] * dtk
+    f[F_T_KIN] = te
+    ma, mb = mass[a], mass[b]
+    px, py, pz = -ma * k1 * dx, -ma * k1 * dy, -ma * k1 * dz  # impulse on a
+    f[F_VIR_T] += dx * px
+    f[F_VIR_T + 1] += dy * py
+    f[F_VIR_T + 2] += dz * pz
+    f[F_VIR_T + 3] += dx * py
+    f[F_VIR_T + 4] += dx * pz
+    f[F_VIR_T + 5] += dy * pz
+    ax, ay, az = S[a, VX], S[a, VY], S[a, VZ]
+    bx, by, bz = S[b, VX], S[b, VY], S[b, VZ]
+    _kinetic_terms(f, ma, ax, ay, az, -1.0)
+    _kinetic_terms(f, mb, bx, by, bz, -1.0)
+    ax2, ay2, az2 = ax - k1 * dx, ay - k1 * dy, az - k1 * dz
+    _kinetic_terms(f, ma, ax2, ay2, az2, 1.0)
+    _kinetic_terms(f, mb, bx + k2 * dx, by + k2 * dy, bz + k2 * dz, 1.0)
+    de = 0.5 * ma * ((ax2 * ax2 + ay2 * ay2 + az2 * az2) - (ax * ax + ay * ay + az * az))
+    f[F_HEAT_COLL] += dx * de
+    f[F_HEAT_COLL + 1] += dy * de
+    f[F_HEAT_COLL + 2] += dz * de
+
+
+@_jit
+def kinetic_sums(S, mass, f):
+    """Set the kinetic tensor and the energy current from the velocities now."""
+    for q in range(6):
+        f[F_KIN_T + q] = 0.0
+    for q in range(3):
+        f[F_HEAT_KIN + q] = 0.0
+    for i in range(S.shape[0]):
+        _kinetic_terms(f, mass[i], S[i, VX], S[i, VY], S[i, VZ], 1.0)
+
+
 # ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_events,
-        max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp):
+def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, max_events,
+        max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
     """Process events in order until one of the limits.
+
+    ``img`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
+    box (the image it is in: unwrapped centre = stored centre + img * box).
+    ``rec_dp`` ``(cap, 3)`` receives the impulse vector of sphere ``i``.
+    In a periodic box each collision also adds to the transport tallies
+    (``F_VIR_T`` ... ``F_HEAT_INT``, see :func:`_transfer`).
 
     Stops before the first event after ``until``, after ``max_events``
     collisions and reflections, or after ``max_collisions`` collisions,
@@ -616,6 +697,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
                 # periodic wrap: shift the stored centre by one box edge
                 k = (k + nc) % nc
                 S[i, X + ax] -= step * box
+                img[i, ax] += step
             K[i, CX + ax] = k
             _cell_remove(head, nxt, prv, K, i)
             _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
@@ -673,6 +755,8 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             else:
                 k1, k2 = collide(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
                                  S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ])
+            if box != 0.0:
+                _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2)
             S[a, VX] -= k1 * dx
             S[a, VY] -= k1 * dy
             S[a, VZ] -= k1 * dz
@@ -693,6 +777,9 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             rec_i[done] = a
             rec_j[done] = b
             rec_imp[done] = -mass[a] * k1 * np.sqrt(d2)
+            rec_dp[done, 0] = -mass[a] * k1 * dx
+            rec_dp[done, 1] = -mass[a] * k1 * dy
+            rec_dp[done, 2] = -mass[a] * k1 * dz
             done += 1
         elif kind == WALL:
             clock0 = f[F_CLOCK]
@@ -726,6 +813,9 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
             rec_i[done] = i
             rec_j[done] = -1
             rec_imp[done] = imp
+            rec_dp[done, 0] = -mass[i] * k * px
+            rec_dp[done, 1] = -mass[i] * k * py
+            rec_dp[done, 2] = -mass[i] * k * pz
             done += 1
         elif not stale:
             return done, 0
@@ -740,7 +830,7 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, until, max_e
 
 
 @_jit
-def kick(S, K, T, head, nxt, heap, HT, HKEY, f, c, i, t, vx, vy, vz):
+def kick(S, mass, K, T, head, nxt, heap, HT, HKEY, f, c, i, t, vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
@@ -748,6 +838,15 @@ def kick(S, K, T, head, nxt, heap, HT, HKEY, f, c, i, t, vx, vy, vz):
     """
     f[F_CLOCK] = t
     _advance(S, i, t)
+    # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
+    dtk = t - f[F_T_KIN]
+    for q in range(6):
+        f[F_KIN_INT + q] += f[F_KIN_T + q] * dtk
+    for q in range(3):
+        f[F_HEAT_INT + q] += f[F_HEAT_KIN + q] * dtk
+    f[F_T_KIN] = t
+    _kinetic_terms(f, mass[i], S[i, VX], S[i, VY], S[i, VZ], -1.0)
+    _kinetic_terms(f, mass[i], vx, vy, vz, 1.0)
     S[i, VX] = vx
     S[i, VY] = vy
     S[i, VZ] = vz
@@ -774,6 +873,16 @@ def positions_at(S, t, out, box):
 
 
 @_jit
+def unwrapped_at(S, img, t, out, box):
+    """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift."""
+    n = S.shape[0]
+    for i in range(n):
+        dt = t - S[i, TL]
+        for k in range(3):
+            out[i, k] = (S[i, X + k] + S[i, VX + k] * dt) + img[i, k] * box
+
+
+@_jit
 def rebase(S, T, HT, f):
     """Move the time origin to the clock: advance everyone, shift all times."""
     t = f[F_CLOCK]
@@ -785,6 +894,7 @@ def rebase(S, T, HT, f):
         T[i, CR_T] -= t
         HT[i] -= t
     f[F_ANCHOR] -= t
+    f[F_T_KIN] -= t
     f[F_CLOCK] = 0.0
     grow = f[F_GROW]
     if grow != 0.0:

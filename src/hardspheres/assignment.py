@@ -50,6 +50,8 @@ def _write_events(scn, container, end, out, fmt):
             rep.event(t, kind, i, j, state(), v)
         return
     from .engine import Engine
+    from .warmup import ensure_compiled
+    ensure_compiled()  # says so on stderr, once, when the cache is cold
     eng = Engine(scn.masses, scn.radii, p, v, container=container,
                  window=reference.SIMULTANEOUS, rebase=False)
     here = eng.positions_at()

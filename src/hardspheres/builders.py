@@ -4,12 +4,18 @@ Random insertion jams far below the densities people study, so spheres are
 put on the sites of a face-centred cubic lattice (a random subset of the
 sites that fit), which reaches packing fractions up to 0.74 times the part
 of the container the lattice can fill.  At fluid densities the lattice melts
-within a few collisions per sphere.
+within a few collisions per sphere.  A few spheres (up to
+:data:`INSERTION_MAX`) whose lattice does not fit the container are placed
+at random and pushed apart until none overlap instead.
 """
 
 import numpy as np
 
 from .state import State
+
+
+#: Random placement is tried for up to this many spheres when the lattice does not fit.
+INSERTION_MAX = 500
 
 
 class BuildError(ValueError):
@@ -23,6 +29,48 @@ def _fcc(k, a):
     cells = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 1, 3)
     sites = (cells + base).reshape(-1, 3) * a
     return sites - 0.5 * k * a + 0.25 * a
+
+
+def _insert(rng, radii, container, box, sweeps=20000):
+    """Random positions pushed apart until no two spheres overlap; ``None`` if they jam.
+
+    The spheres start at random (inside the container) and every overlapping
+    pair, and every sphere poking through the wall, is moved apart by its
+    overlap, sweep after sweep: a few hundred sweeps suffice for a handful
+    of spheres at fluid packing fractions.
+    """
+    n = len(radii)
+    grow = radii * (1.0 + 1e-6)  # keep a rounding margin at contact
+    if box is None:
+        reach = container - grow
+        if np.any(reach < 0):
+            return None
+        x = rng.normal(size=(n, 3))
+        x *= (reach * rng.uniform(size=n) ** (1.0 / 3.0) / np.linalg.norm(x, axis=1))[:, None]
+    else:
+        x = rng.uniform(-0.5 * box, 0.5 * box, (n, 3))
+    contact = grow[:, None] + grow[None, :]
+    np.fill_diagonal(contact, 0.0)
+    for _ in range(sweeps):
+        d = x[:, None, :] - x[None, :, :]
+        if box is not None:
+            d -= box * np.round(d / box)
+        dist = np.linalg.norm(d, axis=2)
+        np.fill_diagonal(dist, np.inf)
+        overlap = np.maximum(contact - dist, 0.0)
+        wall = (np.maximum(np.linalg.norm(x, axis=1) - reach, 0.0) if box is None
+                else np.zeros(n))
+        if overlap.max() <= 0.0 and wall.max() <= 0.0:
+            return x
+        dist = np.where(dist == 0.0, 1.0, dist)
+        x += 0.55 * np.einsum("ij,ijk->ik", overlap / dist, d)  # half each, a little more
+        if box is None:
+            norm = np.linalg.norm(x, axis=1)
+            far = norm > reach
+            x[far] *= (reach[far] / norm[far])[:, None]
+        else:
+            x -= box * np.floor(x / box + 0.5)
+    return None
 
 
 def _radii(rng, n, ratio):
@@ -116,13 +164,21 @@ def random_spheres(n, packing, container=None, box=None, seed=0, radius_ratio=1.
             sites = np.zeros((0, 3))
         else:
             sites = _fcc(k, box / k)
-    if len(sites) < n:
+    if box is not None and n and 6.0 * rmax > box:
+        raise BuildError(f"a periodic box must be at least three largest diameters wide "
+                         f"({6.0 * rmax:.3g}), not {box:g}: lower the packing or raise N")
+    positions = None
+    if len(sites) < n and n <= INSERTION_MAX:
+        positions = _insert(rng, radii, container, box)
+    if positions is None and len(sites) < n:
         hint = (f" (about {packing * len(sites) / n:.3g} fits)" if len(sites) else "")
         raise BuildError(
-            f"only {len(sites)} lattice sites fit for {n} spheres at packing {packing}; "
-            f"lower the packing{hint} or the radius ratio, or raise N")
-    chosen = rng.choice(len(sites), size=n, replace=False) if n else np.zeros(0, int)
-    positions = sites[np.sort(chosen)]
+            f"only {len(sites)} lattice sites fit for {n} spheres at packing {packing}"
+            + (" and random placement found no room" if n <= INSERTION_MAX else "")
+            + f"; lower the packing{hint} or the radius ratio, or raise N")
+    if positions is None:
+        chosen = rng.choice(len(sites), size=n, replace=False) if n else np.zeros(0, int)
+        positions = sites[np.sort(chosen)]
     if mass_ratio == 1.0:
         masses = np.ones(n)
     else:

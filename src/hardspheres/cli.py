@@ -12,11 +12,26 @@ import signal
 import sys
 
 from .messages import oserror_line, quote
-from .report import PROMPT, TextReport
+from .report import PROMPT
 from .scenario import (MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario,
                        parse_scenario)
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
+HELP = f"""{USAGE}
+
+The bouncing-spheres assignment's program: reads spheres from stdin, one per line
+    mass radius x y z vx vy vz name
+(SI units), and reports every collision and every reflection off the spherical
+container of radius RADIUS [m] centred on the origin, up to END_TIME [s].
+
+options:
+  --format text|jsonl  text: the assignment's report (default); jsonl: one JSON
+                       object per event, every digit kept, no prompt
+  -h, --help           show this help and exit
+  --version            show the version and exit
+
+Bad input exits 1 with one line on stderr.  More: the hardspheres command.
+"""
 FORMATS = ("text", "jsonl")
 
 
@@ -71,8 +86,23 @@ def parse_spheres_args(argv):
             _positive_number(argv[1], "argument 2 (END_TIME)", True), fmt)
 
 
+def _help_or_version(argv, stdout):
+    """Answer ``--help``/``-h`` or ``--version`` (only as the sole argument); True if done."""
+    if len(argv) != 1 or argv[0] not in ("-h", "--help", "--version"):
+        return False
+    if argv[0] == "--version":
+        from . import __version__
+        stdout.write(f"spheres (hardspheres {__version__})\n")
+    else:
+        stdout.write(HELP)
+    stdout.flush()
+    return True
+
+
 def run_spheres(argv, stdin, stdout):
     """The assignment's program on given streams; returns the exit status."""
+    if _help_or_version(list(argv), stdout):
+        return 0
     try:
         container, end, fmt = parse_spheres_args(argv)
     except UsageError:

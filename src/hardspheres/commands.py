@@ -14,16 +14,29 @@ from .messages import QUOTE_LIMIT, oserror_line, quote
 
 
 class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``hardspheres run: argument --n: ...``."""
+
     def error(self, message):
-        self.print_usage(sys.stderr)
         # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
         message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
-        raise SystemExit(f"{self.prog}: {message}")
+        raise SystemExit(f"{self.prog}: {message} (see {self.prog} --help)")
+
+
+def _number(text):
+    """``float(text)`` for a plain decimal number (no ``1_0``, no non-ASCII digits)."""
+    import math
+    try:
+        x = float(text)
+    except ValueError:
+        x = math.nan
+    if "_" in text or not text.isascii():
+        x = math.nan
+    return x
 
 
 def _positive(text):
     import math
-    x = float(text)
+    x = _number(text)
     if not math.isfinite(x) or x <= 0.0:
         raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {quote(text)}")
     return x
@@ -32,15 +45,95 @@ def _positive(text):
 def _ratio(text):
     x = _positive(text)
     if x < 1.0:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {quote(text)}")
+        raise argparse.ArgumentTypeError(f"must be a number >= 1, got {quote(text)}")
     return x
 
 
-def _count(text):
-    x = int(text)
-    if x < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {quote(text)}")
+def _whole(lowest, highest=None):
+    """A whole number in ``[lowest, highest]``; integral floats as physicists type them
+    (``1e5``, ``2.0``) are accepted."""
+    import math
+
+    def parse(text):
+        x = _number(text)
+        bound = f">= {lowest}" if highest is None else f"from {lowest} to {highest}"
+        if not math.isfinite(x) or x != math.floor(x) or x < lowest or (
+                highest is not None and x > highest):
+            raise argparse.ArgumentTypeError(f"must be a whole number {bound} "
+                                             f"(1e5 is fine), got {quote(text)}")
+        return int(x)
+    parse.__name__ = "whole number"
+    return parse
+
+
+_count = _whole(0)
+
+
+def _packing(text):
+    import math
+    x = _number(text)
+    if not math.isfinite(x) or not 0.0 < x < 0.74:
+        raise argparse.ArgumentTypeError(
+            f"must be a packing fraction between 0 and 0.74 (exclusive), got {quote(text)}")
     return x
+
+
+def _packings(text):
+    """Comma-separated packing fractions, every one checked before any is run."""
+    values = []
+    for part in text.split(","):
+        try:
+            values.append(_packing(part.strip()))
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(
+                f"must be comma-separated packing fractions between 0 and 0.74 "
+                f"(e.g. 0.1,0.3), got {quote(part.strip())} in {quote(text)}") from None
+    return values
+
+
+def _time(text):
+    import math
+    x = _number(text)
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {quote(text)}")
+    return x
+
+
+def _size(text):
+    """``WIDTHxHEIGHT`` in pixels."""
+    w, _, h = text.lower().partition("x")
+    try:
+        size = (int(w), int(h))
+    except ValueError:
+        size = (0, 0)
+    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
+        raise argparse.ArgumentTypeError(
+            f"must be WIDTHxHEIGHT in pixels, each 16 to 8192 (e.g. 1280x720), got {quote(text)}")
+    return size
+
+
+def _suffix(path):
+    import os
+    return os.path.splitext(path)[1].lower()
+
+
+def _require_suffix(option, path, allowed, what):
+    """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
+    if _suffix(path) not in allowed:
+        got = _suffix(path) or "no extension"
+        raise ValueError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} "
+                         f"(got {got})")
+
+
+def _note(text):
+    """A one-line note on stderr (not an error)."""
+    print(text, file=sys.stderr, flush=True)
+
+
+def _compile_first():
+    """Compile the event core now if needed (said on stderr), so no timing includes it."""
+    from .warmup import ensure_compiled
+    ensure_compiled()
 
 
 def cmd_generate(args):
@@ -69,6 +162,7 @@ def cmd_compress(args):
 
 def cmd_bench(args):
     from .bench import main
+    _compile_first()
     main(args.n, args.packing, args.collisions, seed=args.seed,
          radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio, box=args.box)
     return 0
@@ -76,6 +170,7 @@ def cmd_bench(args):
 
 def cmd_validate(args):
     from .validate import PACKINGS, validate, verdict
+    _compile_first()
     if args.quick:  # a smoke test of the whole path, seconds (N = 500 crystallizes at 0.49)
         for key, value in (("n", 500), ("collisions", 100), ("equilibrate", 50),
                            ("packings", [0.1, 0.3, 0.45])):
@@ -102,13 +197,32 @@ def cmd_validate(args):
     return 0
 
 
+_TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")
+
+
+def _check_source(args):
+    """Check the input's options (trajectory or scenario) before any work."""
+    if _suffix(args.input) in _TRAJECTORY_SUFFIXES:
+        given = [o for o, v in (("--container", args.container), ("--box", args.box),
+                                ("--until", args.until), ("--every", args.every)) if v]
+        if given:
+            raise ValueError(f"{'/'.join(given)} {'is' if len(given) == 1 else 'are'} for "
+                             "scenarios, not trajectories "
+                             f"({args.input} holds its own)")
+        return
+    if args.until is None or (args.container is None and args.box is None):
+        raise ValueError(f"{quote(args.input)} is not a trajectory (.gsd, .xyz), so it is read as a "
+                         "scenario: give --container R (or --box L) and --until T")
+    if args.every is not None and args.every > args.until:
+        raise ValueError(f"--every {args.every:g} is longer than the run (--until "
+                         f"{args.until:g}): there would be one frame")
+
+
 def _frames(args):
     """Frames from a trajectory file, or from a scenario run on the spot."""
     from .trajectory import frames_from_simulation, read_trajectory
     path = args.input
-    if path.endswith((".gsd", ".xyz", ".extxyz")):
-        if args.container or args.box or args.until:
-            raise ValueError("--container/--box/--until are for scenarios, not trajectories")
+    if _suffix(path) in _TRAJECTORY_SUFFIXES:
         from .trajectory import TruncatedTrajectory
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", TruncatedTrajectory)
@@ -117,78 +231,120 @@ def _frames(args):
             print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
         return frames
     from .containers import PeriodicBox, SphericalContainer
+    from .scenario import check_scenario, parse_scenario
     from .simulation import Simulation
-    if args.until is None or (args.container is None and args.box is None):
-        raise ValueError(f"{quote(path)} is not a trajectory (.gsd, .xyz), so it is read as a "
-                         "scenario: give --container R (or --box L) and --until T")
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
+    with open(path, "rb") as fh:
+        data = fh.read()
     try:
-        sim = Simulation.from_scenario(path, container)
+        scn = parse_scenario(data)  # bad input is refused before the compilation
+        if len(scn) == 0:
+            raise ValueError("no spheres in the scenario")
+        if isinstance(container, SphericalContainer):
+            check_scenario(scn, container.radius)
+        _compile_first()
+        sim = Simulation.from_scenario(data if data.endswith(b"\n") else data + b"\n",
+                                       container)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
 
 
 def cmd_view(args):
-    from .viewer import screenshot, write_viewer
-    if args.screenshot and not args.screenshot.lower().endswith(".png"):
-        raise ValueError(f"--screenshot writes a .png, not {quote(args.screenshot)}")
+    _require_suffix("-o", args.output, (".html", ".htm"), "the viewer is a web page and")
+    if args.screenshot:
+        _require_suffix("--screenshot", args.screenshot, (".png",), "the screenshot")
+    _check_source(args)
+    from .screenshot import screenshot
+    from .viewer import write_viewer
     frames = _frames(args)
-    write_viewer(frames, args.output, title=args.title or args.input)
+    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
-        screenshot(args.output, args.screenshot)
+        try:
+            screenshot(args.output, args.screenshot, size=args.size or (960, 640))
+        except ValueError as e:
+            raise ValueError(f"--screenshot {args.screenshot}: "
+                             f"{str(e).removeprefix('screenshot: ')}") from None
         print(f"wrote {args.screenshot}")
     return 0
 
 
+_MOVIES = (".gif", ".mp4", ".m4v", ".mov", ".mkv", ".webm")
+_STILLS = (".png", ".pdf", ".svg")
+
+
 def cmd_render(args):
-    from .render import render_movie, render_still
-    still = args.output.lower().endswith(".png")
+    _require_suffix("-o", args.output, _MOVIES + _STILLS, "a movie or a still")
+    still = _suffix(args.output) in _STILLS
     if args.time is not None and not still:
         raise ValueError("--time picks the frame of a still picture: use -o NAME.png")
+    if not still and _suffix(args.output) != ".gif":
+        from matplotlib import animation
+        if not animation.FFMpegWriter.isAvailable():
+            raise ValueError(f"-o {args.output}: {_suffix(args.output)} needs the ffmpeg program, "
+                             "which was not found on PATH; install it or write a .gif")
+        if args.size and (args.size[0] % 2 or args.size[1] % 2):
+            raise ValueError(f"--size: {_suffix(args.output)} needs an even width and height")
+    _check_source(args)
+    from .render import render_movie, render_still
     frames = _frames(args)
+    size = args.size or ((1280, 720) if still else (960, 540))
     if still:
-        render_still(frames, args.output, time=args.time)
+        render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        try:
-            render_movie(frames, args.output, fps=args.fps)
-        except RuntimeError as e:  # ffmpeg missing
-            raise ValueError(str(e)) from None
+        from .render import _seconds
+
+        def estimate(n_frames, seconds):
+            _note(f"rendering {n_frames} frames to {args.output}, about {_seconds(seconds)}")
+        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice,
+                     on_estimate=estimate)
     print(f"wrote {args.output}")
     return 0
 
 
 def cmd_plot(args):
+    _require_suffix("-o", args.output, _STILLS, "a plot")
     from . import plots
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
     elif args.what == "sweep":
         plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
     else:
+        _check_source(args)
         frames = _frames(args)
         if args.what == "conservation":
             plots.plot_conservation(frames, args.output)
+        elif args.what == "gr":
+            plots.plot_gr(frames, args.output)
+        elif args.what == "msd":
+            plots.plot_msd(frames, args.output)
         else:
             plots.plot_speeds(frames, args.output)
     print(f"wrote {args.output}")
     return 0
 
 
-def _picture_args(q, output_default):
+def _picture_args(q, output_default, output_help):
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
-    q.add_argument("-o", "--output", default=output_default)
+    q.add_argument("-o", "--output", default=output_default, help=output_help)
     where = q.add_mutually_exclusive_group()
     where.add_argument("--container", type=_positive, help="scenario: container radius [m]")
     where.add_argument("--box", type=_positive, help="scenario: periodic box edge [m]")
     q.add_argument("--until", type=_positive, help="scenario: end time [s]")
-    q.add_argument("--every", type=_positive, help="scenario: time between frames [s]")
+    q.add_argument("--every", type=_positive, help="scenario: time between frames [s] "
+                   "(default: --until / 200)")
 
 
 def cmd_run(args):
     from .runner import run_command
     return run_command(args)
+
+
+def _version():
+    from . import __version__
+    return f"%(prog)s {__version__}"
 
 
 def cmd_sweep(args):
@@ -199,16 +355,17 @@ def cmd_sweep(args):
 def build_parser():
     p = _Parser(prog="hardspheres",
                 description="Exact event-driven simulation of perfectly elastic spheres.")
+    p.add_argument("--version", action="version", version=_version())
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     g = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
-    g.add_argument("--n", type=_count, required=True, help="number of spheres")
+    g.add_argument("--n", type=_whole(1), required=True, help="number of spheres (>= 1)")
     where = g.add_mutually_exclusive_group(required=True)
     where.add_argument("--container", type=_positive, help="spherical container radius [m]")
     where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
-    g.add_argument("--packing", type=_positive, required=True,
+    g.add_argument("--packing", type=_packing, required=True,
                    help="volume fraction filled by the spheres (< 0.74)")
-    g.add_argument("--seed", type=int, default=0)
+    g.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     g.add_argument("--radius-ratio", type=_ratio, default=1.0,
                    help="largest over smallest radius (uniform in between)")
     g.add_argument("--mass-ratio", type=_ratio, default=1.0,
@@ -241,11 +398,11 @@ def build_parser():
     k.set_defaults(func=cmd_compress)
 
     b = sub.add_parser("bench", help="measure collisions per second")
-    b.add_argument("--n", type=_count, required=True)
-    b.add_argument("--packing", type=_positive, required=True)
-    b.add_argument("--collisions", type=_count, required=True,
-                   help="collisions timed (after N warm-up collisions)")
-    b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--n", type=_whole(2), required=True, help="number of spheres (>= 2)")
+    b.add_argument("--packing", type=_packing, required=True)
+    b.add_argument("--collisions", type=_whole(1), required=True,
+                   help="collisions timed (after N warm-up collisions; 2e6 is fine)")
+    b.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     b.add_argument("--radius-ratio", type=_ratio, default=1.0)
     b.add_argument("--mass-ratio", type=_ratio, default=1.0)
     b.add_argument("--box", action="store_true",
@@ -259,9 +416,18 @@ def build_parser():
     where.add_argument("--container", type=_positive, help="spherical container radius [m]")
     where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
     r.add_argument("--until", type=_positive, required=True, help="end time [s]")
+    eq = r.add_mutually_exclusive_group()
+    eq.add_argument("--equilibrate", type=_count, metavar="COLLISIONS",
+                    help="collisions per sphere to run before the averages start")
+    eq.add_argument("--equilibrate-time", type=_positive, metavar="T",
+                    help="time [s] to run before the averages start")
     r.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
-    r.add_argument("--every", type=_positive, help="time between frames [s]")
-    r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C")
+    r.add_argument("--every", type=_positive,
+                   help="time between trajectory frames [s] (default: the run / 100)")
+    r.add_argument("--events", action="store_true",
+                   help="also store every event in the .gsd (large: about 40 bytes each)")
+    r.add_argument("--checkpoint", help="save the run here at the end or on Ctrl-C "
+                   "(with --resume: the resumed file, unless given)")
     r.add_argument("--resume", help="continue from this checkpoint instead of a scenario "
                    "(an existing --trajectory that ends where it starts is continued)")
     r.add_argument("--overwrite", action="store_true",
@@ -282,18 +448,18 @@ def build_parser():
     v = sub.add_parser("validate",
                        help="equation of state (z-scores against Hansen-Goos and KLM) and "
                        "collision rate against theory, run as a study")
-    v.add_argument("--n", type=_count, default=None, help="spheres (default 4000)")
-    v.add_argument("--collisions", type=_count, default=None,
+    v.add_argument("--n", type=_whole(2), default=None, help="spheres (default 4000)")
+    v.add_argument("--collisions", type=_whole(1), default=None,
                    help="collisions per sphere measured at each packing (default 500)")
     v.add_argument("--equilibrate", type=_count, default=None,
                    help="collisions per sphere before measuring (default 200: the FCC "
                    "start takes about 75 to melt at packing 0.49)")
-    v.add_argument("--packings", type=lambda t: [float(x) for x in t.split(",")],
+    v.add_argument("--packings", type=_packings,
                    default=None, help="comma-separated packing fractions "
                    "(default 0.1,0.2,0.3,0.4,0.45,0.49)")
     v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
-    v.add_argument("--seed", type=int, default=0)
-    v.add_argument("--seeds", type=_count, default=1,
+    v.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
+    v.add_argument("--seeds", type=_whole(1), default=1,
                    help="runs per packing, seeds SEED.. (default 1)")
     v.add_argument("--quick", action="store_true",
                    help="a few seconds: N 500, 100 collisions per sphere (50 to equilibrate) "
@@ -308,26 +474,38 @@ def build_parser():
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
-    _picture_args(w, "viewer.html")
+    _picture_args(w, "viewer.html", "the page to write (.html)")
     w.add_argument("--title")
     w.add_argument("--screenshot", metavar="PNG",
                    help="also open the page in headless Chromium, play it 1 s, save a PNG")
+    w.add_argument("--size", type=_size, help="screenshot size WIDTHxHEIGHT (default 960x640)")
+    w.add_argument("--slice", type=_time, metavar="Z",
+                   help="start with the cut-away plane at z = Z (spheres above it hidden; "
+                   "the page's cut slider moves it)")
     w.set_defaults(func=cmd_view)
 
-    m = sub.add_parser("render", help="render an animation (.mp4 or .gif) or a still (.png), "
-                       "headless")
-    _picture_args(m, "movie.gif")
-    m.add_argument("--fps", type=int, default=20)
-    m.add_argument("--time", type=float,
-                   help="still (.png): draw the frame nearest this time (default: the last)")
+    m = sub.add_parser("render", help="render an animation (.gif, .mp4) or a still "
+                       "(.png, .pdf, .svg), headless")
+    _picture_args(m, "movie.gif", "movie (.gif; .mp4 with ffmpeg) or still (.png, .pdf, .svg)")
+    m.add_argument("--fps", type=_whole(1, 100), default=20,
+                   help="movie frames per second (1 to 100, default 20)")
+    m.add_argument("--time", type=_time,
+                   help="still: draw the frame nearest this time (default: the last)")
+    m.add_argument("--size", type=_size,
+                   help="WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)")
+    m.add_argument("--slice", type=_time, metavar="Z",
+                   help="cut-away: draw only the spheres whose centre has z <= Z "
+                   "(the inside of a full container)")
     m.set_defaults(func=cmd_render)
 
-    pl = sub.add_parser("plot", help="plots as PNG: conservation, speeds, eos, sweep")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep"],
+    pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos, "
+                        "sweep, gr, msd")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep", "gr", "msd"],
                     help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
-                    "the validate CSV vs Carnahan-Starling, or a study's results "
-                    "(--x PARAMETER --y OBSERVABLE)")
-    _picture_args(pl, "plot.png")
+                    "the validate CSV vs Carnahan-Starling, a study's results "
+                    "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), or the "
+                    "mean squared displacement with D (periodic box)")
+    _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")
     pl.add_argument("--x", default="packing", help="sweep: parameter on the x axis "
                     "(default packing)")
     pl.add_argument("--y", default="Z", help="sweep: observable on the y axis (default Z)")

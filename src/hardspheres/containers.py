@@ -10,6 +10,19 @@ import math
 from dataclasses import dataclass
 
 
+class PeriodicBoxRequired(ValueError):
+    """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
+
+
+def require_periodic(container, what):
+    """The box edge of ``container``; :class:`PeriodicBoxRequired` if it is not a periodic box."""
+    if not isinstance(container, PeriodicBox):
+        raise PeriodicBoxRequired(
+            f"{what} need a periodic box (a container's wall bounds the motion and makes "
+            "the fluid non-uniform); simulate in hs.PeriodicBox(L)")
+    return container.length
+
+
 @dataclass(frozen=True)
 class SphericalContainer:
     """A hard spherical wall of radius ``radius`` [length] centred on the origin.

@@ -21,6 +21,12 @@ class CheckpointError(ValueError):
     """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
 
 
+def _record():
+    """The arrays the core records events into (t, kind, i, j, impulse, impulse vector)."""
+    return [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
+            np.zeros(CHUNK, np.int64), np.zeros(CHUNK), np.zeros((CHUNK, 3))]
+
+
 class Engine:
     """Exact event-driven dynamics of hard spheres, compiled.
 
@@ -67,6 +73,7 @@ class Engine:
         self.HT = np.zeros(n)
         self.HKEY = np.zeros(n, np.int64)
         self.stack = np.zeros(2 * n + 2, np.int64)
+        self.img = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -74,8 +81,7 @@ class Engine:
         self.container = None if container is None else float(container)
         self.box = None if box is None else float(box)
         self._grid(n)
-        self._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                     np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        self._rec = _record()
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = 0, 0
@@ -122,6 +128,8 @@ class Engine:
     def _build(self):
         core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
                    self.HT, self.HKEY, self.f, self.c)
+        self.f[core.F_T_KIN] = self.f[core.F_CLOCK]
+        core.kinetic_sums(self.S, self.mass, self.f)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -198,7 +206,13 @@ class Engine:
     def rescale_velocities(self, factor):
         """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
         self._rebase()
+        f = self.f
+        dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
+        f[core.F_KIN_INT:core.F_KIN_INT + 6] += f[core.F_KIN_T:core.F_KIN_T + 6] * dt
+        f[core.F_HEAT_INT:core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3] * dt
+        f[core.F_T_KIN] = f[core.F_CLOCK]
         self.S[:, 3:6] *= factor
+        core.kinetic_sums(self.S, self.mass, f)
         self._build()
 
     def kick(self, i, t, velocity):
@@ -207,8 +221,8 @@ class Engine:
         if t < self.f[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.S, self.K, self.T, self.head, self.nxt, self.heap, self.HT, self.HKEY,
-                  self.f, self.c, int(i), t, vx, vy, vz)
+        core.kick(self.S, self.mass, self.K, self.T, self.head, self.nxt, self.heap, self.HT,
+                  self.HKEY, self.f, self.c, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(self, until=np.inf, events=None, collisions=None, record=True):
@@ -223,7 +237,8 @@ class Engine:
         Returns:
             A dict of arrays ``t`` [time], ``kind`` (0 reflection,
             1 collision), ``i``, ``j`` (``-1`` for reflections), ``impulse``
-            [mass*length/time] of the events processed, in order.
+            [mass*length/time], ``dp`` ``(E, 3)`` the impulse vector on
+            sphere ``i`` [mass*length/time], of the events processed, in order.
 
         Raises:
             ValueError: ``until`` is NaN.
@@ -251,7 +266,7 @@ class Engine:
             left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
                                     self.prv, self.heap, self.HT, self.HKEY, self.f,
-                                    self.c, self.stack,
+                                    self.c, self.stack, self.img,
                                     stop - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -289,10 +304,11 @@ class Engine:
         else:
             cols = [a[:0].copy() for a in rec]
         return {"t": cols[0], "kind": cols[1], "i": cols[2], "j": cols[3],
-                "impulse": cols[4]}
+                "impulse": cols[4], "dp": cols[5]}
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head")
+    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
+              "img")
 
     def checkpoint(self):
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -316,6 +332,8 @@ class Engine:
         check_arrays(data)
         eng = cls.__new__(cls)
         for k in cls._SAVED:
+            if k == "img" and k not in data:  # checkpoints from before image counts
+                data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
             setattr(eng, k, np.array(data[k]))
         if eng.f.shape[0] < core.F_NF:  # saved before growth
             eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
@@ -328,8 +346,11 @@ class Engine:
         eng.container = None if np.isnan(container) else container
         eng.box = None if np.isnan(box) else box
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
-        eng._rec = [np.zeros(CHUNK), np.zeros(CHUNK, np.int64), np.zeros(CHUNK, np.int64),
-                    np.zeros(CHUNK, np.int64), np.zeros(CHUNK)]
+        eng._rec = _record()
+        if eng.f.shape[0] < core.F_NF:  # checkpoints from before the transport tallies
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
+            eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
+            core.kinetic_sums(eng.S, eng.mass, eng.f)
         eng.last_reason, eng.last_done = 0, 0
         return eng
 
@@ -344,12 +365,49 @@ class Engine:
         core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
         return out
 
+    def unwrapped_at(self, t=None, out=None):
+        """Unwrapped centres at absolute time ``t`` (default: now) [length].
+
+        Periodic box: the centre in the box plus ``images * box``, with
+        :attr:`img` the exact count of box crossings of each sphere; in a
+        spherical container the same as :meth:`positions_at`.
+        """
+        t = self.time if t is None else t
+        out = np.empty((self.n, 3)) if out is None else out
+        core.unwrapped_at(self.S, self.img, t - self.offset, out,
+                          0.0 if self.box is None else self.box)
+        return out
+
+    @property
+    def idle(self):
+        """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
+        return self.n == 0 or not self.HT[0] < np.inf
+
     @property
     def counters(self):
         """Dict of event counts: collisions, reflections, crossings, stale."""
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
                 "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
+
+    def transport_tallies(self, t=None):
+        """The transport tallies at absolute time ``t`` (default: now; periodic box).
+
+        Returns:
+            dict of arrays: ``virial`` (6,) the collisional virial tensor
+            ``sum r_ij dp_i``; ``kinetic`` (6,) ``int sum m v v dt``;
+            ``heat_collisional`` (3,) ``sum r_ij dE_i``; ``heat_kinetic``
+            (3,) ``int sum v E dt``.  Tensors in the order xx yy zz xy xz yz;
+            all summed since the engine was built.
+        """
+        f = self.f
+        dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
+        return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
+                "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
+                            + dt * f[core.F_KIN_T:core.F_KIN_T + 6]),
+                "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
+                "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
+                                 + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}
 
     @property
     def wall_impulse(self):

@@ -1,8 +1,34 @@
-"""Observables: time averages of a run from the event core's running tallies."""
+"""Observables: time averages of a run from the event core's running tallies.
+
+Error bars: the tallies are also sampled on a grid of equally spaced times
+(one *block* between neighbouring samples), and the standard error of each
+average comes from Flyvbjerg-Petersen blocking of the per-block values
+(:mod:`hardspheres.blocking`).  The grid starts fine and coarsens by two
+(neighbouring blocks merge) whenever :attr:`Observables.MAX_SAMPLES` is
+reached, so memory stays bounded however long the run, and, on the
+automatic grid, while blocks hold fewer than :attr:`Observables.MIN_EVENTS`
+events, so sampling stays cheap in small systems.
+"""
+
+import math
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
+from .blocking import Blocking, blocking
+from .containers import PeriodicBox, SphericalContainer, require_periodic
+
+# columns of a tally sample (the transport tallies follow in a periodic box)
+_T, _COLL, _REFL, _WALL, _VIRIAL = range(5)
+_VIR_T = slice(5, 11)    # collisional virial tensor (xx yy zz xy xz yz)
+_KIN_T = slice(11, 17)   # time integral of the kinetic tensor
+_HEAT_C = slice(17, 20)  # heat Helfand moment: collisional part
+_HEAT_K = slice(20, 23)  # heat Helfand moment: free flight
+_TENSOR = ("xx", "yy", "zz", "xy", "xz", "yz")
+_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+
+
+class NoMeasurementError(ValueError):
+    """Results were asked for before anything was measured."""
 
 
 class Observables:
@@ -21,20 +47,77 @@ class Observables:
         True
     """
 
-    def __init__(self, sim):
+    #: Samples kept before neighbouring blocks merge (the interval doubles).
+    MAX_SAMPLES = 4096
+    #: With the automatic interval, blocks merge (the interval doubles) while
+    #: they hold fewer events than this: a sample costs about as much as a
+    #: hundred events, so small systems would otherwise pay for sampling.
+    MIN_EVENTS = 500
+
+    def __init__(self, sim, every=None):
         self._sim = sim
-        self.reset()
+        self.reset(every)
 
     def _now(self):
         eng = self._sim._engine
         c = eng.counters
-        return (float(self._sim.time), float(c["collisions"]), float(c["reflections"]),
-                eng.wall_impulse, eng.virial)
+        t = float(self._sim.time)
+        now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse,
+               eng.virial)
+        if isinstance(self._sim.container, PeriodicBox):
+            tt = eng.transport_tallies(t)
+            now += tuple(np.concatenate([tt["virial"], tt["kinetic"], tt["heat_collisional"],
+                                         tt["heat_kinetic"]]).tolist())
+        return now
 
-    def reset(self):
-        """Start averaging afresh from now; returns self."""
+    def reset(self, every=None):
+        """Start averaging afresh from now; returns self.
+
+        Args:
+            every: first interval between tally samples (blocks) [time];
+                default: a tenth of the time a sphere of rms speed takes to
+                cross the mean spacing ``(V/N)^(1/3)`` (about a mean free
+                time in a dense fluid), doubled while a block holds fewer
+                than :attr:`MIN_EVENTS` events.  It doubles whenever
+                :attr:`MAX_SAMPLES` is reached.
+        """
         self._mark = self._now()
+        self._samples = [self._mark]
+        self._auto = every is None
+        self.every = float(every) if every is not None else self._auto_every()
+        if not self.every > 0:
+            raise ValueError(f"every must be a time > 0, got {every}")
+        self.next_sample = self._mark[_T] + self.every
         return self
+
+    def _auto_every(self):
+        sim = self._sim
+        n = sim.n
+        v2 = float(np.mean(np.sum(sim._engine.vel ** 2, axis=1))) if n else 0.0
+        if v2 <= 0.0:
+            return math.inf
+        return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
+
+    def _sample(self):
+        """Record the tallies now (the simulation calls this at :attr:`next_sample`)."""
+        now = self._now()
+        last = self._samples[-1]
+        sparse = (self._auto and len(self._samples) > 2
+                  and now[_COLL] + now[_REFL] - last[_COLL] - last[_REFL] < self.MIN_EVENTS)
+        self._samples.append(now)
+        if len(self._samples) > self.MAX_SAMPLES or sparse:
+            # merge neighbouring blocks: keep every other sample from the mark
+            # (an odd last block waits for its partner)
+            if len(self._samples) % 2 == 0:
+                self._samples.pop()
+            self._samples = self._samples[::2]
+            self.every *= 2.0
+        self.next_sample = self._samples[-1][_T] + self.every
+
+    @property
+    def n_blocks(self):
+        """Number of complete blocks sampled since :meth:`reset`."""
+        return len(self._samples) - 1
 
     def _delta(self):
         now = self._now()
@@ -57,35 +140,130 @@ class Observables:
         """
         return 2.0 * self._sim._engine.kinetic_energy() / max(self._dof(), 1)
 
+    def _measured(self, d):
+        """The observables from tally differences ``d`` (columns as a sample; rows: blocks)."""
+        dt = d[..., _T]
+        cont = self._sim.container
+        n, kT = self._sim.n, self.temperature()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if isinstance(cont, SphericalContainer):
+                p = d[..., _WALL] / (cont.area * dt)
+                z = p * cont.volume / (n * kT)
+            else:
+                z = 1.0 + d[..., _VIRIAL] / (3.0 * dt * n * kT)
+                p = z * n * kT / cont.volume
+            rate = 2.0 * d[..., _COLL] / (n * dt)
+            out = {"pressure": p, "compressibility": z, "collision_rate": rate}
+            if d.shape[-1] > _HEAT_K.stop - 1:
+                ptensor = (d[..., _VIR_T] + d[..., _KIN_T]) / (dt[..., None] * cont.volume)
+                for q, name in enumerate(_TENSOR):
+                    out[f"pressure_{name}"] = ptensor[..., q]
+        return out
+
+    def _whole(self, name):
+        d = np.array(self._delta())
+        if not d[_T] > 0:
+            raise NoMeasurementError("no time has passed since reset(); run first")
+        values = self._measured(d)
+        if name not in values:
+            raise ValueError(f"no time average {name!r} here: choose one of "
+                             f"{', '.join(values)}")
+        return float(values[name])
+
+    def blocks(self, name):
+        """``(n_blocks,)`` the values of ``name`` over each block of equal length.
+
+        ``name`` is one of ``"pressure"``, ``"compressibility"``,
+        ``"collision_rate"``, and in a periodic box ``"pressure_xx"``
+        ... ``"pressure_yz"`` (the components of :meth:`pressure_tensor`).
+        """
+        s = np.array(self._samples)
+        return self._measured(np.diff(s, axis=0))[name]
+
+    def estimate(self, name):
+        """Mean over the whole time since :meth:`reset` and its blocking error.
+
+        Returns:
+            A :class:`hardspheres.blocking.Blocking` whose ``mean`` is the
+            average over all the time since reset (the blocks, and the part
+            after the last one) and whose ``sem`` is the standard error from
+            Flyvbjerg-Petersen blocking of :meth:`blocks` (``nan`` with fewer
+            than two blocks).
+
+        Raises:
+            NoMeasurementError: nothing was measured yet.
+        """
+        mean = self._whole(name)
+        x = self.blocks(name)
+        if x.size < 2:
+            return _unknown_error(mean)
+        return blocking(x)._replace(mean=mean)
+
+    def error(self, name):
+        """Standard error of ``name``'s average (``nan`` with fewer than two blocks)."""
+        return self.estimate(name).sem
+
     def pressure(self):
         """Pressure [energy/length^3] averaged since :meth:`reset`.
 
         Spherical container: momentum delivered to the wall per unit area
         and time.  Periodic box: ``(N kT + W / (3 t)) / V`` with ``W`` the
-        collision virial ``sum r_ij . dp_i``.
+        collision virial ``sum r_ij . dp_i``.  Error bar: :meth:`error`.
         """
-        dt, _, _, wall, virial = self._delta()
-        if dt <= 0:
-            raise ValueError("no time has passed since reset(); run first")
-        cont = self._sim.container
-        if isinstance(cont, SphericalContainer):
-            return wall / (cont.area * dt)
-        n = self._sim.n
-        return (n * self.temperature() + virial / (3.0 * dt)) / cont.volume
+        return self._whole("pressure")
+
+    def pressure_tensor(self):
+        """``(3, 3)`` pressure tensor [energy/length^3] averaged since :meth:`reset` (periodic box).
+
+        ``P = (int sum m v v dt + sum r_ij dp_i) / (t V)``: the kinetic part
+        integrated exactly between collisions and the collisional virial
+        tensor, both accumulated by the event core.  Its trace over three
+        is the mechanical pressure, ``(2 E_kin / 3 + W / 3t) / V``, which
+        differs from :meth:`pressure` (``N kT`` with ``kT`` from ``3N - 3``
+        degrees of freedom) by ``kT / V``.  Errors: ``error("pressure_xy")``.
+
+        Raises:
+            PeriodicBoxRequired: in a spherical container (the wall's
+                pressure is :meth:`pressure`).
+        """
+        require_periodic(self._sim.container, "the pressure tensor and transport")
+        p = np.empty((3, 3))
+        for q, name in enumerate(_TENSOR):
+            a, b = _PAIRS[q]
+            p[a, b] = p[b, a] = self._whole(f"pressure_{name}")
+        return p
+
+    def helfand_moments(self, kind):
+        """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand.
+
+        Args:
+            kind: ``"momentum"``: ``(S, 3)`` the xy, xz, yz components of
+                ``int_0^t V P_ab dt'`` (``sum m x_a v_b`` in its periodic
+                form) [mass*length^2/time]; ``"energy"``: ``(S, 3)``
+                ``sum x E`` in its periodic form [energy*length].
+
+        Returns:
+            ``(t, moments)``: the sample times since reset ``(S,)`` [time]
+            and the moments there, relative to their value at reset.
+        """
+        require_periodic(self._sim.container, "the pressure tensor and transport")
+        s = np.array(self._samples)
+        s = s - s[0]
+        if kind == "momentum":
+            m = s[:, _VIR_T][:, 3:] + s[:, _KIN_T][:, 3:]
+        elif kind == "energy":
+            m = s[:, _HEAT_C] + s[:, _HEAT_K]
+        else:
+            raise ValueError(f"kind {kind!r}: use 'momentum' or 'energy'")
+        return s[:, _T], m
 
     def compressibility(self):
         """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""
-        dt, _, _, _, virial = self._delta()
-        n, kT = self._sim.n, self.temperature()
-        cont = self._sim.container
-        if isinstance(cont, PeriodicBox):
-            return 1.0 + virial / (3.0 * dt * n * kT)
-        return self.pressure() * cont.volume / (n * kT)
+        return self._whole("compressibility")
 
     def collision_rate(self):
         """Collisions per sphere per unit time [1/time] (each collision counts for both)."""
-        dt, coll, _, _, _ = self._delta()
-        return 2.0 * coll / (self._sim.n * dt)
+        return self._whole("collision_rate")
 
     def mean_free_time(self):
         """Mean time between collisions of a sphere [time] (``inf`` without any)."""
@@ -106,12 +284,29 @@ class Observables:
         return np.histogram(speeds, bins=bins, range=range)
 
     def summary(self):
-        """Dict of the observables (pressure and rates over the time since reset)."""
+        """Dict of the observables (averages over the time since reset).
+
+        Each time average ``x`` comes with ``x_error``, its standard error
+        from blocking (``nan`` if fewer than two blocks were sampled), and
+        ``x_converged``, whether the blocking reached a plateau (if not,
+        the error is a lower bound: run longer).
+        """
         out = {"time": self._sim.time, "elapsed": self.elapsed,
-               "temperature": self.temperature()}
+               "temperature": self.temperature(), "blocks": self.n_blocks}
         if self.elapsed > 0:
-            out.update(pressure=self.pressure(), compressibility=self.compressibility(),
-                       collision_rate=self.collision_rate(),
-                       mean_free_time=self.mean_free_time(),
+            for name in ("pressure", "compressibility", "collision_rate"):
+                est = self.estimate(name)
+                out[name] = est.mean
+                out[f"{name}_error"] = est.sem
+                out[f"{name}_converged"] = est.converged
+            rate, rate_err = out["collision_rate"], out["collision_rate_error"]
+            out.update(mean_free_time=self.mean_free_time(),
                        mean_free_path=self.mean_free_path())
+            rel = rate_err / rate if rate > 0 else np.nan
+            out["mean_free_time_error"] = out["mean_free_time"] * rel
+            out["mean_free_path_error"] = out["mean_free_path"] * rel
         return out
+
+
+def _unknown_error(mean):
+    return Blocking(mean, math.nan, 0, 0, False, np.zeros(0), np.zeros(0))

@@ -1,4 +1,4 @@
-"""Diagnostic plots (PNG, matplotlib Agg, no display needed).
+"""Diagnostic plots (PNG, PDF or SVG by the extension; matplotlib Agg, no display needed).
 
 ::
 
@@ -7,8 +7,11 @@
     plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
     plots.plot_sweep("study/results.parquet", "Z.png")   # a study, Z against Hansen-Goos
+    plots.plot_gr(frames, "gr.png")                      # g(r), periodic box
+    plots.plot_msd(frames, "msd.png")                    # MSD and D, periodic box
 
-Each function writes a PNG of ``size`` pixels (default 960 x 720) and returns
+Each function writes a PNG of ``size`` pixels (default 960 x 720), or a PDF or
+SVG of the same proportions, as the file name's extension says, and returns
 its path.
 """
 
@@ -32,11 +35,20 @@ def _figure(size, dpi):
     return fig
 
 
+#: File formats the plots write, by extension (matplotlib's backends).
+FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
 def _save(fig, path, dpi):
+    """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
     from .fileio import atomic_write
     path = Path(path)
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise ValueError(f"{path.name}: plots are written as {', '.join(FORMATS)}, "
+                         f"not {path.suffix or 'a name without extension'}")
     with atomic_write(path, "wb") as fh:
-        fig.savefig(fh, dpi=dpi, format="png")
+        fig.savefig(fh, dpi=dpi, format=fmt)
     return path
 
 
@@ -356,4 +368,39 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
         dx.set_ylabel(f"{y} / Z_HG - 1 [%]")
         dx.grid(alpha=0.3)
     last.set_xlabel(x)
+    return _save(fig, path, dpi)
+
+
+def plot_gr(frames, path, *, size=SIZE, dpi=100):
+    """g(r) of a periodic-box trajectory, averaged over its frames, with g(sigma) and Z.
+
+    Uses :class:`hardspheres.structure.RDF` (freud).  Returns ``path``.
+    """
+    from .structure import RDF
+    rdf = RDF().compute(frames)
+    fig = _figure(size, dpi)
+    ax = rdf.plot(fig.add_subplot())
+    try:
+        g, err = rdf.contact_value()
+        z, z_err = rdf.compressibility()
+        ax.plot([1.0], [g], "o", label=f"g(sigma+) = {g:.4g} +- {err:.2g}: "
+                f"Z = 1 + 4 phi g = {z:.4g} +- {z_err:.2g}")
+        ax.legend()
+    except ValueError:  # unequal spheres: no single contact value
+        pass
+    return _save(fig, path, dpi)
+
+
+def plot_msd(frames, path, *, size=SIZE, dpi=100):
+    """Mean squared displacement of a periodic-box trajectory (all origins), with D.
+
+    Uses :class:`hardspheres.transport.MSD` (freud) on the unwrapped
+    positions.  Returns ``path``.
+    """
+    from .transport import MSD
+    msd = MSD().compute(frames)
+    D, err = msd.diffusion()
+    fig = _figure(size, dpi)
+    ax = msd.plot(fig.add_subplot())
+    ax.set_title(f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)")
     return _save(fig, path, dpi)

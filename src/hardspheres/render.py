@@ -1,16 +1,18 @@
-"""Headless movies of a run: matplotlib (Agg) 3-D scatter to GIF or MP4.
+"""Headless movies and stills of a run: shaded spheres drawn by matplotlib (Agg).
 
 ::
 
-    from hardspheres.render import render_movie
-    render_movie(frames, "run.gif", fps=20, size=(640, 480))
+    from hardspheres.render import render_movie, render_still
+    render_movie(frames, "run.gif", fps=20, size=(960, 540))
     render_movie(frames, "run.mp4")            # needs ffmpeg on PATH
     render_still(frames, "last.png")           # one frame (the last, or time=T)
+    render_still(frames, "inside.png", cut=0.0)  # only spheres with z <= 0
 
-Spheres are drawn as markers whose size follows their radii (orthographic
-projection, so the scale is the same everywhere), coloured by speed (or by
-mass) with a colour bar, inside a wireframe of the spherical container (or
-the edges of the periodic box), with the time written in the corner.  No
+Spheres are shaded disks at their true radii (orthographic projection, so
+the scale is the same everywhere; nearer spheres hide farther ones),
+coloured by speed (or by mass) with a colour bar, inside the outline of the
+spherical container (or the edges of the periodic box), captioned with N,
+the packing fraction and the time.  The default sizes suit 16:9 slides.  No
 display is needed: the figure is drawn by Agg and never shown.
 """
 
@@ -21,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .viewer import frame_indices
+from .frames import frame_indices
 
 
 class _Progress:
@@ -43,8 +45,39 @@ class _Progress:
         done = self.n / self.total if self.total else 1.0
         width = 30
         fill = int(round(done * width))
-        sys.stderr.write(f"\r{self.label} [{'#' * fill}{'.' * (width - fill)}] {self.n}/{self.total}")
+        elapsed = _time.monotonic() - self.start
+        rate = self.n / elapsed if elapsed > 0 else 0.0
+        left = (self.total - self.n) / rate if rate > 0 else 0.0
+        sys.stderr.write(f"\r{self.label} [{'#' * fill}{'.' * (width - fill)}] {self.n}/{self.total}"
+                         f"  {rate:.3g} frames/s  {left:.0f} s left   ")
         sys.stderr.flush()
+
+    def clear(self):
+        """Blank the bar's line (the text bar; tqdm clears itself)."""
+        if self.bar is not None:
+            self.bar.clear()
+        elif self.text:
+            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
+            sys.stderr.flush()
+
+    def redraw(self):
+        """Draw the bar again after :meth:`clear`."""
+        if self.bar is not None:
+            self.bar.refresh()
+        elif self.text:
+            self._show()
+
+    def note(self, text):
+        """One line on stderr (above the bar, if any)."""
+        if self.bar is not None:
+            self.bar.write(text, file=sys.stderr)
+            return
+        if self.text:
+            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
+        sys.stderr.write(text + "\n")
+        sys.stderr.flush()
+        if self.text:
+            self._show()
 
     def update(self):
         self.n += 1
@@ -60,7 +93,7 @@ class _Progress:
         if self.bar is not None:
             self.bar.close()
         elif self.text:
-            sys.stderr.write("\r" + " " * (len(self.label) + 45) + "\r")
+            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
             sys.stderr.flush()
 
 
@@ -89,48 +122,70 @@ def _writer(path, fps, dpi):
     raise ValueError(f"render_movie: unknown movie format {path.suffix!r} (use .gif or .mp4)")
 
 
+#: Viewing direction: azimuth and elevation [degrees] of the camera (z up).
+AZIMUTH, ELEVATION = -60.0, 22.0
+
+
+def _camera(azimuth=AZIMUTH, elevation=ELEVATION):
+    """Unit vectors ``(right, up, towards_camera)`` of an orthographic view, z up."""
+    a, e = np.radians(azimuth), np.radians(elevation)
+    d = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    right = np.cross([0.0, 0.0, 1.0], d)
+    right /= np.linalg.norm(right)
+    return right, np.cross(d, right), d
+
+
 def _extent(frames, pos):
+    """Half-width of the picture [length]: what the container (or the spheres) reach."""
     if frames.container is not None:
         return float(frames.container)
     if frames.box is not None:
-        return 0.5 * float(frames.box)
+        return 0.5 * np.sqrt(3.0) * float(frames.box)
     r = float(np.max(frames.radii)) if len(frames.radii) else 0.0
-    e = float(np.max(np.abs(pos))) + r if pos.size else 1.0
+    e = float(np.max(np.linalg.norm(pos, axis=-1))) + r if pos.size else 1.0
     return e if np.isfinite(e) and e > 0 else 1.0
 
 
-def _draw_container(ax, frames):
-    style = dict(color="0.45", linewidth=0.5, alpha=0.35)
+def packing_fraction(frames):
+    """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
+    if frames.container is not None:
+        volume = 4.0 / 3.0 * np.pi * float(frames.container) ** 3
+    elif frames.box is not None:
+        volume = float(frames.box) ** 3
+    else:
+        return None
+    return float(np.sum(4.0 / 3.0 * np.pi * np.asarray(frames.radii, float) ** 3) / volume)
+
+
+def _draw_container(ax, frames, right, up, cut):
+    style = dict(color="0.45", linewidth=0.8, alpha=0.6)
     if frames.container is not None:
         r = float(frames.container)
-        u = np.linspace(0, 2 * np.pi, 25)
-        v = np.linspace(0, np.pi, 13)
-        ax.plot_wireframe(r * np.outer(np.cos(u), np.sin(v)), r * np.outer(np.sin(u), np.sin(v)),
-                          r * np.outer(np.ones_like(u), np.cos(v)), rstride=2, cstride=2, **style)
+        u = np.linspace(0, 2 * np.pi, 181)
+        ax.plot(r * np.cos(u), r * np.sin(u), **style)  # the silhouette
+        if cut is not None and abs(cut) < r:  # the circle where the cut meets the wall
+            rho = np.sqrt(r * r - cut * cut)
+            ring = np.column_stack([rho * np.cos(u), rho * np.sin(u), np.full_like(u, cut)])
+            ax.plot(ring @ right, ring @ up, **dict(style, linestyle="--"))
     elif frames.box is not None:
         h = 0.5 * float(frames.box)
         corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
         for a in range(8):
             for b in range(a + 1, 8):
                 if np.sum(corners[a] != corners[b]) == 1:
-                    ax.plot(*corners[[a, b]].T, **style)
+                    seg = corners[[a, b]]
+                    ax.plot(seg @ right, seg @ up, **style)
 
 
-def _pixels_per_unit(fig, ax):
-    """Screen pixels per data length unit of the (orthographic, isotropic) 3-D axes."""
-    from mpl_toolkits.mplot3d import proj3d
+def _scene(frames, size, keep, color_by, title, dpi, cut=None):
+    """The figure a movie or a still draws, and ``show(f)`` that puts frame ``keep[f]`` on it.
 
-    fig.canvas.draw()
-    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
-    x, y, _ = proj3d.proj_transform(pts[:, 0], pts[:, 1], pts[:, 2], ax.get_proj())
-    disp = ax.transData.transform(np.column_stack([x, y]))
-    a = (disp[1:] - disp[0]).T  # 2 x 3: screen images of the unit vectors
-    return float(np.mean(np.linalg.svd(a, compute_uv=False)))
-
-
-def _scene(frames, size, keep, color_by, title, dpi):
-    """The figure a movie or a still draws, and ``show(f)`` that puts frame ``keep[f]`` on it."""
-    from matplotlib import colors
+    Spheres are shaded disks (a dark rim, the body, a highlight towards the
+    light at the upper left) drawn far to near in an orthographic view, so
+    nearer spheres hide farther ones.  ``cut`` keeps only the spheres whose
+    centre has ``z <= cut`` (a cut-away that shows the inside).
+    """
+    from matplotlib import cm, colormaps, colors
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -140,24 +195,24 @@ def _scene(frames, size, keep, color_by, title, dpi):
     times = np.asarray(frames.times, float)[keep]
     radii = np.asarray(frames.radii, float)
     masses = np.asarray(frames.masses, float)
+    n = len(radii)
     if frames.box is not None:
         box = float(frames.box)
         pos = pos - box * np.floor(pos / box + 0.5)
     speeds = np.linalg.norm(vel, axis=2)
-    extent = _extent(frames, pos)
+    extent = 1.04 * _extent(frames, pos)
+    right, up, towards = _camera()
 
-    fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
+    fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi, facecolor="white")
     FigureCanvasAgg(fig)
-    ax = fig.add_axes([0.0, 0.0, 0.84, 1.0], projection="3d")
-    ax.set_proj_type("ortho")
-    lim = extent if frames.box is not None else 1.02 * extent
-    ax.set_xlim(-lim, lim)
-    ax.set_ylim(-lim, lim)
-    ax.set_zlim(-lim, lim)
-    # The axes' own cube is the box; a sphere's outline is smaller, so zoom in.
-    ax.set_box_aspect((1, 1, 1), zoom=1.0 if frames.box is not None else 1.2)
+    side = 0.94 * min(height, 0.8 * width)  # the square drawing area [pixels]
+    x0 = max(0.0, 0.5 * (width - side) - 0.04 * width)
+    ax = fig.add_axes([x0 / width, 0.5 * (1 - side / height), side / width, side / height])
+    ax.set_xlim(-extent, extent)
+    ax.set_ylim(-extent, extent)
+    ax.set_aspect("equal", adjustable="box")
     ax.set_axis_off()
-    _draw_container(ax, frames)
+    _draw_container(ax, frames, right, up, cut)
 
     if color_by == "speed":
         finite = speeds[np.isfinite(speeds)]
@@ -170,21 +225,50 @@ def _scene(frames, size, keep, color_by, title, dpi):
         norm = colors.Normalize(lo, hi if hi > lo else lo + 1.0)
         values = np.broadcast_to(masses, speeds.shape)
         label = "mass"
+    cmap = colormaps["viridis"]
 
-    scale = _pixels_per_unit(fig, ax)
-    diameter_pt = 2.0 * radii * scale * 72.0 / dpi
-    sc = ax.scatter(pos[0, :, 0], pos[0, :, 1], pos[0, :, 2], s=np.maximum(diameter_pt, 0.5) ** 2,
-                    c=values[0], cmap="viridis", norm=norm, edgecolors="0.15", linewidths=0.3,
-                    depthshade=True, alpha=1.0)
-    cax = fig.add_axes([0.87, 0.2, 0.025, 0.6])
-    fig.colorbar(sc, cax=cax, label=label)
+    points_per_unit = side * 72.0 / dpi / (2.0 * extent)
+    diameter = np.maximum(2.0 * radii * points_per_unit, 0.6)  # [points]
+    # three markers per sphere, drawn in this order: rim, body, highlight, each
+    # shifted towards the light (upper left) by this many radii, this wide
+    shift, scale = (0.0, 0.08, 0.3), (1.0, 0.8, 0.3)
+    sc = ax.scatter(np.zeros(0), np.zeros(0), linewidths=0)
+    sm = cm.ScalarMappable(norm=norm, cmap=cmap)
+    cax = fig.add_axes([(x0 + side) / width + 0.03, 0.2, 0.018, 0.6])
+    fig.colorbar(sm, cax=cax, label=label)
+    phi = packing_fraction(frames)
+    caption = f"N = {n}" + (f", phi = {phi:.3g}" if phi is not None else "")
+    if cut is not None:
+        caption += f"\ncut-away: z <= {cut:.4g}"
     header = f"{title}\n" if title else ""
-    label_t = fig.text(0.02, 0.97, "", va="top", ha="left", family="monospace", fontsize=10)
+    label_t = fig.text(0.015, 0.975, "", va="top", ha="left", family="monospace",
+                       fontsize=max(9, round(height / 48)))
 
     def show(f):
-        sc._offsets3d = (pos[f, :, 0], pos[f, :, 1], pos[f, :, 2])
-        sc.set_array(values[f])
-        label_t.set_text(f"{header}t = {times[f]:.6g}")
+        p = pos[f]
+        visible = np.ones(n, bool) if cut is None else p[:, 2] <= cut
+        order = np.nonzero(visible)[0]
+        order = order[np.argsort(p[order] @ towards, kind="stable")]  # far to near
+        x, y = p @ right, p @ up
+        base = cmap(norm(values[f]))[:, :3]
+        k = len(order)
+        xy = np.empty((3 * k, 2))
+        rgba = np.ones((3 * k, 4))
+        r = radii[order]
+        for layer in range(3):
+            xy[layer::3, 0] = x[order] - shift[layer] * r
+            xy[layer::3, 1] = y[order] + shift[layer] * r
+        rgba[0::3, :3] = 0.45 * base[order]
+        rgba[1::3, :3] = base[order]
+        rgba[2::3, :3] = 0.45 * base[order] + 0.55
+        rgba[2::3, 3] = 0.75
+        sc.set_offsets(xy)
+        sc.set_facecolors(rgba)
+        sizes = np.empty(3 * k)
+        for layer in range(3):
+            sizes[layer::3] = (scale[layer] * diameter[order]) ** 2
+        sc.set_sizes(sizes)
+        label_t.set_text(f"{header}{caption}\nt = {times[f]:.6g}")
 
     return fig, show
 
@@ -197,8 +281,8 @@ def _check(size, color_by, what):
         raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
 
 
-def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_frames=None,
-                 color_by="speed", title=None, dpi=100):
+def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_frames=None,
+                 color_by="speed", title=None, dpi=100, cut=None, on_estimate=None):
     """Render ``frames`` to a movie file and return ``path``.
 
     Args:
@@ -206,15 +290,21 @@ def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_fr
         path: ``.gif`` (Pillow) or ``.mp4`` (ffmpeg; a :class:`RuntimeError`
             says so when ffmpeg is missing; ``.mov``, ``.mkv``, ``.webm``
             also go through ffmpeg).
-        fps: frames per second of the movie.
-        size: ``(width, height)`` in pixels (even numbers for mp4).
-        progress: show a progress bar on stderr when it is a terminal.
+        fps: frames per second of the movie (1 to 100).
+        size: ``(width, height)`` in pixels (even numbers for mp4); the
+            default suits a 16:9 slide.
+        progress: when stderr is a terminal, say there how long the movie
+            will take (after the first frames) and show a progress bar.
         max_frames: render at most this many frames, evenly spaced (default:
             all).
         color_by: ``"speed"`` or ``"mass"``.
-        title: text above the time label.
+        title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure (the pixel size is
             ``size`` whatever it is).
+        cut: draw only the spheres whose centre has ``z <= cut`` [length]
+            (a cut-away that shows the inside of a full container).
+        on_estimate: called once, after the first frames, with the number
+            of frames and the expected total time [s] (terminal or not).
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
@@ -224,47 +314,76 @@ def render_movie(frames, path, fps=20, size=(640, 480), progress=True, *, max_fr
     width, height = (int(s) for s in size)
     if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
         raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
-    writer = _writer(path, fps, dpi)
+    if int(fps) != fps or not 1 <= fps <= 100:
+        raise ValueError(f"render_movie: fps must be a whole number from 1 to 100, got {fps!r}")
+    writer = _writer(path, int(fps), dpi)
 
     n_frames = len(frames.times)
     if n_frames == 0:
         raise ValueError("render_movie: no frames")
     keep = frame_indices(n_frames, 0, max_frames or n_frames)
-    fig, show = _scene(frames, size, keep, color_by, title, dpi)
+    fig, show = _scene(frames, size, keep, color_by, title, dpi, cut)
 
     bar = _Progress(len(keep), progress)
+    start = _time.monotonic()
+    first_done = None
     try:
         from .fileio import atomic_path
         with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):
             for f in range(len(keep)):
                 show(f)
                 writer.grab_frame()
+                now = _time.monotonic()
+                if f == 0:
+                    first_done = now  # the first frame also pays for the set-up
+                # the estimate: from the pace of frames 2 and 3 (or of frame 1 alone)
+                if f == min(2, len(keep) - 1) and len(keep) > 1:
+                    per_frame = (now - first_done) / f if f > 0 else now - start
+                    total = now - start + per_frame * (len(keep) - 1 - f)
+                    if on_estimate is not None:
+                        bar.clear()  # the caller's words go on a line of their own
+                        on_estimate(len(keep), total)
+                        bar.redraw()
+                    elif bar.bar is not None or bar.text:
+                        bar.note(f"rendering {len(keep)} frames to {path.name}, about "
+                                 f"{_seconds(total)}")
                 bar.update()
     finally:
         bar.close()
     return path
 
 
-def render_still(frames, path, time=None, size=(640, 480), *, color_by="speed", title=None,
-                 dpi=100):
-    """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a PNG.
+def _seconds(x):
+    return f"{x:.0f} s" if x < 120 else f"{x / 60:.0f} min"
+
+
+#: Still pictures' formats, by extension.
+STILLS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
+def render_still(frames, path, time=None, size=(1280, 720), *, color_by="speed", title=None,
+                 dpi=100, cut=None):
+    """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a picture.
 
     Args:
         frames: a :class:`hardspheres.frames.Frames`.
-        path: the ``.png`` to write.
+        path: the ``.png`` (or ``.pdf``, ``.svg``) to write.
         time: draw the frame nearest this time [time] (default: the last).
-        size: ``(width, height)`` in pixels.
+        size: ``(width, height)`` in pixels; the default suits a 16:9 slide.
         color_by: ``"speed"`` or ``"mass"``.
-        title: text above the time label.
+        title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure.
+        cut: draw only the spheres whose centre has ``z <= cut`` [length].
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
     """
     path = Path(path)
     _check(size, color_by, "render_still")
-    if path.suffix.lower() != ".png":
-        raise ValueError(f"render_still: writes a .png, not {path.suffix or path.name!r}")
+    fmt = STILLS.get(path.suffix.lower())
+    if fmt is None:
+        raise ValueError(f"render_still: writes .png, .pdf or .svg, not "
+                         f"{path.suffix or path.name!r}")
     times = np.asarray(frames.times, float)
     if len(times) == 0:
         raise ValueError("render_still: no frames")
@@ -274,9 +393,9 @@ def render_still(frames, path, time=None, size=(640, 480), *, color_by="speed", 
         raise ValueError(f"render_still: time must be a finite number, got {time!r}")
     else:
         k = int(np.argmin(np.abs(times - float(time))))
-    fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi)
+    fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)
     show(0)
     from .fileio import atomic_write
     with atomic_write(path, "wb") as fh:
-        fig.savefig(fh, dpi=dpi, format="png")
+        fig.savefig(fh, dpi=dpi, format=fmt)
     return path

@@ -1,7 +1,9 @@
 """``hardspheres run``: a scenario run to an end time, with the trimmings.
 
-Progress bar on stderr (only on a terminal), trajectory frames, a checkpoint
-at the end or on Ctrl-C, and a summary.
+Progress bar on stderr (only on a terminal: rate and time left), trajectory
+frames, a checkpoint at the end or on Ctrl-C, an optional equilibration
+before the averages start, and a summary of what was measured, with its
+statistical errors when the observables give them.
 
 Faults: every output is checked before the run starts (the checkpoint's
 folder is writable and no other writer holds it; an existing trajectory is
@@ -13,7 +15,9 @@ deferred (a second Ctrl-C does not lose it), and the exit status is
 disk) ends the run, but the checkpoint is still written.
 """
 
+import math
 import os
+import shutil
 import signal
 import sys
 import time
@@ -26,62 +30,138 @@ from .simulation import Simulation
 #: Signals that stop a run cleanly (checkpoint written).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
+#: Warn when a trajectory is expected to grow past this many bytes.
+LARGE_TRAJECTORY = 1e9
+
+# bytes per sphere per frame (position and velocity, float64) and per event
+# (time, kind, i, j, impulse as float64) in a GSD trajectory
+_FRAME_BYTES_PER_SPHERE = 48
+_EVENT_BYTES = 40
+
+
+def _isatty(stream):
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+def _duration(seconds):
+    """``42 s``, ``3 min 5 s``, ``2 h 10 min``."""
+    if not math.isfinite(seconds):
+        return "?"
+    seconds = max(0, round(seconds))
+    if seconds < 60:
+        return f"{seconds} s"
+    if seconds < 3600:
+        return f"{seconds // 60} min {seconds % 60} s"
+    return f"{seconds // 3600} h {seconds % 3600 // 60} min"
+
 
 class Progress:
-    """A one-line progress bar on a terminal; silent otherwise."""
+    """A one-line progress bar with rate and time left, on a terminal; silent otherwise.
 
-    def __init__(self, total, stream=sys.stderr):
+    Every update rewrites the whole line (padded over the previous one), and
+    :meth:`close` clears it, so no stale characters remain.
+    """
+
+    def __init__(self, total, stream=None, enabled=None):
         self.total = total
-        self.stream = stream
-        self.on = stream.isatty()
+        self.stream = sys.stderr if stream is None else stream
+        self.on = _isatty(self.stream) if enabled is None else enabled
         self.t0 = time.perf_counter()
+        self.width = 0
 
-    def update(self, done, note=""):
+    def line(self, done, events=0, label=""):
+        """The text of the bar after ``done`` of ``total``, ``events`` so far."""
+        frac = min(1.0, done / self.total) if self.total > 0 else 1.0
+        wall = time.perf_counter() - self.t0
+        rate = f"{events / wall:.3g} events/s" if wall > 0 and events else ""
+        left = wall * (1.0 - frac) / frac if frac > 0 else math.inf
+        eta = f"{_duration(left)} left" if frac < 1.0 else "done"
+        bar = "#" * int(30 * frac)
+        parts = [f"[{bar:<30}] {frac:6.1%}", label, rate, eta]
+        return "  ".join(p for p in parts if p)
+
+    def update(self, done, events=0, label=""):
         if not self.on:
             return
-        frac = min(1.0, done / self.total) if self.total else 1.0
-        bar = "#" * int(30 * frac)
-        self.stream.write(f"\r[{bar:<30}] {frac:6.1%} {note}")
+        text = self.line(done, events, label)
+        pad = max(0, self.width - len(text))
+        self.width = len(text) + pad  # what the terminal line holds now
+        self.stream.write("\r" + text + " " * pad)
         self.stream.flush()
 
     def close(self):
-        if self.on:
-            self.stream.write("\n")
+        if self.on and self.width:
+            self.stream.write("\r" + " " * self.width + "\r")
             self.stream.flush()
+            self.width = 0
 
 
-def _simulation(args):
+def _check_args(args):
+    """Every argument of ``run`` checked before any work."""
     if args.resume:
         if args.scenario:
             raise ValueError("give a scenario or --resume, not both")
-        return Simulation.load(args.resume)
-    if not args.scenario:
+        if args.container is not None or args.box is not None:
+            raise ValueError("--container/--box cannot change a resumed run: the checkpoint "
+                             "keeps its container (leave them out)")
+    elif not args.scenario:
         raise ValueError("give a scenario file (or --resume CHECKPOINT)")
-    if args.container is None and args.box is None:
+    elif args.container is None and args.box is None:
         raise ValueError("give --container RADIUS or --box LENGTH")
+    if args.trajectory is None:
+        for option, value in (("--every", args.every), ("--events", args.events)):
+            if value:
+                raise ValueError(f"{option} is for the trajectory: give --trajectory FILE.gsd")
+    else:
+        suffix = os.path.splitext(args.trajectory)[1].lower()
+        if suffix not in (".gsd", ".xyz", ".extxyz"):
+            raise ValueError(f"--trajectory {args.trajectory!r}: use a .gsd or .xyz file name")
+        if args.events and suffix != ".gsd":
+            raise ValueError("--events needs a .gsd trajectory (XYZ files hold no events)")
+
+
+def _simulation(args):
+    """The simulation to run; the core is compiled (and said so) after the input is read."""
+    from .warmup import ensure_compiled
+    if args.resume:
+        sim = Simulation.load(args.resume)
+        ensure_compiled()
+        return sim
     container = (SphericalContainer(args.container) if args.container is not None
                  else PeriodicBox(args.box))
     source = sys.stdin.buffer.read() if args.scenario == "-" else args.scenario
     if isinstance(source, bytes) and b"\n" not in source:
         source += b"\n"
-    return Simulation.from_scenario(source, container)
+    if not isinstance(source, bytes):
+        with open(source, "rb") as fh:
+            source = fh.read()
+    from .scenario import check_scenario, parse_scenario
+    scn = parse_scenario(source)  # bad input is refused before the compilation
+    if len(scn) == 0:
+        raise ValueError(f"{args.scenario}: no spheres in the scenario")
+    if isinstance(container, SphericalContainer):
+        check_scenario(scn, container.radius)
+    ensure_compiled()  # before any clock starts: no rate below includes compilation
+    from .state import State
+    return Simulation(State.from_scenario(scn), container)
 
 
 def _writer(args, sim, every):
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
     from .trajectory import GSDWriter, NotAContinuation, XYZWriter
     path = args.trajectory
-    if path.endswith(".gsd"):
-        cls = GSDWriter
-    elif path.endswith((".xyz", ".extxyz")):
-        cls = XYZWriter
-    else:
-        raise ValueError(f"trajectory {path!r}: use a .gsd or .xyz file name")
     exists = os.path.exists(path) and os.path.getsize(path) > 0
     if exists and not args.overwrite and not args.resume:
         raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, "
                          "or another file name")
-    writer = cls(path, every, append=bool(args.resume) and not args.overwrite)
+    append = bool(args.resume) and not args.overwrite
+    if path.lower().endswith(".gsd"):
+        writer = GSDWriter(path, every, events=args.events, append=append)
+    else:
+        writer = XYZWriter(path, every, append=append)
     writer.until = args.until  # the run goes there in pieces: a cut-short file shows
     try:
         writer.attach(sim)
@@ -122,40 +202,165 @@ class _Stopper:
         return False
 
 
+def _events_so_far(sim):
+    c = sim.counters
+    return c["collisions"] + c["reflections"]
+
+
+def estimate_trajectory_bytes(n, frames, events_per_time, duration, with_events):
+    """Expected size of a GSD trajectory [bytes]: frames, plus events if stored."""
+    size = frames * (n * _FRAME_BYTES_PER_SPHERE + 200)
+    if with_events:
+        size += events_per_time * duration * _EVENT_BYTES
+    return size
+
+
+def _bytes(x):
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if x >= scale:
+            return f"{x / scale:.3g} {unit}"
+    return f"{x:.0f} bytes"
+
+
+def _warn_size(args, sim, frames, start_time, first_step_events, first_step_time):
+    """Warn once on stderr when the trajectory will be large (or will not fit)."""
+    rate = first_step_events / first_step_time if first_step_time > 0 else 0.0
+    size = estimate_trajectory_bytes(sim.n, frames, rate, args.until - start_time, args.events)
+    folder = os.path.dirname(os.path.abspath(args.trajectory))
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        free = math.inf
+    if size > free:
+        print(f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+              f"but only {_bytes(free)} is free there; use a larger --every"
+              + (" or leave out --events" if args.events else ""), file=sys.stderr)
+    elif size > LARGE_TRAJECTORY:
+        print(f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+              f"({frames} frames" + (", with events" if args.events else "") + ")",
+              file=sys.stderr)
+
+
+def _value(summary, key, fmt=".6g"):
+    """``mean +- error`` when the observables give an error, else the mean."""
+    mean = summary[key]
+    err = summary.get(f"{key}_error")
+    if err is None:
+        return f"{mean:{fmt}}"
+    if not math.isfinite(err):
+        return f"{mean:{fmt}} (error unknown: run longer)"
+    text = f"{mean:{fmt}} +- {err:.2g}"
+    if summary.get(f"{key}_converged") is False:
+        text += " (error not converged: a lower bound)"
+    return text
+
+
+def summary_lines(sim, summary, averaged_from, equilibrated):
+    """The physics lines of the summary, labelled for what they are."""
+    lines = []
+    if "pressure" not in summary:
+        return lines
+    since = (f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}"
+             + (f" (after equilibrating: {equilibrated})" if equilibrated else
+                " (from the start, which includes the melting of a lattice start; "
+                "see --equilibrate)"))
+    lines.append(since)
+    kT = f"kT {summary['temperature']:.6g}"
+    if isinstance(sim.container, SphericalContainer):
+        lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
+        lines.append(f"PV/NkT {_value(summary, 'compressibility')} (wall pressure of a finite "
+                     "sphere: it includes a surface term, so it is not the bulk Z; use --box "
+                     "for bulk)")
+    else:
+        lines.append(f"pressure {_value(summary, 'pressure')} (virial), {kT}")
+        lines.append(f"Z = PV/NkT {_value(summary, 'compressibility')}")
+    lines.append(f"collision rate {_value(summary, 'collision_rate')} per sphere per unit time")
+    lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
+    return lines
+
+
+def _equilibrate(sim, args, progress, start_time):
+    """Run the equilibration the arguments ask for; returns its description or ''."""
+    if args.equilibrate is None and args.equilibrate_time is None:
+        return ""
+    if args.equilibrate_time is not None:
+        target = sim.time + args.equilibrate_time
+        what = f"{args.equilibrate_time:g} time units"
+        if target >= args.until:
+            raise ValueError(f"--equilibrate-time {args.equilibrate_time:g} reaches past "
+                             f"--until {args.until:g}: nothing left to average")
+        sim.run(until=target)
+    else:
+        collisions = args.equilibrate * sim.n // 2  # each collision counts for two spheres
+        what = f"{args.equilibrate} collisions per sphere"
+        sim.run(until=args.until, collisions=collisions)
+        if sim.time >= args.until:
+            raise ValueError(f"--equilibrate {args.equilibrate} did not finish before --until "
+                             f"{args.until:g} (at {sim.counters['collisions']} collisions): "
+                             "raise --until or lower --equilibrate")
+    progress.update(sim.time - start_time, _events_so_far(sim), "equilibrated")
+    return f"{what}, to t = {sim.time:.6g}"
+
+
 def run_command(args):
     """Run ``hardspheres run``; returns the exit status."""
+    _check_args(args)
     sim = _simulation(args)
     if args.until <= sim.time:
-        raise ValueError(f"--until {args.until} is not after the simulation's time {sim.time}")
+        raise ValueError(f"--until {args.until:g} is not after the simulation's time "
+                         f"{sim.time:.9g}")
+    if args.every is not None and args.every > args.until - sim.time:
+        raise ValueError(f"--every {args.every:g} is longer than the run "
+                         f"({args.until - sim.time:.6g}): the trajectory would hold one frame")
+    if args.equilibrate_time is not None and sim.time + args.equilibrate_time >= args.until:
+        raise ValueError(f"--equilibrate-time {args.equilibrate_time:g} reaches past "
+                         f"--until {args.until:g}: nothing left to average")
+    # a resumed run keeps saving to its checkpoint unless told otherwise
+    checkpoint = args.checkpoint or args.resume
     # every output is checked (and locked) before the run starts
-    lock = PathLock(args.checkpoint) if args.checkpoint else None
+    lock = PathLock(checkpoint) if checkpoint else None
     try:
-        return _run(args, sim, lock)
+        return _run(args, sim, checkpoint)
     finally:
         if lock is not None:
             lock.release()
 
 
-def _run(args, sim, lock):
+def _run(args, sim, checkpoint):
     writer = None
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
-    sim.observables.reset()
     failure = None
-    progress = Progress(args.until - sim.time)
-    start_time, t0 = sim.time, time.perf_counter()
+    start_time = sim.time
+    progress = Progress(args.until - start_time)
+    t0 = time.perf_counter()
+    equilibrated = ""
+    averaged_from = sim.time
     with _Stopper(sim) as stopper:
         try:
+            every = None
             if args.trajectory:
                 every = args.every or (args.until - sim.time) / 100.0
                 writer = _writer(args, sim, every)
                 sim.writers.append(writer)
+            equilibrated = _equilibrate(sim, args, progress, start_time)
+            sim.observables.reset()
+            averaged_from = sim.time
             steps = 200
+            first = sim.time
             for k in range(1, steps + 1):
-                sim.run(until=start_time + (args.until - start_time) * k / steps)
+                target = start_time + (args.until - start_time) * k / steps
+                if target <= sim.time:
+                    continue
+                sim.run(until=target)
                 if stopper.signum is not None:
                     break
-                progress.update(sim.time - start_time, f"t={sim.time:.6g}")
+                done = _events_so_far(sim) - c0["collisions"] - c0["reflections"]
+                if writer is not None and first is not None and sim.time > first:
+                    frames = int((args.until - start_time) / every) + 1
+                    _warn_size(args, sim, frames, start_time, done, sim.time - start_time)
+                    first = None
+                progress.update(sim.time - start_time, done, f"t={sim.time:.6g}")
             if writer is not None and writer.last_time is not None and (
                     writer.last_time < sim.time):
                 writer.write(sim, sim.time)  # the file ends where the checkpoint starts
@@ -174,33 +379,32 @@ def _run(args, sim, lock):
                     failure = failure or e
         wall = time.perf_counter() - t0
         signum = stopper.signum
-        if args.checkpoint:
+        if checkpoint:
             sim.stop_requested = False
-            sim._save(args.checkpoint, lock=False)
+            sim._save(checkpoint, lock=False)
     c1 = sim.counters
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
-    summary = sim.observables.summary()
+    summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
     lines = [
         f"time {sim.time:.9g}" + (" (interrupted)" if signum is not None else "")
         + (" (stopped: trajectory not written)" if failure is not None else ""),
+        f"{sim.n} spheres, {_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
         f"{c1['reflections'] - c0['reflections']} reflections",
         f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)",
     ]
-    if "pressure" in summary:
-        lines.append(f"pressure {summary['pressure']:.6g}, "
-                     f"Z = PV/NkT {summary['compressibility']:.6g}, "
-                     f"kT {summary['temperature']:.6g}")
-        lines.append(f"collision rate {summary['collision_rate']:.6g} per sphere per unit time, "
-                     f"mean free path {summary['mean_free_path']:.6g}")
-    lines.append(f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s")
-    if args.checkpoint:
-        lines.append(f"checkpoint {args.checkpoint}")
+    lines += summary_lines(sim, summary, averaged_from, equilibrated)
+    if e1 == 0:
+        lines.append("all spheres at rest: no pressure or rates")
+    lines.append(f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s "
+                 "(compilation excluded)")
+    if checkpoint:
+        lines.append(f"checkpoint {checkpoint}")
     if args.trajectory:
-        lines.append(f"trajectory {args.trajectory}")
+        lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
-    resume = f"; resume with --resume {args.checkpoint}" if args.checkpoint else ""
+    resume = f"; resume with --resume {checkpoint}" if checkpoint else ""
     if failure is not None:
         print(f"hardspheres run: {oserror_line(failure)}{resume}", file=sys.stderr)
         return 1
@@ -209,3 +413,9 @@ def _run(args, sim, lock):
         print(f"interrupted ({name}){resume}", file=sys.stderr)
         return 128 + signum
     return 0
+
+
+def _container_text(container):
+    if isinstance(container, SphericalContainer):
+        return f"spherical container of radius {container.radius:g}"
+    return f"periodic box of edge {container.length:g}"

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .containers import PeriodicBox, SphericalContainer
+from .containers import PeriodicBox, SphericalContainer, require_periodic
 from .engine import CheckpointError, Engine
 from .fileio import atomic_write
 from .messages import quote
@@ -48,6 +48,8 @@ class Event(NamedTuple):
         j: the other sphere of a collision, ``-1`` for a reflection.
         impulse: magnitude of the momentum sphere ``i`` received
             [mass*length/time].
+        dp: the momentum sphere ``i`` received, ``(dpx, dpy, dpz)``
+            [mass*length/time] (sphere ``j`` received minus this).
     """
 
     time: float
@@ -55,6 +57,7 @@ class Event(NamedTuple):
     i: int
     j: int
     impulse: float
+    dp: tuple = (0.0, 0.0, 0.0)
 
 
 class Simulation:
@@ -66,6 +69,14 @@ class Simulation:
         window: simultaneity window [time]: events less than this after
             the previous one happen at its time (the assignment's program
             uses 1e-8 s; 0, the default, keeps exact times).
+
+    Attributes:
+        container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
+        names: the spheres' names, in input order.
+        observables: :class:`hardspheres.Observables`, time averages since
+            its last ``reset()`` (pressure, ``Z``, collision rate, ...).
+        writers: objects called as the simulation runs (e.g.
+            :class:`hardspheres.GSDWriter`); append to this list.
 
     Raises:
         ScenarioError: a mass, radius, position or velocity that is not a
@@ -84,13 +95,21 @@ class Simulation:
         self.writers = []
         self.thermostat = None
         positions = state.positions
+        images = None
         if isinstance(container, PeriodicBox):
+            # the unwrapped centres (positions + images * L) are kept
             L = container.length
-            positions = positions - L * np.floor(positions / L + 0.5)
+            shift = np.floor(positions / L + 0.5)
+            positions = positions - L * shift
+            images = shift.astype(np.int64)
+            if state.images is not None:
+                images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
         else:
             _check_inside(state, container)
         self._engine = Engine(state.masses, state.radii, positions, state.velocities,
                               window=window, time=state.time, **container.engine_args())
+        if images is not None:
+            self._engine.img[:] = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
@@ -165,10 +184,10 @@ class Simulation:
     def iter_events(self, until=None, collisions=None, events=None):
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
-            for t, k, i, j, imp in zip(ev["t"].tolist(), ev["kind"].tolist(),
-                                       ev["i"].tolist(), ev["j"].tolist(),
-                                       ev["impulse"].tolist()):
-                yield Event(t, KINDS[k], i, j, imp)
+            for t, k, i, j, imp, dp in zip(ev["t"].tolist(), ev["kind"].tolist(),
+                                           ev["i"].tolist(), ev["j"].tolist(),
+                                           ev["impulse"].tolist(), ev["dp"].tolist()):
+                yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
     def _chunks(self, until, collisions, events, record):
         if until is None and collisions is None and events is None:
@@ -189,10 +208,15 @@ class Simulation:
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
         keep = record
         record = record or bool(listeners)
+        obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self._interrupted():
             stop = until
             for w in self.writers:
                 stop = min(stop, w.next_time)
+            # the observables sample their tallies (for error bars) on a time grid
+            sampling = obs.next_sample <= stop and not eng.idle
+            if sampling:
+                stop = obs.next_sample
             step = min(ev_left, 1 << 16)
             c0 = eng.counters["collisions"]
             ev = eng.advance(until=stop, events=step,
@@ -208,6 +232,8 @@ class Simulation:
             if eng.last_reason == 0:  # reached `stop`
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
+                if sampling:
+                    obs._sample()
                 for w in self.writers:
                     if w.next_time <= stop:
                         w.write(self, w.next_time)
@@ -280,13 +306,24 @@ class Simulation:
         return getattr(self, "stop_requested", False)
 
     # ---- state -----------------------------------------------------------------
-    def state(self, time=None):
+    def state(self, time=None, unwrapped=False):
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
 
         Positions are advanced exactly along each sphere's line from its
-        last event; in a periodic box they are wrapped into the box.
+        last event; in a periodic box they are wrapped into the box, and
+        ``State.images`` holds each sphere's exact count of box crossings.
         A ``time`` past the clock runs the simulation to it first.
+
+        Args:
+            unwrapped: positions not wrapped into the box (periodic box
+                only): where each sphere would be had the box no edges,
+                for displacements and diffusion.
+
+        Raises:
+            PeriodicBoxRequired: ``unwrapped`` in a spherical container.
         """
+        if unwrapped:
+            require_periodic(self.container, "unwrapped positions")
         t = self.time if time is None else _number(time, "time", "a finite time [time]")
         if t > self.time:
             self.run(until=t)
@@ -294,8 +331,18 @@ class Simulation:
             raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
                              "the past is not kept: ask for states as you run")
         eng = self._engine
-        return State(eng.mass.copy(), eng.radii_at(t), eng.positions_at(t), eng.vel.copy(),
-                     list(self.names), t)
+        periodic = isinstance(self.container, PeriodicBox)
+        if periodic:
+            # the images of the stored centres, then of the ones wrapped into the box
+            raw = eng.unwrapped_at(t)
+            pos = eng.positions_at(t)
+            images = np.rint((raw - pos) / self.container.length).astype(np.int64)
+            if unwrapped:
+                pos = raw
+        else:
+            pos, images = eng.positions_at(t), None
+        return State(eng.mass.copy(), eng.radii_at(t), pos, eng.vel.copy(),
+                     list(self.names), t, images)
 
     # ---- checkpoints ---------------------------------------------------------
     def save(self, path):
@@ -323,6 +370,9 @@ class Simulation:
                      container=np.array([type(self.container).__name__,
                                          repr(_container_size(self.container))]),
                      obs=np.array(self.observables._mark, dtype=np.float64),
+                     obs_samples=np.array(self.observables._samples, dtype=np.float64),
+                     obs_every=np.array([self.observables.every,
+                                         self.observables.next_sample]),
                      clock=np.array(self._clock), **extra,
                      **self._engine.checkpoint())
 
@@ -349,6 +399,8 @@ class Simulation:
         sim.container = container
         names = data.pop("names", None)
         mark = data.pop("obs", None)
+        samples = data.pop("obs_samples", None)
+        every = data.pop("obs_every", None)
         clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
         try:
@@ -373,7 +425,16 @@ class Simulation:
         sim.writers = []
         sim._clock = float(clock)
         sim.observables = Observables(sim)
-        sim.observables._mark = tuple(mark.tolist())
+        if len(mark) == len(sim.observables._mark):  # else an older layout: start afresh
+            obs = sim.observables
+            obs._mark = tuple(mark.tolist())
+            obs._samples = [obs._mark]
+            if (samples is not None and every is not None and samples.ndim == 2
+                    and samples.shape[1] == len(mark) and samples.shape[0] >= 1
+                    and np.all(np.isfinite(samples)) and every.shape == (2,)
+                    and every[0] > 0):
+                obs._samples = [tuple(r) for r in samples.tolist()]
+                obs.every, obs.next_sample = every.tolist()
         if n:
             worst = eng.max_overlap()
             if not worst <= 1e-6 or eng.outside(tol=1e-6):

@@ -16,6 +16,8 @@ class State:
         velocities: ``(N, 3)`` [length/time].
         names: ``N`` unique names (IDs).
         time: the time of this state [time].
+        images: ``(N, 3)`` int64 periodic images (periodic box only, else
+            ``None``): the unwrapped centre is ``positions + images * L``.
 
     Example:
         >>> s = State.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]])
@@ -29,6 +31,7 @@ class State:
     velocities: np.ndarray
     names: list = field(default_factory=list)
     time: float = 0.0
+    images: np.ndarray | None = None
 
     @classmethod
     def from_arrays(cls, masses, radii, positions, velocities, names=None, time=0.0):
@@ -120,6 +123,10 @@ class State:
     def n(self):
         """Number of spheres."""
         return self.masses.shape[0]
+
+    def __repr__(self):
+        names = ", ".join(self.names[:3]) + (", ..." if self.n > 3 else "")
+        return f"State(n={self.n}, time={self.time:.6g}, names=[{names}])"
 
     def kinetic_energy(self):
         """Total kinetic energy [mass*length^2/time^2]."""

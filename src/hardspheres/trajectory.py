@@ -12,7 +12,10 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
 * ``configuration/step``: the frame's index; ``configuration/box``: the
   periodic box ``[L, L, L, 0, 0, 0]``, or for the spherical container the
   cube ``2R`` that encloses it (not periodic: switch periodicity off in OVITO);
-* ``particles/position``, ``particles/velocity`` (float64); in the first
+* ``particles/position``, ``particles/velocity`` (float64);
+  ``particles/image`` (periodic box: the exact count of box crossings, so
+  ``position + image * L`` is the unwrapped centre; ``log/hardspheres/images``
+  in the first frame says the file has them); in the first
   frame only (readers take later frames' values from it): ``mass``,
   ``diameter`` (twice the radius), one type ``"sphere"``;
 * ``log/hardspheres/time`` [time]; ``log/hardspheres/container_radius`` or
@@ -251,6 +254,10 @@ class GSDWriter(_FrameWriter):
         f.particles.N = state.n
         f.particles.position = state.positions
         f.particles.velocity = state.velocities
+        if state.images is not None:
+            f.particles.image = state.images.astype(np.int32)
+            if self._count == 0:  # marks files that carry images (all zero is not stored)
+                f.log["hardspheres/images"] = np.array([1], np.int8)
         if self._count == 0:
             f.particles.types = ["sphere"]
             f.particles.typeid = np.zeros(state.n, dtype=np.uint32)
@@ -419,11 +426,12 @@ def _read_gsd(path):
             box = float(log["hardspheres/box_length"][0])
         else:
             container = float(log["hardspheres/container_radius"][0])
-        times, pos, vel, events = [], [], [], []
+        times, pos, vel, events, images = [], [], [], [], []
         for f in traj:
             times.append(float(f.log["hardspheres/time"][0]))
             pos.append(np.asarray(f.particles.position, dtype=np.float64).reshape(n, 3))
             vel.append(np.asarray(f.particles.velocity, dtype=np.float64).reshape(n, 3))
+            images.append(np.asarray(f.particles.image, dtype=np.int64).reshape(n, 3))
             if "hardspheres/events" in f.log:
                 events.append(np.asarray(f.log["hardspheres/events"], np.float64).reshape(-1, 5))
             run_end = f.log.get("hardspheres/run_end")
@@ -433,7 +441,10 @@ def _read_gsd(path):
                       np.array(vel).reshape(-1, n, 3),
                       np.asarray(first.particles.diameter, np.float64) / 2.0,
                       np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, box=box, **_event_fields(events))
+                      container=container, box=box,
+                      images=(np.array(images).reshape(-1, n, 3)
+                              if box is not None and "hardspheres/images" in log else None),
+                      **_event_fields(events))
 
 
 def _xyz_keys(comment):
@@ -492,7 +503,7 @@ class FrameRecorder(_FrameWriter):
 
     def __init__(self, every, events=True):
         super().__init__(every, events)
-        self._times, self._pos, self._vel, self._ev = [], [], [], []
+        self._times, self._pos, self._vel, self._ev, self._img = [], [], [], [], []
 
     def _start(self, sim):
         self._sim = sim
@@ -502,6 +513,7 @@ class FrameRecorder(_FrameWriter):
         self._pos.append(state.positions)
         self._vel.append(state.velocities)
         self._ev.append(events)
+        self._img.append(state.images)
         self._state = state
 
     def frames(self):
@@ -514,6 +526,8 @@ class FrameRecorder(_FrameWriter):
                       st.masses.copy(), list(st.names),
                       container=c.radius if isinstance(c, SphericalContainer) else None,
                       box=c.length if isinstance(c, PeriodicBox) else None,
+                      images=(np.array(self._img).reshape(-1, n, 3)
+                              if isinstance(c, PeriodicBox) else None),
                       **_event_fields(self._ev))
 
 

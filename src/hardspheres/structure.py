@@ -1,0 +1,290 @@
+"""Structure: g(r) and its contact value, S(k), bond-orientational order.
+
+Compute objects in the style of freud: ``compute()`` returns the object,
+results read before it raise :class:`NotComputedError`, ``plot(ax=None)``
+returns matplotlib Axes.  The heavy lifting is freud's (optional dependency
+``pip install hardspheres[analysis]``): :class:`freud.density.RDF`,
+:class:`freud.diffraction.StaticStructureFactorDirect`,
+:class:`freud.order.Steinhardt` and :class:`freud.order.SolidLiquid`; freud
+takes our box as it is (a cube centred on the origin).  Configurations come
+from a :class:`hardspheres.Frames` (every frame is averaged), a
+:class:`hardspheres.Simulation` (its state now), or positions and a box edge.
+
+They need a periodic box: in a spherical container the wall makes the
+density non-uniform, and g(r) or S(k) normalised by the bulk density would
+mislead.
+
+Example:
+    >>> import hardspheres as hs
+    >>> sim = hs.Simulation(hs.random_spheres(256, 0.5, box=9.5, seed=1), hs.PeriodicBox(9.5))
+    >>> fcc = BondOrder().compute(sim)       # a perfect FCC lattice at t = 0
+    >>> round(fcc.mean_q, 3), fcc.crystal_fraction
+    (0.575, 1.0)
+"""
+
+import numpy as np
+
+from .containers import PeriodicBox, require_periodic
+
+
+class NotComputedError(ValueError):
+    """A result was read before :meth:`compute` was called."""
+
+
+def _freud():
+    try:
+        import freud
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise ImportError("structure needs freud: pip install 'hardspheres[analysis]'") from None
+    return freud
+
+
+def configurations(source, box=None):
+    """``(L, positions (F, N, 3), radii (N,))`` from what the compute methods accept.
+
+    Args:
+        source: :class:`hardspheres.Frames` (periodic box), a
+            :class:`hardspheres.Simulation` (its state now), a
+            :class:`hardspheres.State` with ``box``, or positions ``(N, 3)``
+            or ``(F, N, 3)`` with ``box`` (radii then unknown: ``None``).
+        box: periodic box edge [length], for a State or bare positions.
+
+    Raises:
+        PeriodicBoxRequired: the configurations are not in a periodic box.
+    """
+    from .frames import Frames
+    from .simulation import Simulation
+    from .state import State
+    if isinstance(source, Frames):
+        L = require_periodic(PeriodicBox(source.box) if source.box else None,
+                             "g(r), S(k) and bond order")
+        return L, np.asarray(source.positions, float), np.asarray(source.radii, float)
+    if isinstance(source, Simulation):
+        L = require_periodic(source.container, "g(r), S(k) and bond order")
+        st = source.state()
+        return L, st.positions[None], st.radii
+    if box is None:
+        require_periodic(None, "g(r), S(k) and bond order")
+    L = float(box)
+    if isinstance(source, State):
+        return L, source.positions[None], source.radii
+    pos = np.asarray(source, float)
+    return L, pos.reshape((-1,) + pos.shape[-2:]), None
+
+
+def _wrap(x, L):
+    return x - L * np.floor(x / L + 0.5)
+
+
+def _contact_distance(radii):
+    if radii is None or len(radii) == 0:
+        raise ValueError("sphere radii unknown: pass sigma (the contact distance)")
+    d = 2.0 * np.asarray(radii)
+    if np.ptp(d) > 1e-12 * d.max():
+        raise ValueError("spheres of different sizes have one contact value per pair of "
+                         "sizes; pass sigma to choose one")
+    return float(d[0])
+
+
+class _Computed:
+    """Results (the names in ``_results``) read before ``compute()`` raise NotComputedError."""
+
+    _computed = False
+    _results: tuple[str, ...] = ()
+
+    def _need(self):
+        if not self._computed:
+            raise NotComputedError(f"{type(self).__name__}: call compute() first")
+
+    def __getattr__(self, name):  # only called for attributes not (yet) set
+        if name in type(self)._results:
+            self._need()
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+
+class RDF(_Computed):
+    """Radial distribution function g(r), averaged over configurations (freud).
+
+    Args:
+        dr: bin width [length]; default a fiftieth of the contact distance.
+        r_max: largest r [length]; default ``min(5 sigma, L/2)``.
+
+    Bin edges are multiples of ``dr`` from 0 and the contact distance is
+    made an edge, so no bin straddles contact (where g jumps from 0).
+
+    Attributes (after :meth:`compute`): ``r`` bin centres, ``g``, ``edges``,
+    ``sigma`` the contact distance, ``frames`` configurations averaged.
+    """
+
+    _results = ("r", "g", "edges", "sigma", "frames", "n", "packing")
+
+    def __init__(self, dr=None, r_max=None):
+        self.dr, self.r_max = dr, r_max
+
+    def compute(self, source, box=None, sigma=None):
+        """Average g(r) over ``source``'s configurations; returns self.
+
+        Args:
+            sigma: contact distance [length]; default twice the radius of
+                the (equal) spheres.
+        """
+        freud = _freud()
+        L, pos, radii = configurations(source, box)
+        sig = float(sigma) if sigma is not None else _contact_distance(radii)
+        # dr divides sigma exactly (up to rounding), so sigma is a bin edge
+        per = max(1, round(sig / self.dr)) if self.dr else 50
+        dr = sig / per
+        r_max = min(self.r_max or 5.0 * sig, 0.5 * L * (1.0 - 1e-9))
+        bins = int(r_max / dr)
+        rdf = freud.density.RDF(bins=bins, r_max=bins * dr)
+        fbox = freud.box.Box.cube(L)
+        for k, x in enumerate(pos):
+            rdf.compute((fbox, _wrap(x, L)), reset=(k == 0))
+        self.r = np.asarray(rdf.bin_centers, float).copy()
+        self.edges = np.asarray(rdf.bin_edges, float).copy()
+        self.g = np.asarray(rdf.rdf, float).copy()
+        self.sigma, self.frames, self.n = sig, len(pos), pos.shape[1]
+        self.packing = self.n * np.pi * sig ** 3 / (6.0 * L ** 3)
+        self._computed = True
+        return self
+
+    def contact_value(self, width=0.1):
+        """g(sigma+): a quadratic fitted to the bins in ``[sigma, sigma (1 + width)]``.
+
+        Returns:
+            ``(g_sigma, error)``: the fit's value at contact and its standard
+            error from the scatter of the bins about the fit.
+        """
+        self._need()
+        lo, hi = self.sigma * (1 - 1e-9), self.sigma * (1.0 + width)
+        sel = (self.edges[:-1] >= lo) & (self.edges[1:] <= hi * (1 + 1e-9))
+        if sel.sum() < 4:
+            raise ValueError("fewer than 4 bins to fit the contact value: use a smaller dr "
+                             "or a larger width")
+        x = self.r[sel] / self.sigma - 1.0
+        coef, cov = np.polyfit(x, self.g[sel], 2, cov=True)
+        return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
+
+    def compressibility(self):
+        """``Z = 1 + 4 phi g(sigma)`` (equal spheres), with its error from the contact fit."""
+        g, err = self.contact_value()
+        return 1.0 + 4.0 * self.packing * g, 4.0 * self.packing * err
+
+    def plot(self, ax=None):
+        """g(r) against r / sigma; returns the Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.plot(self.r / self.sigma, self.g)
+        ax.axhline(1.0, color="grey", lw=0.5)
+        ax.set_xlabel("r / sigma")
+        ax.set_ylabel("g(r)")
+        ax.set_title(f"g(r), packing {self.packing:.3g}, {self.frames} frames")
+        return ax
+
+
+class StructureFactor(_Computed):
+    """Static structure factor S(k) from the box's own wave vectors (freud, direct).
+
+    Args:
+        bins: number of |k| bins.
+        k_max: largest |k| [1/length]; default ``20 / sigma`` (sigma = 1 if
+            radii are unknown).
+        k_min: smallest |k| [1/length]; default half the box's smallest
+            wave vector ``2 pi / L`` (so only the forward peak at k = 0,
+            ``S = N``, is left out).
+
+    Attributes (after :meth:`compute`): ``k`` bin centres, ``S``.
+    """
+
+    _results = ("k", "S", "sigma", "frames")
+
+    def __init__(self, bins=100, k_max=None, k_min=None):
+        self.bins, self.k_max, self.k_min = bins, k_max, k_min
+
+    def compute(self, source, box=None):
+        """Average S(k) over ``source``'s configurations; returns self."""
+        freud = _freud()
+        L, pos, radii = configurations(source, box)
+        sig = 2.0 * float(np.max(radii)) if radii is not None and len(radii) else 1.0
+        k_max = self.k_max or 20.0 / sig
+        k_min = np.pi / L if self.k_min is None else self.k_min
+        sf = freud.diffraction.StaticStructureFactorDirect(self.bins, k_max, k_min)
+        fbox = freud.box.Box.cube(L)
+        for k, x in enumerate(pos):
+            sf.compute((fbox, _wrap(x, L)), reset=(k == 0))
+        self.k = np.asarray(sf.bin_centers, float).copy()
+        self.S = np.asarray(sf.S_k, float).copy()
+        self.sigma, self.frames = sig, len(pos)
+        self._computed = True
+        return self
+
+    def plot(self, ax=None):
+        """S(k) against k sigma; returns the Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.plot(self.k * self.sigma, self.S)
+        ax.axhline(1.0, color="grey", lw=0.5)
+        ax.set_xlabel("k sigma")
+        ax.set_ylabel("S(k)")
+        return ax
+
+
+class BondOrder(_Computed):
+    """Steinhardt q_l per sphere and the fraction of crystal-like spheres (freud).
+
+    Neighbours are the spheres within ``r_max`` (default 1.4 sigma, about
+    the first minimum of g(r) in the dense fluid and the crystal).  A sphere
+    is crystal-like when at least ``solid_threshold`` of its bonds are
+    coherent, ``q6(i) . q6(j) > q_threshold`` (normalised): the criterion of
+    P. R. ten Wolde, M. J. Ruiz-Montero and D. Frenkel, J. Chem. Phys. 104,
+    9932 (1996), with the thresholds 0.7 and 7 of S. Auer and D. Frenkel,
+    Nature 409, 1020 (2001).
+
+    Attributes (after :meth:`compute`, last configuration): ``q`` per
+    sphere, ``mean_q``, ``crystal_like`` (bool per sphere),
+    ``crystal_fraction``; ``crystal_fractions`` per configuration.
+    """
+
+    _results = ("q", "mean_q", "crystal_like", "crystal_fraction", "crystal_fractions")
+
+    def __init__(self, l=6, r_max=None, q_threshold=0.7, solid_threshold=7):
+        self.l, self.r_max = l, r_max
+        self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
+
+    def compute(self, source, box=None, sigma=None):
+        """Bond order of each of ``source``'s configurations; returns self."""
+        freud = _freud()
+        L, pos, radii = configurations(source, box)
+        sig = float(sigma) if sigma is not None else 2.0 * float(np.max(radii))
+        r_max = self.r_max or 1.4 * sig
+        fbox = freud.box.Box.cube(L)
+        st = freud.order.Steinhardt(self.l)
+        sl = freud.order.SolidLiquid(self.l, q_threshold=self.q_threshold,
+                                     solid_threshold=self.solid_threshold)
+        fractions = []
+        for x in pos:
+            system = (fbox, _wrap(x, L))
+            st.compute(system, neighbors={"r_max": r_max})
+            sl.compute(system, neighbors={"r_max": r_max})
+            crystal = np.asarray(sl.num_connections) >= self.solid_threshold
+            fractions.append(float(np.mean(crystal)))
+        self.q = np.nan_to_num(np.asarray(st.particle_order, float)).copy()
+        self.mean_q = float(np.mean(self.q))
+        self.crystal_like = crystal
+        self.crystal_fraction = fractions[-1]
+        self.crystal_fractions = np.array(fractions)
+        self._computed = True
+        return self
+
+    def plot(self, ax=None):
+        """Histogram of q_l per sphere; returns the Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.hist(self.q, bins=50, range=(0, 1))
+        ax.set_xlabel(f"q{self.l}")
+        ax.set_ylabel("spheres")
+        ax.set_title(f"crystal-like: {self.crystal_fraction:.1%}")
+        return ax

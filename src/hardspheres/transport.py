@@ -1,0 +1,430 @@
+"""Transport: self-diffusion from the mean squared displacement and the velocity autocorrelation.
+
+* :class:`MSD`: the mean squared displacement over all time origins
+  (:class:`freud.msd.MSD` in its ``"window"`` mode, FFT-based) of the
+  unwrapped positions (exact image counts, :meth:`hardspheres.Frames.unwrapped`),
+  and D from its slope, ``MSD = 6 D t`` at long times.  freud computes in
+  single precision: the MSD carries an absolute error of about 1e-7 of the
+  squared unwrapped positions, far below the statistical error of D.
+* :class:`VACF`: the velocity autocorrelation over all time origins and
+  ``D = 1/3 int C(t) dt`` (Green-Kubo).  freud has no VACF; it is the same
+  FFT correlation as its MSD, done here with numpy.
+* :func:`yeh_hummer`: the finite-size correction of D in a periodic box.
+* :func:`enskog`: the Enskog transport coefficients, the usual yardstick.
+
+Error bars: the trajectory is cut into ``blocks`` equal segments, D is
+measured on each, and the error is their standard deviation over
+``sqrt(blocks)``; D itself is measured on the whole trajectory.
+
+Both need a periodic box (:class:`~hardspheres.containers.PeriodicBoxRequired`
+otherwise): in a container the displacement is bounded and D would be zero.
+
+Example:
+    >>> import hardspheres as hs
+    >>> from hardspheres.trajectory import frames_from_simulation
+    >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
+    >>> fr = frames_from_simulation(sim, until=4.0, every=0.05)
+    >>> msd = MSD().compute(fr)
+    >>> msd.t.shape == msd.msd.shape == (81,)
+    True
+"""
+
+import math
+
+import numpy as np
+
+from .containers import PeriodicBox, require_periodic
+from .structure import NotComputedError, _Computed
+
+#: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
+#: the periodic Oseen tensor): I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108,
+#: 15873 (2004), Eq. 12.
+XI_CUBIC = 2.837297
+
+
+def yeh_hummer(D, box, eta, kT=1.0):
+    """Self-diffusion extrapolated to an infinite system: ``D + xi kT / (6 pi eta L)``.
+
+    I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108, 15873 (2004): the
+    hydrodynamic self-interaction with the periodic images slows a sphere
+    in a cubic box of edge ``L`` by ``xi kT / (6 pi eta L)``, ``xi =
+    2.837297``.
+
+    Args:
+        D: self-diffusion coefficient measured in the box [length^2/time].
+        box: box edge ``L`` [length].
+        eta: shear viscosity [mass/(length time)] (e.g. from :func:`enskog`
+            times a correction, or measured).
+        kT: temperature [energy].
+
+    Example:
+        >>> round(yeh_hummer(0.1, 10.0, 1.0), 6)
+        0.115052
+    """
+    return D + XI_CUBIC * kT / (6.0 * math.pi * eta * box)
+
+
+def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
+    """Enskog's transport coefficients of equal hard spheres.
+
+    With ``g`` the contact value by Carnahan-Starling, ``(1 - phi/2) /
+    (1 - phi)^3``, and ``b rho = 4 phi`` (from S. Chapman and T. G.
+    Cowling, *The Mathematical Theory of Non-uniform Gases*, 3rd ed.,
+    Cambridge 1970, ch. 16):
+
+    all in the first Sonine approximation (the dilute values ``D_0``,
+    ``eta_0``, ``lambda_0`` without their higher-order corrections of 1-3%):
+
+    * self-diffusion ``D_E = 3 / (8 rho sigma^2 g) sqrt(kT / (pi m))``;
+    * shear viscosity ``eta_E = eta_0 (1/g + 4/5 b rho + 4/25 (1 + 12/pi)
+      (b rho)^2 g)`` (``(1/g)(1 + 2/5 b rho g)^2`` plus 3/5 of the bulk
+      viscosity ``16/(5 pi) (b rho)^2 g eta_0``; DynamO's ``Enskog.h``
+      writes the same), ``eta_0 = 5 / (16 sigma^2) sqrt(m kT / pi)``;
+    * thermal conductivity ``lambda_E = lambda_0 (1/g + 6/5 b rho + 9/25
+      (1 + 32/(9 pi)) (b rho)^2 g)``, ``lambda_0 = 75 k / (64 sigma^2)
+      sqrt(kT / (pi m))``.
+
+    Returns:
+        dict ``D``, ``eta``, ``lambda`` (k = 1 units), ``g`` (contact value).
+
+    Example:
+        >>> e = enskog(0.3)
+        >>> round(e["g"], 4), round(e["D"], 4)
+        (2.4781, 0.149)
+    """
+    rho = 6.0 * packing / (math.pi * sigma ** 3)
+    g = (1.0 - 0.5 * packing) / (1.0 - packing) ** 3
+    brho = 4.0 * packing
+    D0 = 3.0 / (8.0 * rho * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
+    eta0 = 5.0 / (16.0 * sigma ** 2) * math.sqrt(mass * kT / math.pi)
+    lam0 = 75.0 / (64.0 * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
+    return {"D": D0 / g, "g": g,
+            "eta": eta0 * (1.0 / g + 0.8 * brho + 0.16 * (1.0 + 12.0 / math.pi) * brho ** 2 * g),
+            "lambda": lam0 * (1.0 / g + 1.2 * brho
+                              + 0.36 * (1.0 + 32.0 / (9.0 * math.pi)) * brho ** 2 * g)}
+
+
+def _trajectory(source, what):
+    """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames."""
+    from .frames import Frames
+    if not isinstance(source, Frames):
+        raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or "
+                        "frames_from_simulation)")
+    require_periodic(PeriodicBox(source.box) if source.box else None, what)
+    t = np.asarray(source.times, float)
+    if len(t) < 3:
+        raise ValueError(f"{what}: {len(t)} frames; record at least three")
+    dt = np.diff(t)
+    if np.ptp(dt) > 1e-6 * dt.mean():
+        raise ValueError(f"{what}: frames must be equally spaced in time")
+    return t - t[0], source.unwrapped(), np.asarray(source.velocities, float), source.box
+
+
+def _autocorrelation(x):
+    """``(F,)`` mean over spheres and axes of ``<x(t0) . x(t0 + t)>`` over all origins t0.
+
+    FFT with zero padding (Wiener-Khinchin), divided by the number of
+    origins at each lag: the same algorithm freud's MSD uses.
+    """
+    f = x.shape[0]
+    size = 1 << math.ceil(math.log2(2 * f))
+    spec = np.fft.rfft(x, n=size, axis=0)
+    acf = np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f]
+    acf = acf.sum(axis=2).mean(axis=1)
+    return acf / (f - np.arange(f))
+
+
+def _segments(f, blocks):
+    size = f // blocks
+    return [slice(k * size, (k + 1) * size) for k in range(blocks)]
+
+
+class MSD(_Computed):
+    """Mean squared displacement over all time origins (freud, FFT) and D from its slope.
+
+    Args:
+        blocks: segments the trajectory is cut into for the error bar of D.
+
+    Attributes (after :meth:`compute`): ``t`` lag times, ``msd``.
+    """
+
+    _results = ("t", "msd")
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, frames):
+        """MSD of a periodic-box trajectory (equally spaced frames); returns self.
+
+        Raises:
+            PeriodicBoxRequired: the trajectory is not in a periodic box.
+        """
+        t, x, _, _ = _trajectory(frames, "mean squared displacements")
+        self.t, self.msd = t, self._msd(x)
+        self._x = x
+        self._computed = True
+        return self
+
+    @staticmethod
+    def _msd(x):
+        import freud
+        return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
+
+    def _window(self, t, t_min, t_max):
+        t_max = 0.5 * t[-1] if t_max is None else t_max
+        t_min = 0.2 * t[-1] if t_min is None else t_min
+        sel = (t >= t_min) & (t <= t_max)
+        if sel.sum() < 2:
+            raise ValueError(f"fewer than two lags in [{t_min:g}, {t_max:g}]: record more "
+                             "frames or widen the fit window")
+        return sel
+
+    def diffusion(self, t_min=None, t_max=None):
+        """D from a straight line fitted to the MSD for lags in ``[t_min, t_max]``.
+
+        The default window is 0.2 to 0.5 of one segment's length (of
+        ``1/blocks`` of the run): past the ballistic start, before the
+        noisy long lags.  Both ends should be many mean free times.
+
+        Returns:
+            ``(D, error)`` [length^2/time]: D from the whole trajectory, the
+            error from the segments' spread.
+        """
+        self._need()
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_lo = 0.2 * tseg[-1] if t_min is None else t_min
+        t_hi = 0.5 * tseg[-1] if t_max is None else t_max
+        sel = self._window(self.t, t_lo, t_hi)
+        D = np.polyfit(self.t[sel], self.msd[sel], 1)[0] / 6.0
+        per = []
+        sel_s = self._window(tseg, t_lo, t_hi)
+        for s in segs:
+            m = self._msd(self._x[s])
+            per.append(np.polyfit(tseg[sel_s], m[sel_s], 1)[0] / 6.0)
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
+        return float(D), err
+
+    def plot(self, ax=None):
+        """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.loglog(self.t[1:], self.msd[1:], label="MSD")
+        D, _ = self.diffusion()
+        ax.loglog(self.t[1:], 6.0 * D * self.t[1:], "--", label=f"6 D t, D = {D:.4g}")
+        ax.set_xlabel("t")
+        ax.set_ylabel("mean squared displacement")
+        ax.legend()
+        return ax
+
+
+class VACF(_Computed):
+    """Velocity autocorrelation ``C(t) = <v(0) . v(t)>`` over all origins, and D by Green-Kubo.
+
+    Args:
+        blocks: segments the trajectory is cut into for the error bar of D.
+
+    Attributes (after :meth:`compute`): ``t`` lag times, ``c``.
+    """
+
+    _results = ("t", "c")
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, frames):
+        """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
+        t, _, v, _ = _trajectory(frames, "velocity autocorrelations")
+        self.t, self._v = t, v
+        self.c = _autocorrelation(v)
+        self._computed = True
+        return self
+
+    def diffusion(self, t_max=None):
+        """``D = 1/3 int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
+
+        C(t) falls steeply over the first mean free time, and the trapezoid
+        overestimates the integral unless frames resolve that fall: at
+        packing 0.45, frames 0.1 mean free time apart give D within 1.5% of
+        the MSD's, 3 mean free times apart 40% above it.
+
+        Returns:
+            ``(D, error)`` [length^2/time].
+
+        Raises:
+            ValueError: C falls by more than 20% between the first two frames
+                (record frames closer together).
+        """
+        self._need()
+        if self.c[1] < 0.8 * self.c[0]:
+            raise ValueError(
+                f"the VACF falls to {self.c[1] / self.c[0]:.2f} of C(0) in one frame: the "
+                "integral would be biased high; record frames at most a tenth of a mean free "
+                "time apart (or use MSD().diffusion())")
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_max = 0.5 * tseg[-1] if t_max is None else t_max
+        if t_max > tseg[-1]:
+            raise ValueError(f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): "
+                             "use fewer blocks or a longer run")
+        k = int(np.searchsorted(self.t, t_max, side="right"))
+        D = np.trapezoid(self.c[:k], self.t[:k]) / 3.0
+        per = [np.trapezoid(_autocorrelation(self._v[s])[:k], tseg[:k]) / 3.0 for s in segs]
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
+        return float(D), err
+
+    def plot(self, ax=None):
+        """C(t) / C(0) against t; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.plot(self.t, self.c / self.c[0])
+        ax.axhline(0.0, color="grey", lw=0.5)
+        ax.set_xlabel("t")
+        ax.set_ylabel("C(t) / C(0)")
+        return ax
+
+
+def _msd_fft(x):
+    """``(F,)`` mean over columns of ``<(x(t0 + t) - x(t0))^2>`` over all origins, float64.
+
+    The FFT algorithm (V. Calandrini et al., Collection SFN 12, 201 (2011)),
+    as in freud's window MSD, for any number of columns.
+    """
+    x = np.asarray(x, float).reshape(x.shape[0], 1, -1)
+    f = x.shape[0]
+    d = np.sum(x * x, axis=(1, 2))
+    d = np.append(d, 0.0)
+    s2 = _autocorrelation(x)  # summed over the columns
+    q = 2.0 * d.sum()
+    s1 = np.zeros(f)
+    for m in range(f):
+        q -= d[m - 1] + d[f - m]
+        s1[m] = q / (f - m)
+    return (s1 - 2.0 * s2) / x.shape[2]
+
+
+class _EinsteinHelfand(_Computed):
+    """Transport coefficient from the growth of a Helfand moment sampled by the Observables."""
+
+    _results = ("t", "msd")
+    _kind = ""
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def compute(self, sim):
+        """Use the Helfand moments ``sim.observables`` sampled since its reset; returns self.
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box.
+            ValueError: fewer than 32 samples (run longer, or reset the
+                observables with a smaller ``every``).
+        """
+        obs = sim.observables
+        t, g = obs.helfand_moments(self._kind)
+        if len(t) < 32:
+            raise ValueError(f"{len(t)} samples of the Helfand moments (32 at least, a few "
+                             "hundred for an error bar): run longer, or start with "
+                             "observables.reset(every=T), T about a mean free time")
+        self._check(sim)
+        self._g, self.t = g, t - t[0]
+        self.msd = _msd_fft(g)
+        self._scale = self._prefactor(sim)
+        self.mean_free_time = obs.mean_free_time()
+        self._computed = True
+        return self
+
+    def _check(self, sim):
+        pass
+
+    def value(self, t_min=None, t_max=None):
+        """The coefficient from a line fitted to the moment's mean square growth.
+
+        Lags in ``[t_min, t_max]``, by default 5 to 25 mean free times: past
+        the decay of the flux correlations at fluid densities, short enough
+        that the moments' random walk has not buried the slope in noise.
+        Returns ``(value, error)``; the error from the spread over
+        ``blocks`` segments of the run.
+        """
+        self._need()
+        segs = _segments(len(self.t), self.blocks)
+        tseg = self.t[: segs[0].stop - segs[0].start]
+        t_lo = 5.0 * self.mean_free_time if t_min is None else t_min
+        t_hi = 25.0 * self.mean_free_time if t_max is None else t_max
+        sel = (self.t >= t_lo) & (self.t <= t_hi)
+        sel_s = (tseg >= t_lo) & (tseg <= t_hi)
+        if sel_s.sum() < 2:
+            raise ValueError(f"fewer than two lags in [{t_lo:g}, {t_hi:g}] per segment: "
+                             "run longer or use fewer blocks")
+        val = np.polyfit(self.t[sel], self.msd[sel], 1)[0] * self._scale
+        per = [np.polyfit(tseg[sel_s], _msd_fft(self._g[s])[sel_s], 1)[0] * self._scale
+               for s in segs]
+        err = float(np.std(per, ddof=1) / math.sqrt(len(per)))
+        return float(val), err
+
+    def plot(self, ax=None):
+        """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
+        self._need()
+        import matplotlib.pyplot as plt
+        ax = plt.figure().add_subplot() if ax is None else ax
+        t = self.t[1:]
+        ax.plot(t, self.msd[1:] * self._scale / t)
+        ax.set_xlabel("t")
+        ax.set_ylabel(f"{self._kind} Helfand moment: running coefficient")
+        return ax
+
+
+class ShearViscosity(_EinsteinHelfand):
+    """Shear viscosity by Einstein-Helfand: ``eta = lim <dG_ab(t)^2> / (2 V kT t)``.
+
+    ``G_ab(t) - G_ab(0) = int_0^t V P_ab dt'`` for ab = xy, xz, yz, from the
+    event core's exact running tallies (the kinetic tensor integrated between
+    collisions and the collisional transfer ``r_ij dp_i``, minimum image:
+    the periodic Helfand moment of S. Viscardy and P. Gaspard, Phys. Rev. E
+    68, 041204 (2003)), sampled on the observables' time grid.  Run with
+    ``sim.observables.reset()`` at the start of the production run.
+
+    Example:
+        >>> import hardspheres as hs
+        >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
+        >>> _ = sim.run(until=5.0).observables.reset(every=0.1)  # ~a mean free time
+        >>> _ = sim.run(until=45.0)
+        >>> eta, err = ShearViscosity().compute(sim).value()
+        >>> eta > 0
+        True
+    """
+
+    _kind = "momentum"
+
+    @staticmethod
+    def _prefactor(sim):
+        return 1.0 / (2.0 * sim.container.volume * sim.observables.temperature())
+
+
+class ThermalConductivity(_EinsteinHelfand):
+    """Thermal conductivity by Einstein-Helfand: ``lambda = lim <dH_a^2> / (2 V kT^2 t)`` (k = 1).
+
+    ``H_a = sum_i x_ia E_i`` in its periodic form: the energy current
+    ``sum v E`` integrated between collisions plus the collisional transfer
+    ``r_ij dE_i``.  Equal masses only: with total momentum zero the mean
+    enthalpy term ``h sum v_i`` then vanishes.
+    """
+
+    _kind = "energy"
+
+    def _check(self, sim):
+        m = sim._engine.mass
+        if np.ptp(m) > 1e-12 * m.max():
+            raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal "
+                             "masses only")
+
+    @staticmethod
+    def _prefactor(sim):
+        kT = sim.observables.temperature()
+        return 1.0 / (2.0 * sim.container.volume * kT * kT)
+
+
+__all__ = ["MSD", "VACF", "XI_CUBIC", "NotComputedError", "ShearViscosity",
+           "ThermalConductivity", "enskog", "yeh_hummer"]

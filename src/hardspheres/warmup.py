@@ -1,0 +1,88 @@
+"""The event core's one-time compilation, announced and kept out of every timing.
+
+numba compiles the core (:mod:`hardspheres._core`) the first time it runs and
+caches the machine code on disk; later processes load it in well under a
+second.  The first compilation takes a while (about 20 s of one core), so the
+commands call :func:`ensure_compiled` before they start any clock: when the
+cache is cold it says so once on stderr and compiles the core on a two-sphere
+system, so that no rate a command reports includes compilation.
+
+Example:
+    >>> from hardspheres.warmup import ensure_compiled
+    >>> ensure_compiled(quiet=True) >= 0.0  # compiles silently if needed
+    True
+"""
+
+import os
+import sys
+import time
+
+#: What the first compilation takes on the reference machine [s] (the note quotes it).
+TYPICAL_SECONDS = 20
+
+# the core's functions called from Python (each has its own cache index)
+_ENTRY_POINTS = ("build", "run", "positions_at", "rebase", "max_overlap")
+
+
+def _index_paths():
+    """numba's cache index file of each entry point of the core (those it can name)."""
+    from . import _core
+    paths = []
+    for name in _ENTRY_POINTS:
+        dispatcher = getattr(_core, name, None)
+        cache = getattr(dispatcher, "_cache", None)
+        cache_file = getattr(cache, "_cache_file", None)
+        path = getattr(cache_file, "_index_path", None)
+        if isinstance(path, str):
+            paths.append(path)
+    return paths
+
+
+def is_cold():
+    """True when numba's on-disk cache lacks part of the compiled core.
+
+    Cheap: looks for the cache's index files, compiles nothing.  When numba
+    cannot tell (its internals changed), answers False: no note is better than
+    a wrong one.
+    """
+    if os.environ.get("NUMBA_DISABLE_JIT") == "1":
+        return False
+    paths = _index_paths()
+    return bool(paths) and not all(os.path.exists(p) for p in paths)
+
+
+def _compile():
+    """Run every entry point of the core once, on two spheres (compiles them)."""
+    from .containers import SphericalContainer
+    from .simulation import Simulation
+    sim = Simulation.from_arrays([1.0, 1.0], [1.0, 1.0], [[-3.0, 0, 0], [3.0, 0, 0]],
+                                 [[1.0, 0, 0], [-1.0, 0, 0]], SphericalContainer(10.0))
+    sim.run(events=2000)  # past the first rebase of the time origin
+    sim.state()
+
+
+def ensure_compiled(quiet=False, stream=None):
+    """Compile the core now if its cache is cold, saying so on ``stream``.
+
+    Args:
+        quiet: compile without a word.
+        stream: where the one-line note goes (default: ``sys.stderr`` as it
+            is when called).
+
+    Returns:
+        Seconds spent compiling (0.0 when the cache was warm).
+    """
+    if not is_cold():
+        return 0.0
+    stream = None if quiet else (sys.stderr if stream is None else stream)
+    if stream is not None:
+        stream.write(f"compiling the event core (once, about {TYPICAL_SECONDS} s; "
+                     "later runs start at once) ...")
+        stream.flush()
+    t0 = time.perf_counter()
+    _compile()
+    seconds = time.perf_counter() - t0
+    if stream is not None:
+        stream.write(f" done in {seconds:.1f} s\n")
+        stream.flush()
+    return seconds

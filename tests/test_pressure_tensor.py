@@ -1,0 +1,120 @@
+"""Impulse vectors, the pressure tensor and the Einstein-Helfand transport tallies."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hardspheres as hs
+from hardspheres.containers import PeriodicBoxRequired
+from hardspheres.transport import ShearViscosity, ThermalConductivity, enskog
+
+PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+
+
+def gas(n=108, phi=0.3, seed=3):
+    box = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
+    return hs.Simulation(hs.random_spheres(n, phi, box=box, seed=seed), hs.PeriodicBox(box))
+
+
+def test_tallies_rebuilt_from_the_recorded_impulse_vectors():
+    """Every tally of the core, recomputed in Python from the events' impulse vectors."""
+    sim = gas()
+    sim.run(collisions=2000)
+    eng = sim._engine
+    sigma = 2.0 * eng.rad[0]
+    m = eng.mass
+    v = eng.vel.copy()
+    a = eng.transport_tallies()
+    t_last = t0 = sim.time
+    vir, kin, heat_c, heat_k = np.zeros(6), np.zeros(6), np.zeros(3), np.zeros(3)
+
+    def kinetic(v):
+        e = 0.5 * m * np.sum(v * v, axis=1)
+        return (np.array([np.sum(m * v[:, p] * v[:, q]) for p, q in PAIRS]),
+                np.sum(v * e[:, None], axis=0))
+
+    offset = eng.offset
+    for ev in sim.iter_events(collisions=6000):
+        kt, jt = kinetic(v)
+        kin += kt * (ev.time - t_last)
+        heat_k += jt * (ev.time - t_last)
+        t_last = ev.time
+        dp = np.array(ev.dp)
+        assert np.linalg.norm(dp) == pytest.approx(ev.impulse, rel=1e-12)
+        r = sigma * dp / np.linalg.norm(dp)  # contact: r_ij along the impulse on i
+        vir += np.array([r[p] * dp[q] for p, q in PAIRS])
+        e_old = 0.5 * m[ev.i] * v[ev.i] @ v[ev.i]
+        v[ev.i] += dp / m[ev.i]
+        v[ev.j] -= dp / m[ev.j]
+        heat_c += r * (0.5 * m[ev.i] * v[ev.i] @ v[ev.i] - e_old)
+    np.testing.assert_allclose(v, eng.vel, rtol=1e-9, atol=1e-12)
+    kt, jt = kinetic(v)
+    kin += kt * (sim.time - t_last)
+    heat_k += jt * (sim.time - t_last)
+    b = eng.transport_tallies()
+    np.testing.assert_allclose(b["virial"] - a["virial"], vir, rtol=1e-9)
+    np.testing.assert_allclose(b["kinetic"] - a["kinetic"], kin, rtol=1e-9)
+    np.testing.assert_allclose(b["heat_collisional"] - a["heat_collisional"], heat_c,
+                               rtol=1e-8, atol=1e-9 * np.abs(heat_c).max())
+    np.testing.assert_allclose(b["heat_kinetic"] - a["heat_kinetic"], heat_k, rtol=1e-9,
+                               atol=1e-9 * np.abs(heat_k).max())
+    assert sim.time > t0
+    assert eng.offset > offset  # the time origin moved on the way (rebase)
+
+
+def test_pressure_tensor_is_isotropic_with_the_mechanical_trace():
+    sim = gas(n=256)
+    sim.run(collisions=5000)
+    obs = sim.observables.reset()
+    sim.run(collisions=60000)
+    p = obs.pressure_tensor()
+    np.testing.assert_allclose(p, p.T)
+    # trace: the mechanical pressure (2 E_kin / 3 + W / 3t) / V, from other tallies
+    eng, cont = sim._engine, sim.container
+    mech = (2.0 * eng.kinetic_energy() / 3.0 + obs._delta()[4] / (3.0 * obs.elapsed)) / cont.volume
+    assert np.trace(p) / 3.0 == pytest.approx(mech, rel=1e-9)
+    assert np.trace(p) / 3.0 == pytest.approx(obs.pressure(), rel=2.0 / sim.n)
+    for name in ("xy", "xz", "yz"):
+        err = obs.error(f"pressure_{name}")
+        assert 0 < err < 0.01 * obs.pressure()
+        assert abs(obs.estimate(f"pressure_{name}").mean) < 5 * err
+    for k in range(3):
+        assert p[k, k] == pytest.approx(obs.pressure(), abs=5 * obs.error("pressure_xx") + 1e-3)
+
+
+def test_free_flight_kinetic_tensor_is_exact():
+    box, n = 10.0, 20
+    rng = np.random.default_rng(2)
+    v = rng.normal(size=(n, 3))
+    sim = hs.Simulation.from_arrays(np.ones(n), np.full(n, 1e-3), rng.uniform(-5, 5, (n, 3)),
+                                    v, hs.PeriodicBox(box))
+    obs = sim.observables.reset()
+    sim.run(until=7.0)
+    assert sim.counters["collisions"] == 0
+    expect = np.einsum("ia,ib->ab", v, v) / box ** 3
+    np.testing.assert_allclose(obs.pressure_tensor(), expect, rtol=1e-12)
+
+
+def test_einstein_helfand_near_enskog():
+    """At packing 0.3, eta / eta_E ~ 1.05 and lambda / lambda_E ~ 1.0 (small N, short run)."""
+    sim = gas(n=108, seed=5)
+    sim.run(until=10.0)
+    sim.observables.reset(every=0.1)  # about a mean free time: resolves the moments' growth
+    sim.run(until=sim.time + 150.0)
+    e = enskog(0.3)
+    eta, eta_err = ShearViscosity().compute(sim).value()
+    lam, lam_err = ThermalConductivity().compute(sim).value()
+    assert 0 < eta_err < 0.2 * eta and 0 < lam_err < 0.2 * lam
+    assert 0.8 < eta / e["eta"] < 1.35
+    assert 0.8 < lam / e["lambda"] < 1.3
+
+
+def test_transport_in_a_container_raises():
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1),
+                        hs.SphericalContainer(5.0))
+    sim.run(collisions=100)
+    with pytest.raises(PeriodicBoxRequired, match="periodic box"):
+        sim.observables.pressure_tensor()
+    with pytest.raises(PeriodicBoxRequired):
+        ShearViscosity().compute(sim)

@@ -1,0 +1,58 @@
+"""`hardspheres plot gr|msd` on a periodic-box trajectory."""
+
+import math
+
+import pytest
+
+import hardspheres as hs
+from hardspheres.commands import main
+from hardspheres.trajectory import GSDWriter
+
+pytest.importorskip("freud")
+pytest.importorskip("gsd")
+
+
+@pytest.fixture(scope="module")
+def trajectory(tmp_path_factory):
+    path = tmp_path_factory.mktemp("sci") / "t.gsd"
+    n, phi = 108, 0.3
+    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
+    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=1), hs.PeriodicBox(L))
+    sim.run(until=2.0)
+    with GSDWriter(path, every=0.1) as w:
+        sim.writers.append(w)
+        sim.run(until=sim.time + 20.0)
+    return path
+
+
+@pytest.mark.parametrize("what", ["gr", "msd"])
+def test_plot(trajectory, tmp_path, capsys, what):
+    out = tmp_path / f"{what}.png"
+    assert main(["plot", what, str(trajectory), "-o", str(out)]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_plot_gr_needs_a_periodic_box(tmp_path, capsys):
+    path = tmp_path / "c.gsd"
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1),
+                        hs.SphericalContainer(5.0))
+    with GSDWriter(path, every=0.5) as w:
+        sim.writers.append(w)
+        sim.run(until=2.0)
+    assert main(["plot", "gr", str(path), "-o", str(tmp_path / "g.png")]) == 1
+    assert "periodic box" in capsys.readouterr().err
+
+
+def test_readme_study_runs(tmp_path, monkeypatch):
+    """The README's study, shortened (N = 108, 30 time units)."""
+    import re
+    from pathlib import Path
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    block = re.search(r"## A study.*?```python\n(.*?)```", readme, re.S).group(1)
+    assert len(block.strip().splitlines()) < 20
+    block = block.replace("n, phi = 500, 0.3", "n, phi = 108, 0.3")
+    block = block.replace("until=sim.time + 200", "until=sim.time + 30")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    assert (tmp_path / "gr.png").exists()
