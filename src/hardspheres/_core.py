@@ -30,9 +30,14 @@ Lubachevsky, as in the fastest public codes):
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first.  With a simultaneity ``window > 0`` (the
   assignment's 1e-8 s), events less than ``window`` after the last one
-  happen *at* its time, and after each event every sphere whose event falls
-  in the window is predicted afresh (:func:`refresh_window`), so the tie
-  order decides among them exactly as in the reference.
+  happen *at* its time, and whenever that time (the anchor) moves, every
+  sphere whose event falls in the new window is predicted afresh
+  (:func:`refresh_window`), so the tie order decides among them exactly as
+  in the reference.  An event at the anchor's own instant changes no other
+  prediction: only the spheres it touched are predicted again.
+* **Events that would not end** stop the loop (see :func:`run`): a
+  reflection that would change nothing, and a clock that does not advance
+  over ``physics.frozen_limit(N)`` collisions and reflections.
 * **Time origin.**  :func:`rebase` moves the time origin to the clock, so
   long runs keep the precision of short ones.
 """
@@ -150,8 +155,10 @@ F_T_KIN = 27     # time the integrals were last brought up to date
 F_HEAT_COLL = 28  # heat Helfand moment, collisional part: sum over collisions of r_ij dE_i
 F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
 F_HEAT_INT = 34  # its time integral up to F_T_KIN
-F_GROW = 37     # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
-F_NF = 38
+F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
+F_STREAK = 38    # time of the first event of the current C_FROZEN streak
+F_GROW = 39     # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
+F_NF = 40
 
 # indices into the int64 array `c` of counters
 C_NC = 0         # cells per axis
@@ -160,8 +167,9 @@ C_WALL = 2       # reflections processed
 C_CROSS = 3      # cell crossings processed
 C_STALE = 4      # stale predictions discarded
 C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
-C_FROZEN = 6     # collisions and reflections in a row at the anchor's instant
-C_NC_ = 7
+C_FROZEN = 6     # collisions and reflections in a row with the clock not advancing
+C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
+C_NC_ = 8
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = 4
@@ -421,10 +429,12 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
                         touch = cc <= 0.0
                         miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
-                        inrange = (ar2 >= physics.RANGE_LO) & (ar2 <= physics.RANGE_HI)
+                        # (past RANGE_HI no test here rejects wrongly: an
+                        # overflow makes them false, or NaN, so the kernel
+                        # decides; below RANGE_LO, b may underflow)
                         if grow != 0.0:
                             pass
-                        elif (inrange ^ True) | ((recede ^ True) & (
+                        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
                                 touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
@@ -556,6 +566,7 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
         i = stack[n + q]
         if K[i, FRESH] != serial:
             K[i, FRESH] = serial
+            c[C_REFRESHED] += 1
             predict(S, K, T, head, nxt, f, c, i, t)
             _schedule(heap, HT, HKEY, T, K, i)
 
@@ -651,7 +662,8 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
         ever happen, or ``until`` is NaN), 1 = ``max_events``, 2 =
         ``max_collisions``, 3 = record full, 4 (:data:`STOP_FROZEN`) = the
         next collision or reflection would be one more than
-        ``physics.frozen_limit(N)`` in a row at one instant, 5
+        ``physics.frozen_limit(N)`` in a row with the clock not advancing
+        (by more than ``physics.FROZEN_RELATIVE`` of its value), 5
         (:data:`STOP_SLIDING`) = the next event is a reflection that would
         not change the velocity (a sphere at the wall moving along it).
         For 4 and 5 the event is left pending and sphere ``heap[0]`` is the
@@ -727,12 +739,14 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
                 tp = f[F_CLOCK]
         anchor = f[F_ANCHOR]
         if not stale and kind != NONE:
-            # a collision or reflection: count those in a row at one instant
-            if te == anchor:
+            # a collision or reflection: count those in a row during which
+            # the clock has not advanced (physics.FROZEN_RELATIVE)
+            if te - f[F_STREAK] <= physics.FROZEN_RELATIVE * abs(te + f[F_OFFSET]):
                 if c[C_FROZEN] >= frozen_limit:
                     return done, STOP_FROZEN
             else:
                 c[C_FROZEN] = 0
+                f[F_STREAK] = te
         if kind == COLLISION and not stale:
             c[C_FROZEN] += 1
             f[F_CLOCK] = te
@@ -895,6 +909,8 @@ def rebase(S, T, HT, f):
         HT[i] -= t
     f[F_ANCHOR] -= t
     f[F_T_KIN] -= t
+    f[F_STREAK] -= t
+    f[F_OFFSET] += t
     f[F_CLOCK] = 0.0
     grow = f[F_GROW]
     if grow != 0.0:

@@ -55,10 +55,13 @@ def _write_events(scn, container, end, out, fmt):
     eng = Engine(scn.masses, scn.radii, p, v, container=container,
                  window=reference.SIMULTANEOUS, rebase=False)
     here = eng.positions_at()
+    # the text report shows every sphere; the JSONL one only those involved
+    everyone = fmt == "text"
     while True:
         ev = eng.advance(until=end, events=1)
         if len(ev["t"]) == 0:
             return
         t = float(ev["t"][0])
-        rep.event(t, int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0]),
-                  eng.positions_at(t, here), eng.vel)
+        kind, i, j = int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
+        rep.event(t, kind, i, j,
+                  eng.positions_at(t, here, None if everyone else [i, max(j, i)]), eng.vel)

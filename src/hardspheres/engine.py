@@ -77,6 +77,7 @@ class Engine:
         self.f = np.zeros(core.F_NF)
         self.c = np.zeros(core.C_NC_, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
+        self.f[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
         self.f[core.F_WINDOW] = window
         self.container = None if container is None else float(container)
         self.box = None if box is None else float(box)
@@ -246,7 +247,7 @@ class Engine:
                 sliding along the wall, or a frozen clock).  Events before
                 it are returned first, and the call after raises.
         """
-        if until != until:
+        if np.isnan(until):
             raise ValueError("until must be a time, not NaN")
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
@@ -335,9 +336,7 @@ class Engine:
             if k == "img" and k not in data:  # checkpoints from before image counts
                 data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
             setattr(eng, k, np.array(data[k]))
-        if eng.f.shape[0] < core.F_NF:  # saved before growth
-            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
-        if eng.c.shape[0] < core.C_NC_:  # saved before the frozen-clock counter
+        if eng.c.shape[0] < core.C_NC_:  # saved before the last two counters
             eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
         offset, since, rebase_on, container, box = data["meta"].tolist()
         eng.offset = offset
@@ -347,21 +346,35 @@ class Engine:
         eng.box = None if np.isnan(box) else box
         eng.stack = np.zeros(2 * eng.n + 2, np.int64)
         eng._rec = _record()
-        if eng.f.shape[0] < core.F_NF:  # checkpoints from before the transport tallies
-            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - eng.f.shape[0])])
+        saved = eng.f.shape[0]
+        if saved < core.F_NF:  # checkpoints from before the last scalars
+            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - saved)])
+        if saved <= core.F_T_KIN:  # before the transport tallies
             eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
             core.kinetic_sums(eng.S, eng.mass, eng.f)
+        if saved <= core.F_OFFSET:  # before the frozen-clock streak
+            eng.f[core.F_OFFSET] = offset
+            eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
         eng.last_reason, eng.last_done = 0, 0
         return eng
 
     # ---- state ------------------------------------------------------------
-    def positions_at(self, t=None, out=None):
+    def positions_at(self, t=None, out=None, spheres=None):
         """Centres of all spheres at absolute time ``t`` (default: now) [length].
 
-        In a periodic box the centres are wrapped into the box.
+        In a periodic box the centres are wrapped into the box.  With
+        ``spheres`` (indices), only their rows of ``out`` are filled (the
+        same bits), in time independent of the number of spheres.
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
+        if spheres is not None and self.box is None:
+            t -= self.offset
+            for k in spheres:  # a few: Python floats beat numpy's set-up
+                x, y, z, vx, vy, vz, tk = self.S[k, :7].tolist()
+                dt = t - tk
+                out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
+            return out
         core.positions_at(self.S, t - self.offset, out, 0.0 if self.box is None else self.box)
         return out
 
@@ -385,10 +398,12 @@ class Engine:
 
     @property
     def counters(self):
-        """Dict of event counts: collisions, reflections, crossings, stale."""
+        """Dict of event counts: collisions, reflections, crossings, stale
+        (predictions dropped), refreshed (made afresh by the window rule)."""
         c = self.c
         return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
-                "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE])}
+                "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE]),
+                "refreshed": int(c[core.C_REFRESHED])}
 
     def transport_tallies(self, t=None):
         """The transport tallies at absolute time ``t`` (default: now; periodic box).
@@ -490,7 +505,11 @@ def check_arrays(data):
         _bad(f"'f' is {f.dtype}{list(f.shape)}, expected float64[{core.F_NF}]")
     if "img" in data:  # periodic image counts, where the core keeps them
         _array(data, "img", np.int64, (n, 3))
-    c = _array(data, "c", np.int64, (core.C_NC_,))
+    if "c" not in data:
+        _bad("no array 'c'")
+    c = np.asarray(data["c"])
+    if c.dtype != np.int64 or c.ndim != 1 or not core.C_SERIAL < c.shape[0] <= core.C_NC_:
+        _bad(f"'c' is {c.dtype}{list(c.shape)}, expected int64[{core.C_NC_}]")
     meta = _array(data, "meta", np.float64, (5,))
     nc = int(c[core.C_NC])
     if not 1 <= nc <= 1 << 10:

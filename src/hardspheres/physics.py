@@ -44,13 +44,22 @@ LAGRANGE_RATIO = 16.0
 MISS_MARGIN = 1e-13
 
 
-def frozen_limit(n):
-    """How many collisions and reflections in a row may happen at one instant.
+#: The clock "does not advance" over events less than this fraction of its
+#: own value apart (see :func:`frozen_limit`).
+FROZEN_RELATIVE = 2.0 ** -30
 
-    One more, with the clock not advancing, stops a run (both engines): a
-    genuine cascade among ``n`` touching spheres takes far fewer (a simple
-    cubic lattice of 91125: 37 per sphere), while a light sphere trapped
-    between a wall and a sphere 10^200 times heavier would take ~10^100.
+
+def frozen_limit(n):
+    """How many collisions and reflections in a row may leave the clock where it was.
+
+    One more stops a run (both engines), counting from the first event of
+    the streak at time ``t0``; an event at ``t > t0 + FROZEN_RELATIVE |t|``
+    starts a new streak.  A genuine cascade of ``n`` touching spheres at
+    one instant takes far fewer (a simple cubic lattice of 91125: 37 per
+    sphere), and ``frozen_limit(n)`` events of a genuine gas take at least
+    2000 mean free times, which the clock outgrows only past 10^12 of them;
+    a light sphere trapped between a wall and a sphere 10^200 times heavier
+    would take ~10^100.
     """
     return 100_000 + 1000 * n
 

@@ -26,12 +26,20 @@ And two of the model's own (both engines stop the same way, with
 * a reflection that would not change the velocity (a sphere at the wall
   moving along it) is not an event: it would come again at once, forever;
 * more than :func:`~hardspheres.physics.frozen_limit` collisions and
-  reflections in a row at one instant: the clock is stuck.
+  reflections in a row with the clock not advancing: it is stuck.
 
 Pure Python floats throughout (no numpy): see :mod:`hardspheres.physics`.
 """
 
-from .physics import INF, collide, frozen_limit, pair_time, reflect, wall_time
+from .physics import (
+    FROZEN_RELATIVE,
+    INF,
+    collide,
+    frozen_limit,
+    pair_time,
+    reflect,
+    wall_time,
+)
 from .scenario import StuckError
 
 #: Events closer than this to the current time happen now [time].
@@ -143,16 +151,18 @@ def events(masses, radii, positions, velocities, container, end,
     tloc = [0.0] * len(p)
     clock = 0.0
     limit = frozen_limit(len(p))
-    frozen = 0  # collisions and reflections in a row at the clock's instant
+    frozen = 0  # collisions and reflections in a row with the clock not advancing
+    streak = 0.0  # time of the first of them
     while True:
         t, kind, i, j = next_event(p, v, tloc, radii, container, clock, window)
         if kind < 0 or not t <= end:
             return
-        if t == clock:
+        if t - streak <= FROZEN_RELATIVE * abs(t):
             if frozen >= limit:
                 raise StuckError("frozen", t, i)
         else:
             frozen = 0
+            streak = t
         if kind == REFLECTION:
             pi, vi = p[i], v[i]
             dt = t - tloc[i]

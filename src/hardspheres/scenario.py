@@ -54,14 +54,14 @@ class StuckError(ScenarioError):
             reflection would change nothing and come again at once) or
             ``"frozen"`` (the clock stopped advancing: more than
             :func:`hardspheres.physics.frozen_limit` collisions and
-            reflections in a row at one instant).
+            reflections in a row without the clock advancing).
         time: the instant [time].
         sphere: index of a sphere involved (the one at the wall).
     """
 
     def __init__(self, reason, time, sphere, names=None):
         self.reason, self.time, self.sphere = reason, time, sphere
-        who = repr(names[sphere]) if names is not None else f"#{sphere}"
+        who = quote(names[sphere]) if names is not None else f"#{sphere}"
         if reason == "sliding":
             message = (f"at t = {time:.6g} sphere {who} touches the container wall and moves "
                        "along it: it would slide along the wall, which point reflections "
@@ -69,9 +69,9 @@ class StuckError(ScenarioError):
                        "forever); give it a velocity component off the wall")
         else:
             message = (f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
-                       "the collisions and reflections at that instant do not end, as for a "
-                       "light sphere trapped between a wall and a much heavier sphere "
-                       "(within the simultaneity window); outside what the model resolves")
+                       "collisions and reflections at that instant do not end, as for a "
+                       "light sphere trapped between the wall and a far heavier sphere; "
+                       "outside what the model resolves")
         super().__init__(message)
 
     def named(self, names):
