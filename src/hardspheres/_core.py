@@ -116,6 +116,10 @@ def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
 wall_time = _kernel(physics.wall_time)
 collide = _kernel(physics.collide)
 reflect = _kernel(physics.reflect)
+pair_time_grow = _kernel(physics.pair_time_grow)
+wall_time_grow = _kernel(physics.wall_time_grow)
+collide_grow = _kernel(physics.collide_grow)
+reflect_grow = _kernel(physics.reflect_grow)
 frozen_limit_of = _kernel(physics.frozen_limit)
 
 #: Event kinds (also the tie order at equal times): the public ones are
@@ -161,7 +165,8 @@ F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
 F_HEAT_INT = 34  # its time integral up to F_T_KIN
 F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
 F_STREAK = 38    # time of the first event of the current C_FROZEN streak
-F_NF = 39
+F_GROW = 39     # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
+F_NF = 40
 
 # indices into the int64 array `c` of counters
 C_NC = 0         # cells per axis
@@ -331,6 +336,7 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
     now = f[F_ANCHOR]
     soon = now + f[F_WINDOW]
     clock = f[F_CLOCK]
+    grow = f[F_GROW]
     best_t = T[i, EV_T]
     best_key = K[i, EV_KEY]
     best_p = -1
@@ -408,6 +414,11 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         dvy = S[i, VY] - S[j, VY]
                         dvz = S[i, VZ] - S[j, VZ]
                         sigma = S[i, RAD] + S[j, RAD]
+                        if grow != 0.0:
+                            # growing (the one branch a plain run pays here)
+                            dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
+                                                sigma * (1.0 + grow * t0), sigma * grow,
+                                                horizon)
                         # pair_time_within's own tests up to the root,
                         # the same expressions, combined without branches (half
                         # the pairs recede, at random, and a branch on that
@@ -429,7 +440,9 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         # (past RANGE_HI no test here rejects wrongly: an
                         # overflow makes them false, or NaN, so the kernel
                         # decides; below RANGE_LO, b may underflow)
-                        if (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
+                        if grow != 0.0:
+                            pass
+                        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
                                 touch | ((beyond ^ True) & (miss ^ True)))):
                             dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
                                                   sigma, horizon)
@@ -469,8 +482,14 @@ def predict(S, K, T, head, nxt, f, c, i, t):
     K[i, EV_PARTNER] = -1
     if f[F_BOX] == 0.0:
         # the wall, from the sphere's own time
-        dt = wall_time(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
-                       f[F_CONTAINER] - S[i, RAD])
+        grow = f[F_GROW]
+        if grow != 0.0:
+            dt = wall_time_grow(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
+                                f[F_CONTAINER] - S[i, RAD] * (1.0 + grow * S[i, TL]),
+                                S[i, RAD] * grow)
+        else:
+            dt = wall_time(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
+                           f[F_CONTAINER] - S[i, RAD])
         if dt < np.inf:
             te = S[i, TL] + dt
             if te < f[F_ANCHOR] + f[F_WINDOW]:
@@ -752,8 +771,13 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
                 dx -= box * np.round(dx / box)
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
-            k1, k2 = collide(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
-                             S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ])
+            if f[F_GROW] != 0.0:
+                k1, k2 = collide_grow(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
+                                      S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ],
+                                      (S[a, RAD] + S[b, RAD]) * f[F_GROW])
+            else:
+                k1, k2 = collide(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
+                                 S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ])
             if box != 0.0:
                 _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2)
             S[a, VX] -= k1 * dx
@@ -786,7 +810,11 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             f[F_ANCHOR] = te
             _advance(S, i, te)
             px, py, pz = S[i, X], S[i, Y], S[i, Z]
-            k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
+            if f[F_GROW] != 0.0:
+                k = reflect_grow(px, py, pz, S[i, VX], S[i, VY], S[i, VZ],
+                                 S[i, RAD] * f[F_GROW])
+            else:
+                k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
             if k == 0.0:
                 # nothing would change, and the same reflection would come
                 # again: not an event (the clock keeps its time)
@@ -822,6 +850,34 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             continue
         if window > 0.0 and te != anchor:
             refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
+
+
+@_jit
+def kick(S, mass, K, T, head, nxt, heap, HT, HKEY, f, c, i, t, vx, vy, vz):
+    """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
+
+    The clock moves to ``t``; predictions that involve ``i`` go stale (its
+    event count moves on) and ``i`` is predicted afresh.  For thermostats.
+    """
+    f[F_CLOCK] = t
+    _advance(S, i, t)
+    # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
+    dtk = t - f[F_T_KIN]
+    for q in range(6):
+        f[F_KIN_INT + q] += f[F_KIN_T + q] * dtk
+    for q in range(3):
+        f[F_HEAT_INT + q] += f[F_HEAT_KIN + q] * dtk
+    f[F_T_KIN] = t
+    _kinetic_terms(f, mass[i], S[i, VX], S[i, VY], S[i, VZ], -1.0)
+    _kinetic_terms(f, mass[i], vx, vy, vz, 1.0)
+    S[i, VX] = vx
+    S[i, VY] = vy
+    S[i, VZ] = vz
+    K[i, COUNT] += 1
+    c[C_SERIAL] += 1
+    K[i, FRESH] = c[C_SERIAL]
+    predict(S, K, T, head, nxt, f, c, i, t)
+    _schedule(heap, HT, HKEY, T, K, i)
 
 
 # ---- state and checks ------------------------------------------------------------
@@ -865,15 +921,22 @@ def rebase(S, T, HT, f):
     f[F_STREAK] -= t
     f[F_OFFSET] += t
     f[F_CLOCK] = 0.0
+    grow = f[F_GROW]
+    if grow != 0.0:
+        # radii to the new origin; the growth speed of each stays the same
+        factor = 1.0 + grow * t
+        for i in range(n):
+            S[i, RAD] *= factor
+        f[F_GROW] = grow / factor
     return t
 
 
 @_jit
-def max_overlap(x, S, K, head, nxt, nc, box):
+def max_overlap(x, S, K, head, nxt, nc, box, scale):
     """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
 
-    ``x`` are the centres at one time; neighbours are found through the
-    engine's cells.
+    ``x`` are the centres at one time, ``scale`` the radii's factor then
+    (1 without growth); neighbours are found through the engine's cells.
     """
     n = x.shape[0]
     worst = 0.0
@@ -897,7 +960,7 @@ def max_overlap(x, S, K, head, nxt, nc, box):
                                 dx -= box * np.round(dx / box)
                                 dy -= box * np.round(dy / box)
                                 dz -= box * np.round(dz / box)
-                            sigma = S[i, RAD] + S[j, RAD]
+                            sigma = (S[i, RAD] + S[j, RAD]) * scale
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma
                                 if ov > worst:

@@ -76,6 +76,10 @@ def parse_spheres_args(argv):
                 raise UsageError(f"--format must be text or jsonl, got {quote(value)}")
             fmt = value
             break
+    for arg in argv:
+        if arg.split("=", 1)[0] in ("--thermostat", "--andersen", "--rescale", "--compress"):
+            raise UsageError(f"{arg.split('=', 1)[0]}: the assignment's program runs NVE only "
+                             "(thermostats and compression: the hardspheres library)")
     if len(argv) != 2:
         raise UsageError(f"expected 2 arguments (RADIUS END_TIME), got {len(argv)}")
     return (_positive_number(argv[0], "argument 1 (RADIUS)", False, MAX_MAGNITUDE),

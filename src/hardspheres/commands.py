@@ -138,7 +138,13 @@ def _compile_first():
 
 def cmd_generate(args):
     from .builders import random_spheres
-    if args.box is not None:
+    if args.method == "compress":
+        from .dense import generate_compressed
+        state = generate_compressed(args.n, args.packing, container=args.container,
+                                    box=args.box, seed=args.seed, rate=args.rate,
+                                    radius_ratio=args.radius_ratio,
+                                    mass_ratio=args.mass_ratio)
+    elif args.box is not None:
         state = random_spheres(args.n, args.packing, box=args.box, seed=args.seed,
                                radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio)
     else:
@@ -147,6 +153,11 @@ def cmd_generate(args):
                                mass_ratio=args.mass_ratio)
     sys.stdout.write(state.to_text())
     return 0
+
+
+def cmd_compress(args):
+    from .dense import compress_command
+    return compress_command(args)
 
 
 def cmd_bench(args):
@@ -358,7 +369,32 @@ def build_parser():
                    help="largest over smallest radius (uniform in between)")
     g.add_argument("--mass-ratio", type=_ratio, default=1.0,
                    help="largest over smallest mass (log-uniform in between)")
+    g.add_argument("--method", choices=["lattice", "compress"], default="lattice",
+                   help="lattice: FCC sites at random (default; melts within a few "
+                   "collisions below 0.5); compress: a random fluid grown to the packing "
+                   "(Lubachevsky-Stillinger), for dense fluids and mixtures")
+    g.add_argument("--rate", type=_positive, default=0.01,
+                   help="--method compress: growth rate (default 0.01, see compress)")
     g.set_defaults(func=cmd_generate)
+
+    k = sub.add_parser("compress", help="grow the spheres of a scenario to a packing fraction "
+                       "(Lubachevsky-Stillinger); writes a scenario")
+    k.add_argument("scenario", nargs="?", help="scenario file ('-' for stdin)")
+    where = k.add_mutually_exclusive_group()
+    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
+    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    k.add_argument("--packing", type=_positive,
+                   help="target packing fraction (below 0.7405 for equal spheres)")
+    k.add_argument("--rate", type=_positive, required=True,
+                   help="growth speed of the largest diameter per thermal speed "
+                   "sqrt(kT/m) (Skoge et al.'s gamma; 1e-1 fast, 1e-4 slow)")
+    k.add_argument("--pressure", type=_positive, default=1e3,
+                   help="stop as jammed when Z = PV/NkT passes this (default 1e3)")
+    k.add_argument("--collisions", type=_positive, help="stop after this many collisions")
+    k.add_argument("-o", "--output", required=True, help="write the compressed scenario here")
+    k.add_argument("--checkpoint", help="also save a checkpoint here (run --resume reads it)")
+    k.add_argument("--resume", help="compress from this checkpoint instead of a scenario")
+    k.set_defaults(func=cmd_compress)
 
     b = sub.add_parser("bench", help="measure collisions per second")
     b.add_argument("--n", type=_whole(2), required=True, help="number of spheres (>= 2)")

@@ -111,8 +111,8 @@ class Engine:
         box = float(self.f[core.F_BOX])
         return box if box else None
 
-    def _grid(self, n):
-        sigma = 2.0 * float(self.rad.max()) if n else 0.0
+    def _grid(self, n, headroom=1.0):
+        sigma = 2.0 * float(self.rad.max()) * headroom if n else 0.0
         params = self.container.core_params()
         span, box = params["span"], params["box"]
         self.f[core.F_CONTAINER] = params["wall_radius"]
@@ -148,6 +148,89 @@ class Engine:
         self.offset += core.rebase(self.S, self.T, self.HT, self.f)
         self._since_rebase = 0
 
+    @property
+    def window(self):
+        """The simultaneity window [time]."""
+        return float(self.f[core.F_WINDOW])
+
+    # ---- growth and velocities -----------------------------------------------
+    @property
+    def growth(self):
+        """Radii's relative growth rate now: ``dR_i/dt / R_i`` [1/time] (0: off)."""
+        g = self.f[core.F_GROW]
+        return float(g / (1.0 + g * self.f[core.F_CLOCK])) if g else 0.0
+
+    def set_growth(self, rate):
+        """Grow every radius from now at ``dR_i/dt = rate * R_i(now)`` [1/time]; 0 stops.
+
+        Radii then grow linearly in time (each at its own constant speed,
+        so mixtures keep their ratios), with the Lubachevsky-Stillinger
+        collision rule.  Everything is predicted afresh.
+        """
+        rate = float(rate)
+        if not (rate >= 0.0 and np.isfinite(rate)):
+            raise ValueError(f"growth rate must be a finite number >= 0, got {rate}")
+        self._rebase()  # radii to the clock
+        self.f[core.F_GROW] = rate
+        self._regrid()
+
+    def _regrid(self):
+        """Cells for the radii now (with room to grow), everything predicted afresh."""
+        headroom = 1.05 if self.f[core.F_GROW] else 1.0
+        self._grid(self.n, headroom)
+        self._build()
+
+    def _grid_limit(self):
+        """Absolute time the growing radii outgrow the cells (``inf``: never)."""
+        g = self.f[core.F_GROW]
+        if not g or self.n == 0:
+            return np.inf
+        nc = int(self.c[core.C_NC])
+        if nc == 1 and self.box is None:
+            return np.inf
+        rmax = float(self.rad.max())
+        if rmax <= 0.0:
+            return np.inf
+        w = float(self.f[core.F_W]) / (1.0 + 1e-6)
+        return self.offset + (w / (2.0 * rmax) - 1.0) / g
+
+    def move_clock(self, t):
+        """Move the clock to absolute time ``t`` (no event may be pending before it)."""
+        t = float(t) - self.offset
+        if self.n and self.HT[0] < t:
+            raise ValueError("events are pending before that time: advance first")
+        if t > self.f[core.F_CLOCK]:
+            self.f[core.F_CLOCK] = t
+
+    def radii_at(self, t=None):
+        """``(N,)`` radii at absolute time ``t`` (default: now) [length]."""
+        g = self.f[core.F_GROW]
+        if not g:
+            return self.rad.copy()
+        t = self.time if t is None else t
+        return self.rad * (1.0 + g * (t - self.offset))
+
+    def rescale_velocities(self, factor):
+        """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
+        self._rebase()
+        f = self.f
+        dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
+        f[core.F_KIN_INT:core.F_KIN_INT + 6] += f[core.F_KIN_T:core.F_KIN_T + 6] * dt
+        f[core.F_HEAT_INT:core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3] * dt
+        f[core.F_T_KIN] = f[core.F_CLOCK]
+        self.S[:, 3:6] *= factor
+        core.kinetic_sums(self.S, self.mass, f)
+        self._build()
+
+    def kick(self, i, t, velocity):
+        """Sphere ``i`` takes ``velocity`` at absolute time ``t`` (not before the clock)."""
+        t = float(t) - self.offset
+        if t < self.f[core.F_CLOCK]:
+            raise ValueError("a kick cannot be before the clock")
+        vx, vy, vz = (float(x) for x in velocity)
+        core.kick(self.S, self.mass, self.K, self.T, self.head, self.nxt, self.heap, self.HT,
+                  self.HKEY, self.f, self.c, int(i), t, vx, vy, vz)
+
     # ---- running ----------------------------------------------------------
     def advance(self, until: float = np.inf, events: int | None = None,
                 collisions: int | None = None, record: bool = True) -> np.ndarray:
@@ -178,6 +261,11 @@ class Engine:
         done_total = 0
         rec = self._rec
         while True:
+            limit = self._grid_limit()
+            if limit < until:
+                stop = limit
+            else:
+                stop = until
             rebase_due = (REBASE_EVERY * max(self.n, 16) if self._rebase_on
                           else np.iinfo(np.int64).max)
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
@@ -185,7 +273,7 @@ class Engine:
             done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
                                     self.prv, self.heap, self.HT, self.HKEY, self.f,
                                     self.c, self.stack, self.img,
-                                    until - self.offset, left_ev, left_coll, *rec)
+                                    stop - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
             if record and done:
@@ -198,6 +286,18 @@ class Engine:
                     raise StuckError("frozen" if reason == StopReason.FROZEN else "sliding",
                                      float(self.offset + self.HT[0]), int(self.heap[0]))
                 break  # the events before it first; the next call raises
+            if reason == StopReason.UNTIL and stop < until:
+                # growing radii reached the cells' width: move the clock
+                # there (nothing happens before), and coarser cells
+                if self.f[core.F_CLOCK] < limit - self.offset:
+                    self.f[core.F_CLOCK] = limit - self.offset
+                self._rebase()
+                nc = int(self.c[core.C_NC])
+                self._regrid()
+                if int(self.c[core.C_NC]) >= nc and self._grid_limit() <= limit:
+                    raise ValueError("the spheres have grown too large for the periodic box "
+                                     "(three diameters at least)")
+                continue
             if reason == StopReason.UNTIL or reason == StopReason.MAX_COLLISIONS:
                 break
             if reason == StopReason.MAX_EVENTS and done_total >= max_events:
@@ -352,13 +452,17 @@ class Engine:
     # ---- checks -----------------------------------------------------------
     def max_overlap(self, t: float | None = None) -> float:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
+        t = self.time if t is None else t
         x = self.positions_at(t)  # pairs across the box compare by minimum image
+        g = self.f[core.F_GROW]
+        scale = 1.0 + g * (t - self.offset) if g else 1.0
         return float(core.max_overlap(x, self.S, self.K, self.head, self.nxt,
-                                      int(self.c[core.C_NC]), self.f[core.F_BOX]))
+                                      int(self.c[core.C_NC]),
+                                      0.0 if self.box is None else self.box, scale))
 
     def outside(self, t: float | None = None, tol: float = 1e-9) -> int:
         """Number of spheres poking out of the container by more than ``tol`` of its size."""
-        return int(np.sum(self.container.outside(self.positions_at(t), self.rad, tol)))
+        return int(np.sum(self.container.outside(self.positions_at(t), self.radii_at(t), tol)))
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""

@@ -226,3 +226,187 @@ def reflect(px, py, pz, vx, vy, vz):
         0.8
     """
     return 2.0 * (vx * px + vy * py + vz * pz) / (px * px + py * py + pz * pz)
+
+
+# ---- growth (Lubachevsky-Stillinger) ------------------------------------------
+# Radii grow linearly in time, so a contact distance is ``s + u t`` and a
+# container's reach ``reach - w t``: the meeting times stay roots of a
+# quadratic.  These kernels are used only while growing; a run without
+# growth never calls them (its arithmetic is the functions above).
+
+#: After a growing collision or reflection the contact opens at least this
+#: fraction of the speeds involved (rounding could otherwise leave a pair
+#: closing at exactly the growth speed, colliding again at once).
+GROW_MARGIN = 1e-9
+
+
+def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
+    """Time until two spheres meet while their contact distance grows.
+
+    Args:
+        dx, dy, dz: separation ``r_i - r_j`` now [length].
+        dvx, dvy, dvz: relative velocity ``v_i - v_j`` [length/time].
+        s: contact distance now [length].
+        u: its growth speed ``ds/dt >= 0`` [length/time].
+        horizon: :func:`pair_time_within`'s early exit [time] (used only
+            where the root is bounded below by ``c / (-2 b)``).
+
+    Returns:
+        The first ``t >= 0`` with ``|dr + t dv| = s + u t`` [time], ``inf``
+        for never.  The quadratic ``a t^2 + 2 b t + c`` has ``a = |dv|^2 -
+        u^2``, ``b = dr . dv - s u``, ``c = |dr|^2 - s^2``; far from contact
+        its discriminant is taken as ``|s dv - u dr|^2 - |dr x dv|^2`` (the
+        Lagrange identity of :func:`pair_time_within`, extended), and every
+        root is formed without cancellation.  With ``u = 0`` the root is
+        :func:`pair_time`'s up to rounding.
+
+    Example:
+        >>> pair_time_grow(-10.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 1.0, math.inf)
+        4.0
+    """
+    b0 = dx * dvx + dy * dvy + dz * dvz
+    a0 = dvx * dvx + dvy * dvy + dvz * dvz
+    r2 = dx * dx + dy * dy + dz * dz
+    shift = 0
+    if not RANGE_LO <= (a0 + u * u) * (r2 + s * s) <= RANGE_HI:
+        if a0 == 0.0 and u == 0.0:
+            return INF
+        er = math.frexp(max(abs(dx), abs(dy), abs(dz), s))[1]
+        ev = math.frexp(max(abs(dvx), abs(dvy), abs(dvz), u))[1]
+        dx, dy, dz, s = (math.ldexp(dx, -er), math.ldexp(dy, -er), math.ldexp(dz, -er),
+                         math.ldexp(s, -er))
+        dvx, dvy, dvz, u = (math.ldexp(dvx, -ev), math.ldexp(dvy, -ev),
+                            math.ldexp(dvz, -ev), math.ldexp(u, -ev))
+        shift = er - ev
+        horizon = math.ldexp(horizon, -shift)
+        b0 = dx * dvx + dy * dvy + dz * dvz
+        a0 = dvx * dvx + dvy * dvy + dvz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
+    a = a0 - u * u
+    b = b0 - s * u
+    s2 = s * s
+    c = r2 - s2
+    if c <= 0.0:
+        if b < 0.0:
+            return 0.0
+        if a >= 0.0:
+            return INF
+        # apart faster than the growth now, caught up later: the later root
+        disc = b * b - a * c
+        t = (b + math.sqrt(disc)) / (-a) if disc > 0.0 else b / (-a)
+        return t if shift == 0 else math.ldexp(t, shift)
+    if b >= 0.0 and a >= 0.0:
+        return INF
+    if a >= 0.0 and c > -2.0 * b * horizon * (1.0 + 1e-12):
+        return INF
+    if r2 > LAGRANGE_RATIO * s2:
+        ux = dy * dvz - dz * dvy
+        uy = dz * dvx - dx * dvz
+        uz = dx * dvy - dy * dvx
+        wx = s * dvx - u * dx
+        wy = s * dvy - u * dy
+        wz = s * dvz - u * dz
+        disc = (wx * wx + wy * wy + wz * wz) - (ux * ux + uy * uy + uz * uz)
+    else:
+        disc = b * b - a * c
+    if disc <= 0.0:
+        if a >= 0.0:
+            return INF
+        disc = 0.0
+    if b < 0.0:
+        t = c / (math.sqrt(disc) - b)
+    else:
+        # a < 0, c > 0: the one positive root
+        t = (b + math.sqrt(disc)) / (-a)
+    return t if shift == 0 else math.ldexp(t, shift)
+
+
+def wall_time_grow(px, py, pz, vx, vy, vz, reach, w):
+    """:func:`wall_time` for a sphere whose radius grows at speed ``w`` [length/time].
+
+    ``reach`` [length] is the container radius minus the sphere's radius
+    now; it shrinks as ``reach - w t``.  Returns the first ``t >= 0`` with
+    ``|p + t v| = reach - w t`` [time] (``0`` at or beyond it and not
+    moving inward faster than the wall closes).
+
+    Example:
+        >>> wall_time_grow(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 10.0, 1.0)
+        5.0
+    """
+    a0 = vx * vx + vy * vy + vz * vz
+    pp = px * px + py * py + pz * pz
+    shift = 0
+    if not RANGE_LO <= (a0 + w * w) * (pp + reach * reach) <= RANGE_HI:
+        if a0 == 0.0 and w == 0.0:
+            return INF
+        er = math.frexp(max(abs(px), abs(py), abs(pz), abs(reach)))[1]
+        ev = math.frexp(max(abs(vx), abs(vy), abs(vz), w))[1]
+        px, py, pz = math.ldexp(px, -er), math.ldexp(py, -er), math.ldexp(pz, -er)
+        reach = math.ldexp(reach, -er)
+        vx, vy, vz, w = (math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev),
+                         math.ldexp(w, -ev))
+        shift = er - ev
+        a0 = vx * vx + vy * vy + vz * vz
+        pp = px * px + py * py + pz * pz
+    a = a0 - w * w
+    b = px * vx + py * vy + pz * vz + reach * w
+    c = pp - reach * reach
+    if c >= 0.0 and b > 0.0:
+        return 0.0
+    disc = b * b - a * c
+    if disc < 0.0:
+        disc = 0.0
+    if b > 0.0:
+        t = -c / (math.sqrt(disc) + b)
+    elif a > 0.0:
+        t = (math.sqrt(disc) - b) / a
+    else:
+        t = 0.0
+    return t if shift == 0 else math.ldexp(t, shift)
+
+
+def collide_grow(m1, m2, dx, dy, dz, dvx, dvy, dvz, u):
+    """:func:`collide` with the Lubachevsky-Stillinger rule.
+
+    The normal relative speed is reflected in the frame of the growing
+    contact: ``vn' - u = -(vn - u)`` (``vn = dv . n`` with ``n = dr/|dr|``,
+    ``u`` the contact distance's growth speed [length/time]), so the pair
+    separates faster than the contact grows (by at least
+    :data:`GROW_MARGIN` of the speeds).  ``u = 0`` is the elastic rule.
+
+    Example:
+        >>> collide_grow(1.0, 1.0, -2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 1.0)
+        (-2.0, -2.0)
+    """
+    d2 = dx * dx + dy * dy + dz * dz
+    d = math.sqrt(d2)
+    vn = (dvx * dx + dvy * dy + dvz * dz) / d
+    gap = vn - u  # < 0: closing
+    change = -2.0 * gap
+    least = -gap + GROW_MARGIN * (abs(vn) + u)
+    if change < least:
+        change = least
+    s = change / (2.0 * d)  # the elastic rule's s is vn / d
+    s = -s
+    msum = m1 + m2
+    return 2.0 * m2 / msum * s, 2.0 * m1 / msum * s
+
+
+def reflect_grow(px, py, pz, vx, vy, vz, w):
+    """:func:`reflect` off a wall closing at speed ``w`` relative to the sphere.
+
+    The radial speed is reflected in the frame of the wall: the new inward
+    speed exceeds ``w`` by what the old outward speed did (by at least
+    :data:`GROW_MARGIN` of the speeds).
+
+    Example:
+        >>> reflect_grow(5.0, 0.0, 0.0, 2.0, 1.0, 0.0, 1.0)
+        1.2
+    """
+    d = math.sqrt(px * px + py * py + pz * pz)
+    vr = (vx * px + vy * py + vz * pz) / d
+    change = 2.0 * (vr + w)
+    least = vr + w + GROW_MARGIN * (abs(vr) + w)
+    if change < least:
+        change = least
+    return change / d

@@ -106,6 +106,8 @@ class Simulation:
         #: Set (e.g. from a signal handler) to end the run at the next chunk
         #: of events; :meth:`request_stop` sets it.
         self.stop_requested = False
+        #: Thermostat holding kT (:mod:`hardspheres.dense`), or ``None`` (NVE).
+        self.thermostat = None
         _check_inside(state, container)
         # the unwrapped centres (positions + images * L) are kept in a periodic box
         images = container.image_counts(state.positions)
@@ -268,6 +270,71 @@ class Simulation:
         """
         self.stop_requested = True
 
+    # ---- dense matter ----------------------------------------------------------
+    def compress(self, packing=None, rate=1e-3, pressure=1e3, collisions=None,
+                 progress=None):
+        """Compress by growing every radius in proportion (Lubachevsky-Stillinger).
+
+        Radii grow linearly in time; colliding spheres part faster than
+        their contact distance grows, and velocities are rescaled every few
+        collisions per sphere to keep ``kT`` at its value at the start.
+
+        Args:
+            packing: stop at this packing fraction (must be above the
+                present one and below what the geometry allows: 0.7405 for
+                equal spheres).
+            rate: growth speed of the largest diameter in units of the
+                thermal speed ``sqrt(kT/m)`` (Skoge et al.'s ``gamma``); > 0.
+            pressure: stop when the reduced pressure ``Z = PV/(NkT)``
+                passes this (jammed; ``None``: no threshold).
+            collisions: stop after this many collisions.
+            progress: called as ``progress(packing, Z, collisions)`` at
+                each velocity rescale.
+
+        Returns:
+            :class:`hardspheres.dense.CompressResult` (``jammed`` says
+            whether it stopped on the pressure: not an error).
+
+        Raises:
+            CompressionError: a bad option (the message names it).
+
+        Example:
+            >>> import hardspheres as hs
+            >>> sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1),
+            ...                     hs.PeriodicBox(10.0))
+            >>> res = sim.compress(packing=0.45, rate=0.01)
+            >>> res.reason, round(res.packing, 6)
+            ('packing', 0.45)
+        """
+        from .dense import compress
+        return compress(self, packing=packing, rate=rate, pressure=pressure,
+                        collisions=collisions, progress=progress)
+
+    @property
+    def packing(self):
+        """Packing fraction now: volume of the spheres over the container's."""
+        from .dense import packing_fraction
+        return packing_fraction(self._engine.radii_at(), self.container)
+
+    def set_thermostat(self, thermostat):
+        """Hold the temperature with a thermostat (``None``: NVE, the default).
+
+        ``thermostat`` is a :class:`hardspheres.dense.Andersen` or
+        :class:`hardspheres.dense.VelocityRescale`; checkpoints keep it.
+        """
+        if thermostat is not None and self._engine.window > 0.0:
+            raise ValueError("thermostat: not with a simultaneity window (window=0)")
+        old = getattr(self, "thermostat", None)
+        if old is not None:
+            self.writers.remove(old)
+        self.thermostat = thermostat
+        if thermostat is not None:
+            self.writers.append(thermostat)
+        return self
+
+    def _interrupted(self):
+        return getattr(self, "stop_requested", False)
+
     # ---- state -----------------------------------------------------------------
     def state(self, time: float | None = None, unwrapped: bool = False) -> State:
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
@@ -305,7 +372,7 @@ class Simulation:
                 pos = raw
         else:
             pos, images = eng.positions_at(t), None
-        return State(eng.mass.copy(), eng.rad.copy(), pos, eng.vel.copy(),
+        return State(eng.mass.copy(), eng.radii_at(t), pos, eng.vel.copy(),
                      list(self.names), t, images)
 
     # ---- checkpoints ---------------------------------------------------------
@@ -325,6 +392,8 @@ class Simulation:
         self._save(path, lock=True)
 
     def _save(self, path, lock):
+        th = getattr(self, "thermostat", None)
+        extra = {} if th is None else {"thermostat": np.array(th.state())}
         with atomic_write(path, "wb", lock=lock) as fh:
             # the container's record is the engine's (Engine.checkpoint)
             np.savez(fh, format=np.array(CHECKPOINT_FORMAT),
@@ -334,7 +403,7 @@ class Simulation:
                      obs_samples=np.array(self.observables._samples, dtype=np.float64),
                      obs_every=np.array([self.observables.every,
                                          self.observables.next_sample]),
-                     clock=np.array(self._clock),
+                     clock=np.array(self._clock), **extra,
                      **self._engine.checkpoint())
 
     @classmethod
@@ -357,6 +426,7 @@ class Simulation:
         samples = data.pop("obs_samples", None)
         every = data.pop("obs_every", None)
         clock = data.pop("clock", None)
+        th = data.pop("thermostat", None)
         try:
             sim._engine = Engine.restore(data)  # it reads and checks the container
         except CheckpointError as e:
@@ -392,6 +462,14 @@ class Simulation:
             if not worst <= 1e-6 or eng.outside(tol=1e-6):
                 raise CheckpointError(f"{path}: damaged checkpoint: spheres overlap or "
                                       "leave the container")
+        sim.thermostat = None
+        if th is not None:
+            from .dense import thermostat_from_state
+            try:
+                sim.set_thermostat(thermostat_from_state(str(th)))
+            except (ValueError, KeyError, TypeError) as e:
+                raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") \
+                    from None
         return sim
 
 

@@ -1,0 +1,390 @@
+"""Dense matter: compression (Lubachevsky-Stillinger growth) and thermostats.
+
+* :func:`compress` grows every radius in proportion (the contact distances
+  linear in time, the Lubachevsky-Stillinger collision rule in the event
+  core) while velocities are rescaled to keep ``kT`` fixed, and stops at a
+  target packing fraction, a reduced pressure (jamming) or a collision
+  count.  :meth:`Simulation.compress <hardspheres.Simulation.compress>`
+  calls it.
+* :class:`Andersen` resamples one sphere's velocity at random times (a
+  Poisson process, seeded: a run is reproducible and a checkpoint resumes
+  it bit for bit); :class:`VelocityRescale` rescales all velocities to
+  ``kT`` at fixed intervals.  Set one with :meth:`Simulation.set_thermostat
+  <hardspheres.Simulation.set_thermostat>`; without one a run is NVE,
+  exactly as before.
+
+Units: the compression ``rate`` is the growth speed of the largest
+diameter in units of the thermal speed ``sqrt(kT / m)`` (``m`` the mean
+mass), i.e. Skoge et al.'s ``gamma = dD/dt`` for equal spheres with ``kT
+= m = 1``.
+"""
+
+import json
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .containers import PeriodicBox
+from .scenario import StuckError
+
+#: Densest packing of equal spheres (FCC/HCP): pi / sqrt(18).
+MAX_PACKING_EQUAL = math.pi / math.sqrt(18.0)
+
+#: Default reduced pressure ``Z = PV/(NkT)`` at which compression stops as
+#: jammed (Z diverges as the packing approaches jamming: ``Z ~ 3 phi_J /
+#: (phi_J - phi)``, so 1e3 is within ~0.002 of it).
+DEFAULT_PRESSURE = 1e3
+
+
+class CompressionError(ValueError):
+    """A compression that cannot be run; the message names the option."""
+
+
+class CompressResult(NamedTuple):
+    """How a compression ended.
+
+    Attributes:
+        packing: packing fraction reached.
+        pressure: reduced pressure ``Z = PV/(NkT)`` over the last stretch.
+        collisions: collisions during the compression.
+        reason: ``"packing"`` (target reached), ``"pressure"`` (``Z``
+            passed the threshold: jammed), ``"collisions"`` (the limit) or
+            ``"stuck"`` (the core found the spheres locked: jammed).
+        jammed: ``reason`` is ``"pressure"`` or ``"stuck"``.
+    """
+
+    packing: float
+    pressure: float
+    collisions: int
+    reason: str
+    jammed: bool
+
+
+def packing_fraction(radii, container):
+    """Fraction of the container's volume the spheres fill."""
+    r = np.asarray(radii, dtype=np.float64)
+    return float(4.0 / 3.0 * math.pi * np.sum(r ** 3) / container.volume)
+
+
+def max_packing(radii):
+    """Largest packing the geometry allows, for :func:`compress`'s check.
+
+    Equal spheres: ``pi/sqrt(18) = 0.7405`` (Kepler, Hales).  Mixtures can
+    pack denser; only the trivial bound 1 is applied to them.
+    """
+    r = np.asarray(radii, dtype=np.float64)
+    if r.size and np.all(r == r[0]):
+        return MAX_PACKING_EQUAL
+    return 1.0
+
+
+def _kT(sim):
+    return sim.observables.temperature()
+
+
+def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None,
+             progress=None):
+    """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`."""
+    eng = sim._engine
+    if eng.window > 0.0:
+        raise CompressionError("compress: not with a simultaneity window (window=0)")
+    if not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
+        raise CompressionError(f"rate must be a number > 0, got {rate}")
+    if pressure is not None and not (math.isfinite(pressure) and pressure > 0):
+        raise CompressionError(f"pressure must be a number > 0, got {pressure}")
+    if collisions is not None and int(collisions) <= 0:
+        raise CompressionError(f"collisions must be > 0, got {collisions}")
+    if packing is None and pressure is None and collisions is None:
+        raise CompressionError("give packing, pressure or collisions: "
+                               "the compression never ends otherwise")
+    n = sim.n
+    if n == 0:
+        raise CompressionError("compress: no spheres")
+    radii = eng.radii_at()
+    phi0 = packing_fraction(radii, sim.container)
+    if packing is not None:
+        top = max_packing(radii)
+        if not (math.isfinite(packing) and 0 < packing < top):
+            raise CompressionError(
+                f"packing {packing:g} is not below {top:.4f}, the densest the geometry "
+                "allows" if math.isfinite(packing) and packing >= top
+                else f"packing must be a number in (0, {top:.4f}), got {packing}")
+        if packing <= phi0:
+            raise CompressionError(
+                f"packing {packing:g} is not above the present packing {phi0:.6g}")
+    kT = _kT(sim)
+    if not kT > 0:
+        raise CompressionError("compress: the spheres are at rest (kT = 0); "
+                               "give them velocities")
+    vth = math.sqrt(kT / float(np.mean(eng.mass)))
+    rmax = float(radii.max())
+    speed = 0.5 * rate * vth  # dR_max/dt
+    t_target = math.inf
+    if packing is not None:
+        t_target = sim.time + ((packing / phi0) ** (1.0 / 3.0) - 1.0) * rmax / speed
+    # collisions per sphere between velocity rescales: each collision heats
+    # by ~4 rate (relative); a rescale costs about N predictions
+    per_sphere = min(8.0, max(0.5, 0.01 / rate))
+    chunk = max(int(per_sphere * n), 200)
+    left = math.inf if collisions is None else int(collisions)
+    periodic = sim.container.periodic
+    eng.set_growth(speed / rmax)
+    c_start = eng.counters["collisions"]
+    z = math.nan
+    reason = None
+    try:
+        while reason is None:
+            t0, c0 = eng.time, eng.counters["collisions"]
+            w0, j0 = eng.virial, eng.wall_impulse
+            try:
+                eng.advance(until=t_target, collisions=int(min(chunk, left)), record=False)
+            except StuckError:
+                reason = "stuck"
+            done = eng.counters["collisions"] - c0
+            left -= done
+            reached = eng.last_reason == 0 and t_target < math.inf
+            if reached:
+                eng.move_clock(t_target)
+            dt = eng.time - t0
+            kt_end = _kT(sim)
+            kt_mean = 0.5 * (kT + kt_end)
+            if dt > 0:
+                if periodic:
+                    z = 1.0 + (eng.virial - w0) / (3.0 * dt * n * kt_mean)
+                else:
+                    p = (eng.wall_impulse - j0) / (sim.container.area * dt)
+                    z = p * sim.container.volume / (n * kt_mean)
+            if kt_end > 0:
+                eng.rescale_velocities(math.sqrt(kT / kt_end))
+            phi = packing_fraction(eng.radii_at(), sim.container)
+            if progress is not None:
+                progress(phi, z, eng.counters["collisions"] - c_start)
+            if reason is not None:
+                break
+            if reached:
+                reason = "packing"
+            elif pressure is not None and z >= pressure:
+                reason = "pressure"
+            elif left <= 0:
+                reason = "collisions"
+    finally:
+        eng.set_growth(0.0)
+        sim._clock = max(sim._clock, eng.time)
+        sim.observables.reset()
+    phi = packing_fraction(eng.rad, sim.container)
+    return CompressResult(phi, float(z), eng.counters["collisions"] - c_start, reason,
+                          reason in ("pressure", "stuck"))
+
+
+# ---- thermostats ----------------------------------------------------------------
+
+class Andersen:
+    """Andersen thermostat: at random times one sphere gets a Maxwell velocity.
+
+    Args:
+        kT: temperature [energy].
+        rate: resamplings per sphere per unit time [1/time] (the whole
+            system: ``rate * N``; the times between them are exponential).
+        seed: seed of the generator (numpy's PCG64): the same seed gives the
+            same run, and a checkpoint resumes it bit for bit.
+    """
+
+    def __init__(self, kT=1.0, rate=0.1, seed=0):
+        if not (math.isfinite(kT) and kT > 0):
+            raise ValueError(f"kT must be a number > 0, got {kT}")
+        if not (math.isfinite(rate) and rate > 0):
+            raise ValueError(f"rate must be a number > 0, got {rate}")
+        self.kT, self.rate, self.seed = float(kT), float(rate), int(seed)
+        self._rng = np.random.Generator(np.random.PCG64(self.seed))
+        self.next_time = None
+        self.resampled = 0
+
+    def attach(self, sim):
+        if self.next_time is None:
+            self.next_time = sim.time + self._rng.exponential(1.0 / (self.rate * sim.n))
+
+    def write(self, sim, t):
+        eng = sim._engine
+        i = int(self._rng.integers(sim.n))
+        v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.mass[i])
+        eng.kick(i, t, v)
+        self.resampled += 1
+        self.next_time = t + self._rng.exponential(1.0 / (self.rate * sim.n))
+
+    def state(self):
+        """JSON text of everything needed to resume exactly."""
+        return json.dumps({"kind": "andersen", "kT": self.kT, "rate": self.rate,
+                           "seed": self.seed, "next_time": self.next_time,
+                           "resampled": self.resampled,
+                           "rng": self._rng.bit_generator.state})
+
+
+class VelocityRescale:
+    """Rescale all velocities to ``kT`` every ``interval`` [time]."""
+
+    def __init__(self, kT=1.0, interval=1.0):
+        if not (math.isfinite(kT) and kT > 0):
+            raise ValueError(f"kT must be a number > 0, got {kT}")
+        if not (math.isfinite(interval) and interval > 0):
+            raise ValueError(f"interval must be a number > 0, got {interval}")
+        self.kT, self.interval = float(kT), float(interval)
+        self.next_time = None
+
+    def attach(self, sim):
+        if self.next_time is None:
+            self.next_time = sim.time + self.interval
+
+    def write(self, sim, t):
+        eng = sim._engine
+        eng.move_clock(t)
+        kt = _kT(sim)
+        if kt > 0:
+            eng.rescale_velocities(math.sqrt(self.kT / kt))
+        self.next_time = t + self.interval
+
+    def state(self):
+        return json.dumps({"kind": "rescale", "kT": self.kT, "interval": self.interval,
+                           "next_time": self.next_time})
+
+
+def thermostat_from_state(text):
+    """The thermostat :meth:`Andersen.state` or :meth:`VelocityRescale.state` saved."""
+    d = json.loads(text)
+    if d["kind"] == "andersen":
+        th = Andersen(d["kT"], d["rate"], d["seed"])
+        th._rng.bit_generator.state = d["rng"]
+        th.resampled = d["resampled"]
+    else:
+        th = VelocityRescale(d["kT"], d["interval"])
+    th.next_time = d["next_time"]
+    return th
+
+
+# ---- commands -------------------------------------------------------------------
+
+def generate_compressed(n, packing, container=None, box=None, seed=0, rate=0.01,
+                        radius_ratio=1.0, mass_ratio=1.0, kT=1.0):
+    """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
+
+    The spheres start on random FCC sites at packing ``min(packing, 0.2)``,
+    run ``2 N`` collisions to lose the lattice, and are compressed at
+    ``rate``.
+
+    Raises:
+        CompressionError: the spheres jammed before ``packing``.
+    """
+    from .builders import random_spheres
+    from .containers import SphericalContainer
+    from .simulation import Simulation
+    start = min(packing * 0.9, 0.2)
+    if box is not None:
+        state = random_spheres(n, start, box=box, seed=seed, radius_ratio=radius_ratio,
+                               mass_ratio=mass_ratio, kT=kT)
+        sim = Simulation(state, PeriodicBox(box))
+    else:
+        state = random_spheres(n, start, container=container, seed=seed,
+                               radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT)
+        sim = Simulation(state, SphericalContainer(container))
+    names = list(state.names)
+    if n > 1:
+        sim.run(collisions=2 * n)
+    if packing > start:
+        res = sim.compress(packing=packing, rate=rate)
+        if res.reason != "packing":
+            raise CompressionError(
+                f"--packing {packing:g}: the spheres jammed at {res.packing:.4f} "
+                f"(Z = {res.pressure:.3g}); lower --packing or --rate")
+    out = sim.state()
+    out.names = names
+    return out
+
+
+def compress_command(args):
+    """``hardspheres compress``; returns the exit status."""
+    import sys
+
+    from .runner import Progress, _simulation
+    if args.packing is None and args.collisions is None and args.pressure is None:
+        raise CompressionError("give --packing, --pressure or --collisions")
+    sim = _simulation(args)
+    phi0 = sim.packing
+    target = args.packing
+    if target is not None:
+        top = max_packing(sim._engine.radii_at())
+        if target >= top:
+            raise CompressionError(f"--packing {target:g} is not below {top:.4f}, "
+                                   "the densest the geometry allows")
+        if target <= phi0:
+            raise CompressionError(f"--packing {target:g} is not above the scenario's "
+                                   f"packing {phi0:.6g}")
+    progress = Progress(1.0)
+
+    def show(phi, z, coll):
+        done = (phi - phi0) / (target - phi0) if target else 0.0
+        progress.update(done, f"packing {phi:.5f}  Z {z:.4g}  collisions {coll}")
+
+    try:
+        res = compress(sim, packing=target, rate=args.rate, pressure=args.pressure,
+                       collisions=None if args.collisions is None else int(args.collisions),
+                       progress=show)
+    finally:
+        progress.close()
+    text = sim.state().to_text()
+    from .fileio import atomic_write
+    with atomic_write(args.output, "w") as fh:
+        fh.write(text)
+    if args.checkpoint:
+        sim.save(args.checkpoint)
+    if res.jammed:
+        what = (f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed "
+                f"--pressure {args.pressure:g}")
+    elif res.reason == "collisions":
+        what = f"stopped after {res.collisions} collisions at packing {res.packing:.6f}"
+    else:
+        what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
+    print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
+    return 0
+
+
+# ---- crystal order ---------------------------------------------------------------
+
+class CrystalOrder(NamedTuple):
+    """Bond-orientational order of the spheres now (see :func:`crystal_order`).
+
+    Attributes:
+        q6: ``(N,)`` Steinhardt q6 of each sphere (12 nearest neighbours).
+        mean_q6: their mean (FCC ~0.57, a fluid or glass ~0.3-0.4).
+        crystal_like: ``(N,)`` bool: at least 7 of the 12 bonds crystal-like
+            (normalised q6 dot product > 0.7; ten Wolde, Ruiz-Montero and
+            Frenkel's criterion).
+        fraction: fraction of crystal-like spheres.
+    """
+
+    q6: np.ndarray
+    mean_q6: float
+    crystal_like: np.ndarray
+    fraction: float
+
+
+def crystal_order(sim):
+    """Steinhardt q6 and crystal-like spheres of ``sim`` now, with freud.
+
+    A thin wrapper of ``freud.order.Steinhardt`` and ``SolidLiquid`` (12
+    nearest neighbours), so that a compression can be checked for
+    crystallisation.  Needs the ``freud-analysis`` package.
+    """
+    import freud
+    state = sim.state()
+    pts = np.ascontiguousarray(state.positions, dtype=np.float32)
+    # a spherical container sits in a box wide enough that no sphere sees an image
+    box = freud.box.Box.cube(sim.container.size if sim.container.periodic
+                             else 4.0 * sim.container.bounding_radius)
+    nb = {"num_neighbors": 12}
+    st = freud.order.Steinhardt(6)
+    st.compute((box, pts), neighbors=nb)
+    sl = freud.order.SolidLiquid(6, q_threshold=0.7, solid_threshold=7)
+    sl.compute((box, pts), neighbors=nb)
+    q6 = np.asarray(st.particle_order, dtype=np.float64)
+    xtal = np.asarray(sl.num_connections) >= 7
+    return CrystalOrder(q6, float(q6.mean()), xtal, float(xtal.mean()))

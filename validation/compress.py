@@ -1,0 +1,164 @@
+"""Validation of dense matter: jamming, crystallisation, dense equations of state.
+
+    python validation/compress.py jam N RATE [RATE ...]   # LS jamming density per rate
+    python validation/compress.py fluid N PHI [PHI ...]   # metastable fluid Z vs CS/Kolafa
+    python validation/compress.py fcc K PHI [PHI ...]     # FCC crystal (4 K^3 spheres) vs Speedy
+    python validation/compress.py mix N PHI [PHI ...]     # 50:50 mixture, ratio 1.4, vs BMCSL
+
+Everything is in a periodic box with equal masses and kT = 1; results
+print as Markdown table rows (docs/validation.md quotes them).  Pressure
+error bars are from block averages (20 blocks; sigma of the mean).
+"""
+
+import math
+import sys
+import time
+
+import numpy as np
+
+import hardspheres as hs
+from hardspheres import eos
+from hardspheres.builders import _fcc, maxwell_boltzmann
+
+# ---- equations of state (sources in docs/validation.md) -----------------------------
+
+def z_cs(eta):
+    return float(eos.carnahan_starling(eta))
+
+
+def z_hg(eta):
+    return float(eos.hansen_goos(eta))
+
+
+def z_klm(eta):
+    return float(eos.kolafa(eta))
+
+
+def z_speedy_crystal(eta):
+    """Speedy (1998), FCC: Z = 3/(1-z) - a (z-b)/(z-c), z = eta/eta_cp."""
+    z = eta / (math.pi / math.sqrt(18.0))
+    a, b, c = 0.5921, 0.7072, 0.601
+    return 3.0 / (1.0 - z) - a * (z - b) / (z - c)
+
+
+def z_bmcsl(eta, diameters, fractions):
+    """Boublik (1970); Mansoori, Carnahan, Starling & Leland (1971)."""
+    d = np.asarray(diameters, float)
+    x = np.asarray(fractions, float)
+    m = [float(np.sum(x * d ** k)) for k in range(4)]
+    rho = eta / (math.pi / 6.0 * m[3])
+    xi = [math.pi / 6.0 * rho * mk for mk in m]
+    e = xi[3]
+    p = (6.0 / math.pi) * (xi[0] / (1 - e) + 3 * xi[1] * xi[2] / (1 - e) ** 2
+                           + (3 - e) * xi[2] ** 3 / (1 - e) ** 3)
+    return p / rho
+
+
+# ---- helpers ----------------------------------------------------------------------
+
+def box_for(n, phi, radius=1.0):
+    return (n * 4.0 / 3.0 * math.pi * radius ** 3 / phi) ** (1.0 / 3.0)
+
+
+EQUIL = 200  # collisions per sphere after a compression, before measuring
+
+
+def measure_z(sim, collisions, blocks=20):
+    """Z = PV/NkT in blocks of collisions: (mean, sigma of the mean)."""
+    zs = []
+    for _ in range(blocks):
+        sim.observables.reset()
+        sim.run(collisions=collisions // blocks)
+        zs.append(sim.observables.compressibility())
+    zs = np.array(zs)
+    return float(zs.mean()), float(zs.std(ddof=1) / math.sqrt(blocks))
+
+
+def q6(sim):
+    """Mean Steinhardt q6 and the fraction of crystal-like spheres."""
+    from hardspheres.dense import crystal_order
+    order = crystal_order(sim)
+    return order.mean_q6, order.fraction
+
+
+def fluid(n, phi0, seed=1):
+    L = box_for(n, phi0)
+    sim = hs.Simulation(hs.random_spheres(n, phi0, box=L, seed=seed), hs.PeriodicBox(L))
+    sim.run(collisions=5 * n)
+    return sim
+
+
+# ---- the checks -------------------------------------------------------------------
+
+def jam(n, rates, pressure=1e4):
+    print("| N | rate gamma | phi at stop | Z at stop | phi_J = phi Z/(Z-3) | q6 | crystal-like |"
+          " collisions | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for rate in rates:
+        sim = fluid(n, 0.3)
+        t0 = time.perf_counter()
+        res = sim.compress(packing=0.74, rate=rate, pressure=pressure)
+        wall = time.perf_counter() - t0
+        phij = res.packing * res.pressure / (res.pressure - 3.0)
+        q, xtal = q6(sim)
+        print(f"| {n} | {rate:g} | {res.packing:.4f} | {res.pressure:.3g} | {phij:.4f} | "
+              f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
+
+
+def fluid_eos(n, phis, per_sphere=500, rate=0.005):
+    print("| N | phi | Z measured | CS | Hansen-Goos | KLM | (Z - HG)/sigma | (Z - KLM)/sigma |"
+          " q6 | crystal-like |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for phi in phis:
+        sim = fluid(n, 0.3)
+        sim.compress(packing=phi, rate=rate)
+        sim.run(collisions=EQUIL * n)
+        z, s = measure_z(sim, per_sphere * n)
+        q, xtal = q6(sim)
+        zh, zk = z_hg(phi), z_klm(phi)
+        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zh:.4f} | {zk:.4f} | "
+              f"{(z - zh) / s:+.1f} | {(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
+
+
+def fcc_eos(k, phis, per_sphere=500, seed=1):
+    n = 4 * k ** 3
+    print("| N | phi | Z measured | Speedy (1998) | (Z - Speedy)/sigma | q6 |")
+    print("|---|---|---|---|---|---|")
+    for phi in phis:
+        L = box_for(n, phi)
+        pos = _fcc(k, L / k)
+        rng = np.random.default_rng(seed)
+        vel = maxwell_boltzmann(rng, np.ones(n))
+        sim = hs.Simulation.from_arrays(np.ones(n), np.ones(n), pos, vel, hs.PeriodicBox(L))
+        sim.run(collisions=EQUIL * n)
+        z, s = measure_z(sim, per_sphere * n)
+        q, _ = q6(sim)
+        zs = z_speedy_crystal(phi)
+        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zs:.4f} | {(z - zs) / s:+.1f} | {q:.3f} |",
+              flush=True)
+
+
+def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1):
+    print("| N | phi | Z measured | BMCSL | (Z - BMCSL)/sigma |")
+    print("|---|---|---|---|---|")
+    for phi in phis:
+        phi0 = 0.2
+        L = box_for(n, phi0)
+        state = hs.random_spheres(n, phi0, box=L, seed=seed)
+        radii = state.radii.copy()
+        radii[n // 2:] /= ratio  # shrinking cannot overlap: 50:50, ratio 1.4
+        sim = hs.Simulation.from_arrays(state.masses, radii, state.positions,
+                                        state.velocities, hs.PeriodicBox(L))
+        sim.run(collisions=5 * n)
+        sim.compress(packing=phi, rate=0.05)
+        sim.run(collisions=EQUIL * n)
+        z, s = measure_z(sim, per_sphere * n)
+        zb = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5])
+        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} |",
+              flush=True)
+
+
+if __name__ == "__main__":
+    what, size, *rest = sys.argv[1:]
+    vals = [float(x) for x in rest]
+    {"jam": jam, "fluid": fluid_eos, "fcc": fcc_eos, "mix": mix_eos}[what](int(size), vals)
