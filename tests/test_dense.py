@@ -17,6 +17,7 @@ TOL = 1e-9
 
 # ---- kernels against hand-solved cases -------------------------------------------
 
+
 def test_pair_time_grow_head_on_and_at_rest():
     # closing at 1, contact distance 2 growing at 1: 10 = 2 + 2 t
     assert physics.pair_time_grow(-10.0, 0, 0, 1.0, 0, 0, 2.0, 1.0, math.inf) == 4.0
@@ -29,8 +30,7 @@ def test_pair_time_grow_head_on_and_at_rest():
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.floats(-3, 3), min_size=6, max_size=6), st.floats(0.1, 1.0),
-       st.floats(0.0, 2.0))
+@given(st.lists(st.floats(-3, 3), min_size=6, max_size=6), st.floats(0.1, 1.0), st.floats(0.0, 2.0))
 def test_pair_time_grow_is_a_contact(v, s, u):
     dr = np.array(v[:3]) + np.sign(np.array(v[:3]) + 1e-3) * 2.0  # at least 2 apart
     dv = np.array(v[3:])
@@ -63,12 +63,12 @@ def test_wall_time_grow():
     assert physics.wall_time_grow(0, 0, 0, 1.0, 0, 0, 10.0, 1.0) == 5.0
     # without growth it is wall_time
     assert physics.wall_time_grow(1.0, 2.0, 0, 0.3, -1.0, 0.5, 9.0, 0.0) == pytest.approx(
-        physics.wall_time(1.0, 2.0, 0, 0.3, -1.0, 0.5, 9.0), rel=1e-14)
+        physics.wall_time(1.0, 2.0, 0, 0.3, -1.0, 0.5, 9.0), rel=1e-14
+    )
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.floats(0.1, 5), st.floats(0.1, 5), st.floats(-3, 3), st.floats(-3, 3),
-       st.floats(0.0, 2.0))
+@given(st.floats(0.1, 5), st.floats(0.1, 5), st.floats(-3, 3), st.floats(-3, 3), st.floats(0.0, 2.0))
 def test_ls_rule_parts_faster_than_growth(m1, m2, vx, vy, u):
     dr = np.array([-1.0, 0.3, 0.2])
     dr *= 2.0 / np.linalg.norm(dr)
@@ -94,17 +94,17 @@ def test_reflect_grow_inward_faster_than_wall():
 
 # ---- growth in the engine: never an overlap ----------------------------------------
 
+
 def _grow_and_check(state, box=None, container=None, rate=0.02, chunks=8, per=300):
-    eng = Engine(state.masses, state.radii, state.positions, state.velocities,
-                 box=box, container=container)
+    eng = Engine(state.masses, state.radii, state.positions, state.velocities, box=box, container=container)
     r0 = eng.radii_at().copy()
     eng.set_growth(rate)
     for _ in range(chunks):
         ev = eng.advance(collisions=per)
         assert eng.max_overlap() <= TOL and eng.outside() == 0
         # and at a time between events
-        if len(ev["t"]) > 1:
-            tm = 0.5 * (ev["t"][-2] + ev["t"][-1])
+        if len(ev["time"]) > 1:
+            tm = 0.5 * (ev["time"][-2] + ev["time"][-1])
             if tm > eng.time:
                 assert eng.max_overlap(tm) <= TOL
     r1 = eng.radii_at()
@@ -116,16 +116,14 @@ def _grow_and_check(state, box=None, container=None, rate=0.02, chunks=8, per=30
 @settings(max_examples=6, deadline=None)
 @given(st.integers(0, 10_000), st.sampled_from([1.0, 1.4]), st.floats(0.005, 0.2))
 def test_growth_never_overlaps_box(seed, ratio, rate):
-    state = hs.random_spheres(60, 0.15, box=8.0, seed=seed, radius_ratio=ratio,
-                              mass_ratio=2.0)
+    state = hs.random_spheres(60, 0.15, box=8.0, seed=seed, radius_ratio=ratio, mass_ratio=2.0)
     _grow_and_check(state, box=8.0, rate=rate)
 
 
 @settings(max_examples=6, deadline=None)
 @given(st.integers(0, 10_000), st.sampled_from([1.0, 1.4]), st.floats(0.005, 0.2))
 def test_growth_never_overlaps_container(seed, ratio, rate):
-    state = hs.random_spheres(60, 0.15, container=6.0, seed=seed, radius_ratio=ratio,
-                              mass_ratio=2.0)
+    state = hs.random_spheres(60, 0.15, container=6.0, seed=seed, radius_ratio=ratio, mass_ratio=2.0)
     _grow_and_check(state, container=6.0, rate=rate)
 
 
@@ -147,12 +145,13 @@ def test_exact_restart_mid_growth():
     b = Engine.restore({k: np.copy(v) for k, v in a.checkpoint().items()})
     ea = a.advance(collisions=3000)
     eb = b.advance(collisions=3000)
-    for k in ea:
+    for k in ea.dtype.names:
         assert np.array_equal(ea[k], eb[k])
     assert np.array_equal(a.S, b.S) and a.time == b.time
 
 
 # ---- compress ---------------------------------------------------------------------
+
 
 def test_compress_reaches_packing_and_keeps_kT():
     sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1), hs.PeriodicBox(10.0))
@@ -195,11 +194,17 @@ def test_compress_collision_limit():
     assert res.reason == "collisions" and 1000 <= res.collisions < 1400
 
 
-@pytest.mark.parametrize("kw, word", [
-    ({"packing": 0.75}, "0.7405"), ({"packing": 0.2}, "present"),
-    ({"packing": 0.5, "rate": 0.0}, "rate"), ({"packing": 0.5, "rate": -1.0}, "rate"),
-    ({"packing": float("nan")}, "packing"),
-    ({"packing": None, "pressure": None}, "give packing")])
+@pytest.mark.parametrize(
+    "kw, word",
+    [
+        ({"packing": 0.75}, "0.7405"),
+        ({"packing": 0.2}, "present"),
+        ({"packing": 0.5, "rate": 0.0}, "rate"),
+        ({"packing": 0.5, "rate": -1.0}, "rate"),
+        ({"packing": float("nan")}, "packing"),
+        ({"packing": None, "pressure": None}, "give packing"),
+    ],
+)
 def test_compress_bad_input(kw, word):
     sim = hs.Simulation(hs.random_spheres(50, 0.3, box=6.0, seed=1), hs.PeriodicBox(6.0))
     with pytest.raises(CompressionError, match=word):
@@ -229,10 +234,10 @@ def test_compress_restart_mid_compression_via_engine_checkpoint(tmp_path):
 
 # ---- thermostats ------------------------------------------------------------------
 
+
 def test_andersen_reproducible_and_resumes_bit_for_bit(tmp_path):
     def make():
-        sim = hs.Simulation(hs.random_spheres(100, 0.3, box=8.0, seed=7, kT=3.0),
-                            hs.PeriodicBox(8.0))
+        sim = hs.Simulation(hs.random_spheres(100, 0.3, box=8.0, seed=7, kT=3.0), hs.PeriodicBox(8.0))
         return sim.set_thermostat(Andersen(kT=1.0, rate=0.5, seed=11))
 
     a, b = make(), make()
@@ -248,8 +253,7 @@ def test_andersen_reproducible_and_resumes_bit_for_bit(tmp_path):
 
 
 def test_andersen_brings_kT_to_target():
-    sim = hs.Simulation(hs.random_spheres(300, 0.3, box=11.0, seed=7, kT=4.0),
-                        hs.PeriodicBox(11.0))
+    sim = hs.Simulation(hs.random_spheres(300, 0.3, box=11.0, seed=7, kT=4.0), hs.PeriodicBox(11.0))
     sim.set_thermostat(Andersen(kT=1.0, rate=1.0, seed=1))
     sim.run(until=10.0)  # ~3000 resamplings: 10 per sphere
     kts = []
@@ -260,8 +264,7 @@ def test_andersen_brings_kT_to_target():
 
 
 def test_velocity_rescale_sets_energy():
-    sim = hs.Simulation(hs.random_spheres(100, 0.3, box=8.0, seed=7, kT=2.0),
-                        hs.PeriodicBox(8.0))
+    sim = hs.Simulation(hs.random_spheres(100, 0.3, box=8.0, seed=7, kT=2.0), hs.PeriodicBox(8.0))
     sim.set_thermostat(VelocityRescale(kT=1.0, interval=0.5))
     sim.run(until=0.5)
     assert sim.observables.temperature() == pytest.approx(1.0, rel=1e-12)
@@ -279,43 +282,107 @@ def test_no_thermostat_no_growth_is_nve():
 
 # ---- the command line and README ------------------------------------------------------
 
+
 def test_assignment_program_refuses_thermostats():
     import subprocess
     import sys
     from pathlib import Path
+
     root = Path(__file__).resolve().parents[1]
-    res = subprocess.run([sys.executable, "spheres.py", "10", "5", "--thermostat", "andersen"],
-                         input="1 1 0 0 0 1 0 0 a\n", capture_output=True, text=True, cwd=root)
+    res = subprocess.run(
+        [sys.executable, "spheres.py", "10", "5", "--thermostat", "andersen"],
+        input="1 1 0 0 0 1 0 0 a\n",
+        capture_output=True,
+        text=True,
+        cwd=root,
+    )
     assert res.returncode == 1
     assert "--thermostat" in res.stderr and len(res.stderr.strip().splitlines()) == 1
 
 
 def test_compress_command(tmp_path):
     from hardspheres.commands import main
+
     scn = tmp_path / "a.txt"
     state = hs.random_spheres(150, 0.3, box=10.0, seed=2)
     scn.write_text(state.to_text())
     out = tmp_path / "d.txt"
-    assert main(["compress", str(scn), "--box", "10", "--packing", "0.45", "--rate", "0.02",
-                 "-o", str(out), "--checkpoint", str(tmp_path / "c.npz")]) == 0
+    assert (
+        main(
+            [
+                "compress",
+                str(scn),
+                "--box",
+                "10",
+                "--packing",
+                "0.45",
+                "--rate",
+                "0.02",
+                "-o",
+                str(out),
+                "--checkpoint",
+                str(tmp_path / "c.npz"),
+            ]
+        )
+        == 0
+    )
     sim = hs.Simulation.from_scenario(str(out), hs.PeriodicBox(10.0))
     assert sim.packing == pytest.approx(0.45, rel=1e-9)
     assert [s.split()[-1] for s in out.read_text().splitlines()] == state.names
     assert hs.Simulation.load(tmp_path / "c.npz").packing == pytest.approx(0.45, rel=1e-9)
     # jammed: reported, not an error
-    assert main(["compress", str(scn), "--box", "10", "--packing", "0.7", "--rate", "0.3",
-                 "--pressure", "200", "-o", str(out)]) == 0
+    assert (
+        main(
+            [
+                "compress",
+                str(scn),
+                "--box",
+                "10",
+                "--packing",
+                "0.7",
+                "--rate",
+                "0.3",
+                "--pressure",
+                "200",
+                "-o",
+                str(out),
+            ]
+        )
+        == 0
+    )
     # bad input: one line naming the option, status 1
-    assert main(["compress", str(scn), "--box", "10", "--packing", "0.75", "--rate", "0.02",
-                 "-o", str(out)]) == 1
-    assert main(["compress", str(scn), "--box", "10", "--packing", "0.2", "--rate", "0.02",
-                 "-o", str(out)]) == 1
+    assert (
+        main(["compress", str(scn), "--box", "10", "--packing", "0.75", "--rate", "0.02", "-o", str(out)])
+        == 1
+    )
+    assert (
+        main(["compress", str(scn), "--box", "10", "--packing", "0.2", "--rate", "0.02", "-o", str(out)]) == 1
+    )
 
 
 def test_generate_method_compress(tmp_path, capsys):
     from hardspheres.commands import main
-    assert main(["generate", "--n", "200", "--box", "10", "--packing", "0.5", "--method",
-                 "compress", "--radius-ratio", "1.4", "--seed", "3"]) == 0
+
+    assert (
+        main(
+            [
+                "generate",
+                "--n",
+                "200",
+                "--box",
+                "10",
+                "--packing",
+                "0.5",
+                "--method",
+                "compress",
+                "--radius-ratio",
+                "1.4",
+                "--seed",
+                "3",
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     (tmp_path / "g.txt").write_text(text)
     sim = hs.Simulation.from_scenario(str(tmp_path / "g.txt"), hs.PeriodicBox(10.0))
@@ -326,14 +393,18 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
     import re
     import subprocess
     from pathlib import Path
+
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     start = readme.index("## Dense matter")
-    sec = readme[start:readme.index("\n## ", start + 1)]
+    sec = readme[start : readme.index("\n## ", start + 1)]
     blocks = re.findall(r"```python\n(.*?)```", sec, re.DOTALL)
     assert len(blocks) == 2
     monkeypatch.chdir(tmp_path)
-    jam = blocks[0].replace("1000, 0.3, box=18.0", "200, 0.3, box=10.5").replace(
-        "PeriodicBox(18.0)", "PeriodicBox(10.5)")
+    jam = (
+        blocks[0]
+        .replace("1000, 0.3, box=18.0", "200, 0.3, box=10.5")
+        .replace("PeriodicBox(18.0)", "PeriodicBox(10.5)")
+    )
     exec(compile(jam, "README.md", "exec"), {})
     xtal = blocks[1].replace("2_000_000", "20_000")
     exec(compile(xtal, "README.md", "exec"), {})
@@ -345,6 +416,7 @@ def test_readme_dense_section_runs(tmp_path, monkeypatch):
 
 
 # ---- the engine while growing against a brute-force loop ---------------------------------
+
 
 def _brute_force_growth(m, r0, x, v, container, h, n_events):
     """All pairs and walls each step, everything at one common time (no cells)."""
@@ -359,16 +431,16 @@ def _brute_force_growth(m, r0, x, v, container, h, n_events):
                 best, what = dt, (0, i, -1)
             for j in range(i + 1, n):
                 s0 = r0[i] + r0[j]
-                dt = physics.pair_time_grow(*(x[i] - x[j]), *(v[i] - v[j]), s0 * (1.0 + h * t),
-                                            s0 * h, math.inf)
+                dt = physics.pair_time_grow(
+                    *(x[i] - x[j]), *(v[i] - v[j]), s0 * (1.0 + h * t), s0 * h, math.inf
+                )
                 if dt < best:
                     best, what = dt, (1, i, j)
         x += v * best
         t += best
         kind, i, j = what
         if kind == 1:
-            k1, k2 = physics.collide_grow(m[i], m[j], *(x[i] - x[j]), *(v[i] - v[j]),
-                                          (r0[i] + r0[j]) * h)
+            k1, k2 = physics.collide_grow(m[i], m[j], *(x[i] - x[j]), *(v[i] - v[j]), (r0[i] + r0[j]) * h)
             d = x[i] - x[j]
             v[i] -= k1 * d
             v[j] += k2 * d
@@ -380,17 +452,15 @@ def _brute_force_growth(m, r0, x, v, container, h, n_events):
 
 @pytest.mark.parametrize("seed", [1, 2])
 def test_growing_engine_matches_brute_force(seed):
-    state = hs.random_spheres(16, 0.08, container=5.0, seed=seed, radius_ratio=1.4,
-                              mass_ratio=3.0)
+    state = hs.random_spheres(16, 0.08, container=5.0, seed=seed, radius_ratio=1.4, mass_ratio=3.0)
     h = 0.08
     eng = Engine(state.masses, state.radii, state.positions, state.velocities, container=5.0)
     eng.set_growth(h)
     ev = eng.advance(events=120)
-    ref = _brute_force_growth(state.masses, state.radii, state.positions, state.velocities,
-                              5.0, h, 120)
-    assert len(ev["t"]) == 120
+    ref = _brute_force_growth(state.masses, state.radii, state.positions, state.velocities, 5.0, h, 120)
+    assert len(ev["time"]) == 120
     for k, (t, kind, i, j) in enumerate(ref):
         assert (ev["kind"][k], ev["i"][k], ev["j"][k]) == (kind, i, j), k
-        assert ev["t"][k] == pytest.approx(t, rel=1e-9), k
+        assert ev["time"][k] == pytest.approx(t, rel=1e-9), k
     # the radii grew by 1 + h t
     assert np.allclose(eng.radii_at(), state.radii * (1.0 + h * eng.time), rtol=1e-12)

@@ -64,7 +64,7 @@ class CompressResult(NamedTuple):
 def packing_fraction(radii, container):
     """Fraction of the container's volume the spheres fill."""
     r = np.asarray(radii, dtype=np.float64)
-    return float(4.0 / 3.0 * math.pi * np.sum(r ** 3) / container.volume)
+    return float(4.0 / 3.0 * math.pi * np.sum(r**3) / container.volume)
 
 
 def max_packing(radii):
@@ -83,8 +83,7 @@ def _kT(sim):
     return sim.observables.temperature()
 
 
-def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None,
-             progress=None):
+def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None, progress=None):
     """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`."""
     eng = sim._engine
     if eng.window > 0.0:
@@ -96,8 +95,7 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
     if collisions is not None and int(collisions) <= 0:
         raise CompressionError(f"collisions must be > 0, got {collisions}")
     if packing is None and pressure is None and collisions is None:
-        raise CompressionError("give packing, pressure or collisions: "
-                               "the compression never ends otherwise")
+        raise CompressionError("give packing, pressure or collisions: the compression never ends otherwise")
     n = sim.n
     if n == 0:
         raise CompressionError("compress: no spheres")
@@ -107,16 +105,15 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
         top = max_packing(radii)
         if not (math.isfinite(packing) and 0 < packing < top):
             raise CompressionError(
-                f"packing {packing:g} is not below {top:.4f}, the densest the geometry "
-                "allows" if math.isfinite(packing) and packing >= top
-                else f"packing must be a number in (0, {top:.4f}), got {packing}")
+                f"packing {packing:g} is not below {top:.4f}, the densest the geometry allows"
+                if math.isfinite(packing) and packing >= top
+                else f"packing must be a number in (0, {top:.4f}), got {packing}"
+            )
         if packing <= phi0:
-            raise CompressionError(
-                f"packing {packing:g} is not above the present packing {phi0:.6g}")
+            raise CompressionError(f"packing {packing:g} is not above the present packing {phi0:.6g}")
     kT = _kT(sim)
     if not kT > 0:
-        raise CompressionError("compress: the spheres are at rest (kT = 0); "
-                               "give them velocities")
+        raise CompressionError("compress: the spheres are at rest (kT = 0); give them velocities")
     vth = math.sqrt(kT / float(np.mean(eng.mass)))
     rmax = float(radii.max())
     speed = 0.5 * rate * vth  # dR_max/dt
@@ -173,11 +170,13 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
         sim._clock = max(sim._clock, eng.time)
         sim.observables.reset()
     phi = packing_fraction(eng.rad, sim.container)
-    return CompressResult(phi, float(z), eng.counters["collisions"] - c_start, reason,
-                          reason in ("pressure", "stuck"))
+    return CompressResult(
+        phi, float(z), eng.counters["collisions"] - c_start, reason, reason in ("pressure", "stuck")
+    )
 
 
 # ---- thermostats ----------------------------------------------------------------
+
 
 class Andersen:
     """Andersen thermostat: at random times one sphere gets a Maxwell velocity.
@@ -214,10 +213,17 @@ class Andersen:
 
     def state(self):
         """JSON text of everything needed to resume exactly."""
-        return json.dumps({"kind": "andersen", "kT": self.kT, "rate": self.rate,
-                           "seed": self.seed, "next_time": self.next_time,
-                           "resampled": self.resampled,
-                           "rng": self._rng.bit_generator.state})
+        return json.dumps(
+            {
+                "kind": "andersen",
+                "kT": self.kT,
+                "rate": self.rate,
+                "seed": self.seed,
+                "next_time": self.next_time,
+                "resampled": self.resampled,
+                "rng": self._rng.bit_generator.state,
+            }
+        )
 
 
 class VelocityRescale:
@@ -244,8 +250,9 @@ class VelocityRescale:
         self.next_time = t + self.interval
 
     def state(self):
-        return json.dumps({"kind": "rescale", "kT": self.kT, "interval": self.interval,
-                           "next_time": self.next_time})
+        return json.dumps(
+            {"kind": "rescale", "kT": self.kT, "interval": self.interval, "next_time": self.next_time}
+        )
 
 
 def thermostat_from_state(text):
@@ -263,8 +270,10 @@ def thermostat_from_state(text):
 
 # ---- commands -------------------------------------------------------------------
 
-def generate_compressed(n, packing, container=None, box=None, seed=0, rate=0.01,
-                        radius_ratio=1.0, mass_ratio=1.0, kT=1.0):
+
+def generate_compressed(
+    n, packing, container=None, box=None, seed=0, rate=0.01, radius_ratio=1.0, mass_ratio=1.0, kT=1.0
+):
     """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
 
     The spheres start on random FCC sites at packing ``min(packing, 0.2)``,
@@ -277,14 +286,17 @@ def generate_compressed(n, packing, container=None, box=None, seed=0, rate=0.01,
     from .builders import random_spheres
     from .containers import SphericalContainer
     from .simulation import Simulation
+
     start = min(packing * 0.9, 0.2)
     if box is not None:
-        state = random_spheres(n, start, box=box, seed=seed, radius_ratio=radius_ratio,
-                               mass_ratio=mass_ratio, kT=kT)
+        state = random_spheres(
+            n, start, box=box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
+        )
         sim = Simulation(state, PeriodicBox(box))
     else:
-        state = random_spheres(n, start, container=container, seed=seed,
-                               radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT)
+        state = random_spheres(
+            n, start, container=container, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
+        )
         sim = Simulation(state, SphericalContainer(container))
     names = list(state.names)
     if n > 1:
@@ -294,7 +306,8 @@ def generate_compressed(n, packing, container=None, box=None, seed=0, rate=0.01,
         if res.reason != "packing":
             raise CompressionError(
                 f"--packing {packing:g}: the spheres jammed at {res.packing:.4f} "
-                f"(Z = {res.pressure:.3g}); lower --packing or --rate")
+                f"(Z = {res.pressure:.3g}); lower --packing or --rate"
+            )
     out = sim.state()
     out.names = names
     return out
@@ -305,6 +318,7 @@ def compress_command(args):
     import sys
 
     from .runner import Progress, _simulation
+
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
     sim = _simulation(args)
@@ -313,11 +327,11 @@ def compress_command(args):
     if target is not None:
         top = max_packing(sim._engine.radii_at())
         if target >= top:
-            raise CompressionError(f"--packing {target:g} is not below {top:.4f}, "
-                                   "the densest the geometry allows")
+            raise CompressionError(
+                f"--packing {target:g} is not below {top:.4f}, the densest the geometry allows"
+            )
         if target <= phi0:
-            raise CompressionError(f"--packing {target:g} is not above the scenario's "
-                                   f"packing {phi0:.6g}")
+            raise CompressionError(f"--packing {target:g} is not above the scenario's packing {phi0:.6g}")
     progress = Progress(1.0)
 
     def show(phi, z, coll):
@@ -325,20 +339,27 @@ def compress_command(args):
         progress.update(done, f"packing {phi:.5f}  Z {z:.4g}  collisions {coll}")
 
     try:
-        res = compress(sim, packing=target, rate=args.rate, pressure=args.pressure,
-                       collisions=None if args.collisions is None else int(args.collisions),
-                       progress=show)
+        res = compress(
+            sim,
+            packing=target,
+            rate=args.rate,
+            pressure=args.pressure,
+            collisions=None if args.collisions is None else int(args.collisions),
+            progress=show,
+        )
     finally:
         progress.close()
     text = sim.state().to_text()
     from .fileio import atomic_write
+
     with atomic_write(args.output, "w") as fh:
         fh.write(text)
     if args.checkpoint:
         sim.save(args.checkpoint)
     if res.jammed:
-        what = (f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed "
-                f"--pressure {args.pressure:g}")
+        what = (
+            f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed --pressure {args.pressure:g}"
+        )
     elif res.reason == "collisions":
         what = f"stopped after {res.collisions} collisions at packing {res.packing:.6f}"
     else:
@@ -348,6 +369,7 @@ def compress_command(args):
 
 
 # ---- crystal order ---------------------------------------------------------------
+
 
 class CrystalOrder(NamedTuple):
     """Bond-orientational order of the spheres now (see :func:`crystal_order`).
@@ -375,11 +397,13 @@ def crystal_order(sim):
     crystallisation.  Needs the ``freud-analysis`` package.
     """
     import freud
+
     state = sim.state()
     pts = np.ascontiguousarray(state.positions, dtype=np.float32)
     # a spherical container sits in a box wide enough that no sphere sees an image
-    box = freud.box.Box.cube(sim.container.size if sim.container.periodic
-                             else 4.0 * sim.container.bounding_radius)
+    box = freud.box.Box.cube(
+        sim.container.size if sim.container.periodic else 4.0 * sim.container.bounding_radius
+    )
     nb = {"num_neighbors": 12}
     st = freud.order.Steinhardt(6)
     st.compute((box, pts), neighbors=nb)
