@@ -376,4 +376,4 @@ def test_checkpoint_from_before_the_new_counters_resumes():
     old = dict(data, c=data["c"][:6].copy(), f=data["f"][:9].copy())
     a, b = Engine.restore(data), Engine.restore(old)
     ea, eb = a.advance(events=200), b.advance(events=200)
-    assert all(np.array_equal(ea[k], eb[k]) for k in ea)
+    assert all(np.array_equal(ea[k], eb[k]) for k in ea.dtype.names)
