@@ -26,13 +26,94 @@ class BuildError(ValueError):
     """The requested scenario cannot be built; the message says what to change."""
 
 
-def _fcc(k, a):
-    """FCC sites of ``k^3`` cubic cells of edge ``a``, centred on the origin."""
-    base = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
-    g = np.arange(k)
-    cells = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 1, 3)
-    sites = (cells + base).reshape(-1, 3) * a
-    return sites - 0.5 * k * a + 0.25 * a
+#: The lattice holds about this many sites per sphere when the container has
+#: room for more (a random subset of them is filled): enough vacancies for the
+#: lattice to melt at once, and memory in proportion to N, not to the container.
+SITES_PER_SPHERE = 2
+
+#: Sites of the enclosing cube's lattice made per slab (bounds the memory of the filter).
+_SLAB_SITES = 1 << 20
+
+# the four sites of an FCC cell of edge 1, in the order the lattice lists them
+_BASE = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+
+
+def _fcc(k, a, index=None):
+    """FCC sites of ``k^3`` cubic cells of edge ``a``, centred on the origin.
+
+    Site ``4 c + b`` is corner ``b`` of :data:`_BASE` in cell ``c`` (cells in
+    x-major order); ``index`` picks some of the ``4 k^3`` sites (all if
+    ``None``), so that only the sites used are ever made.
+    """
+    if index is None:
+        index = np.arange(4 * k ** 3)
+    cell, corner = np.divmod(np.asarray(index, dtype=np.int64), 4)
+    cx, rest = np.divmod(cell, k * k)
+    cy, cz = np.divmod(rest, k)
+    sites = np.stack((cx, cy, cz), axis=-1).astype(np.float64)
+    del cell, cx, cy, cz, rest
+    sites += _BASE[corner]
+    sites *= a  # in place, the same operations as sites * a - 0.5 k a + 0.25 a
+    sites -= 0.5 * k * a
+    sites += 0.25 * a
+    return sites
+
+
+def _whole_cells(sites):
+    """Fewest cubic FCC cells per edge, ``k``, whose ``4 k^3`` sites number at least ``sites``."""
+    k = max(1, int(np.ceil((sites / 4.0) ** (1.0 / 3.0))))
+    while 4 * k ** 3 < sites:
+        k += 1
+    while k > 1 and 4 * (k - 1) ** 3 >= sites:
+        k -= 1
+    return k
+
+
+def _box_lattice(n, side, a_min):
+    """``(k, edge)``: cells per edge of the periodic box's lattice and their edge.
+
+    As few cells as hold :data:`SITES_PER_SPHERE` sites per sphere, but no
+    more than fit at the contact spacing ``a_min`` (whole cells tile the box,
+    so the lattice continues across it).
+    """
+    k_max = int(np.floor(side / a_min))
+    k = min(k_max, _whole_cells(SITES_PER_SPHERE * n))
+    return k, (side / k if k >= 1 else 0.0)
+
+
+def _ball_sites(k, a, where, rmax):
+    """The sites of :func:`_fcc` ``(k, a)`` where a sphere of radius ``rmax`` is inside ``where``.
+
+    Made slab by slab of cells, so that memory goes with the sites kept.
+    """
+    per_slab = 4 * k * k
+    step = max(1, _SLAB_SITES // per_slab) * per_slab
+    kept = []
+    for start in range(0, 4 * k ** 3, step):
+        sites = _fcc(k, a, np.arange(start, min(start + step, 4 * k ** 3)))
+        kept.append(sites[~where.outside(sites, np.full(len(sites), rmax), tol=-1e-12)])
+    return np.concatenate(kept) if kept else np.zeros((0, 3))
+
+
+def _sphere_lattice(n, where, rmax, a_min):
+    """Sites for ``n`` spheres of largest radius ``rmax`` in a spherical container.
+
+    The spacing starts where the ball of reachable centres holds about
+    :data:`SITES_PER_SPHERE` sites per sphere (never below ``a_min``, the
+    contact spacing) and shrinks until at least ``n`` sites fit, down to
+    ``a_min``; returns the sites of the last try.
+    """
+    reach = where.half_width - rmax
+    a = a_min
+    if n and reach > 0.0:
+        # 4 sites per a^3 in the ball of radius reach
+        a = max(a_min, (16.0 * np.pi * reach ** 3 / (3.0 * SITES_PER_SPHERE * n)) ** (1.0 / 3.0))
+    while True:
+        k = int(np.ceil(2.0 * where.half_width / a)) + 1 if n else 1
+        sites = _ball_sites(k, a, where, rmax)
+        if len(sites) >= n or a <= a_min:
+            return sites
+        a = max(a_min, a * (len(sites) / (1.1 * n)) ** (1.0 / 3.0) if len(sites) else a_min)
 
 
 def _insert(rng, radii, container, sweeps=20000):
@@ -115,10 +196,36 @@ def random_spheres(n: int, packing: float, container: Container | float | None =
         >>> s.n, round(float((s.radii ** 3).sum() / 10.0 ** 3), 6)
         (100, 0.3)
     """
+    masses, radii, positions, velocities = random_arrays(
+        n, packing, container, box, seed=seed, radius_ratio=radius_ratio,
+        mass_ratio=mass_ratio, kT=kT)
+    return State.from_arrays(masses, radii, positions, velocities)
+
+
+def random_arrays(n: int, packing: float, container: Container | float | None = None,
+                  box: float | None = None, seed: int | None = 0, radius_ratio: float = 1.0,
+                  mass_ratio: float = 1.0, kT: float = 1.0
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`random_spheres` as bare arrays, without names or a :class:`State`.
+
+    For millions of spheres (the benchmark): no Python object per sphere, and
+    memory in proportion to N (about 130 bytes per sphere at the peak, the
+    lattice included).  Same arguments, same spheres for the same seed.
+
+    Returns:
+        ``(masses, radii, positions, velocities)``: ``(N,)`` [mass], ``(N,)``
+        [length], ``(N, 3)`` [length], ``(N, 3)`` [length/time].
+
+    Example:
+        >>> m, r, x, v = random_arrays(100, 0.3, 10.0, seed=1)
+        >>> x.shape, bool((r == r[0]).all())
+        ((100, 3), True)
+    """
     if (container is None) == (box is None):
         raise BuildError("give exactly one of container and box")
     if not (isinstance(n, (int, np.integer)) and n >= 0):
         raise BuildError(f"n must be a whole number >= 0, got {n!r}")
+    n = int(n)
     try:
         where = as_container(container, box)
     except ValueError as e:
@@ -133,38 +240,39 @@ def random_spheres(n: int, packing: float, container: Container | float | None =
     rel = _radii(rng, n, radius_ratio)
     scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel ** 3))) ** (1.0 / 3.0)
     radii = rel * scale
-    rmax = radii.max() if n else 0.0
-    # lattice constant: nearest sites (a / sqrt 2) one largest diameter apart
-    a = 2.0 * np.sqrt(2.0) * rmax * (1.0 + 1e-9)
-    if where.periodic:
-        # whole cells that tile the box, so the lattice continues across it
-        side = 2.0 * where.half_width
-        k = int(np.floor(side / a))
-        sites = _fcc(k, side / k) if k >= 1 else np.zeros((0, 3))
-    else:
-        # a lattice over the enclosing cube, less the sites whose sphere pokes out
-        k = int(np.ceil(2.0 * where.half_width / a)) + 1 if n else 1
-        sites = _fcc(k, a)
-        sites = sites[~where.outside(sites, np.full(len(sites), rmax), tol=-1e-12)]
+    rmax = float(radii.max()) if n else 0.0
     if where.periodic and n and 6.0 * rmax > 2.0 * where.half_width:
         raise BuildError(f"a periodic box must be at least three largest diameters wide "
                          f"({6.0 * rmax:.3g}), not {2.0 * where.half_width:g}: lower the "
                          "packing or raise N")
+    # contact spacing: nearest sites (a / sqrt 2) one largest diameter apart
+    a_min = 2.0 * np.sqrt(2.0) * rmax * (1.0 + 1e-9)
+    sites, k, edge = None, 0, 0.0
+    if n == 0:
+        sites = np.zeros((0, 3))
+        count = 0
+    elif where.periodic:
+        k, edge = _box_lattice(n, 2.0 * where.half_width, a_min)
+        count = 4 * k ** 3 if k >= 1 else 0
+    else:
+        sites = _sphere_lattice(n, where, rmax, a_min)
+        count = len(sites)
     positions = None
-    if len(sites) < n and n <= INSERTION_MAX:
+    if count < n and n <= INSERTION_MAX:
         positions = _insert(rng, radii, where)
-    if positions is None and len(sites) < n:
-        hint = (f" (about {packing * len(sites) / n:.3g} fits)" if len(sites) else "")
+    if positions is None and count < n:
+        hint = (f" (about {packing * count / n:.3g} fits)" if count else "")
         raise BuildError(
-            f"only {len(sites)} lattice sites fit for {n} spheres at packing {packing}"
+            f"only {count} lattice sites fit for {n} spheres at packing {packing}"
             + (" and random placement found no room" if n <= INSERTION_MAX else "")
             + f"; lower the packing{hint} or the radius ratio, or raise N")
     if positions is None:
-        chosen = rng.choice(len(sites), size=n, replace=False) if n else np.zeros(0, int)
-        positions = sites[np.sort(chosen)]
+        chosen = np.sort(rng.choice(count, size=n, replace=False)) if n else np.zeros(0, int)
+        positions = _fcc(k, edge, chosen) if sites is None else sites[chosen]
+        del sites
     if mass_ratio == 1.0:
         masses = np.ones(n)
     else:
         masses = np.exp(rng.uniform(0.0, np.log(mass_ratio), n))
     velocities = maxwell_boltzmann(rng, masses, kT)
-    return State.from_arrays(masses, radii, positions, velocities)
+    return masses, radii, positions, velocities
