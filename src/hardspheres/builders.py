@@ -26,10 +26,24 @@ class BuildError(ValueError):
     """The requested scenario cannot be built; the message says what to change."""
 
 
-#: The lattice holds about this many sites per sphere when the container has
-#: room for more (a random subset of them is filled): enough vacancies for the
-#: lattice to melt at once, and memory in proportion to N, not to the container.
+#: The lattice holds at most this many sites per sphere (a random subset of
+#: them is filled): memory in proportion to N, not to the container.
 SITES_PER_SPHERE = 2
+
+
+def _target_sites(n, most):
+    """Sites to aim for when ``most`` fit at the contact spacing (``most >= n``).
+
+    :data:`SITES_PER_SPHERE` per sphere where the container has room, else
+    the geometric mean of ``n`` and ``most``: both a gap between neighbours
+    (the spacing above contact by ``(most / n)^(1/6)``) and vacancies (a
+    fraction ``1 - (n / most)^(1/2)``), so the lattice melts within a few
+    collisions per sphere.  At the contact spacing itself, neighbours touch
+    to within rounding and rattle at collision rates 10^7 times the fluid's
+    without moving (measured: benchmarks/README.md, "A fluid to time").
+    """
+    return min(SITES_PER_SPHERE * n, np.sqrt(float(n) * max(most, n)))
+
 
 #: Sites of the enclosing cube's lattice made per slab (bounds the memory of the filter).
 _SLAB_SITES = 1 << 20
@@ -72,12 +86,12 @@ def _whole_cells(sites):
 def _box_lattice(n, side, a_min):
     """``(k, edge)``: cells per edge of the periodic box's lattice and their edge.
 
-    As few cells as hold :data:`SITES_PER_SPHERE` sites per sphere, but no
-    more than fit at the contact spacing ``a_min`` (whole cells tile the box,
-    so the lattice continues across it).
+    As few cells as hold :func:`_target_sites`, but no more than fit at the
+    contact spacing ``a_min`` (whole cells tile the box, so the lattice
+    continues across it).
     """
     k_max = int(np.floor(side / a_min))
-    k = min(k_max, _whole_cells(SITES_PER_SPHERE * n))
+    k = min(k_max, _whole_cells(_target_sites(n, 4 * k_max ** 3)))
     return k, (side / k if k >= 1 else 0.0)
 
 
@@ -99,15 +113,15 @@ def _sphere_lattice(n, where, rmax, a_min):
     """Sites for ``n`` spheres of largest radius ``rmax`` in a spherical container.
 
     The spacing starts where the ball of reachable centres holds about
-    :data:`SITES_PER_SPHERE` sites per sphere (never below ``a_min``, the
-    contact spacing) and shrinks until at least ``n`` sites fit, down to
-    ``a_min``; returns the sites of the last try.
+    :func:`_target_sites` (never below ``a_min``, the contact spacing) and
+    shrinks until at least ``n`` sites fit, down to ``a_min``; returns the
+    sites of the last try.
     """
     reach = where.half_width - rmax
     a = a_min
     if n and reach > 0.0:
-        # 4 sites per a^3 in the ball of radius reach
-        a = max(a_min, (16.0 * np.pi * reach ** 3 / (3.0 * SITES_PER_SPHERE * n)) ** (1.0 / 3.0))
+        ball = 16.0 * np.pi * reach ** 3 / 3.0  # 4 sites per a^3 in the ball of radius reach
+        a = max(a_min, (ball / _target_sites(n, ball / a_min ** 3)) ** (1.0 / 3.0))
     while True:
         k = int(np.ceil(2.0 * where.half_width / a)) + 1 if n else 1
         sites = _ball_sites(k, a, where, rmax)
