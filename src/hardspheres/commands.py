@@ -78,6 +78,18 @@ def _packing(text):
     return x
 
 
+def _warmup(text):
+    """``auto`` or collisions per sphere (a finite number >= 0)."""
+    import math
+    if text.strip().lower() == "auto":
+        return None
+    x = _number(text)
+    if not math.isfinite(x) or x < 0.0:
+        raise argparse.ArgumentTypeError(
+            f"must be 'auto' or collisions per sphere >= 0, got {quote(text)}")
+    return x
+
+
 def _packings(text):
     """Comma-separated packing fractions, every one checked before any is run."""
     values = []
@@ -164,7 +176,8 @@ def cmd_bench(args):
     from .bench import main
     _compile_first()
     main(args.n, args.packing, args.collisions, seed=args.seed,
-         radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio, box=args.box)
+         radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio, box=args.box,
+         warmup=args.warmup)
     return 0
 
 
@@ -400,12 +413,17 @@ def build_parser():
     b.add_argument("--n", type=_whole(2), required=True, help="number of spheres (>= 2)")
     b.add_argument("--packing", type=_packing, required=True)
     b.add_argument("--collisions", type=_whole(1), required=True,
-                   help="collisions timed (after N warm-up collisions; 2e6 is fine)")
+                   help="collisions timed, after the warm-up (2e6 is fine)")
     b.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     b.add_argument("--radius-ratio", type=_ratio, default=1.0)
     b.add_argument("--mass-ratio", type=_ratio, default=1.0)
     b.add_argument("--box", action="store_true",
                    help="periodic box instead of the spherical container")
+    b.add_argument("--warmup", type=_warmup, default=None, metavar="auto|PER_SPHERE",
+                   help="collisions per sphere run before the clock starts; 'auto' "
+                   "(default): in blocks of 2 per sphere (and 1e5 at least) until the "
+                   "collision and cell-crossing rates settle to 1%% or their noise, "
+                   "at most 100 per sphere")
     b.set_defaults(func=cmd_bench)
 
     r = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
