@@ -17,6 +17,7 @@ import pytest
 #: Test level by module; a module not listed is ``integration``.
 LEVELS = {
     "test_analytic": "unit",
+    "test_builders": "unit",
     "test_containers": "unit",
     "test_events": "unit",
     "test_writers": "integration",

@@ -46,8 +46,11 @@ SETTLE_SIGMAS = 3.0
 #: Settled only after this many agreeing pairs of blocks in a row.
 SETTLE_PAIRS = 2
 
-#: The warm-up gives up (``settled`` false) after this many collisions per sphere.
+#: The warm-up gives up (``settled`` false) after this many collisions per sphere ...
 WARMUP_MAX = 100.0
+
+#: ... or this many blocks, whichever is more (small systems).
+WARMUP_MAX_BLOCKS = 10
 
 
 def peak_rss_mb():
@@ -76,8 +79,11 @@ def _rates(eng, c0, t0, n):
     c1, dt = eng.counters, eng.time - t0
     if dt <= 0.0:
         return math.inf, math.inf, c1
-    return (2.0 * (c1["collisions"] - c0["collisions"]) / (n * dt),
-            (c1["crossings"] - c0["crossings"]) / (n * dt), c1)
+    return (
+        float(2.0 * (c1["collisions"] - c0["collisions"]) / (n * dt)),
+        float((c1["crossings"] - c0["crossings"]) / (n * dt)),
+        c1,
+    )
 
 
 def settled(prev, last, counts):
@@ -104,22 +110,25 @@ def settled(prev, last, counts):
 
 
 def warm_up(eng, per_sphere=None):
-    """Run ``eng`` into a fluid; returns the blocks ``[(per sphere so far, coll rate, cross rate)]``.
+    """Run ``eng`` into a fluid, in blocks; say how each block's rates came out.
 
     Args:
         eng: the :class:`~hardspheres.engine.Engine`, fresh from the lattice.
         per_sphere: collisions per sphere to run (in blocks, as the
             criterion's), or ``None``: until :func:`settled` holds for
             :data:`SETTLE_PAIRS` pairs of consecutive blocks in a row, at most
-            :data:`WARMUP_MAX` per sphere.
+            :data:`WARMUP_MAX` per sphere or :data:`WARMUP_MAX_BLOCKS` blocks.
 
     Returns:
-        ``(blocks, settled)``.
+        ``(blocks, settled)``: ``blocks`` a list of ``(collisions per sphere
+        so far, collision rate, crossing rate)``, rates per sphere per unit
+        time over each block; ``settled`` whether the criterion held (also
+        when told ``per_sphere``, for the record).
     """
     n = eng.n
     block = max(int(BLOCK_PER_SPHERE * n), BLOCK_MIN)
     total = None if per_sphere is None else int(round(per_sphere * n))
-    limit = int(WARMUP_MAX * n) if total is None else total
+    limit = max(int(WARMUP_MAX * n), WARMUP_MAX_BLOCKS * block) if total is None else total
     blocks, done, agree, ok = [], 0, 0, False
     c0, t0 = eng.counters, eng.time
     while done < limit:
@@ -138,8 +147,7 @@ def warm_up(eng, per_sphere=None):
     return blocks, ok
 
 
-def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=False,
-          warmup=None):
+def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=False, warmup=None):
     """Generate ``n`` spheres, warm them up into a fluid, time ``collisions`` more.
 
     The container (or box) is sized so that the largest sphere has radius
@@ -163,8 +171,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
         where = PeriodicBox(edge)
     else:
         where = SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
-    arrays = random_arrays(n, packing, where, seed=seed, radius_ratio=radius_ratio,
-                           mass_ratio=mass_ratio)
+    arrays = random_arrays(n, packing, where, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio)
     generate = time.perf_counter() - t0
     eng = Engine(*arrays, container=where)
     del arrays  # the engine holds its own copies (the masses are shared)
@@ -185,22 +192,35 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
     coll = c1["collisions"] - c0["collisions"]
     last = blocks[-1] if blocks else (0.0, math.nan, math.nan)
     return {
-        "n": n, "packing": packing, "radius_ratio": radius_ratio,
+        "n": n,
+        "packing": packing,
+        "radius_ratio": radius_ratio,
         "container": "box" if box else "sphere",
-        "collisions": coll, "reflections": c1["reflections"] - c0["reflections"],
-        "crossings": c1["crossings"] - c0["crossings"], "stale": c1["stale"] - c0["stale"],
-        "events": events, "seconds": seconds, "cpu_seconds": cpu,
+        "collisions": coll,
+        "reflections": c1["reflections"] - c0["reflections"],
+        "crossings": c1["crossings"] - c0["crossings"],
+        "stale": c1["stale"] - c0["stale"],
+        "events": events,
+        "seconds": seconds,
+        "cpu_seconds": cpu,
         "collisions_per_s": coll / seconds if seconds > 0 else float("inf"),
         "events_per_s": events / seconds if seconds > 0 else float("inf"),
-        "generate_s": generate, "setup_s": setup, "setup_peak_rss_mb": setup_rss,
-        "warmup_s": warm, "warmup_per_sphere": last[0], "settled": ok,
-        "warmup_collision_rate": last[1], "warmup_crossing_rate": last[2],
-        "collision_rate": coll_rate, "crossing_rate": cross_rate,
+        "generate_s": generate,
+        "setup_s": setup,
+        "setup_peak_rss_mb": setup_rss,
+        "warmup_s": warm,
+        "warmup_per_sphere": last[0],
+        "settled": ok,
+        "warmup_collision_rate": last[1],
+        "warmup_crossing_rate": last[2],
+        "collision_rate": coll_rate,
+        "crossing_rate": cross_rate,
         "enskog_collision_rate": enskog_rate(packing) if radius_ratio == 1.0 else None,
         "warmup_blocks": [[round(w, 3), round(a, 5), round(b, 5)] for w, a, b in blocks],
         "peak_rss_mb": peak_rss_mb(),
         "energy_rel_drift": abs(eng.kinetic_energy() - e0) / e0 if e0 > 0 else 0.0,
-        "max_overlap": eng.max_overlap(), "outside": eng.outside(),
+        "max_overlap": eng.max_overlap(),
+        "outside": eng.outside(),
     }
 
 
@@ -208,15 +228,21 @@ def main(n, packing, collisions, **kw):
     """Print the figures, the JSON object last."""
     res = bench(n, packing, collisions, **kw)
     ens = res["enskog_collision_rate"]
-    print(f"N={n} packing={packing}: setup {res['setup_s']:.1f} s (generation "
-          f"{res['generate_s']:.1f} s), peak {res['setup_peak_rss_mb']:.0f} MB after setup")
-    print(f"warm-up: {res['warmup_per_sphere']:g} collisions per sphere in {res['warmup_s']:.1f} s, "
-          f"{'settled' if res['settled'] else 'NOT settled'}; per sphere per unit time, "
-          f"collisions {res['warmup_collision_rate']:.4g} "
-          + (f"(Enskog-CS {ens:.4g}) " if ens else "")
-          + f"and cell crossings {res['warmup_crossing_rate']:.4g} over its last block; "
-          f"{res['collision_rate']:.4g} and {res['crossing_rate']:.4g} while timed")
-    print(f"timed: {res['collisions_per_s'] / 1e6:.3f} M collisions/s, "
-          f"{res['events_per_s'] / 1e6:.3f} M events/s, peak {res['peak_rss_mb']:.0f} MB")
+    print(
+        f"N={n} packing={packing}: setup {res['setup_s']:.1f} s (generation "
+        f"{res['generate_s']:.1f} s), peak {res['setup_peak_rss_mb']:.0f} MB after setup"
+    )
+    print(
+        f"warm-up: {res['warmup_per_sphere']:g} collisions per sphere in {res['warmup_s']:.1f} s, "
+        f"{'settled' if res['settled'] else 'NOT settled'}; per sphere per unit time, "
+        f"collisions {res['warmup_collision_rate']:.4g} "
+        + (f"(Enskog-CS {ens:.4g}) " if ens else "")
+        + f"and cell crossings {res['warmup_crossing_rate']:.4g} over its last block; "
+        f"{res['collision_rate']:.4g} and {res['crossing_rate']:.4g} while timed"
+    )
+    print(
+        f"timed: {res['collisions_per_s'] / 1e6:.3f} M collisions/s, "
+        f"{res['events_per_s'] / 1e6:.3f} M events/s, peak {res['peak_rss_mb']:.0f} MB"
+    )
     print(json.dumps(res))
     return res

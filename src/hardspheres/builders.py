@@ -127,7 +127,10 @@ def _sphere_lattice(n, where, rmax, a_min):
         sites = _ball_sites(k, a, where, rmax)
         if len(sites) >= n or a <= a_min:
             return sites
-        a = max(a_min, a * (len(sites) / (1.1 * n)) ** (1.0 / 3.0) if len(sites) else a_min)
+        # as many more sites as lacked, and a tenth more (half the spacing if none fit):
+        # the lattice never grows past a few sites per sphere before it holds N
+        shrink = (len(sites) / (1.1 * n)) ** (1.0 / 3.0) if len(sites) else 0.5
+        a = max(a_min, a * shrink)
 
 
 def _insert(rng, radii, container, sweeps=20000):

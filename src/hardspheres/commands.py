@@ -423,7 +423,7 @@ def build_parser():
                    help="collisions per sphere run before the clock starts; 'auto' "
                    "(default): in blocks of 2 per sphere (and 1e5 at least) until the "
                    "collision and cell-crossing rates settle to 1%% or their noise, "
-                   "at most 100 per sphere")
+                   "at most 100 per sphere (or 10 blocks)")
     b.set_defaults(func=cmd_bench)
 
     r = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")

@@ -1,0 +1,148 @@
+"""The scenario builder: N exact, no overlaps, inside the container, seeds reproducible.
+
+Overlaps are checked independently of the engine, with scipy's k-d tree
+(periodic ``boxsize`` for the box), pair by pair against the radii's sums.
+"""
+
+import tracemalloc
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.spatial import cKDTree
+
+import hardspheres as hs
+from hardspheres import builders
+from hardspheres.builders import BuildError, random_arrays
+
+
+def _where(n, packing, box, radius_ratio=1.0):
+    """A container whose largest spheres have a radius of about 0.5 (as the benchmark's)."""
+    scale = (1.0 + radius_ratio**3) / 2.0 if radius_ratio != 1.0 else 1.0
+    volume = n * scale * (np.pi / 6.0) / packing
+    if box:
+        return hs.PeriodicBox(volume ** (1.0 / 3.0))
+    return hs.SphericalContainer((volume * 3.0 / (4.0 * np.pi)) ** (1.0 / 3.0))
+
+
+def overlapping_pairs(positions, radii, where):
+    """Pairs closer than the sum of their radii, less a relative 1e-12."""
+    x = np.asarray(positions, dtype=float)
+    if where.periodic:
+        L = where.length
+        x = np.mod(x + 0.5 * L, L)
+        x[x >= L] -= L  # mod can round up to L
+        tree = cKDTree(x, boxsize=L)
+    else:
+        tree = cKDTree(x)
+    pairs = tree.query_pairs(2.0 * radii.max(), output_type="ndarray")
+    if len(pairs) == 0:
+        return pairs
+    d = where.displacement(x[pairs[:, 0]], x[pairs[:, 1]])
+    dist = np.linalg.norm(d, axis=1)
+    contact = radii[pairs[:, 0]] + radii[pairs[:, 1]]
+    return pairs[dist < contact * (1.0 - 1e-12)]
+
+
+def check_valid(n, packing, where, m, r, x, v, radius_ratio=1.0):
+    assert m.shape == (n,) and r.shape == (n,) and x.shape == (n, 3) and v.shape == (n, 3)
+    assert not where.outside(x, r, tol=0.0).any()
+    assert len(overlapping_pairs(x, r, where)) == 0
+    assert np.sum(4.0 / 3.0 * np.pi * r**3) / where.volume == pytest.approx(packing, rel=1e-12)
+    assert r.max() / r.min() <= radius_ratio * (1.0 + 1e-12)
+    assert np.abs(m @ v).max() <= 1e-9 * np.sqrt(n)  # zero total momentum
+
+
+@pytest.mark.parametrize("box", [False, True], ids=["sphere", "box"])
+@pytest.mark.parametrize("packing", [0.1, 0.3, 0.45, 0.55])
+def test_large_systems_are_valid(packing, box):
+    n = 60_000
+    where = _where(n, packing, box)
+    check_valid(n, packing, where, *random_arrays(n, packing, where, seed=11))
+
+
+@pytest.mark.parametrize("ratio", [1.4, 10.0])
+def test_mixtures_are_valid(ratio):
+    n, packing = 20_000, 0.15
+    for box in (False, True):
+        where = _where(n, packing, box, ratio)
+        check_valid(
+            n,
+            packing,
+            where,
+            *random_arrays(n, packing, where, seed=2, radius_ratio=ratio),
+            radius_ratio=ratio,
+        )
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    n=st.integers(1, 3000),
+    packing=st.floats(1e-6, 0.3),
+    box=st.booleans(),
+    ratio=st.sampled_from([1.0, 1.4]),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_any_request_is_valid_or_refused_in_one_line(n, packing, box, ratio, seed):
+    where = _where(n, packing, box, ratio)
+    try:
+        out = random_arrays(n, packing, where, seed=seed, radius_ratio=ratio)
+    except BuildError as e:
+        assert "\n" not in str(e) and str(e)
+        return
+    check_valid(n, packing, where, *out, radius_ratio=ratio)
+
+
+@pytest.mark.parametrize("box", [False, True], ids=["sphere", "box"])
+def test_seeds_reproduce(box):
+    where = _where(5000, 0.3, box)
+    a = random_arrays(5000, 0.3, where, seed=7, radius_ratio=1.4, mass_ratio=3.0)
+    b = random_arrays(5000, 0.3, where, seed=7, radius_ratio=1.4, mass_ratio=3.0)
+    c = random_arrays(5000, 0.3, where, seed=8, radius_ratio=1.4, mass_ratio=3.0)
+    assert all(np.array_equal(p, q) for p, q in zip(a, b))
+    assert not np.array_equal(a[2], c[2])
+    state = hs.random_spheres(5000, 0.3, where, seed=7, radius_ratio=1.4, mass_ratio=3.0)
+    assert all(
+        np.array_equal(p, q)
+        for p, q in zip(a, (state.masses, state.radii, state.positions, state.velocities))
+    )
+
+
+@pytest.mark.parametrize("box", [False, True], ids=["sphere", "box"])
+def test_dense_lattices_leave_a_gap_between_neighbours(box):
+    """Spheres placed at the contact spacing rattle for ever without moving (issue 14)."""
+    n, packing = 20_000, 0.45
+    where = _where(n, packing, box)
+    _, r, x, _ = random_arrays(n, packing, where, seed=3)
+    tree = cKDTree(np.mod(x + 0.5 * where.length, where.length), boxsize=where.length) if box else cKDTree(x)
+    d, _ = tree.query(np.mod(x + 0.5 * where.length, where.length) if box else x, k=2)
+    assert d[:, 1].min() > 2.0 * r[0] * 1.02
+
+
+@pytest.mark.parametrize("kw", [{"box": 10.0}, {"container": 10.0}], ids=["box", "sphere"])
+@pytest.mark.parametrize("n", [1, 2, 50, 2000])
+def test_lattice_is_sized_by_n_not_by_the_container(n, kw):
+    """random_spheres(50, 1e-7, box=10) once built 3.7e8 lattice sites (9 GB)."""
+    tracemalloc.start()
+    try:
+        state = hs.random_spheres(n, 1e-7, seed=1, **kw)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert state.n == n
+    assert peak < 2e6 + 2000 * n  # bytes: a few lattice sites per sphere at most
+
+
+def test_box_lattice_holds_at_most_a_few_sites_per_sphere():
+    for n in (1, 7, 50, 999, 10**6):
+        k, edge = builders._box_lattice(n, 10.0, 1e-6)
+        assert n <= 4 * k**3 <= 2 * builders.SITES_PER_SPHERE * n + 32
+        assert edge * k == pytest.approx(10.0)
+
+
+def test_impossible_packing_is_refused_in_one_line():
+    where = _where(5000, 0.7, True)
+    with pytest.raises(BuildError) as e:
+        random_arrays(5000, 0.7, where, seed=1)
+    assert "\n" not in str(e.value) and "lower the packing" in str(e.value)
