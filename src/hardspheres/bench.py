@@ -166,6 +166,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
         timed window, and ``warmup_blocks``.
     """
     t0 = time.perf_counter()
+    cpu0 = time.process_time()
     if box:
         edge = (n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0)
         where = PeriodicBox(edge)
@@ -176,6 +177,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
     eng = Engine(*arrays, container=where)
     del arrays  # the engine holds its own copies (the masses are shared)
     setup = time.perf_counter() - t0
+    setup_cpu = time.process_time() - cpu0
     setup_rss = peak_rss_mb()
     e0 = eng.kinetic_energy()
     t1 = time.perf_counter()
@@ -190,7 +192,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
     coll_rate, cross_rate, c1 = _rates(eng, c0, sim_t0, n)
     events = sum(c1[k] - c0[k] for k in ("collisions", "reflections", "crossings", "stale"))
     coll = c1["collisions"] - c0["collisions"]
-    last = blocks[-1] if blocks else (0.0, math.nan, math.nan)
+    last = blocks[-1] if blocks else (0.0, None, None)  # JSON has no NaN
     return {
         "n": n,
         "packing": packing,
@@ -207,6 +209,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
         "events_per_s": events / seconds if seconds > 0 else float("inf"),
         "generate_s": generate,
         "setup_s": setup,
+        "setup_cpu_s": setup_cpu,
         "setup_peak_rss_mb": setup_rss,
         "warmup_s": warm,
         "warmup_per_sphere": last[0],
@@ -230,15 +233,23 @@ def main(n, packing, collisions, **kw):
     ens = res["enskog_collision_rate"]
     print(
         f"N={n} packing={packing}: setup {res['setup_s']:.1f} s (generation "
-        f"{res['generate_s']:.1f} s), peak {res['setup_peak_rss_mb']:.0f} MB after setup"
+        f"{res['generate_s']:.1f} s; CPU {res['setup_cpu_s']:.1f} s), peak "
+        f"{res['setup_peak_rss_mb']:.0f} MB after setup"
     )
+    enskog = f" (Enskog-CS {ens:.4g})" if ens else ""
+    if res["warmup_blocks"]:
+        print(
+            f"warm-up: {res['warmup_per_sphere']:g} collisions per sphere in "
+            f"{res['warmup_s']:.1f} s, {'settled' if res['settled'] else 'NOT settled'}; "
+            f"per sphere per unit time over its last block: collisions "
+            f"{res['warmup_collision_rate']:.4g}{enskog}, cell crossings "
+            f"{res['warmup_crossing_rate']:.4g}"
+        )
+    else:
+        print("warm-up: none (the lattice as built is timed, not a fluid)")
     print(
-        f"warm-up: {res['warmup_per_sphere']:g} collisions per sphere in {res['warmup_s']:.1f} s, "
-        f"{'settled' if res['settled'] else 'NOT settled'}; per sphere per unit time, "
-        f"collisions {res['warmup_collision_rate']:.4g} "
-        + (f"(Enskog-CS {ens:.4g}) " if ens else "")
-        + f"and cell crossings {res['warmup_crossing_rate']:.4g} over its last block; "
-        f"{res['collision_rate']:.4g} and {res['crossing_rate']:.4g} while timed"
+        f"timed: per sphere per unit time, collisions {res['collision_rate']:.4g}{enskog}, "
+        f"cell crossings {res['crossing_rate']:.4g}"
     )
     print(
         f"timed: {res['collisions_per_s'] / 1e6:.3f} M collisions/s, "
