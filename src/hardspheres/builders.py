@@ -1,12 +1,17 @@
 """Scenario builders: many spheres at a chosen packing fraction.
 
 Random insertion jams far below the densities people study, so spheres are
-put on the sites of a face-centred cubic lattice (a random subset of the
-sites that fit), which reaches packing fractions up to 0.74 times the part
-of the container the lattice can fill.  At fluid densities the lattice melts
-within a few collisions per sphere.  A few spheres (up to
-:data:`INSERTION_MAX`) whose lattice does not fit the container are placed
-at random and pushed apart until none overlap instead.
+put on the sites of a face-centred cubic lattice (a random subset of its
+sites), which reaches packing fractions up to 0.74 times the part of the
+container the lattice can fill.  The lattice is sized by N, not by the
+container: at most :data:`SITES_PER_SPHERE` sites per sphere, and never the
+contact spacing unless nothing wider holds N (:func:`_target_sites`), so
+neighbours start apart and the lattice melts within a few collisions per
+sphere at fluid densities (15-20 at PHI = 0.45; benchmarks/README.md).
+Memory goes with N (about 130 bytes per sphere at the peak), whatever the
+container.  A few spheres (up to :data:`INSERTION_MAX`) whose lattice does
+not fit the container are placed at random and pushed apart until none
+overlap instead.
 """
 
 from __future__ import annotations
