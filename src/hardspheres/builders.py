@@ -8,7 +8,7 @@ container: at most :data:`SITES_PER_SPHERE` sites per sphere, and never the
 contact spacing unless nothing wider holds N (:func:`_target_sites`), so
 neighbours start apart and the lattice melts within a few collisions per
 sphere at fluid densities (15-20 at PHI = 0.45; benchmarks/README.md).
-Memory goes with N (about 130 bytes per sphere at the peak), whatever the
+Memory goes with N (120-190 bytes per sphere at the peak), whatever the
 container.  A few spheres (up to :data:`INSERTION_MAX`) whose lattice does
 not fit the container are placed at random and pushed apart until none
 overlap instead.
@@ -231,7 +231,7 @@ def random_arrays(n: int, packing: float, container: Container | float | None = 
     """:func:`random_spheres` as bare arrays, without names or a :class:`State`.
 
     For millions of spheres (the benchmark): no Python object per sphere, and
-    memory in proportion to N (about 130 bytes per sphere at the peak, the
+    memory in proportion to N (120-190 bytes per sphere at the peak, the
     lattice included).  Same arguments, same spheres for the same seed.
 
     Returns:
