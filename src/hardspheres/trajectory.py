@@ -78,9 +78,10 @@ class _FrameWriter:
         trigger: a :class:`~hardspheres.writers.Trigger`.
         events: also keep the events between frames.
 
-    Subclasses write a frame in ``_write_frame(sim, state, events)``, may
-    check the simulation once in ``_start(sim)``, and keep their open file,
-    if any, in ``_file`` (and its lock in ``_lock``).  ``_count`` is the
+    Subclasses write a frame in ``_write_frame(sim, state, events)``, open
+    their file, if any, in ``_open()`` when first attached (kept in
+    ``_file``, its lock in ``_lock``), and may check the simulation once in
+    ``_start(sim)``.  ``_count`` is the
     index of the next frame in the file; ``_k`` the number of frames this
     writer has written (in an appended file the first, already there, is
     not written again).  ``last_time`` is the time of the last frame in the
@@ -119,6 +120,9 @@ class _FrameWriter:
         """The collision count at which the next frame is due (``inf``: not by count)."""
         return self.trigger.next_collisions if self._started else math.inf
 
+    def _open(self):
+        pass
+
     def _start(self, sim):
         pass
 
@@ -128,9 +132,17 @@ class _FrameWriter:
                              "open a new writer to write more frames")
 
     def attach(self, sim) -> None:
-        """Start (once): start the trigger, write a frame if it is due now."""
+        """Start (once): open the file, start the trigger, write a frame if it is due now.
+
+        Raises:
+            FileInUseError: another writer holds the file.
+            OSError: naming the file.
+            NotAContinuation: ``append`` to a file that ends elsewhere.
+        """
         self._check_open()
         if not self._started:
+            if self._file is None:
+                self._open()
             self._started = True
             self.trigger.start(sim.time, sim.counters["collisions"])
             if self._start(sim) == "continues":
@@ -204,8 +216,7 @@ class _FrameWriter:
 
     def _take_lock(self, path):
         """Lock ``path`` for this writer, or raise (:class:`PathLock`)."""
-        self.path = os.fspath(path)
-        self._lock = PathLock(self.path)
+        self._lock = PathLock(os.fspath(path))
 
 
 def _continues(path, last, sim):
@@ -231,27 +242,34 @@ class GSDWriter(_FrameWriter):
             same run (checked when the writer is attached); a missing
             file is created.
 
+    The file is opened (and locked) when the writer is first attached to
+    a simulation (:meth:`attach`), not when it is made.
+
     Raises:
-        FileInUseError: another writer holds the file.
-        OSError: naming the file.
+        ImportError: ``gsd`` is not installed (``pip install hardspheres[io]``).
     """
 
     def __init__(self, path: str | os.PathLike, every: float | None = None, events: bool = True,
                  append: bool = False, *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events, trigger=trigger)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
-        self._take_lock(path)
-        self._append = bool(append) and os.path.exists(self.path)
+
+        self._hoomd = gsd.hoomd
+        self.path = os.fspath(path)
+        self._append_wanted = bool(append)
+
+    def _open(self):
+        self._take_lock(self.path)
+        self._append = self._append_wanted and os.path.exists(self.path)
         try:
-            self._file = gsd.hoomd.open(self.path, mode="r+" if self._append else "w",
-                                        precision="double")
+            self._file = self._hoomd.open(self.path, mode="r+" if self._append else "w",
+                                          precision="double")
             self._count = len(self._file) if self._append else 0
         except (OSError, RuntimeError) as e:
             self.close()
             if isinstance(e, OSError) and e.filename is not None:
                 raise
             raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
-        self._hoomd = gsd.hoomd
 
     def _start(self, sim):
         if not self._append or self._count == 0:
@@ -311,16 +329,19 @@ class XYZWriter(_FrameWriter):
         append: continue an existing file written by an earlier part of the
             same run (checked when the writer is attached).
 
-    Raises:
-        FileInUseError: another writer holds the file.
-        OSError: naming the file.
+    The file is opened (and locked) when the writer is first attached to
+    a simulation (:meth:`attach`), not when it is made.
     """
 
     def __init__(self, path: str | os.PathLike, every: float | None = None, append: bool = False,
                  *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events=False, trigger=trigger)
-        self._take_lock(path)
-        self._append = bool(append) and os.path.exists(self.path)
+        self.path = os.fspath(path)
+        self._append_wanted = bool(append)
+
+    def _open(self):
+        self._take_lock(self.path)
+        self._append = self._append_wanted and os.path.exists(self.path)
         try:
             self._file = open(self.path, "a" if self._append else "w", encoding="utf-8",
                               newline="\n")
