@@ -254,6 +254,27 @@ def test_progress_bar_rate_eta_and_no_stale_characters():
     assert quiet.getvalue() == ""
 
 
+def test_progress_is_a_writer_redrawn_by_its_trigger():
+    """The bar of ``hardspheres run`` rides on one ``sim.run``, as a writer with a trigger."""
+    import hardspheres as hs
+    from hardspheres.writers import Writer
+
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=8.0, seed=1), 8.0)
+    term = _Terminal()
+    seen = []
+    bar = runner.ProgressWriter(runner.Progress(2.0, stream=term), 0.0, steps=20,
+                                first=lambda events, elapsed: seen.append((events, elapsed)))
+    assert isinstance(bar, Writer)
+    sim.writers.append(bar)
+    sim.run(until=2.0)
+    redraws = term.getvalue().split("\r")[1:]
+    assert 19 <= len(redraws) <= 20 and "t=0.1 " in redraws[0] and "t=1.9 " in redraws[18]
+    assert seen and seen[0][1] == pytest.approx(0.1)
+    sim.writers.remove(bar)
+    bar.detach()
+    assert term.getvalue().endswith("\r")
+
+
 def test_run_is_silent_on_stderr_when_not_a_terminal(scn):
     res = hs_cmd("run", "s.txt", "--container", 10, "--until", 1, cwd=scn)
     assert res.returncode == 0 and res.stderr == "", res.stderr

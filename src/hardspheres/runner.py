@@ -1,6 +1,7 @@
 """``hardspheres run``: a scenario run to an end time, with the trimmings.
 
-Progress bar on stderr (only on a terminal: rate and time left), trajectory
+Progress bar on stderr (only on a terminal: rate and time left; a writer
+redrawn by its trigger as the run goes), trajectory
 frames, a checkpoint at the end or on Ctrl-C, an optional equilibration
 before the averages start, and a summary of what was measured, with its
 statistical errors when the observables give them.
@@ -97,6 +98,64 @@ class Progress:
             self.stream.write("\r" + " " * self.width + "\r")
             self.stream.flush()
             self.width = 0
+
+
+class ProgressWriter:
+    """The progress bar of a run as a :class:`~hardspheres.writers.Writer`.
+
+    Its trigger (a :class:`~hardspheres.writers.Periodic` one by default:
+    ``steps`` updates over the run) says when the bar is redrawn; the run
+    itself goes in one :meth:`Simulation.run <hardspheres.Simulation.run>`.
+
+    Args:
+        progress: the :class:`Progress` bar (its total is the run's length [time]).
+        start: the run's start [time]; ``progress`` counts from it.
+        steps: updates over the run (ignored with ``trigger``).
+        trigger: when to update (:mod:`hardspheres.writers`).
+        first: called once, as ``first(events, elapsed)``, at the first update
+            after the start (events and simulated time so far).
+    """
+
+    wants_events = False
+    next_collisions = math.inf
+
+    def __init__(self, progress, start, steps=200, trigger=None, first=None):
+        from .writers import Periodic
+
+        self.progress = progress
+        self.start = start
+        self.trigger = trigger if trigger is not None else Periodic(progress.total / steps)
+        self.first = first
+        self._events0 = None
+
+    @property
+    def next_time(self):
+        """When the bar is next redrawn [time] (``inf`` before it is attached)."""
+        return self.trigger.next_time if self._events0 is not None else math.inf
+
+    def attach(self, sim):
+        """Start (once): the trigger, from now; the first redraw is a step later."""
+        if self._events0 is None:
+            self._events0 = _events_so_far(sim)
+            self.trigger.start(sim.time, sim.counters["collisions"])
+            while self.trigger.next_time <= sim.time:
+                self.trigger.fired()
+
+    def write(self, sim, t):
+        """Redraw the bar at the clock ``t`` [time]."""
+        self.trigger.fired()
+        done = _events_so_far(sim) - self._events0
+        if self.first is not None and t > self.start:
+            first, self.first = self.first, None
+            first(done, t - self.start)
+        self.progress.update(t - self.start, done, f"t={t:.6g}")
+
+    def observe(self, events):
+        pass
+
+    def detach(self):
+        """Clear the bar."""
+        self.progress.close()
 
 
 def _check_args(args):
@@ -326,7 +385,7 @@ def run_command(args):
 
 
 def _run(args, sim, checkpoint):
-    writer = None
+    writer = bar = None
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
     failure = None
@@ -338,28 +397,23 @@ def _run(args, sim, checkpoint):
     with _Stopper(sim) as stopper:
         try:
             every = None
+            warn = None
             if args.trajectory:
                 every = args.every or (args.until - sim.time) / 100.0
                 writer = _writer(args, sim, every)
                 sim.writers.append(writer)
+                frames = int((args.until - start_time) / every) + 1
+
+                def warn(events, elapsed):
+                    _warn_size(args, sim, frames, start_time, events, elapsed)
+
+            bar = ProgressWriter(progress, start_time, first=warn)
+            sim.writers.append(bar)
             equilibrated = _equilibrate(sim, args, progress, start_time)
             sim.observables.reset()
             averaged_from = sim.time
-            steps = 200
-            first = sim.time
-            for k in range(1, steps + 1):
-                target = start_time + (args.until - start_time) * k / steps
-                if target <= sim.time:
-                    continue
-                sim.run(until=target)
-                if stopper.signum is not None:
-                    break
-                done = _events_so_far(sim) - c0["collisions"] - c0["reflections"]
-                if writer is not None and first is not None and sim.time > first:
-                    frames = int((args.until - start_time) / every) + 1
-                    _warn_size(args, sim, frames, start_time, done, sim.time - start_time)
-                    first = None
-                progress.update(sim.time - start_time, done, f"t={sim.time:.6g}")
+            if stopper.signum is None:
+                sim.run(until=args.until)
             if writer is not None and writer.last_time is not None and (
                     writer.last_time < sim.time):
                 writer.write(sim, sim.time)  # the file ends where the checkpoint starts
@@ -368,10 +422,11 @@ def _run(args, sim, checkpoint):
                 raise
             failure = e  # the trajectory's disk: still write the checkpoint
         finally:
+            for w in (bar, writer):
+                if w is not None and w in sim.writers:
+                    sim.writers.remove(w)
             progress.close()
             if writer is not None:
-                if writer in sim.writers:
-                    sim.writers.remove(writer)
                 try:
                     writer.close()
                 except OSError as e:
