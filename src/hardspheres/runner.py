@@ -247,7 +247,7 @@ class _Stopper:
     def _handle(self, signum, frame):
         if self.signum is None:
             self.signum = signum
-        self.sim.stop_requested = True
+        self.sim.request_stop()
 
     def __enter__(self):
         for s in STOP_SIGNALS:

@@ -170,7 +170,7 @@ class _FrameWriter:
 
     def _frame(self, sim, t):
         self._check_open()
-        until = self.until if self.until is not None else getattr(sim, "_run_until", math.inf)
+        until = self.until if self.until is not None else sim.run_end
         self.trigger.fired()
         self._run_end = (float(until), self.trigger.next_time)
         try:
