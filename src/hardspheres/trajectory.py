@@ -79,9 +79,9 @@ class _FrameWriter:
         events: also keep the events between frames.
 
     Subclasses write a frame in ``_write_frame(sim, state, events)``, open
-    their file, if any, in ``_open()`` when first attached (kept in
-    ``_file``, its lock in ``_lock``), and may check the simulation once in
-    ``_start(sim)``.  ``_count`` is the
+    their file ``path``, if any, in ``_open_file()`` (called locked, when
+    the writer is first attached; kept in ``_file``, ``_append`` says
+    whether to append), and may check the simulation once in ``_start(sim)``.  ``_count`` is the
     index of the next frame in the file; ``_k`` the number of frames this
     writer has written (in an appended file the first, already there, is
     not written again).  ``last_time`` is the time of the last frame in the
@@ -90,6 +90,8 @@ class _FrameWriter:
 
     _file: Any = None
     _lock: Any = None
+    _append_wanted = False
+    _append = False
     _closed = False
     _failed = False
     path: Any = None
@@ -121,7 +123,16 @@ class _FrameWriter:
         return self.trigger.next_collisions if self._started else math.inf
 
     def _open(self):
-        pass
+        """Lock the file and open it (:meth:`_open_file`), appending if asked and it exists."""
+        if self.path is None:
+            return
+        self._take_lock(self.path)
+        self._append = self._append_wanted and os.path.exists(self.path)
+        try:
+            self._file = self._open_file()
+        except BaseException:
+            self.close()
+            raise
 
     def _start(self, sim):
         pass
@@ -258,18 +269,16 @@ class GSDWriter(_FrameWriter):
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
 
-    def _open(self):
-        self._take_lock(self.path)
-        self._append = self._append_wanted and os.path.exists(self.path)
+    def _open_file(self):
         try:
-            self._file = self._hoomd.open(self.path, mode="r+" if self._append else "w",
-                                          precision="double")
-            self._count = len(self._file) if self._append else 0
+            fh = self._hoomd.open(self.path, mode="r+" if self._append else "w",
+                                  precision="double")
         except (OSError, RuntimeError) as e:
-            self.close()
             if isinstance(e, OSError) and e.filename is not None:
                 raise
             raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
+        self._count = len(fh) if self._append else 0
+        return fh
 
     def _start(self, sim):
         if not self._append or self._count == 0:
@@ -339,15 +348,8 @@ class XYZWriter(_FrameWriter):
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
 
-    def _open(self):
-        self._take_lock(self.path)
-        self._append = self._append_wanted and os.path.exists(self.path)
-        try:
-            self._file = open(self.path, "a" if self._append else "w", encoding="utf-8",
-                              newline="\n")
-        except OSError:
-            self.close()
-            raise
+    def _open_file(self):
+        return open(self.path, "a" if self._append else "w", encoding="utf-8", newline="\n")
 
     def _start(self, sim):
         from .messages import quote
