@@ -293,10 +293,10 @@ def cmd_render(args):
     if still:
         render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        from .render import _seconds
+        from .progress import duration
 
         def estimate(n_frames, seconds):
-            _note(f"rendering {n_frames} frames to {args.output}, about {_seconds(seconds)}")
+            _note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
         render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice,
                      on_estimate=estimate)
     print(f"wrote {args.output}")

@@ -26,6 +26,7 @@ import time
 from .containers import PeriodicBox, SphericalContainer
 from .fileio import PathLock
 from .messages import oserror_line
+from .progress import Progress
 from .simulation import Simulation
 
 #: Signals that stop a run cleanly (checkpoint written).
@@ -40,66 +41,6 @@ _FRAME_BYTES_PER_SPHERE = 48
 _EVENT_BYTES = 40
 
 
-def _isatty(stream):
-    try:
-        return stream.isatty()
-    except (AttributeError, ValueError):
-        return False
-
-
-def _duration(seconds):
-    """``42 s``, ``3 min 5 s``, ``2 h 10 min``."""
-    if not math.isfinite(seconds):
-        return "?"
-    seconds = max(0, round(seconds))
-    if seconds < 60:
-        return f"{seconds} s"
-    if seconds < 3600:
-        return f"{seconds // 60} min {seconds % 60} s"
-    return f"{seconds // 3600} h {seconds % 3600 // 60} min"
-
-
-class Progress:
-    """A one-line progress bar with rate and time left, on a terminal; silent otherwise.
-
-    Every update rewrites the whole line (padded over the previous one), and
-    :meth:`close` clears it, so no stale characters remain.
-    """
-
-    def __init__(self, total, stream=None, enabled=None):
-        self.total = total
-        self.stream = sys.stderr if stream is None else stream
-        self.on = _isatty(self.stream) if enabled is None else enabled
-        self.t0 = time.perf_counter()
-        self.width = 0
-
-    def line(self, done, events=0, label=""):
-        """The text of the bar after ``done`` of ``total``, ``events`` so far."""
-        frac = min(1.0, done / self.total) if self.total > 0 else 1.0
-        wall = time.perf_counter() - self.t0
-        rate = f"{events / wall:.3g} events/s" if wall > 0 and events else ""
-        left = wall * (1.0 - frac) / frac if frac > 0 else math.inf
-        eta = f"{_duration(left)} left" if frac < 1.0 else "done"
-        bar = "#" * int(30 * frac)
-        parts = [f"[{bar:<30}] {frac:6.1%}", label, rate, eta]
-        return "  ".join(p for p in parts if p)
-
-    def update(self, done, events=0, label=""):
-        if not self.on:
-            return
-        text = self.line(done, events, label)
-        pad = max(0, self.width - len(text))
-        self.width = len(text) + pad  # what the terminal line holds now
-        self.stream.write("\r" + text + " " * pad)
-        self.stream.flush()
-
-    def close(self):
-        if self.on and self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
-
-
 class ProgressWriter:
     """The progress bar of a run as a :class:`~hardspheres.writers.Writer`.
 
@@ -108,7 +49,8 @@ class ProgressWriter:
     itself goes in one :meth:`Simulation.run <hardspheres.Simulation.run>`.
 
     Args:
-        progress: the :class:`Progress` bar (its total is the run's length [time]).
+        progress: the :class:`~hardspheres.progress.Progress` bar (its total
+            is the run's length [time]).
         start: the run's start [time]; ``progress`` counts from it.
         steps: updates over the run (ignored with ``trigger``).
         trigger: when to update (:mod:`hardspheres.writers`).
@@ -148,7 +90,7 @@ class ProgressWriter:
         if self.first is not None and t > self.start:
             first, self.first = self.first, None
             first(done, t - self.start)
-        self.progress.update(t - self.start, done, f"t={t:.6g}")
+        self.progress.update(t - self.start, f"t={t:.6g}", events=done)
 
     def observe(self, events):
         pass
@@ -356,7 +298,7 @@ def _equilibrate(sim, args, progress, start_time):
             raise ValueError(f"--equilibrate {args.equilibrate} did not finish before --until "
                              f"{args.until:g} (at {sim.counters['collisions']} collisions): "
                              "raise --until or lower --equilibrate")
-    progress.update(sim.time - start_time, _events_so_far(sim), "equilibrated")
+    progress.update(sim.time - start_time, "equilibrated", events=_events_so_far(sim))
     return f"{what}, to t = {sim.time:.6g}"
 
 
