@@ -61,8 +61,9 @@ def packing_fraction(frames):
     """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
     if frames.container is None:
         return None
-    volume = frames.container.volume
-    return float(np.sum(4.0 / 3.0 * np.pi * np.asarray(frames.radii, float) ** 3) / volume)
+    from .dense import packing_fraction as of_radii
+
+    return of_radii(frames.radii, frames.container)
 
 
 def _draw_container(ax, frames, right, up, cut):
