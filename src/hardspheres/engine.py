@@ -240,18 +240,6 @@ class Engine:
                   self.HKEY, self.f, self.c, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
-    def step(self, until: float = np.inf) -> tuple[float, int, int, int] | None:
-        """Process the next event if it is at or before ``until`` (absolute) [time].
-
-        Returns:
-            ``(time, kind, i, j)``, or ``None`` if the next event is after
-            ``until``; raises as :meth:`advance` does.
-        """
-        ev = self.advance(until=until, events=1)
-        if len(ev) == 0:
-            return None
-        return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
-
     def advance(self, until: float = np.inf, events: int | None = None,
                 collisions: int | None = None, record: bool = True) -> np.ndarray:
         """Process events up to time ``until`` or a count limit.
@@ -327,6 +315,18 @@ class Engine:
         if len(chunks) == 1:
             return chunks[0]
         return np.concatenate(chunks) if chunks else _events.empty_events()
+
+    def step(self, until: float = np.inf) -> tuple[float, int, int, int] | None:
+        """Process the next event if it is at or before ``until`` (absolute) [time].
+
+        Returns:
+            ``(time, kind, i, j)``, or ``None`` if the next event is after
+            ``until``; raises as :meth:`advance` does.
+        """
+        ev = self.advance(until=until, events=1)
+        if len(ev) == 0:
+            return None
+        return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
 
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
@@ -486,7 +486,7 @@ class Engine:
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
-        return float(kinetic_energy(self.mass, self.velocities))
+        return float(kinetic_energy(self.masses, self.velocities))
 
 
 
