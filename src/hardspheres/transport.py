@@ -104,8 +104,12 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
                               + 0.36 * (1.0 + 32.0 / (9.0 * math.pi)) * brho ** 2 * g)}
 
 
-def _trajectory(source, what):
-    """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames."""
+def _trajectory(source, what, positions=True):
+    """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames.
+
+    With ``positions=False`` the positions are not unwrapped (``None``): the
+    velocity autocorrelation needs only the velocities.
+    """
     from .frames import Frames
     if not isinstance(source, Frames):
         raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or "
@@ -117,7 +121,8 @@ def _trajectory(source, what):
     dt = np.diff(t)
     if np.ptp(dt) > 1e-6 * dt.mean():
         raise ValueError(f"{what}: frames must be equally spaced in time")
-    return t - t[0], source.unwrapped(), np.asarray(source.velocities, float), source.box
+    x = source.unwrapped() if positions else None
+    return t - t[0], x, np.asarray(source.velocities, float), source.box
 
 
 def _autocorrelation(x):
@@ -126,12 +131,16 @@ def _autocorrelation(x):
     FFT with zero padding (Wiener-Khinchin), divided by the number of
     origins at each lag: the same algorithm freud's MSD uses.
     """
-    f = x.shape[0]
+    f, n = x.shape[0], x.shape[1]
     size = 1 << math.ceil(math.log2(2 * f))
-    spec = np.fft.rfft(x, n=size, axis=0)
-    acf = np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f]
-    acf = acf.sum(axis=2).mean(axis=1)
-    return acf / (f - np.arange(f))
+    acf = np.zeros(f)
+    # spheres in chunks: the padded spectrum of all of them at once would take
+    # 16 * size * N * 3 bytes (1.6 GB for 20000 frames of 500 spheres)
+    step = max(1, (1 << 23) // (size * x.shape[2]))
+    for k in range(0, n, step):
+        spec = np.fft.rfft(x[:, k:k + step], n=size, axis=0)
+        acf += np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f].sum(axis=(1, 2))
+    return acf / n / (f - np.arange(f))
 
 
 def _segments(f, blocks):
@@ -235,7 +244,7 @@ class VACF(_Computed):
 
     def compute(self, frames):
         """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
-        t, _, v, _ = _trajectory(frames, "velocity autocorrelations")
+        t, _, v, _ = _trajectory(frames, "velocity autocorrelations", positions=False)
         self.t, self._v = t, v
         self.c = _autocorrelation(v)
         self._computed = True
