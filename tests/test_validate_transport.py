@@ -134,3 +134,26 @@ def test_transport_refuses_options_it_does_not_take(tmp_path):
     )
     assert r.returncode == 1 and "--seeds does not apply to --transport" in r.stderr
     assert "Traceback" not in r.stderr and not list(tmp_path.iterdir())
+
+
+def test_transport_before_anything_was_measured_says_what_to_do():
+    """Issue 11, item 7: one-line ValueErrors that say what to do."""
+    import hardspheres as hs
+    from hardspheres.observables import NoMeasurementError
+    from hardspheres.trajectory import frames_from_simulation
+    from hardspheres.transport import MSD, VACF, ShearViscosity, ThermalConductivity
+
+    L = 7.0
+    sim = hs.Simulation(hs.random_spheres(64, 0.2, box=L, seed=2), hs.PeriodicBox(L))
+    for compute, words in ((lambda: ShearViscosity().compute(sim), "run longer"),
+                           (lambda: ThermalConductivity().compute(sim), "run longer"),
+                           (lambda: sim.observables.estimate("compressibility"), "run"),
+                           (lambda: MSD().compute(frames_from_simulation(sim, 0.1, 0.1)),
+                            "record at least three"),
+                           (lambda: VACF().diffusion(), "compute")):
+        with pytest.raises(ValueError) as exc:
+            compute()
+        msg = str(exc.value)
+        assert "\n" not in msg and words in msg, msg
+        if words == "run":
+            assert isinstance(exc.value, NoMeasurementError)
