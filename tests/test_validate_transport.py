@@ -145,12 +145,13 @@ def test_transport_before_anything_was_measured_says_what_to_do():
 
     L = 7.0
     sim = hs.Simulation(hs.random_spheres(64, 0.2, box=L, seed=2), hs.PeriodicBox(L))
-    for compute, words in ((lambda: ShearViscosity().compute(sim), "run longer"),
-                           (lambda: ThermalConductivity().compute(sim), "run longer"),
-                           (lambda: sim.observables.estimate("compressibility"), "run"),
-                           (lambda: MSD().compute(frames_from_simulation(sim, 0.1, 0.1)),
-                            "record at least three"),
-                           (lambda: VACF().diffusion(), "compute")):
+    for compute, words in (
+        (lambda: ShearViscosity().compute(sim), "run longer"),
+        (lambda: ThermalConductivity().compute(sim), "run longer"),
+        (lambda: sim.observables.estimate("compressibility"), "run"),
+        (lambda: MSD().compute(frames_from_simulation(sim, 0.1, 0.1)), "record at least three"),
+        (lambda: VACF().diffusion(), "compute"),
+    ):
         with pytest.raises(ValueError) as exc:
             compute()
         msg = str(exc.value)
