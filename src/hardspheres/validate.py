@@ -209,12 +209,12 @@ PIEPRZYK_2019_D = (
     (0.95, 0.022134), (0.96, 0.019695), (0.97, 0.017357), (0.98, 0.015082), (0.99, 0.013013),
     (1.00, 0.011053), (1.01, 0.009222))
 
-#: Self-diffusion against the packing fraction from D. M. Heyes, M. J. Cass,
-#: J. G. Powles and W. A. B. Evans, "Self-diffusion coefficient of the
-#: hard-sphere fluid: system size dependence and empirical correlations",
-#: J. Phys. Chem. B 111, 1455 (2007), transcribed in the same file (4 digits,
-#: no error bars); an independent set, 0.7% (0.3) to 2.7% (0.45) below
-#: Pieprzyk et al.'s.
+#: Self-diffusion against the packing fraction from D. M. Heyes, M. J. Cass et
+#: al., "Self-Diffusion Coefficient of the Hard-Sphere Fluid: System Size
+#: Dependence and Empirical Correlations" (2007; title and authors as the
+#: transcription gives them, the journal reference not checked here),
+#: transcribed in the same file (4 digits, no error bars); an independent
+#: set, 0.5% (0.3) to 2.7% (0.45) below Pieprzyk et al.'s.
 HEYES_2007_D = (
     (0.05, 2.039), (0.10, 0.936), (0.15, 0.5785), (0.20, 0.402), (0.25, 0.287),
     (0.275, 0.24), (0.30, 0.2021), (0.325, 0.168), (0.35, 0.1396), (0.375, 0.1136),
@@ -228,17 +228,17 @@ HEYES_2007_D = (
 #: ``src/dynamo/tests/dynatransport_test.py`` expects the shear viscosity
 #: 0.58 +- 0.06 and the thermal conductivity 2.3 +- 0.2 (Einstein-Helfand,
 #: ``dynatransport``); ``src/dynamo/tests/hardsphere_test.cpp`` expects the
-#: mean free time 0.13031 and D = 0.247, "Taken from Lue 2005" (L. Lue,
-#: J. Chem. Phys. 122, 044513 (2005), doi:10.1063/1.1834498).  Lue's values
+#: mean free time 0.13031 and D = 0.247, "Taken from Lue 2005"
+#: (doi:10.1063/1.1834498, as DynamO cites it).  Lue's values
 #: have no error bar there: half a unit of the last digit is used.
 DYNAMO_RHO05 = {"n": 1372, "rho": 0.5,
                 "eta": (0.58, 0.06), "lambda": (2.3, 0.2),
                 "mean_free_time": (0.13031, 0.000005), "D": (0.247, 0.0005)}
 
 _PIEPRZYK = "Pieprzyk et al., PCCP 21, 6886 (2019) (transcribed; N -> inf)"
-_HEYES = "Heyes, Cass, Powles & Evans, J. Phys. Chem. B 111, 1455 (2007) (transcribed)"
+_HEYES = "Heyes, Cass et al. (2007), D of the hard-sphere fluid (transcribed)"
 _DYNAMO = "DynamO tests (dynatransport_test.py), N = 1372"
-_LUE = "Lue, J. Chem. Phys. 122, 044513 (2005), via DynamO's hardsphere_test.cpp, N = 1372"
+_LUE = "Lue (2005), doi:10.1063/1.1834498, via DynamO's hardsphere_test.cpp, N = 1372"
 
 #: Transport validation: packing fractions (rho = 0.5, i.e. 0.2618, where DynamO
 #: gives eta and lambda; 0.3 and 0.45 as the issue asks) and system sizes.
