@@ -8,7 +8,7 @@ the z-scores against the published values (sources in
 docs/validation-transport.csv (``hardspheres plot transport`` draws it).
 
 usage:
-    python3 validation/transport.py                     # ~15 min on 2 loaded cores
+    python3 validation/transport.py                     # 33 M collisions: 325 s on 2 loaded cores
     python3 validation/transport.py --sizes 256 --scale 0.1 --csv /tmp/t.csv   # a minute
     python3 validation/transport.py --vacf              # the VACF's long-time tail at 0.45
 

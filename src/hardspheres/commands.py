@@ -484,8 +484,9 @@ def build_parser():
                    "with --transport validation-transport.csv)")
     v.add_argument("--transport", action="store_true",
                    help="instead: D, eta, lambda against published molecular dynamics "
-                   "(z-scores; N 500 and 1372 at packings 0.2618, 0.3, 0.45, about 15 min; "
-                   "with --quick N 256 at 0.3, a minute); see docs/validation.md")
+                   "(z-scores; N 500 and 1372 at packings 0.2618, 0.3, 0.45: 20 million "
+                   "collisions, minutes; "
+                   "with --quick N 256 at 0.3, seconds); see docs/validation.md")
     v.add_argument("--time", type=_positive, default=None,
                    help="--transport: production run per size [sigma sqrt(m/kT)] "
                    "(default about 7000 mean free times)")
