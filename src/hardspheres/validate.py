@@ -191,9 +191,11 @@ def verdict(rows, bar=3.0):
 
 # ---- transport: D, eta, lambda against published molecular dynamics --------------
 #: Self-diffusion of the hard-sphere fluid, ``D`` [sigma sqrt(kT/m)] against the
-#: number density ``rho sigma^3``, from S. Pieprzyk, M. N. Bannerman, A. C.
-#: Branka, M. Chudak and D. M. Heyes, Phys. Chem. Chem. Phys. 21, 6886 (2019),
-#: as transcribed (densities ``rho``, values to 5-6 digits) in a public GitHub
+#: number density ``rho sigma^3``, from Pieprzyk, Bannerman, Branka, Chudak and
+#: Heyes, "Thermodynamic and dynamical properties of the hard sphere system
+#: revisited by molecular dynamics simulation", Phys. Chem. Chem. Phys. 21,
+#: 6886 (2019) (the issue's citation; the transcription names Pieprzyk,
+#: Bannerman, Chudak and Heyes), as transcribed (densities ``rho``, values to 5-6 digits) in a public GitHub
 #: source file that compares an event-driven code with them (the search index's
 #: file id 1226713813; the paper itself was not reachable from here).  The
 #: transcription does not say whether these are the N -> infinity values;
