@@ -7,8 +7,11 @@
   single precision: the MSD carries an absolute error of about 1e-7 of the
   squared unwrapped positions, far below the statistical error of D.
 * :class:`VACF`: the velocity autocorrelation over all time origins and
-  ``D = 1/3 int C(t) dt`` (Green-Kubo).  freud has no VACF; it is the same
-  FFT correlation as its MSD, done here with numpy.
+  ``D = 1/3 int C(t) dt`` (Green-Kubo), cut where :meth:`VACF.diffusion`
+  says (at least 150 mean free times in a dense fluid: its long-time tail
+  holds ~2% of D).  freud has no VACF; it is the same FFT correlation as its
+  MSD, done here with numpy, a chunk of spheres at a time (bounded memory);
+  it needs only the velocities (no image counts).
 * :func:`yeh_hummer`: the finite-size correction of D in a periodic box.
 * :func:`enskog`: the Enskog transport coefficients, the usual yardstick.
 
