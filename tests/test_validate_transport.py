@@ -158,3 +158,17 @@ def test_transport_before_anything_was_measured_says_what_to_do():
         assert "\n" not in msg and words in msg, msg
         if words == "run":
             assert isinstance(exc.value, NoMeasurementError)
+
+
+def test_line_extrapolation_recovers_an_exact_yeh_hummer_series():
+    from hardspheres.transport import yeh_hummer
+    from hardspheres.validate import line_extrapolations
+
+    rows = []
+    for n in (500, 1372, 2744):
+        L = (n * math.pi / 1.8) ** (1 / 3)
+        d = 0.2 - (yeh_hummer(0.0, L, 0.73))  # D(L) = D_inf - xi kT / (6 pi eta L)
+        rows.append(_row(0.3, n, 0.2, 0.001, L=L, D=d, D_err=0.001, eta=0.73))
+    (line,) = line_extrapolations(rows)
+    assert "D_inf = 0.2000 +-" in line and "slope -0.206" in line and "Yeh-Hummer's -0.206" in line
+    assert line_extrapolations(rows[:1]) == []
