@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 import hardspheres as hs
 from hardspheres.cli import run_spheres
-from hardspheres.physics import collide, pair_time, reflect, wall_time
+from hardspheres.physics import collide, pair_time, pair_time_grow, reflect, wall_time
 from hardspheres.reference import SIMULTANEOUS
 
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
@@ -363,6 +363,19 @@ def test_pair_time_against_exact_roots(name, scale):
     exact = exact_pair_time(*args)
     assert 0 < exact < math.inf
     assert ulps(pair_time(*args), exact) <= 2.0
+
+
+@pytest.mark.parametrize("scale", SCALES, ids=lambda s: f"{s[0]:.0e}/{s[1]:.0e}")
+@pytest.mark.parametrize("name", list(PAIR_CASES))
+def test_growing_pair_time_without_growth_against_exact_roots(name, scale):
+    """pair_time_grow at growth 0 solves pair_time's quadratic, at every scale.
+
+    (Speeds whose squares underflow were taken for spheres at rest before.)
+    """
+    dx, dy, dz, dvx, dvy, dvz, sigma = scaled(PAIR_CASES[name], *scale)
+    exact = exact_pair_time(dx, dy, dz, dvx, dvy, dvz, sigma)
+    got = pair_time_grow(dx, dy, dz, dvx, dvy, dvz, sigma, 0.0, math.inf)
+    assert ulps(got, exact) <= 4.0
 
 
 def test_pair_time_cases_are_nasty_for_the_textbook_formula():
