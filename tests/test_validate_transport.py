@@ -9,7 +9,7 @@ import pytest
 
 from hardspheres.validate import (
     DYNAMO_RHO05,
-    HEYES_2007_D,
+    HEYES_CASS_D,
     PIEPRZYK_2019_D,
     TransportRow,
     published_diffusion,
@@ -29,7 +29,7 @@ def test_published_tables_agree_with_each_other():
 def test_interpolation_hits_tabulated_points_and_is_smooth():
     for rho, d in PIEPRZYK_2019_D:
         assert published_diffusion(rho * math.pi / 6)[0][0] == pytest.approx(d, rel=1e-12)
-    for phi, d in HEYES_2007_D[1:]:
+    for phi, d in HEYES_CASS_D[1:]:
         assert published_diffusion(phi)[-1][0] == pytest.approx(d, rel=1e-12)
     d, err, _ = published_diffusion(0.3)[0]
     lo, hi = PIEPRZYK_2019_D[9][1], PIEPRZYK_2019_D[10][1]  # rho 0.55, 0.60 around 0.573

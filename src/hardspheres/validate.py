@@ -211,13 +211,13 @@ PIEPRZYK_2019_D = (
     (0.95, 0.022134), (0.96, 0.019695), (0.97, 0.017357), (0.98, 0.015082), (0.99, 0.013013),
     (1.00, 0.011053), (1.01, 0.009222))
 
-#: Self-diffusion against the packing fraction from D. M. Heyes, M. J. Cass et
-#: al., "Self-Diffusion Coefficient of the Hard-Sphere Fluid: System Size
-#: Dependence and Empirical Correlations" (2007; title and authors as the
-#: transcription gives them, the journal reference not checked here),
+#: Self-diffusion against the packing fraction from D. M. Heyes and M. J.
+#: Cass, "Self-Diffusion Coefficient of the Hard-Sphere Fluid: System Size
+#: Dependence and Empirical Correlations" (title and authors as the
+#: transcription gives them; journal and year not checked here),
 #: transcribed in the same file (4 digits, no error bars); an independent
 #: set, 0.5% (0.3) to 2.7% (0.45) below Pieprzyk et al.'s.
-HEYES_2007_D = (
+HEYES_CASS_D = (
     (0.05, 2.039), (0.10, 0.936), (0.15, 0.5785), (0.20, 0.402), (0.25, 0.287),
     (0.275, 0.24), (0.30, 0.2021), (0.325, 0.168), (0.35, 0.1396), (0.375, 0.1136),
     (0.40, 0.0877), (0.41, 0.0790), (0.42, 0.0699), (0.43, 0.0620), (0.44, 0.0549),
@@ -238,7 +238,7 @@ DYNAMO_RHO05 = {"n": 1372, "rho": 0.5,
                 "mean_free_time": (0.13031, 0.000005), "D": (0.247, 0.0005)}
 
 _PIEPRZYK = "Pieprzyk et al., PCCP 21, 6886 (2019) (transcribed; N -> inf)"
-_HEYES = "Heyes, Cass et al. (2007), D of the hard-sphere fluid (transcribed)"
+_HEYES = "Heyes & Cass, Self-Diffusion Coefficient of the Hard-Sphere Fluid (transcribed)"
 _DYNAMO = "DynamO tests (dynatransport_test.py), N = 1372"
 _LUE = "Lue (2005), doi:10.1063/1.1834498, via DynamO's hardsphere_test.cpp, N = 1372"
 
@@ -281,7 +281,7 @@ def published_diffusion(phi):
     out = []
     rho = 6.0 * phi / math.pi
     for table, x, source, digits in ((PIEPRZYK_2019_D, rho, _PIEPRZYK, 6),
-                                     (HEYES_2007_D, phi, _HEYES, 4)):
+                                     (HEYES_CASS_D, phi, _HEYES, 4)):
         try:
             d, err = _interpolate(table, x)
         except ValueError:
@@ -399,7 +399,7 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
     """Score transport measurements against the published values they can be compared with.
 
     * ``D_inf`` (Yeh-Hummer, from the largest N at each packing) against
-      :func:`published_diffusion` (Pieprzyk et al. 2019; Heyes et al. 2007);
+      :func:`published_diffusion` (Pieprzyk et al. 2019; Heyes and Cass);
     * at ``rho sigma^3 = 0.5`` with N = 1372: D, the mean free time, eta and
       lambda against :data:`DYNAMO_RHO05` (DynamO's tests; Lue 2005).
 
