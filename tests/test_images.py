@@ -100,6 +100,32 @@ def test_xyz_keeps_images_as_gsd_does(tmp_path):
     assert "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:image:I:3 " in header
 
 
+def test_xyz_continued_after_a_checkpoint_keeps_counting(tmp_path):
+    """An XYZ file appended to after a resume: the images go on from the checkpoint's."""
+    sim, box = gas(n=32)
+    with XYZWriter(tmp_path / "t.xyz", every=0.5) as x:
+        sim.writers.append(x)
+        sim.run(until=2.0)
+    sim.writers.clear()
+    sim.save(tmp_path / "c.npz")
+    back = hs.Simulation.load(tmp_path / "c.npz")
+    with XYZWriter(tmp_path / "t.xyz", every=0.5, append=True) as x:
+        back.writers.append(x)
+        back.run(until=4.0)
+    fr = read_trajectory(tmp_path / "t.xyz")
+    assert fr.times.tolist() == [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]
+    np.testing.assert_array_equal(fr.images[-1], back.state().images)
+    np.testing.assert_array_equal(fr.unwrapped()[-1], back.state(unwrapped=True).positions)
+    # the same run without the break: the same unwrapped trajectory, frame by frame
+    once, _ = gas(n=32)
+    with XYZWriter(tmp_path / "once.xyz", every=0.5) as x:
+        once.writers.append(x)
+        once.run(until=4.0)
+    ref = read_trajectory(tmp_path / "once.xyz")
+    np.testing.assert_array_equal(fr.images, ref.images)
+    np.testing.assert_allclose(fr.unwrapped(), ref.unwrapped(), rtol=0, atol=1e-9 * box)
+
+
 def test_xyz_from_before_images_reads_without_them(tmp_path):
     """An XYZ file without the image columns (older writer) reads; unwrapping says why not."""
     sim, box = gas(n=32)
