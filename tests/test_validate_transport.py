@@ -134,6 +134,14 @@ def test_transport_refuses_options_it_does_not_take(tmp_path):
     )
     assert r.returncode == 1 and "--seeds does not apply to --transport" in r.stderr
     assert "Traceback" not in r.stderr and not list(tmp_path.iterdir())
+    r = subprocess.run(
+        [sys.executable, "-m", "hardspheres", "validate", "--time", "5"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert r.returncode == 1 and "--time applies to --transport only" in r.stderr
+    assert len(r.stderr.strip().splitlines()) <= 2 and not list(tmp_path.iterdir())
 
 
 def test_transport_before_anything_was_measured_says_what_to_do():

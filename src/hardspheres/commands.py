@@ -173,6 +173,9 @@ def cmd_validate(args):
     _compile_first()
     if args.transport:
         return _validate_transport(args)
+    if args.time is not None:
+        raise ValueError("--time applies to --transport only (the equation of state "
+                         "measures --collisions per sphere)")
     if args.csv is None:
         args.csv = "validation.csv"
     if args.quick:  # a smoke test of the whole path, seconds (N = 500 crystallizes at 0.49)
@@ -209,7 +212,8 @@ def _validate_transport(args):
                              "--packings, --time, --quick, --seed, --workers, --csv)")
     packings = args.packings or ((0.3,) if args.quick else TRANSPORT_PACKINGS)
     sizes = (args.n,) if args.n is not None else ((256,) if args.quick else (500, 1372))
-    # about 7000 mean free times by default (validate_transport); --quick: 300
+    # about 7000 mean free times by default (validate_transport); --quick: 30 time
+    # units, 300 mean free times at 0.3
     duration = args.time if args.time is not None else (30.0 if args.quick else None)
     csv_path = args.csv or "validation-transport.csv"
     rows, scores = validate_transport(packings=packings, sizes=sizes, duration=duration,
