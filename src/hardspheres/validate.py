@@ -328,6 +328,11 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
 
     Returns:
         A :class:`TransportRow`.
+
+    Example:
+        >>> r = measure_transport(0.3, 108, duration=10.0, seed=2)
+        >>> 0.1 < r.D < 0.3 and r.eta > 0 and r.lam > 0 and r.D_inf > r.D
+        True
     """
     import time as _time
 
@@ -409,6 +414,12 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
 
     Returns:
         list of :class:`TransportScore`.
+
+    Example:
+        >>> rows = [TransportRow(0.3, 1372, 13.38, 3.98, 0.001, 0.099, 1e-5, 0.19, 0.001,
+        ...                      0.206, 0.0015, 0.73, 0.02, 3.1, 0.1, 990.0, 0, 0.0)]
+        >>> [(s.source.split(",")[0], round(s.rel_diff, 3)) for s in score_transport(rows)]
+        [('Pieprzyk et al.', 0.014), ('Heyes & Cass', 0.019)]
     """
     out = []
     biggest = {}
