@@ -180,3 +180,16 @@ def test_line_extrapolation_recovers_an_exact_yeh_hummer_series():
     (line,) = line_extrapolations(rows)
     assert "D_inf = 0.2000 +-" in line and "slope -0.206" in line and "Yeh-Hummer's -0.206" in line
     assert line_extrapolations(rows[:1]) == []
+
+
+def test_plot_transport_refuses_another_csv(tmp_path):
+    bad = tmp_path / "eos.csv"
+    bad.write_text("phi,Z,Z_err\n0.3,3.98,0.01\n")
+    r = subprocess.run(
+        [sys.executable, "-m", "hardspheres", "plot", "transport", str(bad), "-o", str(tmp_path / "t.png")],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 1 and "missing column(s) quantity" in r.stderr
+    assert "validate --transport" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "t.png").exists()
