@@ -326,10 +326,14 @@ class XYZWriter(_FrameWriter):
     """Frames to an extended XYZ file (plain text, every digit kept).
 
     Each frame is ``N``, a comment line with ``Lattice``, ``Origin``,
-    ``pbc``, ``Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1``,
-    ``Time`` and ``container_radius`` (or ``box_length``), then one line per
-    sphere with its numbers as ``%.17g`` (they read back exactly). Names may
-    not contain whitespace or quotes here. Events are not written.
+    ``pbc``, ``Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1``
+    (in a periodic box followed by ``:image:I:3``, the exact counts of box
+    crossings, so ``pos + image * L`` is the unwrapped centre, as GSD's
+    ``particles/image``), ``Time`` and ``container_radius`` (or
+    ``box_length``), then one line per sphere with its numbers as ``%.17g``
+    (they read back exactly). Names may not contain whitespace or quotes
+    here. Events are not written. Files written before the image columns
+    read as well (their frames have no images).
 
     Args:
         path: the file (overwritten, unless ``append``).
@@ -372,9 +376,10 @@ class XYZWriter(_FrameWriter):
         pbc = "T T T" if c.periodic else "F F F"
         size = " ".join(f"{k}={v!r}" for k, v in c.fields().items())
         h = side / 2.0
+        images = state.images
+        props = _XYZ_PROPS + (_XYZ_IMAGE if images is not None else "")
         header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
-                  f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" '
-                  "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1 "
+                  f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" Properties={props} '
                   f"Time={state.time!r} {size} "
                   f"run_end=\"{self._run_end[0]!r} {self._run_end[1]!r}\"\n")
         fh = self._file
@@ -383,10 +388,18 @@ class XYZWriter(_FrameWriter):
             nums = np.column_stack([state.positions, state.velocities,
                                     state.radii, state.masses])
             rows = ("%.17g " * 8).rstrip()
-            fh.write("\n".join(f"{name} {rows % tuple(r)}"
-                               for name, r in zip(state.names, nums.tolist())))
+            lines = [f"{name} {rows % tuple(r)}" for name, r in zip(state.names, nums.tolist())]
+            if images is not None:
+                lines = [f"{line} {a} {b} {c}"
+                         for line, (a, b, c) in zip(lines, np.asarray(images).tolist())]
+            fh.write("\n".join(lines))
             fh.write("\n")
         fh.flush()
+
+
+#: The XYZ columns after the name: 8 numbers, then (periodic box) 3 image counts.
+_XYZ_PROPS = "name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1"
+_XYZ_IMAGE = ":image:I:3"
 
 
 def _gsd_events(log):
@@ -503,7 +516,7 @@ def _xyz_keys(comment):
 
 
 def _read_xyz(path, check_end=True):
-    times, pos, vel, names, radii, masses = [], [], [], None, None, None
+    times, pos, vel, names, radii, masses, images = [], [], [], None, None, None, []
     run_end = None
     container = None
     with open(path, encoding="utf-8") as fh:
@@ -516,12 +529,19 @@ def _read_xyz(path, check_end=True):
             times.append(float(keys["Time"]))
             run_end = keys["run_end"].split() if "run_end" in keys else None
             container = from_fields(keys)
+            props = keys.get("Properties", _XYZ_PROPS)
+            if props not in (_XYZ_PROPS, _XYZ_PROPS + _XYZ_IMAGE):
+                raise ValueError(f"unknown columns Properties={props}")
+            cols = 12 if props.endswith(_XYZ_IMAGE) else 9
             rows = [ln.split() for ln in lines[k + 2:k + 2 + n]]
-            if len(rows) != n or any(len(r) != 9 for r in rows):
-                raise ValueError("frame shorter than its atom count")
-            nums = np.array([r[1:] for r in rows], dtype=np.float64).reshape(n, 8)
+            if len(rows) != n or any(len(r) != cols for r in rows):
+                raise ValueError(f"frame shorter than its atom count, or a line without "
+                                 f"its {cols} columns")
+            nums = np.array([r[1:9] for r in rows], dtype=np.float64).reshape(n, 8)
             pos.append(nums[:, 0:3])
             vel.append(nums[:, 3:6])
+            images.append(np.array([r[9:] for r in rows], dtype=np.int64).reshape(n, 3)
+                          if cols == 12 else None)
             if names is None:
                 names = [r[0] for r in rows]
                 radii, masses = nums[:, 6].copy(), nums[:, 7].copy()
@@ -534,9 +554,11 @@ def _read_xyz(path, check_end=True):
     if check_end and run_end is not None and len(run_end) == 2:
         _warn_if_cut(path, times[-1], run_end)
     n = len(names)
+    has_images = container.periodic and all(im is not None for im in images)
     return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                   np.array(vel).reshape(-1, n, 3), radii, masses, names,
-                  container=container)
+                  container=container,
+                  images=np.array(images).reshape(-1, n, 3) if has_images else None)
 
 
 # ---- in memory -------------------------------------------------------------------
