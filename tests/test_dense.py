@@ -464,3 +464,41 @@ def test_growing_engine_matches_brute_force(seed):
         assert ev["time"][k] == pytest.approx(t, rel=1e-9), k
     # the radii grew by 1 + h t
     assert np.allclose(eng.radii_at(), state.radii * (1.0 + h * eng.time), rtol=1e-12)
+
+
+# ---- progress (packing and Z on stderr) ------------------------------------------------
+
+
+def test_compression_progress_shows_packing_and_Z():
+    import io
+
+    from hardspheres.dense import compression_progress
+
+    sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1), hs.PeriodicBox(10.0))
+    buf = io.StringIO()
+    bar, show = compression_progress(sim.packing, 0.45, stream=buf, enabled=True)
+    sim.compress(packing=0.45, rate=0.02, progress=show)
+    bar.close()
+    text = buf.getvalue()
+    assert "packing 0.45000" in text and "  Z " in text and "100.0%" in text
+    assert "events/s" in text and text.endswith("\r")  # the line is cleared at the end
+    # without a target packing, the bar follows log Z towards the pressure threshold
+    buf = io.StringIO()
+    bar, show = compression_progress(0.3, None, 1e3, stream=buf, enabled=True)
+    show(0.6, 1e3**0.5, 10)
+    assert "50.0%" in buf.getvalue()
+
+
+def test_generate_method_compress_shows_progress(monkeypatch, capsys):
+    import io
+
+    from hardspheres import dense
+    from hardspheres.commands import main
+
+    buf = io.StringIO()
+    real = dense.compression_progress
+    monkeypatch.setattr(dense, "compression_progress", lambda *a, **k: real(*a, stream=buf, enabled=True))
+    argv = ["generate", "--n", "100", "--box", "8", "--packing", "0.45", "--method", "compress"]
+    assert main(argv + ["--rate", "0.05"]) == 0
+    assert "packing 0.45000" in buf.getvalue() and "  Z " in buf.getvalue()
+    assert len(capsys.readouterr().out.splitlines()) == 100  # the scenario, on stdout only

@@ -76,9 +76,8 @@ def measure_z(sim, collisions, blocks=20):
 
 def q6(sim):
     """Mean Steinhardt q6 and the fraction of crystal-like spheres."""
-    from hardspheres.dense import crystal_order
-    order = crystal_order(sim)
-    return order.mean_q6, order.fraction
+    order = hs.BondOrder(num_neighbors=12).compute(sim)
+    return order.mean_q, order.crystal_fraction
 
 
 def fluid(n, phi0, seed=1):
@@ -90,17 +89,28 @@ def fluid(n, phi0, seed=1):
 
 # ---- the checks -------------------------------------------------------------------
 
-def jam(n, rates, pressure=1e4):
+def jam(n, rates, pressure=1e4, seed=1, trace=None):
+    """Compress from a fluid at 0.3 until Z passes ``pressure``, one run per rate.
+
+    ``trace``: a file name pattern with ``{rate}``; each rescale's (phi, Z,
+    collisions) is written there as CSV (for phi_J(phi) = phi Z/(Z-3)).
+    """
     print("| N | rate gamma | phi at stop | Z at stop | phi_J = phi Z/(Z-3) | q6 | crystal-like |"
           " collisions | wall s |")
     print("|---|---|---|---|---|---|---|---|---|")
     for rate in rates:
-        sim = fluid(n, 0.3)
+        sim = fluid(n, 0.3, seed=seed)
+        rows = []
         t0 = time.perf_counter()
-        res = sim.compress(packing=0.74, rate=rate, pressure=pressure)
+        res = sim.compress(packing=0.74, rate=rate, pressure=pressure,
+                           progress=lambda phi, z, c, rows=rows: rows.append((phi, z, c)))
         wall = time.perf_counter() - t0
         phij = res.packing * res.pressure / (res.pressure - 3.0)
         q, xtal = q6(sim)
+        if trace:
+            with open(trace.format(rate=rate), "w") as fh:
+                fh.write("phi,Z,collisions\n")
+                fh.writelines(f"{a:.8f},{b:.6g},{c}\n" for a, b, c in rows)
         print(f"| {n} | {rate:g} | {res.packing:.4f} | {res.pressure:.3g} | {phij:.4f} | "
               f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
 
@@ -160,5 +170,8 @@ def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1):
 
 if __name__ == "__main__":
     what, size, *rest = sys.argv[1:]
-    vals = [float(x) for x in rest]
-    {"jam": jam, "fluid": fluid_eos, "fcc": fcc_eos, "mix": mix_eos}[what](int(size), vals)
+    if what == "jam" and rest and rest[-1].endswith(".csv"):  # jam N RATE... TRACE_{rate}.csv
+        jam(int(size), [float(x) for x in rest[:-1]], trace=rest[-1])
+    else:
+        vals = [float(x) for x in rest]
+        {"jam": jam, "fluid": fluid_eos, "fcc": fcc_eos, "mix": mix_eos}[what](int(size), vals)
