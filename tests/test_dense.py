@@ -502,3 +502,24 @@ def test_generate_method_compress_shows_progress(monkeypatch, capsys):
     assert main(argv + ["--rate", "0.05"]) == 0
     assert "packing 0.45000" in buf.getvalue() and "  Z " in buf.getvalue()
     assert len(capsys.readouterr().out.splitlines()) == 100  # the scenario, on stdout only
+
+
+def test_readme_dense_pictures_are_made_by_make_sh():
+    """README's dense picture commands (the viewer coloured by q6) are make.sh's, verbatim."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    readme = (root / "README.md").read_text()
+    start = readme.index("## Dense matter")
+    sec = readme[start : readme.index("\n## ", start + 1)]
+    blocks = re.findall(r"```sh\n(.*?)```", sec, re.DOTALL)
+    pictures = [b for b in blocks if "--color q6" in b]
+    assert len(pictures) == 1
+    script = (root / "docs" / "images" / "make.sh").read_text()
+    marked = script[script.index("# ---- dense picture commands") : script.index("# ---- end of dense")]
+    lines = pictures[0].strip().splitlines()
+    assert lines == [x for x in marked.splitlines()[1:] if x.strip()]
+    for png in ("jammed_q6.png", "crystal_q6.png"):
+        assert f"--screenshot {png}" in pictures[0] and f"(docs/images/{png})" in sec
+        assert (root / "docs" / "images" / png).stat().st_size < 320_000

@@ -80,6 +80,10 @@ def _round_up(x, digits=2):
 #: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``).
 COLOR_BY = ("speed", "mass", "q6")
 
+#: The colour scale of q6, fixed so that pictures compare: a fluid or a jammed
+#: packing near its bottom (0.3-0.45), FCC at its top (0.575 at rest).
+Q6_RANGE = (0.25, 0.6)
+
 
 def _q6(frames, positions):
     """Steinhardt q6 of each sphere in each frame ``(F, N)``, 12 nearest neighbours (freud).
@@ -155,13 +159,8 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
 
     scalar = None
     if color_by == "q6":
-        q6 = _q6(frames, p)
-        lo, hi = np.percentile(q6, [0.5, 99.5]) if q6.size else (0.0, 1.0)
-        lo, hi = np.floor(lo * 20) / 20, np.ceil(hi * 20) / 20  # to 0.05
-        if not hi > lo:
-            lo, hi = 0.0, 1.0
-        scalar = {"name": "q6", "label": "bond order q6", "values": _b64(q6, np.float32),
-                  "range": [float(lo), float(hi)]}
+        scalar = {"name": "q6", "label": "bond order q6", "values": _b64(_q6(frames, p), np.float32),
+                  "range": list(Q6_RANGE)}
 
     names = [str(x) for x in frames.names] if (frames.names is not None and len(frames.names) == n and n <= 20000) else None
     return {
@@ -208,9 +207,9 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
         color_by: initial colouring, ``"speed"``, ``"mass"`` or ``"q6"``
             (switchable in the page).  ``"q6"``: each sphere's Steinhardt
             q6 over its 12 nearest neighbours in each embedded frame
-            (:class:`hardspheres.structure.BondOrder`, needs freud), on a
-            scale from the 0.5th to the 99.5th percentile rounded to 0.05;
-            a fluid or jammed packing sits near 0.3-0.45, FCC at 0.57.
+            (:class:`hardspheres.structure.BondOrder`, needs freud), on the
+            fixed scale :data:`Q6_RANGE` (0.25 to 0.6): a fluid or a jammed
+            packing sits near 0.3-0.45, FCC at 0.575.
         max_values: at most this many numbers (frames x spheres x 4: a
             position and a speed) are embedded, about 4/3 bytes each in the
             file; fewer frames are kept for large N (the default keeps the
