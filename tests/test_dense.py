@@ -523,3 +523,26 @@ def test_readme_dense_pictures_are_made_by_make_sh():
     for png in ("jammed_q6.png", "crystal_q6.png"):
         assert f"--screenshot {png}" in pictures[0] and f"(docs/images/{png})" in sec
         assert (root / "docs" / "images" / png).stat().st_size < 320_000
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    st.integers(0, 10_000),
+    st.booleans(),
+    st.sampled_from([1.0, 1.4]),
+    st.sampled_from([1.0, 3.0]),
+    st.floats(0.2, 5.0),
+    st.floats(0.005, 0.1),
+)
+def test_energy_after_rescale_is_the_target(seed, periodic, ratio, mass_ratio, kT, rate):
+    """compress keeps kT; VelocityRescale sets it: both geometries, mixtures, unequal masses."""
+    kw = {"box": 8.0} if periodic else {"container": 6.0}
+    state = hs.random_spheres(60, 0.2, seed=seed, radius_ratio=ratio, mass_ratio=mass_ratio, kT=kT, **kw)
+    sim = hs.Simulation(state, hs.PeriodicBox(8.0) if periodic else hs.SphericalContainer(6.0))
+    kt0 = sim.observables.temperature()
+    res = sim.compress(packing=0.3, rate=rate)
+    assert res.reason == "packing" and sim.observables.temperature() == pytest.approx(kt0, rel=1e-12)
+    assert sim._engine.max_overlap() <= TOL and sim._engine.outside() == 0
+    sim.set_thermostat(VelocityRescale(kT=1.0, interval=0.25))
+    sim.run(until=sim.time + 0.25)
+    assert sim.observables.temperature() == pytest.approx(1.0, rel=1e-12)

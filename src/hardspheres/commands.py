@@ -392,7 +392,8 @@ def build_parser():
                    help="target packing fraction (below 0.7405 for equal spheres)")
     k.add_argument("--rate", type=_positive, required=True,
                    help="growth speed of the largest diameter per thermal speed "
-                   "sqrt(kT/m) (Skoge et al.'s gamma; 1e-1 fast, 1e-4 slow)")
+                   "sqrt(kT/m) (1e-1 fast, 1e-4 slow; Skoge et al.'s program's "
+                   "growthrate g is 2 sqrt(3) g)")
     k.add_argument("--pressure", type=_positive, default=1e3,
                    help="stop as jammed when Z = PV/NkT passes this (default 1e3)")
     k.add_argument("--collisions", type=_positive, help="stop after this many collisions")

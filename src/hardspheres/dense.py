@@ -15,8 +15,12 @@
 
 Units: the compression ``rate`` is the growth speed of the largest
 diameter in units of the thermal speed ``sqrt(kT / m)`` (``m`` the mean
-mass), i.e. Skoge et al.'s ``gamma = dD/dt`` for equal spheres with ``kT
-= m = 1``.
+mass): ``dD/dt`` for equal spheres with ``kT = m = 1``.  The LS program of
+Skoge, Donev, Stillinger & Torquato (PRE 74, 041127 (2006); ``box.C`` of
+their ``spheres`` code) grows each radius at ``growthrate`` g (``r = r0 +
+g t``) and rescales the velocities to a mean ``|v|^2 = 1`` with ``m = 1``,
+i.e. ``kT/m = 1/3`` in three dimensions; its g is therefore ``rate = 2 g /
+sqrt(1/3) = 2 sqrt(3) g``.
 """
 
 import json
