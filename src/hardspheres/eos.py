@@ -166,8 +166,9 @@ def bmcsl(phi, diameters, fractions):
 
     Exact through the third virial coefficient; Carnahan-Starling for one
     component.  It is known to fall slightly below simulations of
-    size-asymmetric mixtures (D. M. Heyes and A. Santos, J. Chem. Phys. 148,
-    214503 (2018), abstract).
+    size-asymmetric mixtures (D. M. Heyes and A. Santos, "Chemical potential
+    of a test hard sphere of variable size in hard-sphere fluid mixtures",
+    abstract).
 
     Args:
         phi: total packing fraction(s) in [0, 1).
@@ -189,12 +190,10 @@ def bmcsl(phi, diameters, fractions):
 def hansen_goos_roth(phi, diameters, fractions):
     """Hansen-Goos & Roth's Z of a hard-sphere mixture (a "CS" generalization).
 
-    H. Hansen-Goos and R. Roth, J. Chem. Phys. 124, 154506 (2006): an
-    equation of state for additive mixtures built from Carnahan-Starling and
-    the exact second and third virial coefficients, more accurate than
-    BMCSL for size-asymmetric mixtures; it is the bulk limit of their White
-    Bear mark II density functional (J. Phys.: Condens. Matter 18, 8413
-    (2006))::
+    H. Hansen-Goos and R. Roth, J. Chem. Phys. 124, 154506 (2006): a
+    generalization of Carnahan-Starling to additive mixtures, as the bulk
+    limit of their White Bear mark II density functional (J. Phys.:
+    Condens. Matter 18, 8413 (2006))::
 
         Z rho = n0/(1-n3) + n1 n2 (1 + n3^2/3)/(1-n3)^2
                 + n2^3 (1 - 2 n3/3 + n3^2/3) / (12 pi (1-n3)^3)
@@ -204,7 +203,9 @@ def hansen_goos_roth(phi, diameters, fractions):
     pressure ``n0 + sum_a n_a dPhi/dn_a - Phi`` of the White Bear II free
     energy density ``Phi`` as thermotools/SurfPack implements it
     (``surfpack/FMT.py``, ``WhiteBearMarkII``): they agree to rounding.
-    For one component it is Carnahan-Starling exactly.
+    For one component it is Carnahan-Starling exactly, and it has BMCSL's
+    (exact) second and third virial coefficients; it lies above BMCSL for
+    unequal sizes.
 
     Args:
         phi: total packing fraction(s) in [0, 1).
