@@ -139,11 +139,15 @@ def _compile_first():
 def cmd_generate(args):
     from .builders import random_spheres
     if args.method == "compress":
-        from .dense import generate_compressed
-        state = generate_compressed(args.n, args.packing, container=args.container,
-                                    box=args.box, seed=args.seed, rate=args.rate,
-                                    radius_ratio=args.radius_ratio,
-                                    mass_ratio=args.mass_ratio)
+        from .dense import compression_progress, generate_compressed, start_packing
+        bar, show = compression_progress(start_packing(args.packing), args.packing)
+        try:
+            state = generate_compressed(args.n, args.packing, container=args.container,
+                                        box=args.box, seed=args.seed, rate=args.rate,
+                                        radius_ratio=args.radius_ratio,
+                                        mass_ratio=args.mass_ratio, progress=show)
+        finally:
+            bar.close()
     elif args.box is not None:
         state = random_spheres(args.n, args.packing, box=args.box, seed=args.seed,
                                radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio)
@@ -284,7 +288,8 @@ def cmd_view(args):
     from .screenshot import screenshot
     from .viewer import write_viewer
     frames = _frames(args)
-    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice)
+    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice,
+                 color_by=args.color)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
         try:
@@ -415,7 +420,8 @@ def build_parser():
                    help="target packing fraction (below 0.7405 for equal spheres)")
     k.add_argument("--rate", type=_positive, required=True,
                    help="growth speed of the largest diameter per thermal speed "
-                   "sqrt(kT/m) (Skoge et al.'s gamma; 1e-1 fast, 1e-4 slow)")
+                   "sqrt(kT/m) (1e-1 fast, 1e-4 slow; Skoge et al.'s program's "
+                   "growthrate g is 2 sqrt(3) g)")
     k.add_argument("--pressure", type=_positive, default=1e3,
                    help="stop as jammed when Z = PV/NkT passes this (default 1e3)")
     k.add_argument("--collisions", type=_positive, help="stop after this many collisions")
@@ -518,6 +524,10 @@ def build_parser():
     w.add_argument("--slice", type=_time, metavar="Z",
                    help="start with the cut-away plane at z = Z (spheres above it hidden; "
                    "the page's cut slider moves it)")
+    w.add_argument("--color", choices=["speed", "mass", "q6"], default="speed",
+                   help="colour the spheres by speed (default), mass, or Steinhardt bond "
+                   "order q6 over 12 neighbours (crystal-like spheres near 0.5-0.57, a "
+                   "fluid or jammed packing 0.3-0.45; needs freud)")
     w.set_defaults(func=cmd_view)
 
     m = sub.add_parser("render", help="render an animation (.gif, .mp4) or a still "

@@ -298,7 +298,9 @@ class Simulation:
                 present one and below what the geometry allows: 0.7405 for
                 equal spheres).
             rate: growth speed of the largest diameter in units of the
-                thermal speed ``sqrt(kT/m)`` (Skoge et al.'s ``gamma``); > 0.
+                thermal speed ``sqrt(kT/m)``; > 0 (the ``growthrate`` g of
+                Skoge et al.'s program is ``2 sqrt(3) g``: see
+                :mod:`hardspheres.dense`).
             pressure: stop when the reduced pressure ``Z = PV/(NkT)``
                 passes this (jammed; ``None``: no threshold).
             collisions: stop after this many collisions.
