@@ -89,7 +89,7 @@ def _kT(sim):
 
 def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None, progress=None):
     """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`."""
-    eng = sim._engine
+    eng = sim.engine
     if eng.window > 0.0:
         raise CompressionError("compress: not with a simultaneity window (window=0)")
     if not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
@@ -208,7 +208,7 @@ class Andersen:
             self.next_time = sim.time + self._rng.exponential(1.0 / (self.rate * sim.n))
 
     def write(self, sim, t):
-        eng = sim._engine
+        eng = sim.engine
         i = int(self._rng.integers(sim.n))
         v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.mass[i])
         eng.kick(i, t, v)
@@ -246,7 +246,7 @@ class VelocityRescale:
             self.next_time = sim.time + self.interval
 
     def write(self, sim, t):
-        eng = sim._engine
+        eng = sim.engine
         eng.move_clock(t)
         kt = _kT(sim)
         if kt > 0:
@@ -372,7 +372,7 @@ def compress_command(args):
     phi0 = sim.packing
     target = args.packing
     if target is not None:
-        top = max_packing(sim._engine.radii_at())
+        top = max_packing(sim.engine.radii_at())
         if target >= top:
             raise CompressionError(
                 f"--packing {target:g} is not below {top:.4f}, the densest the geometry allows"

@@ -96,9 +96,17 @@ class Engine:
         return self.mass.shape[0]
 
     @property
-    def vel(self) -> np.ndarray:
+    def masses(self) -> np.ndarray:
+        """``(N,)`` masses [mass] (a view: do not write)."""
+        return self.mass
+
+    @property
+    def velocities(self) -> np.ndarray:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
         return self.S[:, 3:6]
+
+    #: The old name of :attr:`velocities` (other branches may still use it).
+    vel = velocities
 
     @property
     def rad(self) -> np.ndarray:
@@ -308,6 +316,18 @@ class Engine:
             return chunks[0]
         return np.concatenate(chunks) if chunks else _events.empty_events()
 
+    def step(self, until: float = np.inf) -> tuple[float, int, int, int] | None:
+        """Process the next event if it is at or before ``until`` (absolute) [time].
+
+        Returns:
+            ``(time, kind, i, j)``, or ``None`` if the next event is after
+            ``until``; raises as :meth:`advance` does.
+        """
+        ev = self.advance(until=until, events=1)
+        if len(ev) == 0:
+            return None
+        return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
+
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
               "img")
@@ -466,7 +486,7 @@ class Engine:
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
-        return float(kinetic_energy(self.mass, self.vel))
+        return float(kinetic_energy(self.masses, self.velocities))
 
 
 
