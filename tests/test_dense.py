@@ -481,7 +481,7 @@ def test_compression_progress_shows_packing_and_Z():
     bar.close()
     text = buf.getvalue()
     assert "packing 0.45000" in text and "  Z " in text and "100.0%" in text
-    assert "events/s" in text and text.endswith("\r")  # the line is cleared at the end
+    assert "collisions/s" in text and text.endswith("\r")  # the line is cleared at the end
     # without a target packing, the bar follows log Z towards the pressure threshold
     buf = io.StringIO()
     bar, show = compression_progress(0.3, None, 1e3, stream=buf, enabled=True)
