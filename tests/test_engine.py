@@ -157,7 +157,7 @@ def test_long_run_periodic_box():
     e0 = eng.kinetic_energy()
     eng.advance(collisions=200_000, record=False)
     assert abs(eng.kinetic_energy() - e0) / e0 < 1e-10
-    np.testing.assert_allclose(s.masses @ eng.vel, p0, atol=1e-9 * np.sum(s.masses))
+    np.testing.assert_allclose(s.masses @ eng.velocities, p0, atol=1e-9 * np.sum(s.masses))
     assert eng.max_overlap() < 1e-9
 
 

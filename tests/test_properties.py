@@ -178,14 +178,14 @@ def test_engine_conserves_and_keeps_spheres_apart(scn):
     masses, radii, pos, vel, container = scn
     eng = Engine(masses, radii, pos, vel, container=container)
     e_start = eng.kinetic_energy()
-    before = eng.vel.tolist()
+    before = eng.velocities.tolist()
     for _ in range(150):
         ev = eng.advance(events=1)
         if len(ev["time"]) == 0:
             break
         kind, i, j = int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
         now = eng.positions_at(float(ev["time"][0])).tolist()
-        after = eng.vel.tolist()
+        after = eng.velocities.tolist()
         check_event(kind, i, j, now, before, after, masses, radii, container, 0.0)
         check_state(now, radii, container)
         before = after
@@ -208,7 +208,7 @@ def test_engine_matches_the_reference(scn, window):
         if len(want) == 200:
             break
     assert got == want
-    assert eng.vel.tolist() == v
+    assert eng.velocities.tolist() == v
 
 
 @settings(max_examples=40, deadline=None)

@@ -63,4 +63,4 @@ def _write_events(scn, container, end, out, fmt):
             return
         t, kind, i, j = float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
         rep.event(t, kind, i, j,
-                  eng.positions_at(t, here, None if everyone else [i, max(j, i)]), eng.vel)
+                  eng.positions_at(t, here, None if everyone else [i, max(j, i)]), eng.velocities)

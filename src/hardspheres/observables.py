@@ -99,7 +99,7 @@ class Observables:
     def _auto_every(self):
         sim = self._sim
         n = sim.n
-        v2 = float(np.mean(np.sum(sim.engine.vel ** 2, axis=1))) if n else 0.0
+        v2 = float(np.mean(np.sum(sim.engine.velocities ** 2, axis=1))) if n else 0.0
         if v2 <= 0.0:
             return math.inf
         return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
@@ -273,7 +273,7 @@ class Observables:
 
     def mean_speed(self) -> float:
         """Mean speed of the spheres now [length/time]."""
-        return float(np.mean(np.linalg.norm(self._sim.engine.vel, axis=1)))
+        return float(np.mean(np.linalg.norm(self._sim.engine.velocities, axis=1)))
 
     def mean_free_path(self) -> float:
         """Mean distance a sphere travels between collisions [length]."""
@@ -282,7 +282,7 @@ class Observables:
     def speed_histogram(self, bins: int = 50, range: tuple[float, float] | None = None,
                         ) -> tuple[np.ndarray, np.ndarray]:
         """Histogram of the speeds now: ``(counts, edges)`` [edges: length/time]."""
-        speeds = np.linalg.norm(self._sim.engine.vel, axis=1)
+        speeds = np.linalg.norm(self._sim.engine.velocities, axis=1)
         return np.histogram(speeds, bins=bins, range=range)
 
     def summary(self):

@@ -415,7 +415,7 @@ class ThermalConductivity(_EinsteinHelfand):
     _kind = "energy"
 
     def _check(self, sim):
-        m = sim._engine.mass
+        m = sim._engine.masses
         if np.ptp(m) > 1e-12 * m.max():
             raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal "
                              "masses only")
