@@ -12,14 +12,19 @@ Lubachevsky, as in the fastest public codes):
   ``t`` is ``x_i + v_i (t - t_i)``.  An event touches only the spheres
   involved.  Each sphere's record is one 64-byte row of ``spheres``:
   ``x y z vx vy vz t_i R_i``.
-* **Cells.**  A cubic grid of ``nc^3`` cells, each at least as wide as the
-  largest contact distance, covers the container (or the periodic box); a
-  sphere is predicted only against the spheres in the 27 cells around its
-  own.  Leaving a cell is an event of its own; after it, only the 9 cells
-  that came into reach are searched.
+* **Neighbour lists with shells** (as in Smallenburg's "Single" EDMD).
+  Each sphere has a shell centre (its centre when it was last listed) and a
+  reach ``a_i >= R_i``; spheres ``i, j`` are neighbours while their shell
+  centres are nearer than ``s (a_i + a_j)`` (``s = F_SHELL``, 1.5), and a
+  sphere stays within ``(s - 1) a_i`` of its shell centre, so two spheres
+  that are not neighbours cannot touch.  A sphere is predicted only against
+  its neighbours.  Leaving its shell is an event of its own: a new shell
+  where it is, its list made anew from the 27 cells (each at least
+  ``2 s a_max`` wide) around the new centre, in both directions (the lists
+  are symmetric), and the sphere predicted afresh.
 * **Calendar.**  Each sphere keeps its earliest collision or reflection
-  (time, kind, partner, the partner's event count) and its next cell
-  crossing; an indexed binary heap orders the spheres by the earlier of
+  (time, kind, partner, the partner's event count) and the time it leaves
+  its shell; an indexed binary heap orders the spheres by the earlier of
   the two.  A prediction whose partner has had an event since is stale: it
   is dropped, and the sphere predicted afresh, when it reaches the top.
 * **Predictions that do not depend on when they are made.**  A pair is
@@ -141,11 +146,13 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   masses     float64 (N,)              [mass]
 #   spheres    float64 (N, SPHERE_COLS)  one 64-byte row: centre and velocity
 #                                        at the sphere's own time, that time, radius
-#   due        float64 (N, DUE_COLS)     when its next event and next cell crossing are due
+#   due        float64 (N, DUE_COLS)     when its next event and its shell crossing are due
 #   book       int64   (N, BOOK_COLS)    bookkeeping: course changes, cell, the
-#                                        predicted event, heap position
+#                                        predicted event, heap position, list length
+#   shells     float64 (N, SHELL_COLS)   shell centre and reach
+#   neighbours int32   (N, cap)          neighbour list: 32 j + image code (see _pair_code)
 #   images     int64   (N, 3)            crossings of the periodic box per axis
-#   cell_next, cell_prev  int64 (N,)     the doubly linked list of the sphere's cell
+#   cell_next, cell_prev  int64 (N,)     the doubly linked list of the cell of its shell centre
 #
 # and for the whole system:
 #
@@ -154,7 +161,7 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   heap_t, heap_key                     with the entry's time and tie key beside
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
-#   scratch    int64   (2N + 2,)         work space of refresh_window
+#   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
 
 # columns of `spheres`
 X, Y, Z, VX, VY, VZ = 0, 1, 2, 3, 4, 5  # centre and velocity at T_OWN
@@ -163,17 +170,21 @@ RADIUS = 7   # radius at the time origin (see F_GROW)
 SPHERE_COLS = 8
 # columns of `due`
 EVENT_T = 0  # time of the predicted collision or reflection (inf: none)
-CROSS_T = 1  # time of the next cell crossing (inf: none)
+CROSS_T = 1  # time it leaves its shell (inf: never)
 DUE_COLS = 2
+# columns of `shells`
+SHELL_X, SHELL_Y, SHELL_Z = 0, 1, 2  # shell centre: the sphere's centre when it was last listed
+REACH = 3    # the radius its neighbour list is made for (>= its radius until the next build)
+SHELL_COLS = 4
 # columns of `book`
 CHANGES = 0          # collisions and reflections (and kicks) so far: a prediction's stamp
-CELL_X, CELL_Y, CELL_Z = 1, 2, 3  # cell coordinates
+CELL_X, CELL_Y, CELL_Z = 1, 2, 3  # cell coordinates of its shell centre
 CELL = 4             # cell index, (CELL_Z * nc + CELL_Y) * nc + CELL_X
 EVENT_KEY = 5        # tie key of the predicted event (see _key)
 EVENT_KIND = 6       # its kind: REFLECTION, COLLISION or NONE
 PARTNER = 7          # its partner (-1 for a reflection or none)
 PARTNER_CHANGES = 8  # the partner's CHANGES when predicted (stale if it moved on)
-CROSS_FACE = 9       # which face the crossing leaves by: 2 * axis + (1 up, 0 down); -1 none
+NEIGHBOURS = 9       # length of its neighbour list (the first entries of its row of `neighbours`)
 FRESH = 10           # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11        # position of the sphere's entry in the heap
 BOOK_COLS = 12
@@ -199,13 +210,15 @@ F_HEAT_INT = 34  # its time integral up to F_T_KIN
 F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
 F_STREAK = 38    # time of the first event of the current C_FROZEN streak
 F_GROW = 39      # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
-N_SCALARS = 40
+F_SHELL = 40     # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
+F_HEADROOM = 41  # reach over radius at a build (> 1 while growing: room to grow)
+N_SCALARS = 42
 
 # indices into `counts`
 C_CELLS = 0        # cells per axis (nc)
 C_COLLISIONS = 1   # collisions processed
 C_REFLECTIONS = 2  # reflections processed
-C_CROSSINGS = 3    # cell crossings processed
+C_CROSSINGS = 3    # shell crossings processed (neighbour lists made anew)
 C_STALE = 4        # stale predictions discarded
 C_SERIAL = 5       # collisions and reflections processed (freshness stamps)
 C_FROZEN = 6       # collisions and reflections in a row with the clock not advancing
@@ -215,6 +228,7 @@ N_COUNTS = 8
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
 STOP_SLIDING = int(events.StopReason.SLIDING)
+STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engine widens them)
 
 
 # ---- the calendar: an indexed binary heap over spheres -------------------------
@@ -325,46 +339,40 @@ def _cell_remove(cell_head, cell_next, cell_prev, book, i):
 # ---- predictions ---------------------------------------------------------------
 
 @_inline
-def _crossing(spheres, book, due, scalars, nc, i, t):
-    """Store the time sphere ``i`` leaves its cell, from time ``t``."""
-    lo, w, box = scalars[F_LO], scalars[F_W], scalars[F_BOX]
+def _shell_exit(spheres, shells, due, scalars, i, t):
+    """Store the time sphere ``i`` leaves its shell, from time ``t``.
+
+    The shell is the ball of radius ``(F_SHELL - 1) * reach`` around the
+    sphere's shell centre; inf if it stands still or has no reach.
+    """
+    delta = (scalars[F_SHELL] - 1.0) * shells[i, REACH]
     dt_i = t - spheres[i, T_OWN]
-    best = np.inf
-    code = -1
-    for ax in range(3):
-        v = spheres[i, VX + ax]
-        k = book[i, CELL_X + ax]
-        x = spheres[i, X + ax] + v * dt_i
-        if v > 0.0:
-            if box == 0.0 and k == nc - 1:
-                continue
-            d = (lo + (k + 1) * w - x) / v
-            up = 1
-        elif v < 0.0:
-            if box == 0.0 and k == 0:
-                continue
-            d = (lo + k * w - x) / v
-            up = 0
-        else:
-            continue
-        if d < 0.0:
-            d = 0.0
-        if d < best:
-            best = d
-            code = 2 * ax + up
-    due[i, CROSS_T] = t + best
-    book[i, CROSS_FACE] = code
+    dx = (spheres[i, X] + spheres[i, VX] * dt_i) - shells[i, SHELL_X]
+    dy = (spheres[i, Y] + spheres[i, VY] * dt_i) - shells[i, SHELL_Y]
+    dz = (spheres[i, Z] + spheres[i, VZ] * dt_i) - shells[i, SHELL_Z]
+    vx, vy, vz = spheres[i, VX], spheres[i, VY], spheres[i, VZ]
+    a = vx * vx + vy * vy + vz * vz
+    b = dx * vx + dy * vy + dz * vz
+    c = delta * delta - (dx * dx + dy * dy + dz * dz)  # >= 0 inside (up to rounding)
+    if not (a > 0.0 and delta > 0.0):
+        due[i, CROSS_T] = np.inf
+        return
+    if c <= 0.0:
+        due[i, CROSS_T] = t
+        return
+    # the positive root of a tau^2 + 2 b tau - c = 0, without cancellation
+    q = np.sqrt(b * b + a * c)
+    if b >= 0.0:
+        tau = c / (b + q)
+    else:
+        tau = (q - b) / a
+    due[i, CROSS_T] = t + tau
 
 
 @_inline
-def _scan(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
-    """Improve sphere ``i``'s stored event with the pairs in a block of cells.
-
-    The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
-    axis for the full 27 cells.
-    """
+def _scan(spheres, book, due, neighbours, scalars, i):
+    """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
-    nc = counts[C_CELLS]
     box = scalars[F_BOX]
     now = scalars[F_ANCHOR]
     soon = now + scalars[F_WINDOW]
@@ -374,124 +382,84 @@ def _scan(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi
     best_key = book[i, EVENT_KEY]
     best_p = -1
     ti = spheres[i, T_OWN]
-    cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     # exactly 1.0, but not to the compiler: it would otherwise see that the
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
-    one = 1.0 if nc > 0 else 2.0
-    # the sphere's own layer and row first: the earliest event is mostly
-    # there, and the pairs after it are rejected by the horizon
-    for qz in range(zhi - zlo + 1):
-        oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
-        nz = cz0 + oz
-        sz = 0.0
-        if nz < 0:
-            if box == 0.0:
-                continue
-            nz += nc
-            sz = -box
-        elif nz >= nc:
-            if box == 0.0:
-                continue
-            nz -= nc
-            sz = box
-        for qy in range(yhi - ylo + 1):
-            oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
-            ny = cy0 + oy
-            sy = 0.0
-            if ny < 0:
-                if box == 0.0:
-                    continue
-                ny += nc
-                sy = -box
-            elif ny >= nc:
-                if box == 0.0:
-                    continue
-                ny -= nc
-                sy = box
-            for ox in range(xlo, xhi + 1):
-                nx = cx0 + ox
-                sx = 0.0
-                if nx < 0:
-                    if box == 0.0:
-                        continue
-                    nx += nc
-                    sx = -box
-                elif nx >= nc:
-                    if box == 0.0:
-                        continue
-                    nx -= nc
-                    sx = box
-                j = cell_head[(nz * nc + ny) * nc + nx]
-                while j >= 0:
-                    if j != i:
-                        tj = spheres[j, T_OWN]
-                        t0 = ti if ti > tj else tj
-                        di = t0 - ti
-                        dj = t0 - tj
-                        # i minus j, each from its own time.  IEEE subtraction
-                        # is exactly antisymmetric and pair_time even in
-                        # (dr, dv), so this is bit for bit what the lower
-                        # index minus the higher gives: the same result
-                        # whichever sphere predicts the pair.
-                        # pairs that surely meet after the best event so far
-                        # are not solved (the window's "now" is never later);
-                        # two ulps of best_t more, as a root that rounds to
-                        # best_t ties with it and the tie order decides
-                        horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
-                                   if best_t >= soon else np.inf)
-                        dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
-                        dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
-                        dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
-                        dvx = spheres[i, VX] - spheres[j, VX]
-                        dvy = spheres[i, VY] - spheres[j, VY]
-                        dvz = spheres[i, VZ] - spheres[j, VZ]
-                        sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
-                        if grow != 0.0:
-                            # growing (the one branch a plain run pays here)
-                            dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
-                                                sigma * (1.0 + grow * t0), sigma * grow,
-                                                horizon)
-                        # pair_time_within's own tests up to the root,
-                        # the same expressions, combined without branches (half
-                        # the pairs recede, at random, and a branch on that
-                        # mispredicts half the time): a pair they reject is
-                        # inf for it too.  The rest, NaNs and the pairs it
-                        # rescales (|dv|^2 |dr|^2 out of range) go through it.
-                        # The miss test is b^2 - a c < 0 by a margin that
-                        # covers its rounding and that of the kernel's own
-                        # discriminant (physics.MISS_MARGIN).
-                        b = dx * dvx + dy * dvy + dz * dvz
-                        a = dvx * dvx + dvy * dvy + dvz * dvz
-                        r2 = dx * dx + dy * dy + dz * dz
-                        cc = r2 - sigma * sigma
-                        ar2 = a * r2
-                        recede = b >= 0.0
-                        beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
-                        touch = cc <= 0.0
-                        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
-                        # (past RANGE_HI no test here rejects wrongly: an
-                        # overflow makes them false, or NaN, so the kernel
-                        # decides; below RANGE_LO, b may underflow)
-                        if grow != 0.0:
-                            pass
-                        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
-                                touch | ((beyond ^ True) & (miss ^ True)))):
-                            dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
-                                                  sigma, horizon)
-                        else:
-                            dt = np.inf
-                        if dt < np.inf:
-                            te = t0 + dt
-                            if te < soon:
-                                te = now
-                            if te < clock:
-                                te = clock  # a root rounded into the past
-                            if te <= best_t:
-                                kk = _key(COLLISION, min(i, j), max(i, j), n)
-                                if te < best_t or kk < best_key:
-                                    best_t, best_key, best_p = te, kk, j
-                    j = cell_next[j]
+    one = 1.0 if n > 0 else 2.0
+    for q in range(book[i, NEIGHBOURS]):
+        entry = neighbours[i, q]
+        j = entry >> 5
+        code = entry & 31
+        # the image of j next to i (periodic box): -1, 0, 1 box edges per axis
+        sx = ((code // 9) - 1) * box
+        sy = (((code // 3) % 3) - 1) * box
+        sz = ((code % 3) - 1) * box
+        tj = spheres[j, T_OWN]
+        t0 = ti if ti > tj else tj
+        di = t0 - ti
+        dj = t0 - tj
+        # i minus j, each from its own time.  IEEE subtraction
+        # is exactly antisymmetric and pair_time even in
+        # (dr, dv), so this is bit for bit what the lower
+        # index minus the higher gives: the same result
+        # whichever sphere predicts the pair.
+        # pairs that surely meet after the best event so far
+        # are not solved (the window's "now" is never later);
+        # two ulps of best_t more, as a root that rounds to
+        # best_t ties with it and the tie order decides
+        horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
+                   if best_t >= soon else np.inf)
+        dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
+        dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
+        dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
+        dvx = spheres[i, VX] - spheres[j, VX]
+        dvy = spheres[i, VY] - spheres[j, VY]
+        dvz = spheres[i, VZ] - spheres[j, VZ]
+        sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
+        if grow != 0.0:
+            # growing (the one branch a plain run pays here)
+            dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
+                                sigma * (1.0 + grow * t0), sigma * grow,
+                                horizon)
+        # pair_time_within's own tests up to the root,
+        # the same expressions, combined without branches (half
+        # the pairs recede, at random, and a branch on that
+        # mispredicts half the time): a pair they reject is
+        # inf for it too.  The rest, NaNs and the pairs it
+        # rescales (|dv|^2 |dr|^2 out of range) go through it.
+        # The miss test is b^2 - a c < 0 by a margin that
+        # covers its rounding and that of the kernel's own
+        # discriminant (physics.MISS_MARGIN).
+        b = dx * dvx + dy * dvy + dz * dvz
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
+        cc = r2 - sigma * sigma
+        ar2 = a * r2
+        recede = b >= 0.0
+        beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
+        touch = cc <= 0.0
+        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
+        # (past RANGE_HI no test here rejects wrongly: an
+        # overflow makes them false, or NaN, so the kernel
+        # decides; below RANGE_LO, b may underflow)
+        if grow != 0.0:
+            pass
+        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
+                touch | ((beyond ^ True) & (miss ^ True)))):
+            dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
+                                  sigma, horizon)
+        else:
+            dt = np.inf
+        if dt < np.inf:
+            te = t0 + dt
+            if te < soon:
+                te = now
+            if te < clock:
+                te = clock  # a root rounded into the past
+            if te <= best_t:
+                kk = _key(COLLISION, min(i, j), max(i, j), n)
+                if te < best_t or kk < best_key:
+                    best_t, best_key, best_p = te, kk, j
     if best_p >= 0:
         due[i, EVENT_T] = best_t
         book[i, EVENT_KEY] = best_key
@@ -501,8 +469,8 @@ def _scan(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi
 
 
 @_inline
-def predict(spheres, book, due, cell_head, cell_next, scalars, counts, i, t):
-    """Find sphere ``i``'s earliest collision or reflection and its next crossing.
+def predict(spheres, book, due, shells, neighbours, scalars, i, t):
+    """Find sphere ``i``'s earliest collision or reflection and when it leaves its shell.
 
     A collision or reflection less than the simultaneity window after the
     anchor (the last collision or reflection) is put at the anchor itself:
@@ -532,8 +500,8 @@ def predict(spheres, book, due, cell_head, cell_next, scalars, counts, i, t):
             due[i, EVENT_T] = te
             book[i, EVENT_KEY] = _key(REFLECTION, i, -1, n)
             book[i, EVENT_KIND] = REFLECTION
-    _scan(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
-    _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
+    _scan(spheres, book, due, neighbours, scalars, i)
+    _shell_exit(spheres, shells, due, scalars, i, t)
 
 
 @_inline
@@ -545,22 +513,242 @@ def _advance(spheres, i, t):
     spheres[i, T_OWN] = t
 
 
+@_inline
+def _pair_code(scalars, shells, i, j):
+    """Image code of ``j`` next to ``i`` (periodic box), and whether their shells are neighbours.
+
+    The code is ``9 (kx + 1) + 3 (ky + 1) + (kz + 1)`` with ``j``'s image
+    shifted by ``k`` box edges per axis (the minimum image of the shell
+    centres); neighbours: shell centres nearer than ``F_SHELL`` times the
+    sum of the two reaches (a hair more, for rounding).
+    """
+    box = scalars[F_BOX]
+    half = 0.5 * box
+    code = 0
+    r2 = 0.0
+    for ax in range(3):
+        d = shells[i, SHELL_X + ax] - shells[j, SHELL_X + ax]
+        k = 0
+        if box != 0.0:
+            if d > half:
+                k = 1
+                d -= box
+            elif d < -half:
+                k = -1
+                d += box
+        code = 3 * code + (k + 1)
+        r2 += d * d
+    cut = scalars[F_SHELL] * (shells[i, REACH] + shells[j, REACH]) * (1.0 + 1e-9)
+    return code, r2 < cut * cut
+
+
+@_inline
+def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+               i, t, insert):
+    """Sphere ``i``'s shell centre becomes its centre at ``t``, in its cell.
+
+    In a periodic box a centre outside the box first moves back in by one
+    edge (the stored centre with it, the image count the other way).
+    ``insert``: the sphere is in no cell list yet.
+    """
+    box = scalars[F_BOX]
+    lo, w = scalars[F_LO], scalars[F_W]
+    nc = counts[C_CELLS]
+    dt = t - spheres[i, T_OWN]
+    for ax in range(3):
+        x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+        if box != 0.0:
+            if x < lo:
+                spheres[i, X + ax] += box
+                images[i, ax] -= 1
+                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+            elif x >= lo + box:
+                spheres[i, X + ax] -= box
+                images[i, ax] += 1
+                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+        shells[i, SHELL_X + ax] = x
+        book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
+    if not insert:
+        _cell_remove(cell_head, cell_next, cell_prev, book, i)
+    _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                 (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+
+
+@_inline
+def _wrapped(x, lo, box):
+    """``x`` moved by one box edge into ``[lo, lo + box)`` if outside (box 0: as it is)."""
+    if box != 0.0:
+        if x < lo:
+            return x + box
+        if x >= lo + box:
+            return x - box
+    return x
+
+
+@_inline
+def _nearest(d, box):
+    """The difference ``d`` of two centres in the box, to the nearest image."""
+    if box != 0.0:
+        if d > 0.5 * box:
+            return d - box
+        if d < -0.5 * box:
+            return d + box
+    return d
+
+
+@_inline
+def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
+            counts, scratch, i, t):
+    """Sphere ``i`` left its shell at ``t``: a new shell, and its neighbour list anew.
+
+    Returns False, changing nothing, if a list would overflow (the engine
+    widens the lists and calls again).
+    """
+    cap = neighbours.shape[1]
+    n = spheres.shape[0]
+    # the candidates first, into scratch (nothing changes if they do not fit)
+    box = scalars[F_BOX]
+    lo = scalars[F_LO]
+    dt = t - spheres[i, T_OWN]
+    cx = _wrapped(spheres[i, X] + spheres[i, VX] * dt, lo, box)
+    cy = _wrapped(spheres[i, Y] + spheres[i, VY] * dt, lo, box)
+    cz = _wrapped(spheres[i, Z] + spheres[i, VZ] * dt, lo, box)
+    nc = counts[C_CELLS]
+    w = scalars[F_W]
+    kx = cell_of(cx, lo, w, nc)
+    ky = cell_of(cy, lo, w, nc)
+    kz = cell_of(cz, lo, w, nc)
+    found = 0
+    cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
+    for oz in range(-1, 2):
+        nz = kz + oz
+        if nz < 0 or nz >= nc:
+            if box == 0.0:
+                continue
+            nz = (nz + nc) % nc
+        for oy in range(-1, 2):
+            ny = ky + oy
+            if ny < 0 or ny >= nc:
+                if box == 0.0:
+                    continue
+                ny = (ny + nc) % nc
+            for ox in range(-1, 2):
+                nx = kx + ox
+                if nx < 0 or nx >= nc:
+                    if box == 0.0:
+                        continue
+                    nx = (nx + nc) % nc
+                j = cell_head[(nz * nc + ny) * nc + nx]
+                while j >= 0:
+                    if j != i:
+                        ddx = _nearest(cx - shells[j, SHELL_X], box)
+                        ddy = _nearest(cy - shells[j, SHELL_Y], box)
+                        ddz = _nearest(cz - shells[j, SHELL_Z], box)
+                        r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                        cut = cut0 * (shells[i, REACH] + shells[j, REACH])
+                        if r2 < cut * cut:
+                            if found >= cap or book[j, NEIGHBOURS] >= cap:
+                                # j's list may already hold i: only a guess, on the safe side
+                                return False
+                            scratch[found] = j
+                            found += 1
+                    j = cell_next[j]
+    # nc < 3 in a periodic box would visit a cell twice: guarded by the engine (nc >= 3)
+    # i leaves its old neighbours' lists
+    for q in range(book[i, NEIGHBOURS]):
+        j = neighbours[i, q] >> 5
+        m = book[j, NEIGHBOURS]
+        for r in range(m):
+            if (neighbours[j, r] >> 5) == i:
+                neighbours[j, r] = neighbours[j, m - 1]
+                book[j, NEIGHBOURS] = m - 1
+                break
+    _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+               i, t, False)
+    book[i, NEIGHBOURS] = 0
+    for q in range(found):
+        j = scratch[q]
+        code, near = _pair_code(scalars, shells, i, j)
+        if near:
+            neighbours[i, book[i, NEIGHBOURS]] = (j << 5) | code
+            book[i, NEIGHBOURS] += 1
+            neighbours[j, book[j, NEIGHBOURS]] = (i << 5) | (26 - code)
+            book[j, NEIGHBOURS] += 1
+    return n >= 0
+
+
 @_jit
-def build(spheres, book, due, cell_head, cell_next, cell_prev, heap, heap_t, heap_key, scalars, counts):
-    """Fill the cells, predict every sphere from the clock, build the heap."""
+def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
+          heap_key, images, scalars, counts):
+    """Shells and cells from the clock, the neighbour lists, every prediction, the heap.
+
+    Returns the longest neighbour list; if it is longer than
+    ``neighbours.shape[1]``, nothing was predicted: call again with wider lists.
+    """
     n = spheres.shape[0]
     nc = counts[C_CELLS]
-    lo, w = scalars[F_LO], scalars[F_W]
     cell_head[:] = -1
     t = scalars[F_CLOCK]
+    grow = scalars[F_GROW]
+    box = scalars[F_BOX]
+    rmax = 0.0
+    for i in range(n):
+        rmax = max(rmax, spheres[i, RADIUS])
     for i in range(n):
         _advance(spheres, i, t)
-        book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
-        book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
-        book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
-        _cell_insert(cell_head, cell_next, cell_prev, book, i, (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+        if box != 0.0:
+            # into the box, whole edges at a time
+            for ax in range(3):
+                k = np.floor((spheres[i, X + ax] - scalars[F_LO]) / box)
+                if k != 0.0:
+                    spheres[i, X + ax] -= k * box
+                    images[i, ax] += int(k)
+        # the reach: the radius now with the growth headroom, and no less than
+        # half the largest (a sphere of radius 0 still needs a shell)
+        shells[i, REACH] = max(spheres[i, RADIUS], 0.5 * rmax) * (1.0 + grow * t) * scalars[F_HEADROOM]
+        _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+                   i, t, True)
+    cap = neighbours.shape[1]
+    longest = 0
     for i in range(n):
-        predict(spheres, book, due, cell_head, cell_next, scalars, counts, i, t)
+        book[i, NEIGHBOURS] = 0
+    for i in range(n):
+        kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
+        for oz in range(-1, 2):
+            nz = kz + oz
+            if nz < 0 or nz >= nc:
+                if box == 0.0:
+                    continue
+                nz = (nz + nc) % nc
+            for oy in range(-1, 2):
+                ny = ky + oy
+                if ny < 0 or ny >= nc:
+                    if box == 0.0:
+                        continue
+                    ny = (ny + nc) % nc
+                for ox in range(-1, 2):
+                    nx = kx + ox
+                    if nx < 0 or nx >= nc:
+                        if box == 0.0:
+                            continue
+                        nx = (nx + nc) % nc
+                    j = cell_head[(nz * nc + ny) * nc + nx]
+                    while j >= 0:
+                        if j > i:
+                            code, near = _pair_code(scalars, shells, i, j)
+                            if near:
+                                a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
+                                if a < cap and b < cap:
+                                    neighbours[i, a] = (j << 5) | code
+                                    neighbours[j, b] = (i << 5) | (26 - code)
+                                book[i, NEIGHBOURS] = a + 1
+                                book[j, NEIGHBOURS] = b + 1
+                                longest = max(longest, a + 1, b + 1)
+                        j = cell_next[j]
+    if longest > cap:
+        return longest
+    for i in range(n):
+        predict(spheres, book, due, shells, neighbours, scalars, i, t)
     for i in range(n):
         heap[i] = i
         book[i, HEAP_POS] = i
@@ -571,10 +759,12 @@ def build(spheres, book, due, cell_head, cell_next, cell_prev, heap, heap_t, hea
             heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
     for k in range(n // 2 - 1, -1, -1):
         _sift_down(heap, heap_t, heap_key, book, k, n)
+    return longest
 
 
 @_jit
-def refresh_window(spheres, book, due, cell_head, cell_next, heap, heap_t, heap_key, scalars, counts, scratch):
+def refresh_window(spheres, book, due, shells, neighbours, heap, heap_t, heap_key, scalars, counts,
+                   scratch):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -608,7 +798,7 @@ def refresh_window(spheres, book, due, cell_head, cell_next, heap, heap_t, heap_
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict(spheres, book, due, cell_head, cell_next, scalars, counts, i, t)
+            predict(spheres, book, due, shells, neighbours, scalars, i, t)
             _schedule(heap, heap_t, heap_key, due, book, i)
 
 
@@ -682,8 +872,9 @@ def kinetic_sums(spheres, masses, scalars):
 # ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(spheres, masses, book, due, cell_head, cell_next, cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images, until, max_events,
-        max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
+def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
+        heap_key, scalars, counts, scratch, images, until, max_events, max_collisions,
+        rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
     """Process events in order until one of the limits.
 
     The arrays come one by one (see "the arrays" at the top of this module),
@@ -725,7 +916,6 @@ def run(spheres, masses, book, due, cell_head, cell_next, cell_prev, heap, heap_
     n = spheres.shape[0]
     if n == 0:
         return 0, STOP_UNTIL
-    nc = counts[C_CELLS]
     box = scalars[F_BOX]
     window = scalars[F_WINDOW]
     cap = rec_t.shape[0]
@@ -743,39 +933,23 @@ def run(spheres, masses, book, due, cell_head, cell_next, cell_prev, heap, heap_
         te = heap_t[0]
         if not te <= until or te == np.inf:  # NaN `until` too
             return done, STOP_UNTIL
-        if heap_key[0] != book[i, EVENT_KEY]:
-            # leaving the cell: not an event of the physics (the clock
-            # moves, the anchor of the simultaneity window does not)
-            scalars[F_CLOCK] = te
-            code = book[i, CROSS_FACE]
-            ax = code >> 1
-            step = 1 if (code & 1) else -1
-            k = book[i, CELL_X + ax] + step
-            if k < 0 or k >= nc:
-                # periodic wrap: shift the stored centre by one box edge
-                k = (k + nc) % nc
-                spheres[i, X + ax] -= step * box
-                images[i, ax] += step
-            book[i, CELL_X + ax] = k
-            _cell_remove(cell_head, cell_next, cell_prev, book, i)
-            _cell_insert(cell_head, cell_next, cell_prev, book, i, (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
-            counts[C_CROSSINGS] += 1
-            # only the 9 cells that came into reach can hold new partners
-            zl = step if ax == 2 else -1
-            yl = step if ax == 1 else -1
-            xl = step if ax == 0 else -1
-            zh = step if ax == 2 else 1
-            yh = step if ax == 1 else 1
-            xh = step if ax == 0 else 1
-            _scan(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
-            _crossing(spheres, book, due, scalars, nc, i, te)
-            _schedule(heap, heap_t, heap_key, due, book, i)
-            continue
-        kind = book[i, EVENT_KIND]
         # the spheres to predict afresh after the event (one place for all
         # kinds: the prediction is compiled into this loop only once)
         p0, p1, tp = i, -1, te
         stale = False
+        if heap_key[0] != book[i, EVENT_KEY]:
+            # leaving its shell: not an event of the physics (the clock
+            # moves, the anchor of the simultaneity window does not); a new
+            # shell and neighbour list, and the sphere predicted afresh
+            if not _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
+                           images, scalars, counts, scratch, i, te):
+                return done, STOP_LISTS_FULL
+            scalars[F_CLOCK] = te
+            counts[C_CROSSINGS] += 1
+            kind = CROSSING
+            stale = True  # (not an event: predict i, then on)
+        else:
+            kind = book[i, EVENT_KIND]
         if kind == COLLISION:
             j = book[i, PARTNER]
             if book[j, CHANGES] != book[i, PARTNER_CHANGES]:
@@ -881,16 +1055,18 @@ def run(spheres, masses, book, due, cell_head, cell_next, cell_prev, heap, heap_
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(spheres, book, due, cell_head, cell_next, scalars, counts, x, tp)
+            predict(spheres, book, due, shells, neighbours, scalars, x, tp)
             _schedule(heap, heap_t, heap_key, due, book, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(spheres, book, due, cell_head, cell_next, heap, heap_t, heap_key, scalars, counts, scratch)
+            refresh_window(spheres, book, due, shells, neighbours, heap, heap_t, heap_key, scalars,
+                           counts, scratch)
 
 
 @_jit
-def kick(spheres, masses, book, due, cell_head, cell_next, heap, heap_t, heap_key, scalars, counts, i, t, vx, vy, vz):
+def kick(spheres, masses, book, due, shells, neighbours, heap, heap_t, heap_key, scalars, counts, i, t,
+         vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
@@ -913,7 +1089,7 @@ def kick(spheres, masses, book, due, cell_head, cell_next, heap, heap_t, heap_ke
     book[i, CHANGES] += 1
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
-    predict(spheres, book, due, cell_head, cell_next, scalars, counts, i, t)
+    predict(spheres, book, due, shells, neighbours, scalars, i, t)
     _schedule(heap, heap_t, heap_key, due, book, i)
 
 

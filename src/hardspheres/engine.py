@@ -25,6 +25,10 @@ CHUNK = 1 << 14
 #: The time origin moves to the clock after this many events per sphere.
 REBASE_EVERY = 64
 
+#: Neighbour distance over the sum of two reaches (``_core.F_SHELL``): a sphere
+#: may move half a reach from its shell centre before its list is made anew.
+SHELL = float(__import__("os").environ.get("HS_SHELL", "1.5"))
+
 
 class CheckpointError(ValueError):
     """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
@@ -72,6 +76,8 @@ class Engine:
         self.spheres[:, core.RADIUS] = np.asarray(radii, dtype=np.float64).reshape(n)
         self.book = np.zeros((n, core.BOOK_COLS), np.int64)
         self.due = np.zeros((n, core.DUE_COLS))
+        self.shells = np.zeros((n, core.SHELL_COLS))
+        self.neighbours = np.zeros((n, 8), np.int32)  # widened as needed (_build, advance)
         self.cell_next = np.zeros(n, np.int64)
         self.cell_prev = np.zeros(n, np.int64)
         self.heap = np.zeros(n, np.int64)
@@ -118,27 +124,45 @@ class Engine:
         span, box = params["span"], params["box"]
         self.scalars[core.F_CONTAINER] = params["wall_radius"]
         self.scalars[core.F_BOX] = box
-        # cells at least as wide as the largest contact distance, with a
-        # small relative margin for rounding; a few cells per sphere at most
-        nc = int(span / (sigma * (1.0 + 1e-6))) if sigma > 0.0 else 1
+        # cells at least as wide as the largest neighbour distance (SHELL
+        # largest reaches), with a small relative margin for rounding; a few
+        # cells per sphere at most
+        shell = SHELL
+        nc = int(span / (shell * sigma * (1.0 + 1e-6))) if sigma > 0.0 else 1
         nc = max(1, min(nc, int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0))) + 1, 1 << 10))
         if box and nc < 3:
-            if sigma * 3.0 > box:
+            # a small box: three cells, and thinner shells to fit
+            if sigma * 3.0 * 1.01 > box:
                 raise ValueError(
                     f"periodic box {box:g} is smaller than three largest diameters "
                     f"({sigma:g}); use a larger box")
             nc = 3
+            shell = min(shell, box / (3.0 * sigma * (1.0 + 1e-6)))
+        self.scalars[core.F_SHELL] = shell
+        self.scalars[core.F_HEADROOM] = headroom
         self.counts[core.C_CELLS] = nc
         self.scalars[core.F_LO] = -0.5 * span
         self.scalars[core.F_W] = span / nc
         self.cell_head = np.full(nc ** 3, -1, np.int64)
 
     def _build(self):
-        core.build(self.spheres, self.book, self.due, self.cell_head, self.cell_next,
-                   self.cell_prev, self.heap, self.heap_t, self.heap_key, self.scalars,
-                   self.counts)
+        while True:
+            longest = core.build(self.spheres, self.book, self.due, self.shells,
+                                 self.neighbours, self.cell_head, self.cell_next,
+                                 self.cell_prev, self.heap, self.heap_t, self.heap_key,
+                                 self.images, self.scalars, self.counts)
+            if longest <= self.neighbours.shape[1]:
+                break
+            # room for the longest list and more: lists change as spheres move
+            self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
         self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
         core.kinetic_sums(self.spheres, self.masses, self.scalars)
+
+    def _widen_lists(self):
+        """Twice as many entries per neighbour list (the lists stay as they are)."""
+        wider = np.zeros((self.n, 2 * self.neighbours.shape[1]), np.int32)
+        wider[:, :self.neighbours.shape[1]] = self.neighbours
+        self.neighbours = wider
 
     # ---- time -------------------------------------------------------------
     @property
@@ -183,18 +207,16 @@ class Engine:
         self._build()
 
     def _grid_limit(self):
-        """Absolute time the growing radii outgrow the cells (``inf``: never)."""
+        """Absolute time a growing radius reaches its neighbour list's reach (``inf``: never)."""
         g = self.scalars[core.F_GROW]
         if not g or self.n == 0:
             return np.inf
-        nc = int(self.counts[core.C_CELLS])
-        if nc == 1 and self.box is None:
+        r = self.radii
+        grows = r > 0.0
+        if not np.any(grows):
             return np.inf
-        rmax = float(self.radii.max())
-        if rmax <= 0.0:
-            return np.inf
-        w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
-        return self.offset + (w / (2.0 * rmax) - 1.0) / g
+        ratio = float(np.min(self.shells[grows, core.REACH] / r[grows]))
+        return self.offset + (ratio - 1.0) / g
 
     def move_clock(self, t):
         """Move the clock to absolute time ``t`` (no event may be pending before it)."""
@@ -230,8 +252,8 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.spheres, self.masses, self.book, self.due, self.cell_head,
-                  self.cell_next, self.heap, self.heap_t, self.heap_key, self.scalars,
+        core.kick(self.spheres, self.masses, self.book, self.due, self.shells,
+                  self.neighbours, self.heap, self.heap_t, self.heap_key, self.scalars,
                   self.counts, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
@@ -274,6 +296,7 @@ class Engine:
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
             done, reason = core.run(self.spheres, self.masses, self.book, self.due,
+                                    self.shells, self.neighbours,
                                     self.cell_head, self.cell_next, self.cell_prev,
                                     self.heap, self.heap_t, self.heap_key, self.scalars,
                                     self.counts, self.scratch, self.images,
@@ -284,6 +307,9 @@ class Engine:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
                 self._rebase()
+            if reason == core.STOP_LISTS_FULL:
+                self._widen_lists()
+                continue
             if reason == StopReason.FROZEN or reason == StopReason.SLIDING:
                 if done_total == 0:
                     self.last_reason, self.last_done = StopReason(reason), 0
@@ -314,7 +340,7 @@ class Engine:
 
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("masses", "spheres", "book", "due", "cell_next", "cell_prev", "heap", "heap_t",
-              "heap_key", "scalars", "counts", "cell_head", "images")
+              "heap_key", "scalars", "counts", "cell_head", "images", "shells", "neighbours")
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -341,9 +367,13 @@ class Engine:
         data = _current_names(data)
         check_arrays(data)
         eng = cls.__new__(cls)
+        listed = "neighbours" in data  # no: from before the neighbour lists
         for k in cls._SAVED:
             if k == "images" and k not in data:  # checkpoints from before image counts
                 data = dict(data, images=np.zeros((len(data["masses"]), 3), np.int64))
+            if k == "shells" and not listed:
+                data = dict(data, shells=np.zeros((len(data["masses"]), core.SHELL_COLS)),
+                            neighbours=np.zeros((len(data["masses"]), 8), np.int32))
             setattr(eng, k, np.array(data[k]))
         if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
             eng.counts = np.concatenate(
@@ -376,6 +406,11 @@ class Engine:
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
+        if not listed:
+            # before the neighbour lists (cells and cell crossings): the lists
+            # made at the clock, every sphere predicted afresh (the same
+            # physics; the bits may differ from the run that saved it)
+            eng._regrid()
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -611,9 +646,12 @@ def check_arrays(data):
                             _key(core.NONE, n, n - 1, n)))
     if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
-    code = book[:, core.CROSS_FACE]
-    if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
-        _bad("an unknown cell crossing")
+    if "neighbours" in data:
+        _check_lists(data, book, n)
+    else:  # from before the neighbour lists: column 9 was the face of a cell crossing
+        code = book[:, 9]
+        if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
+            _bad("an unknown cell crossing")
     cross_key = _key(core.CROSSING, ids, -1, n)
     ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
     first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
@@ -624,6 +662,29 @@ def check_arrays(data):
     p = (k - 1) >> 1
     if np.any((heap_t[k] < heap_t[p]) | ((heap_t[k] == heap_t[p]) & (heap_key[k] < heap_key[p]))):
         _bad("the event calendar is out of order")
+
+
+def _check_lists(data, book, n):
+    """The shells and neighbour lists: finite, in range, symmetric."""
+    shells = _array(data, "shells", np.float64, (n, core.SHELL_COLS))
+    neighbours = np.asarray(data["neighbours"])
+    if neighbours.dtype != np.int32 or neighbours.ndim != 2 or neighbours.shape[0] != n:
+        _bad(f"'neighbours' is {neighbours.dtype}{list(neighbours.shape)}, expected int32[{n}, k]")
+    if not np.all(np.isfinite(shells)) or np.any(shells[:, core.REACH] < 0):
+        _bad("a shell is not finite")
+    length = book[:, core.NEIGHBOURS]
+    if np.any((length < 0) | (length > neighbours.shape[1])):
+        _bad("a neighbour list longer than its row")
+    rows = np.repeat(np.arange(n), length)
+    used = np.arange(neighbours.shape[1])[None, :] < length[:, None]
+    entries = neighbours[used].astype(np.int64)
+    j, code = entries >> 5, entries & 31
+    if np.any((j < 0) | (j >= n) | (j == rows) | (code > 26)):
+        _bad("a neighbour outside the spheres")
+    there = np.sort(rows * n + j)
+    back = np.sort(j * n + rows)
+    if not np.array_equal(there, back) or np.any(np.diff(there) == 0):
+        _bad("the neighbour lists are not symmetric")
 
 
 def _key(kind, a, b, n):
