@@ -184,10 +184,11 @@ EVENT_KEY = 5        # tie key of the predicted event (see _key)
 EVENT_KIND = 6       # its kind: REFLECTION, COLLISION or NONE
 PARTNER = 7          # its partner (-1 for a reflection or none)
 PARTNER_CHANGES = 8  # the partner's CHANGES when predicted (stale if it moved on)
-NEIGHBOURS = 9       # length of its neighbour list (the first entries of its row of `neighbours`)
+CROSS_FACE = 9       # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 none
 FRESH = 10           # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11        # position of the sphere's entry in the heap
-BOOK_COLS = 12
+NEIGHBOURS = 12      # lists: length of its neighbour list (the first entries of its row)
+BOOK_COLS = 13
 
 # indices into `scalars`
 F_CLOCK = 0      # time of the last processed event (relative to the origin)
@@ -339,6 +340,38 @@ def _cell_remove(cell_head, cell_next, cell_prev, book, i):
 # ---- predictions ---------------------------------------------------------------
 
 @_inline
+def _crossing(spheres, book, due, scalars, nc, i, t):
+    """Store the time sphere ``i`` leaves its cell, from time ``t`` (cell mode)."""
+    lo, w, box = scalars[F_LO], scalars[F_W], scalars[F_BOX]
+    dt_i = t - spheres[i, T_OWN]
+    best = np.inf
+    code = -1
+    for ax in range(3):
+        v = spheres[i, VX + ax]
+        k = book[i, CELL_X + ax]
+        x = spheres[i, X + ax] + v * dt_i
+        if v > 0.0:
+            if box == 0.0 and k == nc - 1:
+                continue
+            d = (lo + (k + 1) * w - x) / v
+            up = 1
+        elif v < 0.0:
+            if box == 0.0 and k == 0:
+                continue
+            d = (lo + k * w - x) / v
+            up = 0
+        else:
+            continue
+        if d < 0.0:
+            d = 0.0
+        if d < best:
+            best = d
+            code = 2 * ax + up
+    due[i, CROSS_T] = t + best
+    book[i, CROSS_FACE] = code
+
+
+@_inline
 def _shell_exit(spheres, shells, due, scalars, i, t):
     """Store the time sphere ``i`` leaves its shell, from time ``t``.
 
@@ -370,7 +403,93 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 
 @_inline
-def _scan(spheres, book, due, neighbours, scalars, i):
+def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+    """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
+
+    ``j`` seen at its image shifted by ``(sx, sy, sz)``; returns the new
+    ``(best_t, best_key, best_p)``.
+    """
+    tj = spheres[j, T_OWN]
+    t0 = ti if ti > tj else tj
+    di = t0 - ti
+    dj = t0 - tj
+    # i minus j, each from its own time.  IEEE subtraction
+    # is exactly antisymmetric and pair_time even in
+    # (dr, dv), so this is bit for bit what the lower
+    # index minus the higher gives: the same result
+    # whichever sphere predicts the pair.
+    # pairs that surely meet after the best event so far
+    # are not solved (the window's "now" is never later);
+    # two ulps of best_t more, as a root that rounds to
+    # best_t ties with it and the tie order decides
+    horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
+               if best_t >= soon else np.inf)
+    dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
+    dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
+    dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
+    dvx = spheres[i, VX] - spheres[j, VX]
+    dvy = spheres[i, VY] - spheres[j, VY]
+    dvz = spheres[i, VZ] - spheres[j, VZ]
+    sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
+    if grow != 0.0:
+        # growing (the one branch a plain run pays here)
+        dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
+                            sigma * (1.0 + grow * t0), sigma * grow,
+                            horizon)
+    # pair_time_within's own tests up to the root,
+    # the same expressions, combined without branches (half
+    # the pairs recede, at random, and a branch on that
+    # mispredicts half the time): a pair they reject is
+    # inf for it too.  The rest, NaNs and the pairs it
+    # rescales (|dv|^2 |dr|^2 out of range) go through it.
+    # The miss test is b^2 - a c < 0 by a margin that
+    # covers its rounding and that of the kernel's own
+    # discriminant (physics.MISS_MARGIN).
+    b = dx * dvx + dy * dvy + dz * dvz
+    a = dvx * dvx + dvy * dvy + dvz * dvz
+    r2 = dx * dx + dy * dy + dz * dz
+    cc = r2 - sigma * sigma
+    ar2 = a * r2
+    recede = b >= 0.0
+    beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
+    touch = cc <= 0.0
+    miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
+    # (past RANGE_HI no test here rejects wrongly: an
+    # overflow makes them false, or NaN, so the kernel
+    # decides; below RANGE_LO, b may underflow)
+    if grow != 0.0:
+        pass
+    elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
+            touch | ((beyond ^ True) & (miss ^ True)))):
+        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
+                              sigma, horizon)
+    else:
+        dt = np.inf
+    if dt < np.inf:
+        te = t0 + dt
+        if te < soon:
+            te = now
+        if te < clock:
+            te = clock  # a root rounded into the past
+        if te <= best_t:
+            kk = _key(COLLISION, min(i, j), max(i, j), n)
+            if te < best_t or kk < best_key:
+                best_t, best_key, best_p = te, kk, j
+    return best_t, best_key, best_p
+
+
+@_inline
+def _store(due, book, i, best_t, best_key, best_p):
+    if best_p >= 0:
+        due[i, EVENT_T] = best_t
+        book[i, EVENT_KEY] = best_key
+        book[i, EVENT_KIND] = COLLISION
+        book[i, PARTNER] = best_p
+        book[i, PARTNER_CHANGES] = book[best_p, CHANGES]
+
+
+@_inline
+def _scan_list(spheres, book, due, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     box = scalars[F_BOX]
@@ -394,83 +513,91 @@ def _scan(spheres, book, due, neighbours, scalars, i):
         sx = ((code // 9) - 1) * box
         sy = (((code // 3) % 3) - 1) * box
         sz = ((code % 3) - 1) * box
-        tj = spheres[j, T_OWN]
-        t0 = ti if ti > tj else tj
-        di = t0 - ti
-        dj = t0 - tj
-        # i minus j, each from its own time.  IEEE subtraction
-        # is exactly antisymmetric and pair_time even in
-        # (dr, dv), so this is bit for bit what the lower
-        # index minus the higher gives: the same result
-        # whichever sphere predicts the pair.
-        # pairs that surely meet after the best event so far
-        # are not solved (the window's "now" is never later);
-        # two ulps of best_t more, as a root that rounds to
-        # best_t ties with it and the tie order decides
-        horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
-                   if best_t >= soon else np.inf)
-        dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
-        dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
-        dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
-        dvx = spheres[i, VX] - spheres[j, VX]
-        dvy = spheres[i, VY] - spheres[j, VY]
-        dvz = spheres[i, VZ] - spheres[j, VZ]
-        sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
-        if grow != 0.0:
-            # growing (the one branch a plain run pays here)
-            dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
-                                sigma * (1.0 + grow * t0), sigma * grow,
-                                horizon)
-        # pair_time_within's own tests up to the root,
-        # the same expressions, combined without branches (half
-        # the pairs recede, at random, and a branch on that
-        # mispredicts half the time): a pair they reject is
-        # inf for it too.  The rest, NaNs and the pairs it
-        # rescales (|dv|^2 |dr|^2 out of range) go through it.
-        # The miss test is b^2 - a c < 0 by a margin that
-        # covers its rounding and that of the kernel's own
-        # discriminant (physics.MISS_MARGIN).
-        b = dx * dvx + dy * dvy + dz * dvz
-        a = dvx * dvx + dvy * dvy + dvz * dvz
-        r2 = dx * dx + dy * dy + dz * dz
-        cc = r2 - sigma * sigma
-        ar2 = a * r2
-        recede = b >= 0.0
-        beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
-        touch = cc <= 0.0
-        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
-        # (past RANGE_HI no test here rejects wrongly: an
-        # overflow makes them false, or NaN, so the kernel
-        # decides; below RANGE_LO, b may underflow)
-        if grow != 0.0:
-            pass
-        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
-                touch | ((beyond ^ True) & (miss ^ True)))):
-            dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
-                                  sigma, horizon)
-        else:
-            dt = np.inf
-        if dt < np.inf:
-            te = t0 + dt
-            if te < soon:
-                te = now
-            if te < clock:
-                te = clock  # a root rounded into the past
-            if te <= best_t:
-                kk = _key(COLLISION, min(i, j), max(i, j), n)
-                if te < best_t or kk < best_key:
-                    best_t, best_key, best_p = te, kk, j
-    if best_p >= 0:
-        due[i, EVENT_T] = best_t
-        book[i, EVENT_KEY] = best_key
-        book[i, EVENT_KIND] = COLLISION
-        book[i, PARTNER] = best_p
-        book[i, PARTNER_CHANGES] = book[best_p, CHANGES]
+        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow,
+                                         one, n, best_t, best_key, best_p)
+    _store(due, book, i, best_t, best_key, best_p)
 
 
 @_inline
-def predict(spheres, book, due, shells, neighbours, scalars, i, t):
-    """Find sphere ``i``'s earliest collision or reflection and when it leaves its shell.
+def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi,
+                xlo, xhi):
+    """Improve sphere ``i``'s stored event with the pairs in a block of cells.
+
+    The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
+    axis for the full 27 cells.
+    """
+    n = spheres.shape[0]
+    nc = counts[C_CELLS]
+    box = scalars[F_BOX]
+    now = scalars[F_ANCHOR]
+    soon = now + scalars[F_WINDOW]
+    clock = scalars[F_CLOCK]
+    grow = scalars[F_GROW]
+    best_t = due[i, EVENT_T]
+    best_key = book[i, EVENT_KEY]
+    best_p = -1
+    ti = spheres[i, T_OWN]
+    cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
+    one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
+    # the sphere's own layer and row first: the earliest event is mostly
+    # there, and the pairs after it are rejected by the horizon
+    for qz in range(zhi - zlo + 1):
+        oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
+        nz = cz0 + oz
+        sz = 0.0
+        if nz < 0:
+            if box == 0.0:
+                continue
+            nz += nc
+            sz = -box
+        elif nz >= nc:
+            if box == 0.0:
+                continue
+            nz -= nc
+            sz = box
+        for qy in range(yhi - ylo + 1):
+            oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
+            ny = cy0 + oy
+            sy = 0.0
+            if ny < 0:
+                if box == 0.0:
+                    continue
+                ny += nc
+                sy = -box
+            elif ny >= nc:
+                if box == 0.0:
+                    continue
+                ny -= nc
+                sy = box
+            for ox in range(xlo, xhi + 1):
+                nx = cx0 + ox
+                sx = 0.0
+                if nx < 0:
+                    if box == 0.0:
+                        continue
+                    nx += nc
+                    sx = -box
+                elif nx >= nc:
+                    if box == 0.0:
+                        continue
+                    nx -= nc
+                    sx = box
+                j = cell_head[(nz * nc + ny) * nc + nx]
+                while j >= 0:
+                    if j != i:
+                        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon,
+                                                         clock, grow, one, n, best_t, best_key,
+                                                         best_p)
+                    j = cell_next[j]
+    _store(due, book, i, best_t, best_key, best_p)
+
+
+@_inline
+def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+    """Find sphere ``i``'s earliest collision or reflection and its next crossing.
+
+    Against its neighbours and leaving its shell (``F_SHELL > 0``), or
+    against the 27 cells around it and leaving its cell.
 
     A collision or reflection less than the simultaneity window after the
     anchor (the last collision or reflection) is put at the anchor itself:
@@ -500,8 +627,21 @@ def predict(spheres, book, due, shells, neighbours, scalars, i, t):
             due[i, EVENT_T] = te
             book[i, EVENT_KEY] = _key(REFLECTION, i, -1, n)
             book[i, EVENT_KIND] = REFLECTION
-    _scan(spheres, book, due, neighbours, scalars, i)
-    _shell_exit(spheres, shells, due, scalars, i, t)
+    if scalars[F_SHELL] > 0.0:
+        _scan_list(spheres, book, due, neighbours, scalars, i)
+        _shell_exit(spheres, shells, due, scalars, i, t)
+    else:
+        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
+        _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
+
+
+@_jit
+def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+    """:func:`predict`, called rather than inlined: for the callers outside the event loop.
+
+    (Each inlined copy holds both scans and costs compile time.)
+    """
+    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
 
 
 @_inline
@@ -680,14 +820,57 @@ def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, 
 @_jit
 def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
           heap_key, images, scalars, counts):
-    """Shells and cells from the clock, the neighbour lists, every prediction, the heap.
+    """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
 
-    Returns the longest neighbour list; if it is longer than
-    ``neighbours.shape[1]``, nothing was predicted: call again with wider lists.
+    Returns the longest neighbour list (0 without lists); if it is longer
+    than ``neighbours.shape[1]``, nothing was predicted: call again with
+    wider lists.
     """
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
+    t = scalars[F_CLOCK]
+    longest = 0
+    if scalars[F_SHELL] == 0.0:
+        # cells alone
+        lo, w = scalars[F_LO], scalars[F_W]
+        for i in range(n):
+            _advance(spheres, i, t)
+            book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
+            book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
+            book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+    else:
+        longest = _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
+                               images, scalars, counts)
+        if longest > neighbours.shape[1]:
+            return longest
+    for i in range(n):
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
+                    t)
+    for i in range(n):
+        heap[i] = i
+        book[i, HEAP_POS] = i
+        cross_key = _key(CROSSING, i, -1, n)
+        if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
+            heap_t[i], heap_key[i] = due[i, CROSS_T], cross_key
+        else:
+            heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
+    for k in range(n // 2 - 1, -1, -1):
+        _sift_down(heap, heap_t, heap_key, book, k, n)
+    return longest
+
+
+@_inline
+def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
+                 counts):
+    """Shells from the clock (in the box), cells by shell centre, every neighbour list.
+
+    Returns the longest list (the lists are only filled up to their width).
+    """
+    n = spheres.shape[0]
+    nc = counts[C_CELLS]
     t = scalars[F_CLOCK]
     grow = scalars[F_GROW]
     box = scalars[F_BOX]
@@ -745,26 +928,12 @@ def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_pre
                                 book[j, NEIGHBOURS] = b + 1
                                 longest = max(longest, a + 1, b + 1)
                         j = cell_next[j]
-    if longest > cap:
-        return longest
-    for i in range(n):
-        predict(spheres, book, due, shells, neighbours, scalars, i, t)
-    for i in range(n):
-        heap[i] = i
-        book[i, HEAP_POS] = i
-        cross_key = _key(CROSSING, i, -1, n)
-        if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
-            heap_t[i], heap_key[i] = due[i, CROSS_T], cross_key
-        else:
-            heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
-    for k in range(n // 2 - 1, -1, -1):
-        _sift_down(heap, heap_t, heap_key, book, k, n)
     return longest
 
 
 @_jit
-def refresh_window(spheres, book, due, shells, neighbours, heap, heap_t, heap_key, scalars, counts,
-                   scratch):
+def refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t,
+                   heap_key, scalars, counts, scratch):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -798,7 +967,8 @@ def refresh_window(spheres, book, due, shells, neighbours, heap, heap_t, heap_ke
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict(spheres, book, due, shells, neighbours, scalars, i, t)
+            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
+                    t)
             _schedule(heap, heap_t, heap_key, due, book, i)
 
 
@@ -937,6 +1107,37 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
         # kinds: the prediction is compiled into this loop only once)
         p0, p1, tp = i, -1, te
         stale = False
+        if heap_key[0] != book[i, EVENT_KEY] and scalars[F_SHELL] == 0.0:
+            # leaving the cell: not an event of the physics (the clock
+            # moves, the anchor of the simultaneity window does not)
+            scalars[F_CLOCK] = te
+            nc = counts[C_CELLS]
+            code = book[i, CROSS_FACE]
+            ax = code >> 1
+            step = 1 if (code & 1) else -1
+            k = book[i, CELL_X + ax] + step
+            if k < 0 or k >= nc:
+                # periodic wrap: shift the stored centre by one box edge
+                k = (k + nc) % nc
+                spheres[i, X + ax] -= step * box
+                images[i, ax] += step
+            book[i, CELL_X + ax] = k
+            _cell_remove(cell_head, cell_next, cell_prev, book, i)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+            counts[C_CROSSINGS] += 1
+            # only the 9 cells that came into reach can hold new partners
+            zl = step if ax == 2 else -1
+            yl = step if ax == 1 else -1
+            xl = step if ax == 0 else -1
+            zh = step if ax == 2 else 1
+            yh = step if ax == 1 else 1
+            xh = step if ax == 0 else 1
+            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh,
+                        xl, xh)
+            _crossing(spheres, book, due, scalars, nc, i, te)
+            _schedule(heap, heap_t, heap_key, due, book, i)
+            continue
         if heap_key[0] != book[i, EVENT_KEY]:
             # leaving its shell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not); a new
@@ -1055,18 +1256,18 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(spheres, book, due, shells, neighbours, scalars, x, tp)
+            predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
             _schedule(heap, heap_t, heap_key, due, book, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(spheres, book, due, shells, neighbours, heap, heap_t, heap_key, scalars,
-                           counts, scratch)
+            refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap,
+                           heap_t, heap_key, scalars, counts, scratch)
 
 
 @_jit
-def kick(spheres, masses, book, due, shells, neighbours, heap, heap_t, heap_key, scalars, counts, i, t,
-         vx, vy, vz):
+def kick(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t, heap_key,
+         scalars, counts, i, t, vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
@@ -1089,7 +1290,7 @@ def kick(spheres, masses, book, due, shells, neighbours, heap, heap_t, heap_key,
     book[i, CHANGES] += 1
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
-    predict(spheres, book, due, shells, neighbours, scalars, i, t)
+    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
     _schedule(heap, heap_t, heap_key, due, book, i)
 
 

@@ -27,7 +27,13 @@ REBASE_EVERY = 64
 
 #: Neighbour distance over the sum of two reaches (``_core.F_SHELL``): a sphere
 #: may move half a reach from its shell centre before its list is made anew.
-SHELL = float(__import__("os").environ.get("HS_SHELL", "1.5"))
+SHELL = 1.5
+
+#: Packing fraction from which the core predicts against neighbour lists
+#: rather than cells (benchmarks/README.md, "neighbour lists": they pay in
+#: dense fluids, where spheres rattle in their cages, and cost at low density,
+#: where spheres leave their shells more often than they collide).
+LISTS_FROM = float(__import__("os").environ.get("HS_LISTS_FROM", "0.35"))
 
 
 class CheckpointError(ValueError):
@@ -77,7 +83,7 @@ class Engine:
         self.book = np.zeros((n, core.BOOK_COLS), np.int64)
         self.due = np.zeros((n, core.DUE_COLS))
         self.shells = np.zeros((n, core.SHELL_COLS))
-        self.neighbours = np.zeros((n, 8), np.int32)  # widened as needed (_build, advance)
+        self.neighbours = np.zeros((n, 0), np.int32)  # widened as needed (_build, advance)
         self.cell_next = np.zeros(n, np.int64)
         self.cell_prev = np.zeros(n, np.int64)
         self.heap = np.zeros(n, np.int64)
@@ -124,20 +130,24 @@ class Engine:
         span, box = params["span"], params["box"]
         self.scalars[core.F_CONTAINER] = params["wall_radius"]
         self.scalars[core.F_BOX] = box
-        # cells at least as wide as the largest neighbour distance (SHELL
-        # largest reaches), with a small relative margin for rounding; a few
-        # cells per sphere at most
-        shell = SHELL
-        nc = int(span / (shell * sigma * (1.0 + 1e-6))) if sigma > 0.0 else 1
+        # neighbour lists in dense fluids (cells at least as wide as the
+        # largest neighbour distance, SHELL largest diameters), else cells
+        # at least as wide as the largest contact distance; with a small
+        # relative margin for rounding, and a few cells per sphere at most
+        volume = self.container.volume
+        phi = float(np.sum(self.radii ** 3)) * (4.0 / 3.0) * np.pi / volume if n else 0.0
+        shell = SHELL if phi >= LISTS_FROM else 0.0
+        if box and shell and shell * sigma * 3.0 > box:
+            shell = 0.0  # a box too small for three cells of lists: cells
+        reach = sigma * shell if shell else sigma
+        nc = int(span / (reach * (1.0 + 1e-6))) if sigma > 0.0 else 1
         nc = max(1, min(nc, int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0))) + 1, 1 << 10))
         if box and nc < 3:
-            # a small box: three cells, and thinner shells to fit
-            if sigma * 3.0 * 1.01 > box:
+            if sigma * 3.0 > box:
                 raise ValueError(
                     f"periodic box {box:g} is smaller than three largest diameters "
                     f"({sigma:g}); use a larger box")
             nc = 3
-            shell = min(shell, box / (3.0 * sigma * (1.0 + 1e-6)))
         self.scalars[core.F_SHELL] = shell
         self.scalars[core.F_HEADROOM] = headroom
         self.counts[core.C_CELLS] = nc
@@ -160,7 +170,7 @@ class Engine:
 
     def _widen_lists(self):
         """Twice as many entries per neighbour list (the lists stay as they are)."""
-        wider = np.zeros((self.n, 2 * self.neighbours.shape[1]), np.int32)
+        wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
         wider[:, :self.neighbours.shape[1]] = self.neighbours
         self.neighbours = wider
 
@@ -207,10 +217,22 @@ class Engine:
         self._build()
 
     def _grid_limit(self):
-        """Absolute time a growing radius reaches its neighbour list's reach (``inf``: never)."""
+        """Absolute time the growing radii outgrow the cells or their neighbour lists' reach.
+
+        ``inf``: never.
+        """
         g = self.scalars[core.F_GROW]
         if not g or self.n == 0:
             return np.inf
+        if not self.scalars[core.F_SHELL]:
+            nc = int(self.counts[core.C_CELLS])
+            if nc == 1 and self.box is None:
+                return np.inf
+            rmax = float(self.radii.max())
+            if rmax <= 0.0:
+                return np.inf
+            w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
+            return self.offset + (w / (2.0 * rmax) - 1.0) / g
         r = self.radii
         grows = r > 0.0
         if not np.any(grows):
@@ -253,8 +275,8 @@ class Engine:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
         core.kick(self.spheres, self.masses, self.book, self.due, self.shells,
-                  self.neighbours, self.heap, self.heap_t, self.heap_key, self.scalars,
-                  self.counts, int(i), t, vx, vy, vz)
+                  self.neighbours, self.cell_head, self.cell_next, self.heap, self.heap_t,
+                  self.heap_key, self.scalars, self.counts, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(self, until: float = np.inf, events: int | None = None,
@@ -367,14 +389,17 @@ class Engine:
         data = _current_names(data)
         check_arrays(data)
         eng = cls.__new__(cls)
-        listed = "neighbours" in data  # no: from before the neighbour lists
+        n = len(data["masses"])
         for k in cls._SAVED:
             if k == "images" and k not in data:  # checkpoints from before image counts
-                data = dict(data, images=np.zeros((len(data["masses"]), 3), np.int64))
-            if k == "shells" and not listed:
-                data = dict(data, shells=np.zeros((len(data["masses"]), core.SHELL_COLS)),
-                            neighbours=np.zeros((len(data["masses"]), 8), np.int32))
+                data = dict(data, images=np.zeros((n, 3), np.int64))
+            if k == "shells" and k not in data:  # from before the lists: cells alone
+                data = dict(data, shells=np.zeros((n, core.SHELL_COLS)),
+                            neighbours=np.zeros((n, 0), np.int32))
             setattr(eng, k, np.array(data[k]))
+        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
+            eng.book = np.concatenate(
+                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1)
         if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
             eng.counts = np.concatenate(
                 [eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
@@ -406,11 +431,6 @@ class Engine:
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
-        if not listed:
-            # before the neighbour lists (cells and cell crossings): the lists
-            # made at the clock, every sphere predicted afresh (the same
-            # physics; the bits may differ from the run that saved it)
-            eng._regrid()
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -560,7 +580,12 @@ def check_arrays(data):
     n = masses.shape[0]
     _array(data, "masses", np.float64, (n,))
     spheres = _array(data, "spheres", np.float64, (n, core.SPHERE_COLS))
-    book = _array(data, "book", np.int64, (n, core.BOOK_COLS))
+    book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
+    if "book" not in data:
+        _bad("no array 'book'")
+    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
+        # (12 columns: from before the neighbour lists)
+        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
     due = _array(data, "due", np.float64, (n, core.DUE_COLS))
     cell_next = _array(data, "cell_next", np.int64, (n,))
     cell_prev = _array(data, "cell_prev", np.int64, (n,))
@@ -646,10 +671,15 @@ def check_arrays(data):
                             _key(core.NONE, n, n - 1, n)))
     if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
-    if "neighbours" in data:
+    shell = scalars[core.F_SHELL] if scalars.shape[0] > core.F_SHELL else 0.0
+    if shell:  # neighbour lists
+        if not shell > 1.0:
+            _bad("the shell factor is not > 1")
+        if "neighbours" not in data or book.shape[1] <= core.NEIGHBOURS:
+            _bad("no neighbour lists")
         _check_lists(data, book, n)
-    else:  # from before the neighbour lists: column 9 was the face of a cell crossing
-        code = book[:, 9]
+    else:  # cells
+        code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
             _bad("an unknown cell crossing")
     cross_key = _key(core.CROSSING, ids, -1, n)
