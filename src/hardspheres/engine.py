@@ -33,7 +33,7 @@ SHELL = 1.5
 #: rather than cells (benchmarks/README.md, "neighbour lists": they pay in
 #: dense fluids, where spheres rattle in their cages, and cost at low density,
 #: where spheres leave their shells more often than they collide).
-LISTS_FROM = float(__import__("os").environ.get("HS_LISTS_FROM", "0.35"))
+LISTS_FROM = 0.35
 
 
 class CheckpointError(ValueError):
