@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 import hardspheres as hs
 from hardspheres.cli import run_spheres
-from hardspheres.physics import collide, pair_time, reflect, wall_time
+from hardspheres.physics import collide, pair_time, pair_time_grow, reflect, wall_time
 from hardspheres.reference import SIMULTANEOUS
 
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
@@ -365,6 +365,19 @@ def test_pair_time_against_exact_roots(name, scale):
     assert ulps(pair_time(*args), exact) <= 2.0
 
 
+@pytest.mark.parametrize("scale", SCALES, ids=lambda s: f"{s[0]:.0e}/{s[1]:.0e}")
+@pytest.mark.parametrize("name", list(PAIR_CASES))
+def test_growing_pair_time_without_growth_against_exact_roots(name, scale):
+    """pair_time_grow at growth 0 solves pair_time's quadratic, at every scale.
+
+    (Speeds whose squares underflow were taken for spheres at rest before.)
+    """
+    dx, dy, dz, dvx, dvy, dvz, sigma = scaled(PAIR_CASES[name], *scale)
+    exact = exact_pair_time(dx, dy, dz, dvx, dvy, dvz, sigma)
+    got = pair_time_grow(dx, dy, dz, dvx, dvy, dvz, sigma, 0.0, math.inf)
+    assert ulps(got, exact) <= 4.0
+
+
 def test_pair_time_cases_are_nasty_for_the_textbook_formula():
     """The cancelling cases really cancel: the textbook root is far off."""
     for name in ("nearly-touching", "touching-gap-1"):
@@ -460,7 +473,7 @@ def test_tiny_speeds_keep_spheres_in_and_apart():
             [[v, v, 0.0], [0.0, 0.0, 0.0]], 1.0)
     evs = list(s.iter_events(events=6))
     assert len(evs) == 6 and evs[0].kind == "collision"
-    eng = s._engine
+    eng = s.engine
     assert eng.outside() == 0 and eng.max_overlap() <= 1e-9
 
 
@@ -471,8 +484,8 @@ def test_engine_breaks_exact_ties_in_tie_order():
     time as its root with sphere 3 (gap 0): a tie, so (0, 2) goes first, as
     in the reference.  The engine used to prune (0, 2) as "surely later".
     """
-    from hardspheres import reference
     from hardspheres.engine import Engine
+    from hardspheres.reference import Reference
 
     r = 5.902408432445262
     a, b = 11.804816864890526, 11.804816864890523
@@ -481,13 +494,10 @@ def test_engine_breaks_exact_ties_in_tie_order():
     vel = [[0.0, 0.0, 0.0]] * 5 + [[0.0, 31.295728444953568, 0.0]]
     R = 31.295728444953568
     for window in (0.0, SIMULTANEOUS):
-        eng = Engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window, rebase=False)
-        ev = eng.advance(events=8)
-        got = list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
-                       ev["j"].tolist()))
-        want = [e[:4] for e, _ in zip(reference.events(
-            [1.0] * 6, [r] * 6, [list(x) for x in pos], [list(x) for x in vel], R,
-            math.inf, window), range(8))]
+        runs = [engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window,
+                       rebase=False).advance(events=8) for engine in (Reference, Engine)]
+        want, got = (list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
+                              ev["j"].tolist())) for ev in runs)
         assert got == want
         assert [e[2:] for e in got[1:4]] == [(0, 5), (0, 2), (0, 3)]
         assert got[1][0] == got[2][0] == got[3][0]

@@ -17,6 +17,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres import commands, runner
+from hardspheres.progress import Progress
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -239,19 +240,53 @@ class _Terminal(io.StringIO):
 
 def test_progress_bar_rate_eta_and_no_stale_characters():
     term = _Terminal()
-    bar = runner.Progress(10.0, stream=term)
-    bar.update(5.0, 1000, "t=105.123456")
-    bar.update(10.0, 2000, "t=10")
+    bar = Progress(10.0, stream=term)
+    bar.update(5.0, "t=105.123456", events=1000)
+    bar.update(10.0, "t=10", events=2000)
     first, second = term.getvalue().split("\r")[1:3]
     assert "events/s" in first and "left" in first and "50.0%" in first
     assert len(second) >= len(first) and second.rstrip().endswith("done")
     bar.close()
     assert term.getvalue().endswith("\r" + " " * len(second) + "\r")
     quiet = io.StringIO()  # not a terminal: nothing
-    bar = runner.Progress(10.0, stream=quiet)
-    bar.update(5.0, 1000)
+    bar = Progress(10.0, stream=quiet)
+    bar.update(5.0, events=1000)
     bar.close()
     assert quiet.getvalue() == ""
+
+
+def test_progress_bar_with_a_label_only_and_notes():
+    """``compress`` and ``sweep`` give a label and no count (once a TypeError on a terminal)."""
+    term = _Terminal()
+    bar = Progress(1.0, stream=term)
+    bar.update(0.5, "packing 0.40000  Z 5.1  collisions 100")
+    assert "packing 0.40000" in term.getvalue() and "/s" not in term.getvalue()
+    bar.note("a line of its own")
+    assert "\ra line of its own\n" in term.getvalue()
+    assert "packing 0.40000" in term.getvalue().rsplit("\n", 1)[1]  # the bar drawn again
+    bar.close()
+    assert term.getvalue().endswith("\r")
+
+
+def test_progress_is_a_writer_redrawn_by_its_trigger():
+    """The bar of ``hardspheres run`` rides on one ``sim.run``, as a writer with a trigger."""
+    import hardspheres as hs
+    from hardspheres.writers import Writer
+
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=8.0, seed=1), 8.0)
+    term = _Terminal()
+    seen = []
+    bar = runner.ProgressWriter(Progress(2.0, stream=term), 0.0, steps=20,
+                                first=lambda events, elapsed: seen.append((events, elapsed)))
+    assert isinstance(bar, Writer)
+    sim.writers.append(bar)
+    sim.run(until=2.0)
+    redraws = term.getvalue().split("\r")[1:]
+    assert 19 <= len(redraws) <= 20 and "t=0.1 " in redraws[0] and "t=1.9 " in redraws[18]
+    assert seen and seen[0][1] == pytest.approx(0.1)
+    sim.writers.remove(bar)
+    bar.detach()
+    assert term.getvalue().endswith("\r")
 
 
 def test_run_is_silent_on_stderr_when_not_a_terminal(scn):

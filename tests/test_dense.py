@@ -465,3 +465,85 @@ def test_growing_engine_matches_brute_force(seed):
         assert ev["time"][k] == pytest.approx(t, rel=1e-9), k
     # the radii grew by 1 + h t
     assert np.allclose(eng.radii_at(), state.radii * (1.0 + h * eng.time), rtol=1e-12)
+
+
+# ---- progress (packing and Z on stderr) ------------------------------------------------
+
+
+def test_compression_progress_shows_packing_and_Z():
+    import io
+
+    from hardspheres.dense import compression_progress
+
+    sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1), hs.PeriodicBox(10.0))
+    buf = io.StringIO()
+    bar, show = compression_progress(sim.packing, 0.45, stream=buf, enabled=True)
+    sim.compress(packing=0.45, rate=0.02, progress=show)
+    bar.close()
+    text = buf.getvalue()
+    assert "packing 0.45000" in text and "  Z " in text and "100.0%" in text
+    assert "events/s" in text and text.endswith("\r")  # the line is cleared at the end
+    # without a target packing, the bar follows log Z towards the pressure threshold
+    buf = io.StringIO()
+    bar, show = compression_progress(0.3, None, 1e3, stream=buf, enabled=True)
+    show(0.6, 1e3**0.5, 10)
+    assert "50.0%" in buf.getvalue()
+
+
+def test_generate_method_compress_shows_progress(monkeypatch, capsys):
+    import io
+
+    from hardspheres import dense
+    from hardspheres.commands import main
+
+    buf = io.StringIO()
+    real = dense.compression_progress
+    monkeypatch.setattr(dense, "compression_progress", lambda *a, **k: real(*a, stream=buf, enabled=True))
+    argv = ["generate", "--n", "100", "--box", "8", "--packing", "0.45", "--method", "compress"]
+    assert main(argv + ["--rate", "0.05"]) == 0
+    assert "packing 0.45000" in buf.getvalue() and "  Z " in buf.getvalue()
+    assert len(capsys.readouterr().out.splitlines()) == 100  # the scenario, on stdout only
+
+
+def test_readme_dense_pictures_are_made_by_make_sh():
+    """README's dense picture commands (the viewer coloured by q6) are make.sh's, verbatim."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    readme = (root / "README.md").read_text()
+    start = readme.index("## Dense matter")
+    sec = readme[start : readme.index("\n## ", start + 1)]
+    blocks = re.findall(r"```sh\n(.*?)```", sec, re.DOTALL)
+    pictures = [b for b in blocks if "--color q6" in b]
+    assert len(pictures) == 1
+    script = (root / "docs" / "images" / "make.sh").read_text()
+    marked = script[script.index("# ---- dense picture commands") : script.index("# ---- end of dense")]
+    lines = pictures[0].strip().splitlines()
+    assert lines == [x for x in marked.splitlines()[1:] if x.strip()]
+    for png in ("jammed_q6.png", "crystal_q6.png"):
+        assert f"--screenshot {png}" in pictures[0] and f"(docs/images/{png})" in sec
+        assert (root / "docs" / "images" / png).stat().st_size < 320_000
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    st.integers(0, 10_000),
+    st.booleans(),
+    st.sampled_from([1.0, 1.4]),
+    st.sampled_from([1.0, 3.0]),
+    st.floats(0.2, 5.0),
+    st.floats(0.005, 0.1),
+)
+def test_energy_after_rescale_is_the_target(seed, periodic, ratio, mass_ratio, kT, rate):
+    """compress keeps kT; VelocityRescale sets it: both geometries, mixtures, unequal masses."""
+    kw = {"box": 8.0} if periodic else {"container": 6.0}
+    state = hs.random_spheres(60, 0.2, seed=seed, radius_ratio=ratio, mass_ratio=mass_ratio, kT=kT, **kw)
+    sim = hs.Simulation(state, hs.PeriodicBox(8.0) if periodic else hs.SphericalContainer(6.0))
+    kt0 = sim.observables.temperature()
+    res = sim.compress(packing=0.3, rate=rate)
+    assert res.reason == "packing" and sim.observables.temperature() == pytest.approx(kt0, rel=1e-12)
+    assert sim._engine.max_overlap() <= TOL and sim._engine.outside() == 0
+    sim.set_thermostat(VelocityRescale(kT=1.0, interval=0.25))
+    sim.run(until=sim.time + 0.25)
+    assert sim.observables.temperature() == pytest.approx(1.0, rel=1e-12)

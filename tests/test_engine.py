@@ -1,84 +1,62 @@
-"""The compiled engine against brute force, and long runs that must stay exact."""
+"""The compiled engine against the brute-force reference, and long runs that must stay exact."""
 
 import math
+import types
 
 import numpy as np
 import pytest
 from numba import njit
 
+from hardspheres import _core, reference
 from hardspheres import _core as core
 from hardspheres import engine as engine_module
-from hardspheres import reference
-from hardspheres._core import collide, pair_time, reflect, wall_time
 from hardspheres.builders import random_spheres
 from hardspheres.engine import Engine
+from hardspheres.reference import Reference
 
 
-@njit  # no cache: numba would not see changes to the _core functions it calls
-def brute_force(mass, rad, pos, vel, container, n_events, window):
-    """The reference loop of hardspheres.reference, on arrays, compiled.
+def _compiled(fn):
+    """A step of :mod:`hardspheres.reference`'s loop, compiled by numba.
+
+    The same code object as the pure-Python step (no copy), its physics
+    bound to the core's compiled kernels (the same functions of
+    :mod:`hardspheres.physics`); not cached: numba's cache would not see
+    changes to the kernels.
+    """
+    glob = dict(fn.__globals__, wall_time=_core.wall_time, pair_time=_core.pair_time,
+                reflect=_core.reflect, collide=_core.collide)
+    return njit(types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__))
+
+
+class CompiledReference(Reference):
+    """The reference engine with its loop's steps compiled, on arrays, for larger N.
 
     Every wall and every pair predicted afresh after every event (O(N^2)),
-    with the same arithmetic as the reference, so that larger N can be
+    with the reference's own code and arithmetic, so that larger N can be
     checked in reasonable time.
     """
-    n = mass.shape[0]
-    tloc = np.zeros(n)
-    out_t = np.zeros(n_events)
-    out = np.full((n_events, 3), -1, np.int64)
-    clock = 0.0
-    for e in range(n_events):
-        soon = clock + window
-        best, bk, bi, bj = np.inf, -1, -1, -1
-        for i in range(n):
-            te = tloc[i] + wall_time(pos[i, 0], pos[i, 1], pos[i, 2],
-                                     vel[i, 0], vel[i, 1], vel[i, 2], container - rad[i])
-            if te < soon:
-                te = clock
-            if te < best:
-                best, bk, bi, bj = te, 0, i, -1
-        for i in range(n):
-            for j in range(i + 1, n):
-                t0 = max(tloc[i], tloc[j])
-                di, dj = t0 - tloc[i], t0 - tloc[j]
-                te = t0 + pair_time(
-                    (pos[i, 0] + vel[i, 0] * di) - (pos[j, 0] + vel[j, 0] * dj),
-                    (pos[i, 1] + vel[i, 1] * di) - (pos[j, 1] + vel[j, 1] * dj),
-                    (pos[i, 2] + vel[i, 2] * di) - (pos[j, 2] + vel[j, 2] * dj),
-                    vel[i, 0] - vel[j, 0], vel[i, 1] - vel[j, 1], vel[i, 2] - vel[j, 2],
-                    rad[i] + rad[j])
-                if te < soon:
-                    te = clock
-                if te < best:
-                    best, bk, bi, bj = te, 1, i, j
-        if bk < 0:
-            return out_t[:e], out[:e]
-        clock = best
-        for k in (bi, bj):
-            if k >= 0:
-                d = best - tloc[k]
-                for a in range(3):
-                    pos[k, a] += vel[k, a] * d
-                tloc[k] = best
-        if bk == 0:
-            f = reflect(pos[bi, 0], pos[bi, 1], pos[bi, 2], vel[bi, 0], vel[bi, 1], vel[bi, 2])
-            for a in range(3):
-                vel[bi, a] -= f * pos[bi, a]
-        else:
-            dx = pos[bi, 0] - pos[bj, 0]
-            dy = pos[bi, 1] - pos[bj, 1]
-            dz = pos[bi, 2] - pos[bj, 2]
-            k1, k2 = collide(mass[bi], mass[bj], dx, dy, dz, vel[bi, 0] - vel[bj, 0],
-                             vel[bi, 1] - vel[bj, 1], vel[bi, 2] - vel[bj, 2])
-            vel[bi, 0] -= k1 * dx
-            vel[bi, 1] -= k1 * dy
-            vel[bi, 2] -= k1 * dz
-            vel[bj, 0] += k2 * dx
-            vel[bj, 1] += k2 * dy
-            vel[bj, 2] += k2 * dz
-        out_t[e] = best
-        out[e, 0], out[e, 1], out[e, 2] = bk, bi, bj
-    return out_t, out
+
+    _next_event = staticmethod(_compiled(reference.next_event))
+    _move_sphere = staticmethod(_compiled(reference.move_sphere))
+    _apply_event = staticmethod(_compiled(reference.apply_event))
+
+    def __init__(self, *args, **kw):
+        super().__init__(*args, **kw)
+        n = self.n
+        self.masses = np.array(self.masses, dtype=np.float64)
+        self._radii = np.array(self._radii, dtype=np.float64)
+        self._p = np.array(self._p, dtype=np.float64).reshape(n, 3)
+        self._v = np.array(self._v, dtype=np.float64).reshape(n, 3)
+        self._tloc = np.array(self._tloc, dtype=np.float64)
+
+
+#: Each test so marked runs on the pure-Python reference and the compiled engine.
+ENGINES = pytest.mark.parametrize("engine", [Reference, Engine], ids=["reference", "compiled"])
+
+
+def same_events(a, b):
+    """Two event records equal bit for bit, field by field."""
+    return a.dtype == b.dtype and all(np.array_equal(a[f], b[f]) for f in a.dtype.names)
 
 
 def mixed_scenario(seed, n):
@@ -101,25 +79,27 @@ def mixed_scenario(seed, n):
     return masses, radii, pos, vel, container
 
 
-def engine_events(masses, radii, pos, vel, container, n_events, window):
-    eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
-    ev = eng.advance(events=n_events)
-    return ev["time"], np.stack([ev["kind"], ev["i"], ev["j"]], axis=1)
+def run(engine, masses, radii, pos, vel, container, n_events, window):
+    """``n_events`` events from ``engine`` (a class); the events and the engine after."""
+    eng = engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
+    return eng.advance(events=n_events), eng
 
 
 @pytest.mark.parametrize("seed,n", [(1, 2), (2, 3), (3, 10), (4, 40), (5, 100), (6, 300),
                                     (7, 17), (8, 200)])
 @pytest.mark.parametrize("window", [0.0, 1e-8])
 def test_engine_matches_brute_force(seed, n, window):
+    """Same events, same order, same times, impulses and velocities, bit for bit."""
     m, r, p, v, R = mixed_scenario(seed, n)
-    t_ref, e_ref = brute_force(m, r, p.copy(), v.copy(), R, 1000, window)
-    t_eng, e_eng = engine_events(m, r, p, v, R, 1000, window)
-    assert len(t_ref) == len(t_eng) == 1000
-    # same events, same order
-    assert np.array_equal(e_ref, e_eng)
-    # times to 1e-9 relative (they agree bit for bit: same arithmetic)
-    np.testing.assert_allclose(t_eng, t_ref, rtol=1e-9, atol=0)
-    assert np.array_equal(t_eng, t_ref)
+    ref_ev, ref = run(CompiledReference, m, r, p, v, R, 1000, window)
+    eng_ev, eng = run(Engine, m, r, p, v, R, 1000, window)
+    assert len(ref_ev) == len(eng_ev) == 1000
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
+    assert np.array_equal(eng.positions_at(), ref.positions_at(out=np.empty((n, 3))))
+    for key in ("collisions", "reflections"):
+        assert eng.counters[key] == ref.counters[key]
+    assert (eng.time, eng.wall_impulse, eng.virial) == (ref.time, ref.wall_impulse, ref.virial)
 
 
 @pytest.fixture
@@ -132,10 +112,11 @@ def lists(monkeypatch):
 @pytest.mark.parametrize("window", [0.0, 1e-8])
 def test_engine_with_lists_matches_brute_force(lists, seed, n, window):
     m, r, p, v, R = mixed_scenario(seed, n)
-    t_ref, e_ref = brute_force(m, r, p.copy(), v.copy(), R, 1000, window)
-    t_eng, e_eng = engine_events(m, r, p, v, R, 1000, window)
-    assert np.array_equal(e_ref, e_eng)
-    assert np.array_equal(t_eng, t_ref)
+    ref_ev, ref = run(CompiledReference, m, r, p, v, R, 1000, window)
+    eng_ev, eng = run(Engine, m, r, p, v, R, 1000, window)
+    assert eng.scalars[core.F_SHELL] > 0.0
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
 
 
 @pytest.mark.parametrize("phi,ratio", [(0.45, 1.0), (0.3, 1.0), (0.15, 3.0)])
@@ -146,12 +127,11 @@ def test_dense_engine_with_lists_matches_brute_force(lists, phi, ratio, window):
     radius = 0.5 * (n / phi) ** (1 / 3)
     s = random_spheres(n, phi, container=radius, seed=11, radius_ratio=ratio)
     m, r, p, v = s.masses, s.radii, s.positions, s.velocities
-    eng = Engine(m, r, p, v, container=radius, window=window, rebase=False)
+    ref_ev, ref = run(CompiledReference, m, r, p, v, radius, 3000, window)
+    eng_ev, eng = run(Engine, m, r, p, v, radius, 3000, window)
     assert eng.scalars[core.F_SHELL] > 0.0
-    t_ref, e_ref = brute_force(m, r, p.copy(), v.copy(), radius, 3000, window)
-    t_eng, e_eng = engine_events(m, r, p, v, radius, 3000, window)
-    assert np.array_equal(e_ref, e_eng)
-    assert np.array_equal(t_eng, t_ref)
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
 
 
 def test_lists_checkpoint_and_growth(lists):
@@ -170,17 +150,46 @@ def test_lists_checkpoint_and_growth(lists):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_brute_force_is_the_reference(seed):
-    """The compiled brute force used above is the pure-Python reference loop."""
+    """The compiled steps used above give the pure-Python reference's events, bit for bit."""
     m, r, p, v, R = mixed_scenario(100 + seed, 8)
-    t_bf, e_bf = brute_force(m, r, p.copy(), v.copy(), R, 300, 1e-8)
-    got = []
-    pl, vl = p.tolist(), v.tolist()
-    for t, kind, i, j, _ in reference.events(m.tolist(), r.tolist(), pl, vl, R, math.inf):
-        got.append((t, kind, i, j))
-        if len(got) == 300:
-            break
-    assert [g[0] for g in got] == t_bf.tolist()
-    assert [list(g[1:]) for g in got] == e_bf.tolist()
+    compiled, _ = run(CompiledReference, m, r, p, v, R, 300, 1e-8)
+    pure, _ = run(Reference, m.tolist(), r.tolist(), p.tolist(), v.tolist(), R, 300, 1e-8)
+    assert len(pure) == 300
+    assert same_events(compiled, pure)
+
+
+@ENGINES
+def test_head_on_pair_and_wall(engine):
+    """Two spheres meet head on at t = 4, then each reflects off the wall at t = 102."""
+    eng = engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
+                 [[1.0, 0, 0], [-1.0, 0, 0]], container=100.0)
+    assert eng.step(until=3.0) is None
+    assert eng.step(until=10.0) == (4.0, 1, 0, 1)
+    assert np.asarray(eng.velocities).tolist() == [[-1.0, 0, 0], [1.0, 0, 0]]
+    ev = eng.advance(until=150.0)
+    assert ev["time"].tolist() == [102.0, 102.0] and ev["kind"].tolist() == [0, 0]
+    assert ev["i"].tolist() == [0, 1] and ev["j"].tolist() == [-1, -1]
+    assert ev["dp"].tolist() == [[2.0, 0, 0], [-2.0, 0, 0]]
+    assert eng.counters["collisions"] == 1 and eng.counters["reflections"] == 2
+    assert eng.wall_impulse == 4.0 and eng.time == 102.0
+    assert np.asarray(eng.positions_at(150.0)).tolist() == [[-51.0, 0, 0], [51.0, 0, 0]]
+    assert eng.kinetic_energy() == 1.0
+
+
+@ENGINES
+def test_count_limits_and_stop_reasons(engine):
+    from hardspheres.events import StopReason
+
+    m, r, p, v, R = mixed_scenario(9, 12)
+    eng = engine(m, r, p, v, container=R, window=0.0, rebase=False)
+    ev = eng.advance(events=7)
+    assert len(ev) == 7 and eng.last_done == 7 and eng.last_reason == StopReason.MAX_EVENTS
+    c0 = eng.counters["collisions"]
+    eng.advance(collisions=3, record=False)
+    assert eng.counters["collisions"] == c0 + 3
+    assert eng.last_reason == StopReason.MAX_COLLISIONS
+    with pytest.raises(ValueError, match="NaN"):
+        eng.advance(until=math.nan)
 
 
 def test_long_run_stays_exact():

@@ -95,14 +95,17 @@ def test_second_run_on_one_checkpoint_is_refused_and_sigterm_saves(scenario, tmp
 
 def test_two_writers_of_one_trajectory(tmp_path):
     path = tmp_path / "same.gsd"
-    with GSDWriter(path, every=0.5):
+    with GSDWriter(path, every=0.5) as first:
+        assert not path.exists()  # a writer opens its file when attached
+        first.attach(small_sim())
         with pytest.raises(FileInUseError, match="same.gsd"):
-            GSDWriter(path, every=0.5)
+            GSDWriter(path, every=0.5).attach(small_sim())
         with pytest.raises(FileInUseError):
-            XYZWriter(path, every=0.5)
+            XYZWriter(path, every=0.5).attach(small_sim())
         with pytest.raises(FileInUseError):
             small_sim().save(path)
-    GSDWriter(path, every=0.5).close()  # released on close
+    with GSDWriter(path, every=0.5) as again:  # released on close
+        again.attach(small_sim())
 
 
 def test_lock_survives_the_previous_holder_removing_the_file(tmp_path):
@@ -184,7 +187,8 @@ def test_a_gsd_cut_short_warns(tmp_path):
     path = tmp_path / "cut.gsd"
     sim = small_sim()
     w = GSDWriter(path, every=0.1)
-    w._file = FailingAppend(w._file, 5)
+    w.attach(sim)  # opens the file and writes the first frame
+    w._file = FailingAppend(w._file, 4)
     sim.writers.append(w)
     with pytest.raises(OSError) as info:
         sim.run(until=10.0)

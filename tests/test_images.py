@@ -7,7 +7,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
-from hardspheres.trajectory import GSDWriter, frames_from_simulation, read_trajectory
+from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
 
 
 def gas(n=64, phi=0.2, seed=3, kT=4.0):
@@ -80,6 +80,83 @@ def test_checkpoint_and_gsd_keep_images(tmp_path):
     back.run(until=6.0)
     np.testing.assert_array_equal(back.state(unwrapped=True).positions,
                                   sim.state(unwrapped=True).positions)
+
+
+def test_xyz_keeps_images_as_gsd_does(tmp_path):
+    """Extended XYZ carries the image counts as three integer columns: same unwrapping as GSD."""
+    pytest.importorskip("gsd")
+    sim, box = gas(n=32)
+    with GSDWriter(tmp_path / "t.gsd", every=0.5) as g, XYZWriter(tmp_path / "t.xyz",
+                                                                  every=0.5) as x:
+        sim.writers.extend([g, x])
+        sim.run(until=3.0)
+    fg, fx = read_trajectory(tmp_path / "t.gsd"), read_trajectory(tmp_path / "t.xyz")
+    assert np.abs(fx.images).sum() > 0  # spheres crossed the box: the test can fail
+    np.testing.assert_array_equal(fx.images, fg.images)
+    np.testing.assert_array_equal(fx.images[-1], sim.state().images)
+    np.testing.assert_array_equal(fx.unwrapped(), fg.unwrapped())
+    np.testing.assert_array_equal(fx.unwrapped()[-1], sim.state(unwrapped=True).positions)
+    header = (tmp_path / "t.xyz").read_text().split("\n")[1]
+    assert "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:image:I:3 " in header
+
+
+def test_xyz_continued_after_a_checkpoint_keeps_counting(tmp_path):
+    """An XYZ file appended to after a resume: the images go on from the checkpoint's."""
+    sim, box = gas(n=32)
+    with XYZWriter(tmp_path / "t.xyz", every=0.5) as x:
+        sim.writers.append(x)
+        sim.run(until=2.0)
+    sim.writers.clear()
+    sim.save(tmp_path / "c.npz")
+    back = hs.Simulation.load(tmp_path / "c.npz")
+    with XYZWriter(tmp_path / "t.xyz", every=0.5, append=True) as x:
+        back.writers.append(x)
+        back.run(until=4.0)
+    fr = read_trajectory(tmp_path / "t.xyz")
+    assert fr.times.tolist() == [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]
+    np.testing.assert_array_equal(fr.images[-1], back.state().images)
+    np.testing.assert_array_equal(fr.unwrapped()[-1], back.state(unwrapped=True).positions)
+    # the same run without the break: the same unwrapped trajectory, frame by frame
+    once, _ = gas(n=32)
+    with XYZWriter(tmp_path / "once.xyz", every=0.5) as x:
+        once.writers.append(x)
+        once.run(until=4.0)
+    ref = read_trajectory(tmp_path / "once.xyz")
+    np.testing.assert_array_equal(fr.images, ref.images)
+    np.testing.assert_allclose(fr.unwrapped(), ref.unwrapped(), rtol=0, atol=1e-9 * box)
+
+
+def test_xyz_from_before_images_reads_without_them(tmp_path):
+    """An XYZ file without the image columns (older writer) reads; unwrapping says why not."""
+    sim, box = gas(n=32)
+    with XYZWriter(tmp_path / "t.xyz", every=0.5) as x:
+        sim.writers.append(x)
+        sim.run(until=1.0)
+    new = read_trajectory(tmp_path / "t.xyz")
+    lines = (tmp_path / "t.xyz").read_text().split("\n")
+    old = []
+    for line in lines:
+        if "Properties=" in line:
+            old.append(line.replace(":image:I:3", ""))
+        elif len(line.split()) == 12:
+            old.append(" ".join(line.split()[:9]))
+        else:
+            old.append(line)
+    (tmp_path / "old.xyz").write_text("\n".join(old))
+    fr = read_trajectory(tmp_path / "old.xyz")
+    assert fr.images is None
+    np.testing.assert_array_equal(fr.positions, new.positions)
+    np.testing.assert_array_equal(fr.velocities, new.velocities)
+    with pytest.raises(PeriodicBoxRequired, match="image counts"):
+        fr.unwrapped()
+
+
+def test_xyz_with_unknown_columns_is_refused(tmp_path):
+    p = tmp_path / "odd.xyz"
+    p.write_text('1\nLattice="10 0 0 0 10 0 0 0 10" Properties=species:S:1:pos:R:3 '
+                 "Time=0.0 box_length=10.0\na 0 0 0\n")
+    with pytest.raises(ValueError, match="odd.xyz.*Properties"):
+        read_trajectory(p)
 
 
 def test_images_in_a_spherical_container_raise():

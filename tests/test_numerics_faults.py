@@ -50,7 +50,8 @@ def _sibling(name):
 _analytic = _sibling("test_analytic")
 exact_pair_time, exact_wall_time, ulps = (_analytic.exact_pair_time,
                                           _analytic.exact_wall_time, _analytic.ulps)
-brute_force = _sibling("test_engine").brute_force
+_test_engine = _sibling("test_engine")
+CompiledReference, same_events = _test_engine.CompiledReference, _test_engine.same_events
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 
 
@@ -105,11 +106,9 @@ def test_tangent_sphere_inside_or_moving_off_the_wall_is_accepted():
 def test_sliding_sphere_stops_the_run_in_both_engines(engine):
     """Past the input check (library use), the run stops instead of looping."""
     p, v = [[0.0, 0.0, 100.0]], [[1.0, 0.0, 0.0]]
+    cls = reference.Reference if engine == "reference" else Engine
     with pytest.raises(StuckError, match="moves along it") as e:
-        if engine == "reference":
-            next(reference.events([100.0], [10.0], p, v, 110.0, 50.0))
-        else:
-            Engine([100.0], [10.0], p, v, container=110.0, window=1e-8).advance(until=50.0)
+        cls([100.0], [10.0], p, v, container=110.0, window=1e-8).advance(until=50.0)
     assert (e.value.reason, e.value.time, e.value.sphere) == ("sliding", 0.0, 0)
     assert isinstance(e.value, ValueError)
 
@@ -201,12 +200,10 @@ def test_touching_lattice_same_events_as_brute_force(k, seed):
     """The cascade at t = 0 and what follows, event for event, bit for bit."""
     m, r, p, v = touching_lattice(k, seed)
     n_events = 600
-    want_t, want = brute_force(m, r, p.copy(), v.copy(), 8.0, n_events, 1e-8)
+    want = CompiledReference(m, r, p, v, container=8.0, window=1e-8).advance(events=n_events)
     eng = Engine(m, r, p, v, container=8.0, window=1e-8, rebase=False)
-    ev = eng.advance(events=n_events)
-    got = np.stack([ev["kind"], ev["i"], ev["j"]], axis=1)
-    assert np.array_equal(ev["time"], want_t) and np.array_equal(got, want)
-    assert np.sum(want_t == 0.0) > k ** 3 // 2  # a real cascade at t = 0
+    assert same_events(eng.advance(events=n_events), want)
+    assert np.sum(want["time"] == 0.0) > k ** 3 // 2  # a real cascade at t = 0
 
 
 def test_touching_lattice_jsonl_same_from_both_engines(monkeypatch):
@@ -331,11 +328,9 @@ def test_compiled_core_does_not_drop_what_the_kernel_finds():
     pos = rng.uniform(-40.0, 40.0, (n, 3))
     vel = rng.normal(size=(n, 3))
     rad = np.full(n, 1e-9)
-    want_t, want = brute_force(np.ones(n), rad, pos.copy(), vel.copy(), 100.0, 300, 0.0)
+    want = CompiledReference(np.ones(n), rad, pos, vel, container=100.0).advance(events=300)
     eng = Engine(np.ones(n), rad, pos, vel, container=100.0, rebase=False)
-    ev = eng.advance(events=300)
-    assert np.array_equal(ev["time"], want_t)
-    assert np.array_equal(np.stack([ev["kind"], ev["i"], ev["j"]], axis=1), want)
+    assert same_events(eng.advance(events=300), want)
 
 
 @settings(max_examples=500, deadline=None)

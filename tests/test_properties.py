@@ -4,9 +4,10 @@ At every reported event: a collision conserves the pair's energy and
 momentum and leaves the pair receding; a reflection keeps the speed, reverses
 the normal velocity and keeps the tangential one; no two spheres overlap by
 more than 1e-9 of their contact distance and none pokes out of the container
-by more than 1e-9 of its radius.  Checked for the assignment program's loop
-(:func:`hardspheres.reference.events`, 1e-8 s window) and for the compiled
-engine the library runs (exact times); and the two give the same events.
+by more than 1e-9 of its radius.  Checked for both engines (the reference
+:class:`hardspheres.reference.Reference` and the compiled one), with exact
+times (the library's) and the assignment's 1e-8 s window; and the two give
+the same events.
 
 Scenarios: 1 to 12 spheres at scales from 1e-3 to 1e7 (speeds scaled alike),
 masses over four decades, radii up to half a grid cell, some spheres at rest
@@ -17,6 +18,7 @@ import io
 import math
 import os
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -24,11 +26,15 @@ from hardspheres import engine as engine_module
 from hardspheres import reference
 from hardspheres.cli import run_spheres
 from hardspheres.engine import Engine
+from hardspheres.reference import Reference
 from hardspheres.scenario import check_scenario, parse_scenario
 
 TOL = 1e-9  # overlap / outside, relative to contact distance / container radius
 CONS = 1e-12  # conservation per event, relative
 CELLS = 3  # grid of CELLS^3 cells inside the container
+
+#: Each test so marked runs on the pure-Python reference and the compiled engine.
+ENGINES = pytest.mark.parametrize("engine", [Reference, Engine], ids=["reference", "compiled"])
 
 
 speeds = st.floats(-1.0, 1.0).map(lambda x: 0.0 if abs(x) < 1e-100 else x)
@@ -145,71 +151,47 @@ def total_energy(masses, vel):
     return sum(0.5 * m * dot(v, v) for m, v in zip(masses, vel))
 
 
-@settings(max_examples=100, deadline=None)
-@given(scn=scenarios())
-def test_assignment_loop_conserves_and_keeps_spheres_apart(scn):
-    """The loop of the assignment's program (1e-8 s window), 150 events."""
+@ENGINES
+@settings(max_examples=80, deadline=None)
+@given(scn=scenarios(), window=st.sampled_from([0.0, reference.SIMULTANEOUS]))
+def test_conserves_and_keeps_spheres_apart(engine, scn, window):
+    """150 events, exact times (the library's default) or the assignment's window."""
     masses, radii, pos, vel, container = scn
     # the scenario is one the program accepts
     check_scenario(parse_scenario(as_text(masses, radii, pos, vel)), container)
     check_state(pos, radii, container)
+    eng = engine(masses, radii, pos, vel, container=container, window=window)
     e_start = total_energy(masses, vel)
     before = [list(v) for v in vel]
     last = 0.0
-    count = 0
-    window = reference.SIMULTANEOUS
-    for t, kind, i, j, state in reference.events(masses, radii, pos, vel, container,
-                                                 math.inf, window):
+    for _ in range(150):
+        ev = eng.step()
+        if ev is None:
+            break
+        t, kind, i, j = ev
         assert t >= last
         last = t
-        now = state()
-        check_event(kind, i, j, now, before, vel, masses, radii, container, window)
-        check_state(now, radii, container)
-        before = [list(v) for v in vel]
-        count += 1
-        if count == 150:
-            break
-    assert abs(total_energy(masses, vel) - e_start) <= 1e-11 * e_start
-
-
-@settings(max_examples=60, deadline=None)
-@given(scn=scenarios())
-def test_engine_conserves_and_keeps_spheres_apart(scn):
-    """The compiled engine with exact times (the library's default), 150 events."""
-    masses, radii, pos, vel, container = scn
-    eng = Engine(masses, radii, pos, vel, container=container)
-    e_start = eng.kinetic_energy()
-    before = eng.velocities.tolist()
-    for _ in range(150):
-        ev = eng.advance(events=1)
-        if len(ev["time"]) == 0:
-            break
-        kind, i, j = int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
-        now = eng.positions_at(float(ev["time"][0])).tolist()
-        after = eng.velocities.tolist()
-        check_event(kind, i, j, now, before, after, masses, radii, container, 0.0)
+        now = [[float(x) for x in row] for row in eng.positions_at(t)]
+        after = [[float(x) for x in row] for row in eng.velocities]
+        check_event(kind, i, j, now, before, after, masses, radii, container, window)
         check_state(now, radii, container)
         before = after
-    assert abs(eng.kinetic_energy() - e_start) <= 1e-11 * e_start
-    assert eng.max_overlap() <= TOL and eng.outside() == 0
+    assert abs(total_energy(masses, before) - e_start) <= 1e-11 * e_start
 
 
 @settings(max_examples=80, deadline=None)
 @given(scn=scenarios(), window=st.sampled_from([0.0, reference.SIMULTANEOUS]))
 def test_engine_matches_the_reference(scn, window):
-    """Same events, same order, same times (bit for bit), same velocities after."""
+    """Same events, same order, same times, impulses and velocities after, bit for bit."""
     masses, radii, pos, vel, container = scn
     eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
-    ev = eng.advance(events=200)
-    got = list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()))
-    want = []
-    p, v = [list(x) for x in pos], [list(x) for x in vel]
-    for t, kind, i, j, _ in reference.events(masses, radii, p, v, container, math.inf, window):
-        want.append((t, kind, i, j))
-        if len(want) == 200:
-            break
-    assert got == want
-    assert eng.velocities.tolist() == v
+    ref = Reference(masses, radii, pos, vel, container=container, window=window)
+    got, want = eng.advance(events=200), ref.advance(events=200)
+    assert got.dtype == want.dtype
+    for field in got.dtype.names:
+        assert got[field].tolist() == want[field].tolist(), field
+    assert eng.velocities.tolist() == ref.velocities
+    assert (eng.wall_impulse, eng.virial) == (ref.wall_impulse, ref.virial)
 
 
 @settings(max_examples=40, deadline=None)
@@ -223,16 +205,11 @@ def test_engine_with_lists_matches_the_reference(scn, window):
         eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
     finally:
         engine_module.LISTS_FROM = saved
-    ev = eng.advance(events=200)
-    got = list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()))
-    want = []
-    p, v = [list(x) for x in pos], [list(x) for x in vel]
-    for t, kind, i, j, _ in reference.events(masses, radii, p, v, container, math.inf, window):
-        want.append((t, kind, i, j))
-        if len(want) == 200:
-            break
-    assert got == want
-    assert eng.velocities.tolist() == v
+    ref = Reference(masses, radii, pos, vel, container=container, window=window)
+    got, want = eng.advance(events=200), ref.advance(events=200)
+    for field in got.dtype.names:
+        assert got[field].tolist() == want[field].tolist(), field
+    assert eng.velocities.tolist() == ref.velocities
 
 
 @settings(max_examples=40, deadline=None)

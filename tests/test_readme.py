@@ -36,3 +36,14 @@ def test_readme_commands_run(tmp_path):
                             "--packings 0.2 --csv validation.csv")
         res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
         assert res.returncode == 0, (line, res.stderr)
+
+
+def test_readme_layout_names_every_module():
+    """README's Layout names each module of src/hardspheres, and only modules that exist."""
+    layout = re.search(r"## Layout\n(.*?)(\n## |\Z)", README, re.S).group(1)
+    named = set(re.findall(r"`_?\w+\.py`", layout))
+    src = ROOT / "src" / "hardspheres"
+    modules = {f"`{p.name}`" for p in src.glob("*.py") if p.name not in ("__init__.py",
+                                                                          "__main__.py")}
+    assert modules - named == set(), "modules the Layout does not name"
+    assert named - modules == set(), "the Layout names modules that do not exist"

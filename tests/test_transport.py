@@ -54,6 +54,28 @@ def test_diffusion_two_routes_agree(fluid):
     assert 0.95 < ratio < 1.4
 
 
+def test_vacf_cut_is_where_the_running_integral_is_read(fluid):
+    """diffusion(t_max) is the running integral at t_max; the default cut is half a segment."""
+    fr, _, _ = fluid
+    v = VACF(blocks=5).compute(fr)
+    t, d = v.running_diffusion()
+    for cut in (1.0, 5.0, 10.0):
+        k = int(np.searchsorted(t, cut, side="right")) - 1
+        assert v.diffusion(t_max=cut)[0] == pytest.approx(d[k], rel=1e-12)
+    half = t[len(t) // 5 - 1] / 2
+    k = int(np.searchsorted(t, half, side="right")) - 1
+    assert v.diffusion()[0] == pytest.approx(d[k], rel=1e-12)
+    with pytest.raises(ValueError, match="longer than a segment"):
+        v.diffusion(t_max=2 * half + 1.0)
+
+
+def test_vacf_needs_no_image_counts(fluid):
+    """Only velocities enter the VACF: frames without images (old files) work."""
+    fr, _, _ = fluid
+    bare = fr.replace(images=None)
+    np.testing.assert_array_equal(VACF().compute(bare).c, VACF().compute(fr).c)
+
+
 def test_vacf_refuses_coarse_frames(fluid):
     fr, _, _ = fluid
     coarse = fr.replace(times=fr.times[::5], positions=fr.positions[::5],

@@ -172,3 +172,65 @@ def test_page_is_a_packaged_file_and_render_does_not_import_the_viewer():
     code = "import sys, hardspheres.render; print('hardspheres.viewer' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def _fcc_frames(k=3, a=2.0, n_frames=3, jitter=0.0, seed=1):
+    """A perfect (or jittered) FCC lattice of 4 k^3 unit-diameter spheres in a periodic box."""
+    rng = np.random.default_rng(seed)
+    base = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+    cells = np.array([[i, j, m] for i in range(k) for j in range(k) for m in range(k)])
+    pos = ((cells[:, None, :] + base[None]) * a).reshape(-1, 3) - 0.5 * k * a
+    n = len(pos)
+    positions = np.stack([pos + jitter * rng.normal(size=pos.shape) for _ in range(n_frames)])
+    return Frames(times=np.arange(n_frames, dtype=float), positions=positions,
+                  velocities=rng.normal(size=(n_frames, n, 3)), radii=np.full(n, 0.7),
+                  masses=np.ones(n), names=[f"s{i}" for i in range(n)], box=k * a)
+
+
+def test_viewer_colours_by_q6(tmp_path):
+    pytest.importorskip("freud")
+    frames = _fcc_frames(jitter=0.0)
+    data = embedded_data(write_viewer(frames, tmp_path / "q.html", color_by="q6").read_text())
+    sc = data["scalar"]
+    assert data["color_by"] == "q6" and sc["name"] == "q6"
+    q6 = np.frombuffer(base64.b64decode(sc["values"]), "<f4").reshape(data["nframes"], data["n"])
+    assert np.allclose(q6, 0.5745, atol=1e-3)  # FCC, 12 neighbours (Steinhardt q6 = 0.5745)
+    assert sc["range"] == [0.25, 0.6]  # fixed, so that pictures compare
+    # a liquid-like (strongly jittered) lattice: lower q6 than the crystal
+    liquid = embedded_data(write_viewer(_fcc_frames(jitter=0.4), tmp_path / "l.html",
+                                        color_by="q6").read_text())
+    ql = np.frombuffer(base64.b64decode(liquid["scalar"]["values"]), "<f4")
+    assert ql.mean() < 0.5
+    # speed and mass colouring carry no scalar; a bad colour names the choices
+    assert embedded_data(write_viewer(frames, tmp_path / "s.html").read_text())["scalar"] is None
+    with pytest.raises(ValueError, match="speed, mass, q6"):
+        write_viewer(frames, tmp_path / "x.html", color_by="q7")
+
+
+def test_viewer_q6_in_a_spherical_container(tmp_path):
+    pytest.importorskip("freud")
+    frames = synthetic_frames(n=40, n_frames=5)
+    data = embedded_data(write_viewer(frames, tmp_path / "c.html", color_by="q6").read_text())
+    q6 = np.frombuffer(base64.b64decode(data["scalar"]["values"]), "<f4")
+    assert q6.shape == (5 * 40,) and np.all((q6 >= 0) & (q6 <= 1))
+
+
+def test_q6_page_in_chromium(tmp_path):
+    pytest.importorskip("freud")
+    sync_api = _launch()
+    path = write_viewer(_fcc_frames(jitter=0.1), tmp_path / "q.html", color_by="q6")
+    errors = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(viewport={"width": 800, "height": 500})
+            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page.goto(path.as_uri())
+            page.wait_for_function("window.viewerReady === true", timeout=30_000)
+            assert "bond order q6" in page.locator("#legend").inner_text()
+            assert page.locator("#colorby option").all_inner_texts() == ["speed", "mass", "q6"]
+            page.select_option("#colorby", "speed")
+            assert "speed" in page.locator("#legend").inner_text()
+        finally:
+            browser.close()
+    assert not errors, errors

@@ -3,7 +3,8 @@
     python validation/compress.py jam N RATE [RATE ...]   # LS jamming density per rate
     python validation/compress.py fluid N PHI [PHI ...]   # metastable fluid Z vs CS/Kolafa
     python validation/compress.py fcc K PHI [PHI ...]     # FCC crystal (4 K^3 spheres) vs Speedy
-    python validation/compress.py mix N PHI [PHI ...]     # 50:50 mixture, ratio 1.4, vs BMCSL
+    python validation/compress.py mix N PHI [PHI ...]     # 50:50 mixture, ratio 1.4, vs BMCSL, HGR
+    python validation/compress.py mixlong N PHI SEED [SEED ...]  # the same, longer, per seed
 
 Everything is in a periodic box with equal masses and kT = 1; results
 print as Markdown table rows (docs/validation.md quotes them).  Pressure
@@ -43,15 +44,12 @@ def z_speedy_crystal(eta):
 
 def z_bmcsl(eta, diameters, fractions):
     """Boublik (1970); Mansoori, Carnahan, Starling & Leland (1971)."""
-    d = np.asarray(diameters, float)
-    x = np.asarray(fractions, float)
-    m = [float(np.sum(x * d ** k)) for k in range(4)]
-    rho = eta / (math.pi / 6.0 * m[3])
-    xi = [math.pi / 6.0 * rho * mk for mk in m]
-    e = xi[3]
-    p = (6.0 / math.pi) * (xi[0] / (1 - e) + 3 * xi[1] * xi[2] / (1 - e) ** 2
-                           + (3 - e) * xi[2] ** 3 / (1 - e) ** 3)
-    return p / rho
+    return float(eos.bmcsl(eta, diameters, fractions))
+
+
+def z_hgr(eta, diameters, fractions):
+    """Hansen-Goos & Roth, J. Chem. Phys. 124, 154506 (2006)."""
+    return float(eos.hansen_goos_roth(eta, diameters, fractions))
 
 
 # ---- helpers ----------------------------------------------------------------------
@@ -76,9 +74,8 @@ def measure_z(sim, collisions, blocks=20):
 
 def q6(sim):
     """Mean Steinhardt q6 and the fraction of crystal-like spheres."""
-    from hardspheres.dense import crystal_order
-    order = crystal_order(sim)
-    return order.mean_q6, order.fraction
+    order = hs.BondOrder(num_neighbors=12).compute(sim)
+    return order.mean_q, order.crystal_fraction
 
 
 def fluid(n, phi0, seed=1):
@@ -90,17 +87,28 @@ def fluid(n, phi0, seed=1):
 
 # ---- the checks -------------------------------------------------------------------
 
-def jam(n, rates, pressure=1e4):
+def jam(n, rates, pressure=1e4, seed=1, trace=None):
+    """Compress from a fluid at 0.3 until Z passes ``pressure``, one run per rate.
+
+    ``trace``: a file name pattern with ``{rate}``; each rescale's (phi, Z,
+    collisions) is written there as CSV (for phi_J(phi) = phi Z/(Z-3)).
+    """
     print("| N | rate gamma | phi at stop | Z at stop | phi_J = phi Z/(Z-3) | q6 | crystal-like |"
           " collisions | wall s |")
     print("|---|---|---|---|---|---|---|---|---|")
     for rate in rates:
-        sim = fluid(n, 0.3)
+        sim = fluid(n, 0.3, seed=seed)
+        rows = []
         t0 = time.perf_counter()
-        res = sim.compress(packing=0.74, rate=rate, pressure=pressure)
+        res = sim.compress(packing=0.74, rate=rate, pressure=pressure,
+                           progress=lambda phi, z, c, rows=rows: rows.append((phi, z, c)))
         wall = time.perf_counter() - t0
         phij = res.packing * res.pressure / (res.pressure - 3.0)
         q, xtal = q6(sim)
+        if trace:
+            with open(trace.format(rate=rate), "w") as fh:
+                fh.write("phi,Z,collisions\n")
+                fh.writelines(f"{a:.8f},{b:.6g},{c}\n" for a, b, c in rows)
         print(f"| {n} | {rate:g} | {res.packing:.4f} | {res.pressure:.3g} | {phij:.4f} | "
               f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
 
@@ -138,9 +146,10 @@ def fcc_eos(k, phis, per_sphere=500, seed=1):
               flush=True)
 
 
-def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1):
-    print("| N | phi | Z measured | BMCSL | (Z - BMCSL)/sigma |")
-    print("|---|---|---|---|---|")
+def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1, equil=EQUIL):
+    print("| N | phi | seed | Z measured | BMCSL | (Z - BMCSL)/sigma | Hansen-Goos-Roth |"
+          " (Z - HGR)/sigma |")
+    print("|---|---|---|---|---|---|---|---|")
     for phi in phis:
         phi0 = 0.2
         L = box_for(n, phi0)
@@ -151,14 +160,20 @@ def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1):
                                         state.velocities, hs.PeriodicBox(L))
         sim.run(collisions=5 * n)
         sim.compress(packing=phi, rate=0.05)
-        sim.run(collisions=EQUIL * n)
+        sim.run(collisions=equil * n)
         z, s = measure_z(sim, per_sphere * n)
-        zb = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5])
-        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} |",
-              flush=True)
+        zb, zh = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5]), z_hgr(phi, [ratio, 1.0], [0.5, 0.5])
+        print(f"| {n} | {phi} | {seed} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} | "
+              f"{zh:.4f} | {(z - zh) / s:+.1f} |", flush=True)
 
 
 if __name__ == "__main__":
     what, size, *rest = sys.argv[1:]
-    vals = [float(x) for x in rest]
-    {"jam": jam, "fluid": fluid_eos, "fcc": fcc_eos, "mix": mix_eos}[what](int(size), vals)
+    if what == "jam" and rest and rest[-1].endswith(".csv"):  # jam N RATE... TRACE_{rate}.csv
+        jam(int(size), [float(x) for x in rest[:-1]], trace=rest[-1])
+    elif what == "mixlong":  # mixlong N PHI SEED [SEED ...]: 500 + 2000 collisions per sphere
+        for sd in rest[1:]:
+            mix_eos(int(size), [float(rest[0])], per_sphere=2000, seed=int(sd), equil=500)
+    else:
+        vals = [float(x) for x in rest]
+        {"jam": jam, "fluid": fluid_eos, "fcc": fcc_eos, "mix": mix_eos}[what](int(size), vals)

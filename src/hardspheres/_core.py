@@ -52,6 +52,7 @@ import os
 
 import numba
 import numba.core.cpu
+import numba.extending
 import numpy as np
 
 from . import events, physics
@@ -107,15 +108,12 @@ _inline = _compiler(inline="always")
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
 _kernel = _compiler(inline="always")
+# kernels that other kernels call: numba compiles such a call of the plain
+# Python function (physics.py stays free of numba, for spheres' start-up)
+for _callee in (physics.order_one, physics.pair_time_within, physics.wall_time_grow):
+    numba.extending.register_jitable(inline="always")(_callee)
 pair_time_within = _kernel(physics.pair_time_within)
-
-
-@_kernel
-def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
-    """physics.pair_time (whose call of pair_time_within numba cannot follow)."""
-    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, np.inf)
-
-
+pair_time = _kernel(physics.pair_time)
 wall_time = _kernel(physics.wall_time)
 collide = _kernel(physics.collide)
 reflect = _kernel(physics.reflect)

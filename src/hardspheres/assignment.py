@@ -1,14 +1,16 @@
 """The assignment's simulation and report, given a checked scenario.
 
-Small inputs run the pure-Python reference loop (no numba start-up); larger
-ones run the compiled event core.  Both follow the same rules with the same
-arithmetic (:mod:`hardspheres.reference`), so their reports are identical;
+Small inputs run the pure-Python reference engine (no numba or numpy
+start-up); larger ones run the compiled event core.  Both speak one interface
+and follow the same rules with the same arithmetic
+(:mod:`hardspheres.reference`), so one loop writes the report and the
+reports are identical;
 ``HARDSPHERES_ENGINE=reference|compiled`` forces one (the tests do).
 """
 
 import os
 
-from . import reference
+from .reference import SIMULTANEOUS, Reference
 from .report import JSONLReport, TextReport
 from .scenario import StuckError
 
@@ -42,25 +44,28 @@ def write_report(scn, container, end, out, fmt="text"):
 
 def _write_events(scn, container, end, out, fmt):
     rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
-    p, v = scn.positions, scn.velocities
-    rep.initial(container, end, p, v)
+    rep.initial(container, end, scn.positions, scn.velocities)
     if choose_engine(len(scn)) == "reference":
-        for t, kind, i, j, state in reference.events(scn.masses, scn.radii, p, v,
-                                                     container, end):
-            rep.event(t, kind, i, j, state(), v)
-        return
-    from .engine import Engine
-    from .warmup import ensure_compiled
-    ensure_compiled()  # says so on stderr, once, when the cache is cold
-    eng = Engine(scn.masses, scn.radii, p, v, container=container,
-                 window=reference.SIMULTANEOUS, rebase=False)
+        engine = Reference
+    else:
+        from .engine import Engine as engine
+        from .warmup import ensure_compiled
+
+        ensure_compiled()  # says so on stderr, once, when the cache is cold
+    eng = engine(
+        scn.masses,
+        scn.radii,
+        scn.positions,
+        scn.velocities,
+        container=container,
+        window=SIMULTANEOUS,
+        rebase=False,
+    )
     here = eng.positions_at()
     # the text report shows every sphere; the JSONL one only those involved
     everyone = fmt == "text"
-    while True:
-        ev = eng.advance(until=end, events=1)
-        if len(ev) == 0:
-            return
-        t, kind, i, j = float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
-        rep.event(t, kind, i, j,
-                  eng.positions_at(t, here, None if everyone else [i, max(j, i)]), eng.velocities)
+    while (ev := eng.step(until=end)) is not None:
+        t, kind, i, j = ev
+        rep.event(
+            t, kind, i, j, eng.positions_at(t, here, None if everyone else (i, max(j, i))), eng.velocities
+        )

@@ -139,11 +139,15 @@ def _compile_first():
 def cmd_generate(args):
     from .builders import random_spheres
     if args.method == "compress":
-        from .dense import generate_compressed
-        state = generate_compressed(args.n, args.packing, container=args.container,
-                                    box=args.box, seed=args.seed, rate=args.rate,
-                                    radius_ratio=args.radius_ratio,
-                                    mass_ratio=args.mass_ratio)
+        from .dense import compression_progress, generate_compressed, start_packing
+        bar, show = compression_progress(start_packing(args.packing), args.packing)
+        try:
+            state = generate_compressed(args.n, args.packing, container=args.container,
+                                        box=args.box, seed=args.seed, rate=args.rate,
+                                        radius_ratio=args.radius_ratio,
+                                        mass_ratio=args.mass_ratio, progress=show)
+        finally:
+            bar.close()
     elif args.box is not None:
         state = random_spheres(args.n, args.packing, box=args.box, seed=args.seed,
                                radius_ratio=args.radius_ratio, mass_ratio=args.mass_ratio)
@@ -171,6 +175,13 @@ def cmd_bench(args):
 def cmd_validate(args):
     from .validate import PACKINGS, validate, verdict
     _compile_first()
+    if args.transport:
+        return _validate_transport(args)
+    if args.time is not None:
+        raise ValueError("--time applies to --transport only (the equation of state "
+                         "measures --collisions per sphere)")
+    if args.csv is None:
+        args.csv = "validation.csv"
     if args.quick:  # a smoke test of the whole path, seconds (N = 500 crystallizes at 0.49)
         for key, value in (("n", 500), ("collisions", 100), ("equilibrate", 50),
                            ("packings", [0.1, 0.3, 0.45])):
@@ -194,6 +205,25 @@ def cmd_validate(args):
     print(f"wrote {args.csv}")
     for line in verdict(rows):
         print(line)
+    return 0
+
+
+def _validate_transport(args):
+    from .validate import TRANSPORT_PACKINGS, validate_transport
+    for key in ("collisions", "equilibrate", "seeds", "scheduler", "output"):
+        if getattr(args, key) not in (None, 1, False):
+            raise ValueError(f"--{key} does not apply to --transport (which takes --n, "
+                             "--packings, --time, --quick, --seed, --workers, --csv)")
+    packings = args.packings or ((0.3,) if args.quick else TRANSPORT_PACKINGS)
+    sizes = (args.n,) if args.n is not None else ((256,) if args.quick else (500, 1372))
+    # about 7000 mean free times by default (validate_transport); --quick: 30 time
+    # units, 300 mean free times at 0.3
+    duration = args.time if args.time is not None else (30.0 if args.quick else None)
+    csv_path = args.csv or "validation-transport.csv"
+    rows, scores = validate_transport(packings=packings, sizes=sizes, duration=duration,
+                                      seed=args.seed, out=sys.stdout, csv_path=csv_path,
+                                      workers=args.workers or 1)
+    print(f"wrote {csv_path}")
     return 0
 
 
@@ -258,7 +288,8 @@ def cmd_view(args):
     from .screenshot import screenshot
     from .viewer import write_viewer
     frames = _frames(args)
-    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice)
+    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice,
+                 color_by=args.color)
     print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
     if args.screenshot:
         try:
@@ -293,10 +324,10 @@ def cmd_render(args):
     if still:
         render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        from .render import _seconds
+        from .progress import duration
 
         def estimate(n_frames, seconds):
-            _note(f"rendering {n_frames} frames to {args.output}, about {_seconds(seconds)}")
+            _note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
         render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice,
                      on_estimate=estimate)
     print(f"wrote {args.output}")
@@ -308,6 +339,8 @@ def cmd_plot(args):
     from . import plots
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
+    elif args.what == "transport":
+        plots.plot_transport(args.input, args.output)
     elif args.what == "sweep":
         plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
     else:
@@ -387,7 +420,8 @@ def build_parser():
                    help="target packing fraction (below 0.7405 for equal spheres)")
     k.add_argument("--rate", type=_positive, required=True,
                    help="growth speed of the largest diameter per thermal speed "
-                   "sqrt(kT/m) (Skoge et al.'s gamma; 1e-1 fast, 1e-4 slow)")
+                   "sqrt(kT/m) (1e-1 fast, 1e-4 slow; Skoge et al.'s program's "
+                   "growthrate g is 2 sqrt(3) g)")
     k.add_argument("--pressure", type=_positive, default=1e3,
                    help="stop as jammed when Z = PV/NkT passes this (default 1e3)")
     k.add_argument("--collisions", type=_positive, help="stop after this many collisions")
@@ -456,7 +490,16 @@ def build_parser():
     v.add_argument("--packings", type=_packings,
                    default=None, help="comma-separated packing fractions "
                    "(default 0.1,0.2,0.3,0.4,0.45,0.49)")
-    v.add_argument("--csv", default="validation.csv", help="CSV output (default validation.csv)")
+    v.add_argument("--csv", default=None, help="CSV output (default validation.csv; "
+                   "with --transport validation-transport.csv)")
+    v.add_argument("--transport", action="store_true",
+                   help="instead: D, eta, lambda against published molecular dynamics "
+                   "(z-scores; N 500 and 1372 at packings 0.2618, 0.3, 0.45: 20 million "
+                   "collisions, minutes; "
+                   "with --quick N 256 at 0.3, seconds); see docs/validation.md")
+    v.add_argument("--time", type=_positive, default=None,
+                   help="--transport: production run per size [sigma sqrt(m/kT)] "
+                   "(default about 7000 mean free times)")
     v.add_argument("--seed", type=_count, default=0, help="random seed (>= 0)")
     v.add_argument("--seeds", type=_whole(1), default=1,
                    help="runs per packing, seeds SEED.. (default 1)")
@@ -481,6 +524,10 @@ def build_parser():
     w.add_argument("--slice", type=_time, metavar="Z",
                    help="start with the cut-away plane at z = Z (spheres above it hidden; "
                    "the page's cut slider moves it)")
+    w.add_argument("--color", choices=["speed", "mass", "q6"], default="speed",
+                   help="colour the spheres by speed (default), mass, or Steinhardt bond "
+                   "order q6 over 12 neighbours (crystal-like spheres near 0.5-0.57, a "
+                   "fluid or jammed packing 0.3-0.45; needs freud)")
     w.set_defaults(func=cmd_view)
 
     m = sub.add_parser("render", help="render an animation (.gif, .mp4) or a still "
@@ -498,10 +545,12 @@ def build_parser():
     m.set_defaults(func=cmd_render)
 
     pl = sub.add_parser("plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos, "
-                        "sweep, gr, msd")
-    pl.add_argument("what", choices=["conservation", "speeds", "eos", "sweep", "gr", "msd"],
+                        "transport, sweep, gr, msd")
+    pl.add_argument("what", choices=["conservation", "speeds", "eos", "transport", "sweep",
+                                     "gr", "msd"],
                     help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
-                    "the validate CSV vs Carnahan-Starling, a study's results "
+                    "the validate CSV vs Carnahan-Starling, the validate --transport CSV "
+                    "vs published values, a study's results "
                     "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), or the "
                     "mean squared displacement with D (periodic box)")
     _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")

@@ -15,8 +15,12 @@
 
 Units: the compression ``rate`` is the growth speed of the largest
 diameter in units of the thermal speed ``sqrt(kT / m)`` (``m`` the mean
-mass), i.e. Skoge et al.'s ``gamma = dD/dt`` for equal spheres with ``kT
-= m = 1``.
+mass): ``dD/dt`` for equal spheres with ``kT = m = 1``.  The LS program of
+Skoge, Donev, Stillinger & Torquato (PRE 74, 041127 (2006); ``box.C`` of
+their ``spheres`` code) grows each radius at ``growthrate`` g (``r = r0 +
+g t``) and rescales the velocities to a mean ``|v|^2 = 1`` with ``m = 1``,
+i.e. ``kT/m = 1/3`` in three dimensions; its g is therefore ``rate = 2 g /
+sqrt(1/3) = 2 sqrt(3) g``.
 """
 
 import json
@@ -85,7 +89,7 @@ def _kT(sim):
 
 def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None, progress=None):
     """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`."""
-    eng = sim._engine
+    eng = sim.engine
     if eng.window > 0.0:
         raise CompressionError("compress: not with a simultaneity window (window=0)")
     if not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
@@ -204,7 +208,7 @@ class Andersen:
             self.next_time = sim.time + self._rng.exponential(1.0 / (self.rate * sim.n))
 
     def write(self, sim, t):
-        eng = sim._engine
+        eng = sim.engine
         i = int(self._rng.integers(sim.n))
         v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.masses[i])
         eng.kick(i, t, v)
@@ -242,7 +246,7 @@ class VelocityRescale:
             self.next_time = sim.time + self.interval
 
     def write(self, sim, t):
-        eng = sim._engine
+        eng = sim.engine
         eng.move_clock(t)
         kt = _kT(sim)
         if kt > 0:
@@ -271,14 +275,57 @@ def thermostat_from_state(text):
 # ---- commands -------------------------------------------------------------------
 
 
+def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled=None):
+    """A progress bar (on a terminal) and the ``progress`` callback of :func:`compress`.
+
+    The bar shows the packing fraction, the reduced pressure ``Z`` and the
+    collisions per second; its fraction done is the packing's way from
+    ``phi0`` to ``packing``, or without a target packing ``log Z / log
+    pressure``.
+
+    Returns:
+        ``(bar, show)``: close ``bar`` (:class:`hardspheres.runner.Progress`)
+        at the end; pass ``show`` as ``progress=``.
+    """
+    from .runner import Progress
+
+    bar = Progress(1.0, stream=stream, enabled=enabled)
+
+    def show(phi, z, coll):
+        if packing is not None and packing > phi0:
+            done = (phi - phi0) / (packing - phi0)
+        elif pressure is not None and pressure > 1 and z > 1:
+            done = math.log(z) / math.log(pressure)
+        else:
+            done = 0.0
+        bar.update(max(0.0, min(1.0, done)), coll, f"packing {phi:.5f}  Z {z:.4g}")
+
+    return bar, show
+
+
+def start_packing(packing):
+    """The packing :func:`generate_compressed` starts from (a lattice melt)."""
+    return min(packing * 0.9, 0.2)
+
+
 def generate_compressed(
-    n, packing, container=None, box=None, seed=0, rate=0.01, radius_ratio=1.0, mass_ratio=1.0, kT=1.0
+    n,
+    packing,
+    container=None,
+    box=None,
+    seed=0,
+    rate=0.01,
+    radius_ratio=1.0,
+    mass_ratio=1.0,
+    kT=1.0,
+    progress=None,
 ):
     """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
 
-    The spheres start on random FCC sites at packing ``min(packing, 0.2)``,
-    run ``2 N`` collisions to lose the lattice, and are compressed at
-    ``rate``.
+    The spheres start on random FCC sites at packing :func:`start_packing`
+    (``min(0.9 packing, 0.2)``), run ``2 N`` collisions to lose the lattice,
+    and are compressed at ``rate``; ``progress`` is passed to
+    :func:`compress` (``progress(packing, Z, collisions)``).
 
     Raises:
         CompressionError: the spheres jammed before ``packing``.
@@ -287,7 +334,7 @@ def generate_compressed(
     from .containers import SphericalContainer
     from .simulation import Simulation
 
-    start = min(packing * 0.9, 0.2)
+    start = start_packing(packing)
     if box is not None:
         state = random_spheres(
             n, start, box=box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
@@ -302,7 +349,7 @@ def generate_compressed(
     if n > 1:
         sim.run(collisions=2 * n)
     if packing > start:
-        res = sim.compress(packing=packing, rate=rate)
+        res = sim.compress(packing=packing, rate=rate, progress=progress)
         if res.reason != "packing":
             raise CompressionError(
                 f"--packing {packing:g}: the spheres jammed at {res.packing:.4f} "
@@ -317,7 +364,7 @@ def compress_command(args):
     """``hardspheres compress``; returns the exit status."""
     import sys
 
-    from .runner import Progress, _simulation
+    from .runner import _simulation
 
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
@@ -325,18 +372,14 @@ def compress_command(args):
     phi0 = sim.packing
     target = args.packing
     if target is not None:
-        top = max_packing(sim._engine.radii_at())
+        top = max_packing(sim.engine.radii_at())
         if target >= top:
             raise CompressionError(
                 f"--packing {target:g} is not below {top:.4f}, the densest the geometry allows"
             )
         if target <= phi0:
             raise CompressionError(f"--packing {target:g} is not above the scenario's packing {phi0:.6g}")
-    progress = Progress(1.0)
-
-    def show(phi, z, coll):
-        done = (phi - phi0) / (target - phi0) if target else 0.0
-        progress.update(done, f"packing {phi:.5f}  Z {z:.4g}  collisions {coll}")
+    progress, show = compression_progress(phi0, target, args.pressure)
 
     try:
         res = compress(
@@ -366,49 +409,3 @@ def compress_command(args):
         what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
     print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
     return 0
-
-
-# ---- crystal order ---------------------------------------------------------------
-
-
-class CrystalOrder(NamedTuple):
-    """Bond-orientational order of the spheres now (see :func:`crystal_order`).
-
-    Attributes:
-        q6: ``(N,)`` Steinhardt q6 of each sphere (12 nearest neighbours).
-        mean_q6: their mean (FCC ~0.57, a fluid or glass ~0.3-0.4).
-        crystal_like: ``(N,)`` bool: at least 7 of the 12 bonds crystal-like
-            (normalised q6 dot product > 0.7; ten Wolde, Ruiz-Montero and
-            Frenkel's criterion).
-        fraction: fraction of crystal-like spheres.
-    """
-
-    q6: np.ndarray
-    mean_q6: float
-    crystal_like: np.ndarray
-    fraction: float
-
-
-def crystal_order(sim):
-    """Steinhardt q6 and crystal-like spheres of ``sim`` now, with freud.
-
-    A thin wrapper of ``freud.order.Steinhardt`` and ``SolidLiquid`` (12
-    nearest neighbours), so that a compression can be checked for
-    crystallisation.  Needs the ``freud-analysis`` package.
-    """
-    import freud
-
-    state = sim.state()
-    pts = np.ascontiguousarray(state.positions, dtype=np.float32)
-    # a spherical container sits in a box wide enough that no sphere sees an image
-    box = freud.box.Box.cube(
-        sim.container.size if sim.container.periodic else 4.0 * sim.container.bounding_radius
-    )
-    nb = {"num_neighbors": 12}
-    st = freud.order.Steinhardt(6)
-    st.compute((box, pts), neighbors=nb)
-    sl = freud.order.SolidLiquid(6, q_threshold=0.7, solid_threshold=7)
-    sl.compute((box, pts), neighbors=nb)
-    q6 = np.asarray(st.particle_order, dtype=np.float64)
-    xtal = np.asarray(sl.num_connections) >= 7
-    return CrystalOrder(q6, float(q6.mean()), xtal, float(xtal.mean()))

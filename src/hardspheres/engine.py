@@ -113,6 +113,9 @@ class Engine:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
         return self.spheres[:, core.VX:core.VZ + 1]
 
+    #: The old name of :attr:`velocities` (other branches may still use it).
+    vel = velocities
+
     @property
     def radii(self) -> np.ndarray:
         """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""
@@ -359,6 +362,18 @@ class Engine:
         if len(chunks) == 1:
             return chunks[0]
         return np.concatenate(chunks) if chunks else _events.empty_events()
+
+    def step(self, until: float = np.inf) -> tuple[float, int, int, int] | None:
+        """Process the next event if it is at or before ``until`` (absolute) [time].
+
+        Returns:
+            ``(time, kind, i, j)``, or ``None`` if the next event is after
+            ``until``; raises as :meth:`advance` does.
+        """
+        ev = self.advance(until=until, events=1)
+        if len(ev) == 0:
+            return None
+        return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
 
     # ---- checkpoints -------------------------------------------------------
     _SAVED = ("masses", "spheres", "book", "due", "cell_next", "cell_prev", "heap", "heap_t",

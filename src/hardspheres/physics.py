@@ -44,6 +44,30 @@ LAGRANGE_RATIO = 16.0
 MISS_MARGIN = 1e-13
 
 
+def order_one(x, y, z, length, vx, vy, vz, speed):
+    """Lengths and speeds scaled to order 1, each by a power of two (exact).
+
+    The quadratics' rare path outside :data:`RANGE_LO`..:data:`RANGE_HI`:
+    ``x, y, z, length`` [length] are divided by ``2^er`` and ``vx, vy, vz,
+    speed`` [length/time] by ``2^ev``, where ``2^er`` and ``2^ev`` bound the
+    largest of each; a time ``t'`` solved from the scaled values is ``t'
+    2^shift`` with ``shift = er - ev``.  (The compiled core registers this
+    function with numba, so the kernels stay plain Python here.)
+
+    Returns:
+        ``(x, y, z, length, vx, vy, vz, speed, shift)``, scaled.
+
+    Example:
+        >>> order_one(3.0, 0.0, 0.0, 1.0, 0.0, 0.5, 0.0, 0.0)
+        (0.75, 0.0, 0.0, 0.25, 0.0, 0.5, 0.0, 0.0, 2)
+    """
+    er = math.frexp(max(abs(x), abs(y), abs(z), abs(length)))[1]
+    ev = math.frexp(max(abs(vx), abs(vy), abs(vz), abs(speed)))[1]
+    return (math.ldexp(x, -er), math.ldexp(y, -er), math.ldexp(z, -er), math.ldexp(length, -er),
+            math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev), math.ldexp(speed, -ev),
+            er - ev)
+
+
 #: The clock "does not advance" over events less than this fraction of its
 #: own value apart (see :func:`frozen_limit`).
 FROZEN_RELATIVE = 2.0 ** -30
@@ -110,14 +134,7 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     r2 = dx * dx + dy * dy + dz * dz
     shift = 0
     if not RANGE_LO <= a * r2 <= RANGE_HI:
-        # lengths and speeds to order 1, each by a power of two; t = t' 2^shift
-        # binary exponents of the largest length and speed (each < 2^e)
-        er = math.frexp(max(abs(dx), abs(dy), abs(dz), sigma))[1]
-        ev = math.frexp(max(abs(dvx), abs(dvy), abs(dvz)))[1]
-        dx, dy, dz = math.ldexp(dx, -er), math.ldexp(dy, -er), math.ldexp(dz, -er)
-        sigma = math.ldexp(sigma, -er)
-        dvx, dvy, dvz = math.ldexp(dvx, -ev), math.ldexp(dvy, -ev), math.ldexp(dvz, -ev)
-        shift = er - ev
+        dx, dy, dz, sigma, dvx, dvy, dvz, _, shift = order_one(dx, dy, dz, sigma, dvx, dvy, dvz, 0.0)
         horizon = math.ldexp(horizon, -shift)
         a = dvx * dvx + dvy * dvy + dvz * dvz
         b = dx * dvx + dy * dvy + dz * dvz
@@ -163,34 +180,7 @@ def wall_time(px, py, pz, vx, vy, vz, reach):
         >>> wall_time(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 10.0)
         5.0
     """
-    a = vx * vx + vy * vy + vz * vz
-    pp = px * px + py * py + pz * pz
-    shift = 0
-    if not RANGE_LO <= a * (pp + reach * reach) <= RANGE_HI:
-        # as in pair_time_within (a sphere at the centre or at rest lands here)
-        if vx == 0.0 and vy == 0.0 and vz == 0.0:
-            return INF
-        er = math.frexp(max(abs(px), abs(py), abs(pz), abs(reach)))[1]
-        ev = math.frexp(max(abs(vx), abs(vy), abs(vz)))[1]
-        px, py, pz = math.ldexp(px, -er), math.ldexp(py, -er), math.ldexp(pz, -er)
-        reach = math.ldexp(reach, -er)
-        vx, vy, vz = math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev)
-        shift = er - ev
-        a = vx * vx + vy * vy + vz * vz
-        pp = px * px + py * py + pz * pz
-    b = px * vx + py * vy + pz * vz
-    c = pp - reach * reach
-    if c >= 0.0 and b > 0.0:
-        return 0.0
-    disc = b * b - a * c
-    if disc < 0.0:
-        disc = 0.0
-    if b <= 0.0:
-        t = (math.sqrt(disc) - b) / a
-    else:
-        # b > 0 and c < 0: larger root = c / (smaller root's numerator)
-        t = -c / (math.sqrt(disc) + b)
-    return t if shift == 0 else math.ldexp(t, shift)
+    return wall_time_grow(px, py, pz, vx, vy, vz, reach, 0.0)
 
 
 def collide(m1, m2, dx, dy, dz, dvx, dvy, dvz):
@@ -269,15 +259,9 @@ def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
     r2 = dx * dx + dy * dy + dz * dz
     shift = 0
     if not RANGE_LO <= (a0 + u * u) * (r2 + s * s) <= RANGE_HI:
-        if a0 == 0.0 and u == 0.0:
-            return INF
-        er = math.frexp(max(abs(dx), abs(dy), abs(dz), s))[1]
-        ev = math.frexp(max(abs(dvx), abs(dvy), abs(dvz), u))[1]
-        dx, dy, dz, s = (math.ldexp(dx, -er), math.ldexp(dy, -er), math.ldexp(dz, -er),
-                         math.ldexp(s, -er))
-        dvx, dvy, dvz, u = (math.ldexp(dvx, -ev), math.ldexp(dvy, -ev),
-                            math.ldexp(dvz, -ev), math.ldexp(u, -ev))
-        shift = er - ev
+        if dvx == 0.0 and dvy == 0.0 and dvz == 0.0 and u == 0.0:
+            return INF  # at rest (a0 alone underflows for speeds below 1e-154)
+        dx, dy, dz, s, dvx, dvy, dvz, u, shift = order_one(dx, dy, dz, s, dvx, dvy, dvz, u)
         horizon = math.ldexp(horizon, -shift)
         b0 = dx * dvx + dy * dvy + dz * dvz
         a0 = dvx * dvx + dvy * dvy + dvz * dvz
@@ -337,15 +321,9 @@ def wall_time_grow(px, py, pz, vx, vy, vz, reach, w):
     pp = px * px + py * py + pz * pz
     shift = 0
     if not RANGE_LO <= (a0 + w * w) * (pp + reach * reach) <= RANGE_HI:
-        if a0 == 0.0 and w == 0.0:
-            return INF
-        er = math.frexp(max(abs(px), abs(py), abs(pz), abs(reach)))[1]
-        ev = math.frexp(max(abs(vx), abs(vy), abs(vz), w))[1]
-        px, py, pz = math.ldexp(px, -er), math.ldexp(py, -er), math.ldexp(pz, -er)
-        reach = math.ldexp(reach, -er)
-        vx, vy, vz, w = (math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev),
-                         math.ldexp(w, -ev))
-        shift = er - ev
+        if vx == 0.0 and vy == 0.0 and vz == 0.0 and w == 0.0:
+            return INF  # at rest (a0 alone underflows for speeds below 1e-154)
+        px, py, pz, reach, vx, vy, vz, w, shift = order_one(px, py, pz, reach, vx, vy, vz, w)
         a0 = vx * vx + vy * vy + vz * vz
         pp = px * px + py * py + pz * pz
     a = a0 - w * w

@@ -6,6 +6,7 @@
     plots.plot_conservation(frames, "conservation.png")  # energy, momentum
     plots.plot_speeds(frames, "speeds.png")              # against Maxwell-Boltzmann
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
+    plots.plot_transport("docs/validation-transport.csv", "transport.png")  # D, eta, lambda
     plots.plot_sweep("study/results.parquet", "Z.png")   # a study, Z against Hansen-Goos
     plots.plot_gr(frames, "gr.png")                      # g(r), periodic box
     plots.plot_msd(frames, "msd.png")                    # MSD and D, periodic box
@@ -212,6 +213,54 @@ def read_eos_csv(csv_path):
             continue
     order = np.argsort(out["phi"], kind="stable")
     return {k: v[order] for k, v in out.items()}
+
+
+def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
+    """Transport coefficients against published values, from ``validate --transport``'s CSV.
+
+    One point per comparison (columns ``quantity,phi,n,value,error,reference,
+    reference_error,z,source``): the relative deviation ``value / reference
+    - 1`` in percent with its combined error bar, the band of +-2% shaded.
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+    """
+    try:
+        with open(csv_path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    except UnicodeDecodeError:
+        raise ValueError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
+    need = ("quantity", "phi", "value", "error", "reference", "reference_error", "source")
+    if not rows:
+        raise ValueError(f"{csv_path}: no rows")
+    missing = [c for c in need if c not in rows[0]]
+    if missing:
+        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)} (write it with "
+                         "hardspheres validate --transport)")
+    try:
+        num = {k: np.array([float(r[k]) for r in rows]) for k in need[1:-1]}
+    except ValueError as e:
+        raise ValueError(f"{csv_path}: not a number ({e})") from None
+    dev = 100.0 * (num["value"] / num["reference"] - 1.0)
+    err = 100.0 * np.hypot(num["error"], num["reference_error"]) / num["reference"]
+    labels = [f"{r['quantity']}, phi {float(r['phi']):.3f}, N {r.get('n', '?')}" for r in rows]
+    sources = list(dict.fromkeys(r["source"].split(",")[0] for r in rows))
+    fig = _figure(size, dpi)
+    ax = fig.subplots()
+    y = np.arange(len(rows))[::-1]
+    ax.axvspan(-2.0, 2.0, color="0.9", label="+-2%")
+    ax.axvline(0.0, color="0.5", lw=0.8)
+    for k, src in enumerate(sources):
+        sel = np.array([r["source"].split(",")[0] == src for r in rows])
+        ax.errorbar(dev[sel], y[sel], xerr=err[sel], fmt="o", color=f"C{k}", capsize=3,
+                    label=src)
+    ax.set_yticks(y, labels)
+    ax.set_ylim(-1, len(rows))
+    ax.set_xlabel("measured / published - 1 [%] (error bar: combined standard error)")
+    ax.set_title("Transport coefficients against published molecular dynamics")
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(alpha=0.3, axis="x")
+    return _save(fig, path, dpi)
 
 
 def plot_eos(csv_path, path, *, size=SIZE, dpi=100):

@@ -17,91 +17,13 @@ display is needed: the figure is drawn by Agg and never shown.
 """
 
 import shutil
-import sys
 import time as _time
 from pathlib import Path
 
 import numpy as np
 
 from .frames import frame_indices
-
-
-class _Progress:
-    """Progress on stderr, only when stderr is a terminal (tqdm if installed)."""
-
-    def __init__(self, total, enabled, label="rendering"):
-        self.total, self.n, self.bar, self.text = total, 0, None, False
-        if not enabled or not _isatty(sys.stderr):
-            return
-        try:
-            from tqdm import tqdm
-        except ImportError:
-            self.text, self.label, self.start, self.shown = True, label, _time.monotonic(), 0.0
-            self._show()
-        else:
-            self.bar = tqdm(total=total, desc=label, unit="frame", file=sys.stderr, leave=False)
-
-    def _show(self):
-        done = self.n / self.total if self.total else 1.0
-        width = 30
-        fill = int(round(done * width))
-        elapsed = _time.monotonic() - self.start
-        rate = self.n / elapsed if elapsed > 0 else 0.0
-        left = (self.total - self.n) / rate if rate > 0 else 0.0
-        sys.stderr.write(f"\r{self.label} [{'#' * fill}{'.' * (width - fill)}] {self.n}/{self.total}"
-                         f"  {rate:.3g} frames/s  {left:.0f} s left   ")
-        sys.stderr.flush()
-
-    def clear(self):
-        """Blank the bar's line (the text bar; tqdm clears itself)."""
-        if self.bar is not None:
-            self.bar.clear()
-        elif self.text:
-            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
-            sys.stderr.flush()
-
-    def redraw(self):
-        """Draw the bar again after :meth:`clear`."""
-        if self.bar is not None:
-            self.bar.refresh()
-        elif self.text:
-            self._show()
-
-    def note(self, text):
-        """One line on stderr (above the bar, if any)."""
-        if self.bar is not None:
-            self.bar.write(text, file=sys.stderr)
-            return
-        if self.text:
-            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
-        sys.stderr.write(text + "\n")
-        sys.stderr.flush()
-        if self.text:
-            self._show()
-
-    def update(self):
-        self.n += 1
-        if self.bar is not None:
-            self.bar.update(1)
-        elif self.text:
-            now = _time.monotonic()
-            if now - self.shown > 0.1 or self.n == self.total:
-                self.shown = now
-                self._show()
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
-        elif self.text:
-            sys.stderr.write("\r" + " " * (len(self.label) + 90) + "\r")
-            sys.stderr.flush()
-
-
-def _isatty(stream):
-    try:
-        return stream.isatty()
-    except (AttributeError, ValueError):
-        return False
+from .progress import Progress, duration
 
 
 def _writer(path, fps, dpi):
@@ -139,8 +61,9 @@ def packing_fraction(frames):
     """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
     if frames.container is None:
         return None
-    volume = frames.container.volume
-    return float(np.sum(4.0 / 3.0 * np.pi * np.asarray(frames.radii, float) ** 3) / volume)
+    from .dense import packing_fraction as of_radii
+
+    return of_radii(frames.radii, frames.container)
 
 
 def _draw_container(ax, frames, right, up, cut):
@@ -295,7 +218,7 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
     keep = frame_indices(n_frames, 0, max_frames or n_frames)
     fig, show = _scene(frames, size, keep, color_by, title, dpi, cut)
 
-    bar = _Progress(len(keep), progress)
+    bar = Progress(len(keep), enabled=None if progress else False, unit="frames", every=0.1)
     start = _time.monotonic()
     first_done = None
     try:
@@ -315,17 +238,14 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
                         bar.clear()  # the caller's words go on a line of their own
                         on_estimate(len(keep), total)
                         bar.redraw()
-                    elif bar.bar is not None or bar.text:
+                    elif bar.on:
                         bar.note(f"rendering {len(keep)} frames to {path.name}, about "
-                                 f"{_seconds(total)}")
-                bar.update()
+                                 f"{duration(total)}")
+                bar.update(f + 1, f"rendering {f + 1}/{len(keep)}", events=f + 1)
     finally:
         bar.close()
     return path
 
-
-def _seconds(x):
-    return f"{x:.0f} s" if x < 120 else f"{x / 60:.0f} min"
 
 
 #: Still pictures' formats, by extension.

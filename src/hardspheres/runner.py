@@ -1,6 +1,7 @@
 """``hardspheres run``: a scenario run to an end time, with the trimmings.
 
-Progress bar on stderr (only on a terminal: rate and time left), trajectory
+Progress bar on stderr (only on a terminal: rate and time left; a writer
+redrawn by its trigger as the run goes), trajectory
 frames, a checkpoint at the end or on Ctrl-C, an optional equilibration
 before the averages start, and a summary of what was measured, with its
 statistical errors when the observables give them.
@@ -25,6 +26,7 @@ import time
 from .containers import PeriodicBox, SphericalContainer
 from .fileio import PathLock
 from .messages import oserror_line
+from .progress import Progress
 from .simulation import Simulation
 
 #: Signals that stop a run cleanly (checkpoint written).
@@ -39,64 +41,63 @@ _FRAME_BYTES_PER_SPHERE = 48
 _EVENT_BYTES = 40
 
 
-def _isatty(stream):
-    try:
-        return stream.isatty()
-    except (AttributeError, ValueError):
-        return False
+class ProgressWriter:
+    """The progress bar of a run as a :class:`~hardspheres.writers.Writer`.
 
+    Its trigger (a :class:`~hardspheres.writers.Periodic` one by default:
+    ``steps`` updates over the run) says when the bar is redrawn; the run
+    itself goes in one :meth:`Simulation.run <hardspheres.Simulation.run>`.
 
-def _duration(seconds):
-    """``42 s``, ``3 min 5 s``, ``2 h 10 min``."""
-    if not math.isfinite(seconds):
-        return "?"
-    seconds = max(0, round(seconds))
-    if seconds < 60:
-        return f"{seconds} s"
-    if seconds < 3600:
-        return f"{seconds // 60} min {seconds % 60} s"
-    return f"{seconds // 3600} h {seconds % 3600 // 60} min"
-
-
-class Progress:
-    """A one-line progress bar with rate and time left, on a terminal; silent otherwise.
-
-    Every update rewrites the whole line (padded over the previous one), and
-    :meth:`close` clears it, so no stale characters remain.
+    Args:
+        progress: the :class:`~hardspheres.progress.Progress` bar (its total
+            is the run's length [time]).
+        start: the run's start [time]; ``progress`` counts from it.
+        steps: updates over the run (ignored with ``trigger``).
+        trigger: when to update (:mod:`hardspheres.writers`).
+        first: called once, as ``first(events, elapsed)``, at the first update
+            after the start (events and simulated time so far).
     """
 
-    def __init__(self, total, stream=None, enabled=None):
-        self.total = total
-        self.stream = sys.stderr if stream is None else stream
-        self.on = _isatty(self.stream) if enabled is None else enabled
-        self.t0 = time.perf_counter()
-        self.width = 0
+    wants_events = False
+    next_collisions = math.inf
 
-    def line(self, done, events=0, label=""):
-        """The text of the bar after ``done`` of ``total``, ``events`` so far."""
-        frac = min(1.0, done / self.total) if self.total > 0 else 1.0
-        wall = time.perf_counter() - self.t0
-        rate = f"{events / wall:.3g} events/s" if wall > 0 and events else ""
-        left = wall * (1.0 - frac) / frac if frac > 0 else math.inf
-        eta = f"{_duration(left)} left" if frac < 1.0 else "done"
-        bar = "#" * int(30 * frac)
-        parts = [f"[{bar:<30}] {frac:6.1%}", label, rate, eta]
-        return "  ".join(p for p in parts if p)
+    def __init__(self, progress, start, steps=200, trigger=None, first=None):
+        from .writers import Periodic
 
-    def update(self, done, events=0, label=""):
-        if not self.on:
-            return
-        text = self.line(done, events, label)
-        pad = max(0, self.width - len(text))
-        self.width = len(text) + pad  # what the terminal line holds now
-        self.stream.write("\r" + text + " " * pad)
-        self.stream.flush()
+        self.progress = progress
+        self.start = start
+        self.trigger = trigger if trigger is not None else Periodic(progress.total / steps)
+        self.first = first
+        self._events0 = None
 
-    def close(self):
-        if self.on and self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
+    @property
+    def next_time(self):
+        """When the bar is next redrawn [time] (``inf`` before it is attached)."""
+        return self.trigger.next_time if self._events0 is not None else math.inf
+
+    def attach(self, sim):
+        """Start (once): the trigger, from now; the first redraw is a step later."""
+        if self._events0 is None:
+            self._events0 = _events_so_far(sim)
+            self.trigger.start(sim.time, sim.counters["collisions"])
+            while self.trigger.next_time <= sim.time:
+                self.trigger.fired()
+
+    def write(self, sim, t):
+        """Redraw the bar at the clock ``t`` [time]."""
+        self.trigger.fired()
+        done = _events_so_far(sim) - self._events0
+        if self.first is not None and t > self.start:
+            first, self.first = self.first, None
+            first(done, t - self.start)
+        self.progress.update(t - self.start, f"t={t:.6g}", events=done)
+
+    def observe(self, events):
+        pass
+
+    def detach(self):
+        """Clear the bar."""
+        self.progress.close()
 
 
 def _check_args(args):
@@ -188,7 +189,7 @@ class _Stopper:
     def _handle(self, signum, frame):
         if self.signum is None:
             self.signum = signum
-        self.sim.stop_requested = True
+        self.sim.request_stop()
 
     def __enter__(self):
         for s in STOP_SIGNALS:
@@ -297,7 +298,7 @@ def _equilibrate(sim, args, progress, start_time):
             raise ValueError(f"--equilibrate {args.equilibrate} did not finish before --until "
                              f"{args.until:g} (at {sim.counters['collisions']} collisions): "
                              "raise --until or lower --equilibrate")
-    progress.update(sim.time - start_time, _events_so_far(sim), "equilibrated")
+    progress.update(sim.time - start_time, "equilibrated", events=_events_so_far(sim))
     return f"{what}, to t = {sim.time:.6g}"
 
 
@@ -326,7 +327,7 @@ def run_command(args):
 
 
 def _run(args, sim, checkpoint):
-    writer = None
+    writer = bar = None
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
     failure = None
@@ -338,28 +339,23 @@ def _run(args, sim, checkpoint):
     with _Stopper(sim) as stopper:
         try:
             every = None
+            warn = None
             if args.trajectory:
                 every = args.every or (args.until - sim.time) / 100.0
                 writer = _writer(args, sim, every)
                 sim.writers.append(writer)
+                frames = int((args.until - start_time) / every) + 1
+
+                def warn(events, elapsed):
+                    _warn_size(args, sim, frames, start_time, events, elapsed)
+
+            bar = ProgressWriter(progress, start_time, first=warn)
+            sim.writers.append(bar)
             equilibrated = _equilibrate(sim, args, progress, start_time)
             sim.observables.reset()
             averaged_from = sim.time
-            steps = 200
-            first = sim.time
-            for k in range(1, steps + 1):
-                target = start_time + (args.until - start_time) * k / steps
-                if target <= sim.time:
-                    continue
-                sim.run(until=target)
-                if stopper.signum is not None:
-                    break
-                done = _events_so_far(sim) - c0["collisions"] - c0["reflections"]
-                if writer is not None and first is not None and sim.time > first:
-                    frames = int((args.until - start_time) / every) + 1
-                    _warn_size(args, sim, frames, start_time, done, sim.time - start_time)
-                    first = None
-                progress.update(sim.time - start_time, done, f"t={sim.time:.6g}")
+            if stopper.signum is None:
+                sim.run(until=args.until)
             if writer is not None and writer.last_time is not None and (
                     writer.last_time < sim.time):
                 writer.write(sim, sim.time)  # the file ends where the checkpoint starts
@@ -368,10 +364,11 @@ def _run(args, sim, checkpoint):
                 raise
             failure = e  # the trajectory's disk: still write the checkpoint
         finally:
+            for w in (bar, writer):
+                if w is not None and w in sim.writers:
+                    sim.writers.remove(w)
             progress.close()
             if writer is not None:
-                if writer in sim.writers:
-                    sim.writers.remove(writer)
                 try:
                     writer.close()
                 except OSError as e:

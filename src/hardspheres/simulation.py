@@ -95,6 +95,14 @@ class Simulation:
         ValueError: a window that is not a finite number >= 0.
     """
 
+    #: Set (e.g. from a signal handler) to end the current run at its next
+    #: chunk of events; :meth:`request_stop` sets it.  Runs stop at once until
+    #: it is set back to ``False``.
+    stop_requested: bool = False
+    #: Thermostat holding kT (:mod:`hardspheres.dense`), or ``None`` (NVE);
+    #: :meth:`set_thermostat` sets it.
+    thermostat = None
+
     def __init__(self, state: State, container: Container | float, window: float = 0.0):
         container = as_container(container)
         state.check()
@@ -103,11 +111,9 @@ class Simulation:
         self.names = list(state.names)
         #: Writers called as runs go (:class:`hardspheres.writers.Writer`).
         self.writers: list[Writer] = []
-        #: Set (e.g. from a signal handler) to end the run at the next chunk
-        #: of events; :meth:`request_stop` sets it.
         self.stop_requested = False
-        #: Thermostat holding kT (:mod:`hardspheres.dense`), or ``None`` (NVE).
         self.thermostat = None
+        self._run_until = math.inf
         _check_inside(state, container)
         # the unwrapped centres (positions + images * L) are kept in a periodic box
         images = container.image_counts(state.positions)
@@ -168,6 +174,14 @@ class Simulation:
         return self._engine.n
 
     @property
+    def run_end(self) -> float:
+        """Where the current (or last) run was asked to end [time] (``inf``: by a count).
+
+        Trajectory writers record it, so that a file cut short shows.
+        """
+        return self._run_until
+
+    @property
     def engine(self) -> Engine:
         """The compiled engine: its running tallies and velocities (read, do not change)."""
         return self._engine
@@ -218,7 +232,7 @@ class Simulation:
         coll_left = np.inf if collisions is None else _count(collisions, "collisions")
         ev_left = np.inf if events is None else _count(events, "events")
         eng = self._engine
-        self._run_until = until  # the writers record it (a cut-short file shows)
+        self._run_until = until
         for w in self.writers:
             w.attach(self)
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
@@ -284,7 +298,9 @@ class Simulation:
                 present one and below what the geometry allows: 0.7405 for
                 equal spheres).
             rate: growth speed of the largest diameter in units of the
-                thermal speed ``sqrt(kT/m)`` (Skoge et al.'s ``gamma``); > 0.
+                thermal speed ``sqrt(kT/m)``; > 0 (the ``growthrate`` g of
+                Skoge et al.'s program is ``2 sqrt(3) g``: see
+                :mod:`hardspheres.dense`).
             pressure: stop when the reduced pressure ``Z = PV/(NkT)``
                 passes this (jammed; ``None``: no threshold).
             collisions: stop after this many collisions.
@@ -324,16 +340,13 @@ class Simulation:
         """
         if thermostat is not None and self._engine.window > 0.0:
             raise ValueError("thermostat: not with a simultaneity window (window=0)")
-        old = getattr(self, "thermostat", None)
+        old = self.thermostat
         if old is not None:
             self.writers.remove(old)
         self.thermostat = thermostat
         if thermostat is not None:
             self.writers.append(thermostat)
         return self
-
-    def _interrupted(self):
-        return getattr(self, "stop_requested", False)
 
     # ---- state -----------------------------------------------------------------
     def state(self, time: float | None = None, unwrapped: bool = False) -> State:
@@ -392,7 +405,7 @@ class Simulation:
         self._save(path, lock=True)
 
     def _save(self, path, lock):
-        th = getattr(self, "thermostat", None)
+        th = self.thermostat
         extra = {} if th is None else {"thermostat": np.array(th.state())}
         with atomic_write(path, "wb", lock=lock) as fh:
             # the container's record is the engine's (Engine.checkpoint)
@@ -445,6 +458,7 @@ class Simulation:
         sim.names = [str(x) for x in names]
         sim.writers = []
         sim.stop_requested = False
+        sim._run_until = math.inf
         sim._clock = float(clock)
         sim.observables = Observables(sim)
         if len(mark) == len(sim.observables._mark):  # else an older layout: start afresh

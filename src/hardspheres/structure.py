@@ -72,6 +72,25 @@ def configurations(source, box=None):
     return L, pos.reshape((-1,) + pos.shape[-2:]), None
 
 
+def _local_configurations(source, box=None):
+    """:func:`configurations`, and for local analyses also a spherical container.
+
+    A :class:`hardspheres.Simulation` or :class:`hardspheres.Frames` in a
+    spherical container gets a box ``4 R`` wide: no sphere sees an image
+    within a neighbour shell, so a periodic neighbour search is an open one.
+    """
+    from .frames import Frames
+    from .simulation import Simulation
+    container = getattr(source, "container", None)
+    if isinstance(source, (Frames, Simulation)) and container is not None and not container.periodic:
+        if isinstance(source, Frames):
+            return (4.0 * container.bounding_radius, np.asarray(source.positions, float),
+                    np.asarray(source.radii, float))
+        st = source.state()
+        return 4.0 * container.bounding_radius, st.positions[None], st.radii
+    return configurations(source, box)
+
+
 def _wrap(x, L):
     return x - L * np.floor(x / L + 0.5)
 
@@ -235,42 +254,70 @@ class BondOrder(_Computed):
     """Steinhardt q_l per sphere and the fraction of crystal-like spheres (freud).
 
     Neighbours are the spheres within ``r_max`` (default 1.4 sigma, about
-    the first minimum of g(r) in the dense fluid and the crystal).  A sphere
+    the first minimum of g(r) in the dense fluid and the crystal), or the
+    ``num_neighbors`` nearest (e.g. 12, as in a close-packed crystal).  A sphere
     is crystal-like when at least ``solid_threshold`` of its bonds are
     coherent, ``q6(i) . q6(j) > q_threshold`` (normalised): the criterion of
     P. R. ten Wolde, M. J. Ruiz-Montero and D. Frenkel, J. Chem. Phys. 104,
     9932 (1996), with the thresholds 0.7 and 7 of S. Auer and D. Frenkel,
     Nature 409, 1020 (2001).
 
+    Unlike g(r) and S(k), bond order is local, so it is also computed in a
+    spherical container (a :class:`hardspheres.Simulation` or
+    :class:`hardspheres.Frames` in one): the spheres then sit in a freud box
+    four container radii wide, where no sphere sees an image.
+
     Attributes (after :meth:`compute`, last configuration): ``q`` per
     sphere, ``mean_q``, ``crystal_like`` (bool per sphere),
-    ``crystal_fraction``; ``crystal_fractions`` per configuration.
+    ``crystal_fraction``; per configuration, ``qs`` ``(F, N)``,
+    ``mean_qs`` and ``crystal_fractions``.
+
+    Example:
+        A jammed packing is amorphous, a slowly compressed one crystallises
+        (docs/validation.md, "Dense matter")::
+
+            order = hs.BondOrder(num_neighbors=12).compute(sim)
+            order.mean_q, order.crystal_fraction
     """
 
-    _results = ("q", "mean_q", "crystal_like", "crystal_fraction", "crystal_fractions")
+    _results = ("q", "mean_q", "crystal_like", "crystal_fraction", "crystal_fractions",
+                "qs", "mean_qs")
 
-    def __init__(self, l=6, r_max=None, q_threshold=0.7, solid_threshold=7):  # noqa: E741
-        self.l, self.r_max = l, r_max
+    def __init__(self, l=6, r_max=None, q_threshold=0.7, solid_threshold=7,  # noqa: E741
+                 num_neighbors=None):
+        if r_max is not None and num_neighbors is not None:
+            raise ValueError("BondOrder: give r_max or num_neighbors, not both")
+        if num_neighbors is not None and not (isinstance(num_neighbors, (int, np.integer))
+                                              and num_neighbors > 0):
+            raise ValueError(f"BondOrder: num_neighbors must be a whole number > 0, "
+                             f"got {num_neighbors!r}")
+        self.l, self.r_max, self.num_neighbors = l, r_max, num_neighbors
         self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
 
     def compute(self, source, box=None, sigma=None):
         """Bond order of each of ``source``'s configurations; returns self."""
         freud = _freud()
-        L, pos, radii = configurations(source, box)
-        sig = float(sigma) if sigma is not None else 2.0 * float(np.max(radii))
-        r_max = self.r_max or 1.4 * sig
+        L, pos, radii = _local_configurations(source, box)
+        if self.num_neighbors is not None:
+            neighbors = {"num_neighbors": int(self.num_neighbors)}
+        else:
+            sig = float(sigma) if sigma is not None else 2.0 * float(np.max(radii))
+            neighbors = {"r_max": self.r_max or 1.4 * sig}
         fbox = freud.box.Box.cube(L)
         st = freud.order.Steinhardt(self.l)
         sl = freud.order.SolidLiquid(self.l, q_threshold=self.q_threshold,
                                      solid_threshold=self.solid_threshold)
-        fractions = []
+        fractions, qs, crystal = [], [], None
         for x in pos:
             system = (fbox, _wrap(x, L))
-            st.compute(system, neighbors={"r_max": r_max})
-            sl.compute(system, neighbors={"r_max": r_max})
+            st.compute(system, neighbors=neighbors)
+            sl.compute(system, neighbors=neighbors)
             crystal = np.asarray(sl.num_connections) >= self.solid_threshold
             fractions.append(float(np.mean(crystal)))
-        self.q = np.nan_to_num(np.asarray(st.particle_order, float)).copy()
+            qs.append(np.nan_to_num(np.asarray(st.particle_order, float)))
+        self.qs = np.array(qs)
+        self.mean_qs = self.qs.mean(axis=1)
+        self.q = self.qs[-1].copy()
         self.mean_q = float(np.mean(self.q))
         self.crystal_like = crystal
         self.crystal_fraction = fractions[-1]

@@ -78,9 +78,10 @@ class _FrameWriter:
         trigger: a :class:`~hardspheres.writers.Trigger`.
         events: also keep the events between frames.
 
-    Subclasses write a frame in ``_write_frame(sim, state, events)``, may
-    check the simulation once in ``_start(sim)``, and keep their open file,
-    if any, in ``_file`` (and its lock in ``_lock``).  ``_count`` is the
+    Subclasses write a frame in ``_write_frame(sim, state, events)``, open
+    their file ``path``, if any, in ``_open_file()`` (called locked, when
+    the writer is first attached; kept in ``_file``, ``_append`` says
+    whether to append), and may check the simulation once in ``_start(sim)``.  ``_count`` is the
     index of the next frame in the file; ``_k`` the number of frames this
     writer has written (in an appended file the first, already there, is
     not written again).  ``last_time`` is the time of the last frame in the
@@ -89,6 +90,8 @@ class _FrameWriter:
 
     _file: Any = None
     _lock: Any = None
+    _append_wanted = False
+    _append = False
     _closed = False
     _failed = False
     path: Any = None
@@ -119,6 +122,18 @@ class _FrameWriter:
         """The collision count at which the next frame is due (``inf``: not by count)."""
         return self.trigger.next_collisions if self._started else math.inf
 
+    def _open(self):
+        """Lock the file and open it (:meth:`_open_file`), appending if asked and it exists."""
+        if self.path is None:
+            return
+        self._take_lock(self.path)
+        self._append = self._append_wanted and os.path.exists(self.path)
+        try:
+            self._file = self._open_file()
+        except BaseException:
+            self.close()
+            raise
+
     def _start(self, sim):
         pass
 
@@ -128,9 +143,17 @@ class _FrameWriter:
                              "open a new writer to write more frames")
 
     def attach(self, sim) -> None:
-        """Start (once): start the trigger, write a frame if it is due now."""
+        """Start (once): open the file, start the trigger, write a frame if it is due now.
+
+        Raises:
+            FileInUseError: another writer holds the file.
+            OSError: naming the file.
+            NotAContinuation: ``append`` to a file that ends elsewhere.
+        """
         self._check_open()
         if not self._started:
+            if self._file is None:
+                self._open()
             self._started = True
             self.trigger.start(sim.time, sim.counters["collisions"])
             if self._start(sim) == "continues":
@@ -158,7 +181,7 @@ class _FrameWriter:
 
     def _frame(self, sim, t):
         self._check_open()
-        until = self.until if self.until is not None else getattr(sim, "_run_until", math.inf)
+        until = self.until if self.until is not None else sim.run_end
         self.trigger.fired()
         self._run_end = (float(until), self.trigger.next_time)
         try:
@@ -204,8 +227,7 @@ class _FrameWriter:
 
     def _take_lock(self, path):
         """Lock ``path`` for this writer, or raise (:class:`PathLock`)."""
-        self.path = os.fspath(path)
-        self._lock = PathLock(self.path)
+        self._lock = PathLock(os.fspath(path))
 
 
 def _continues(path, last, sim):
@@ -231,27 +253,32 @@ class GSDWriter(_FrameWriter):
             same run (checked when the writer is attached); a missing
             file is created.
 
+    The file is opened (and locked) when the writer is first attached to
+    a simulation (:meth:`attach`), not when it is made.
+
     Raises:
-        FileInUseError: another writer holds the file.
-        OSError: naming the file.
+        ImportError: ``gsd`` is not installed (``pip install hardspheres[io]``).
     """
 
     def __init__(self, path: str | os.PathLike, every: float | None = None, events: bool = True,
                  append: bool = False, *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events, trigger=trigger)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
-        self._take_lock(path)
-        self._append = bool(append) and os.path.exists(self.path)
+
+        self._hoomd = gsd.hoomd
+        self.path = os.fspath(path)
+        self._append_wanted = bool(append)
+
+    def _open_file(self):
         try:
-            self._file = gsd.hoomd.open(self.path, mode="r+" if self._append else "w",
-                                        precision="double")
-            self._count = len(self._file) if self._append else 0
+            fh = self._hoomd.open(self.path, mode="r+" if self._append else "w",
+                                  precision="double")
         except (OSError, RuntimeError) as e:
-            self.close()
             if isinstance(e, OSError) and e.filename is not None:
                 raise
             raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
-        self._hoomd = gsd.hoomd
+        self._count = len(fh) if self._append else 0
+        return fh
 
     def _start(self, sim):
         if not self._append or self._count == 0:
@@ -299,10 +326,14 @@ class XYZWriter(_FrameWriter):
     """Frames to an extended XYZ file (plain text, every digit kept).
 
     Each frame is ``N``, a comment line with ``Lattice``, ``Origin``,
-    ``pbc``, ``Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1``,
-    ``Time`` and ``container_radius`` (or ``box_length``), then one line per
-    sphere with its numbers as ``%.17g`` (they read back exactly). Names may
-    not contain whitespace or quotes here. Events are not written.
+    ``pbc``, ``Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1``
+    (in a periodic box followed by ``:image:I:3``, the exact counts of box
+    crossings, so ``pos + image * L`` is the unwrapped centre, as GSD's
+    ``particles/image``), ``Time`` and ``container_radius`` (or
+    ``box_length``), then one line per sphere with its numbers as ``%.17g``
+    (they read back exactly). Names may not contain whitespace or quotes
+    here. Events are not written. Files written before the image columns
+    read as well (their frames have no images).
 
     Args:
         path: the file (overwritten, unless ``append``).
@@ -311,22 +342,18 @@ class XYZWriter(_FrameWriter):
         append: continue an existing file written by an earlier part of the
             same run (checked when the writer is attached).
 
-    Raises:
-        FileInUseError: another writer holds the file.
-        OSError: naming the file.
+    The file is opened (and locked) when the writer is first attached to
+    a simulation (:meth:`attach`), not when it is made.
     """
 
     def __init__(self, path: str | os.PathLike, every: float | None = None, append: bool = False,
                  *, trigger: Trigger | None = None) -> None:
         super().__init__(every, events=False, trigger=trigger)
-        self._take_lock(path)
-        self._append = bool(append) and os.path.exists(self.path)
-        try:
-            self._file = open(self.path, "a" if self._append else "w", encoding="utf-8",
-                              newline="\n")
-        except OSError:
-            self.close()
-            raise
+        self.path = os.fspath(path)
+        self._append_wanted = bool(append)
+
+    def _open_file(self):
+        return open(self.path, "a" if self._append else "w", encoding="utf-8", newline="\n")
 
     def _start(self, sim):
         from .messages import quote
@@ -349,9 +376,10 @@ class XYZWriter(_FrameWriter):
         pbc = "T T T" if c.periodic else "F F F"
         size = " ".join(f"{k}={v!r}" for k, v in c.fields().items())
         h = side / 2.0
+        images = state.images
+        props = _XYZ_PROPS + (_XYZ_IMAGE if images is not None else "")
         header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
-                  f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" '
-                  "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1 "
+                  f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" Properties={props} '
                   f"Time={state.time!r} {size} "
                   f"run_end=\"{self._run_end[0]!r} {self._run_end[1]!r}\"\n")
         fh = self._file
@@ -360,10 +388,18 @@ class XYZWriter(_FrameWriter):
             nums = np.column_stack([state.positions, state.velocities,
                                     state.radii, state.masses])
             rows = ("%.17g " * 8).rstrip()
-            fh.write("\n".join(f"{name} {rows % tuple(r)}"
-                               for name, r in zip(state.names, nums.tolist())))
+            lines = [f"{name} {rows % tuple(r)}" for name, r in zip(state.names, nums.tolist())]
+            if images is not None:
+                lines = [f"{line} {a} {b} {c}"
+                         for line, (a, b, c) in zip(lines, np.asarray(images).tolist())]
+            fh.write("\n".join(lines))
             fh.write("\n")
         fh.flush()
+
+
+#: The XYZ columns after the name: 8 numbers, then (periodic box) 3 image counts.
+_XYZ_PROPS = "name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1"
+_XYZ_IMAGE = ":image:I:3"
 
 
 def _gsd_events(log):
@@ -480,7 +516,7 @@ def _xyz_keys(comment):
 
 
 def _read_xyz(path, check_end=True):
-    times, pos, vel, names, radii, masses = [], [], [], None, None, None
+    times, pos, vel, names, radii, masses, images = [], [], [], None, None, None, []
     run_end = None
     container = None
     with open(path, encoding="utf-8") as fh:
@@ -493,12 +529,19 @@ def _read_xyz(path, check_end=True):
             times.append(float(keys["Time"]))
             run_end = keys["run_end"].split() if "run_end" in keys else None
             container = from_fields(keys)
+            props = keys.get("Properties", _XYZ_PROPS)
+            if props not in (_XYZ_PROPS, _XYZ_PROPS + _XYZ_IMAGE):
+                raise ValueError(f"unknown columns Properties={props}")
+            cols = 12 if props.endswith(_XYZ_IMAGE) else 9
             rows = [ln.split() for ln in lines[k + 2:k + 2 + n]]
-            if len(rows) != n or any(len(r) != 9 for r in rows):
-                raise ValueError("frame shorter than its atom count")
-            nums = np.array([r[1:] for r in rows], dtype=np.float64).reshape(n, 8)
+            if len(rows) != n or any(len(r) != cols for r in rows):
+                raise ValueError(f"frame shorter than its atom count, or a line without "
+                                 f"its {cols} columns")
+            nums = np.array([r[1:9] for r in rows], dtype=np.float64).reshape(n, 8)
             pos.append(nums[:, 0:3])
             vel.append(nums[:, 3:6])
+            images.append(np.array([r[9:] for r in rows], dtype=np.int64).reshape(n, 3)
+                          if cols == 12 else None)
             if names is None:
                 names = [r[0] for r in rows]
                 radii, masses = nums[:, 6].copy(), nums[:, 7].copy()
@@ -511,9 +554,11 @@ def _read_xyz(path, check_end=True):
     if check_end and run_end is not None and len(run_end) == 2:
         _warn_if_cut(path, times[-1], run_end)
     n = len(names)
+    has_images = container.periodic and all(im is not None for im in images)
     return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
                   np.array(vel).reshape(-1, n, 3), radii, masses, names,
-                  container=container)
+                  container=container,
+                  images=np.array(images).reshape(-1, n, 3) if has_images else None)
 
 
 # ---- in memory -------------------------------------------------------------------

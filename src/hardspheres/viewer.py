@@ -11,8 +11,10 @@ In the page: drag to orbit, wheel to zoom, right-drag to pan; space plays or
 pauses, the arrow keys step frames; click a sphere to see its name, mass,
 radius and speed; the "cut" slider hides the spheres above a plane ``z = c``
 to show the inside of a full container.  Spheres are drawn at their true radii in perspective,
-coloured by speed or by mass (with a legend); collisions flash red and
-reflections off the container flash white as they happen.
+coloured by speed, by mass or by their Steinhardt bond order q6 (with a
+legend; ``color_by="q6"``: crystal-like spheres stand out from a fluid or a
+jammed packing); collisions flash red and reflections off the container
+flash white as they happen.
 
 Positions go in as little-endian Float32 arrays in base64; frames are
 subsampled evenly to at most ``max_frames`` (and fewer when the spheres are
@@ -75,6 +77,34 @@ def _round_up(x, digits=2):
     return float(f"{np.ceil(x / scale - 1e-9) * scale:.{digits}g}")
 
 
+#: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``).
+COLOR_BY = ("speed", "mass", "q6")
+
+#: The colour scale of q6, fixed so that pictures compare: a fluid or a jammed
+#: packing near its bottom (0.3-0.45), FCC at its top (0.575 at rest).
+Q6_RANGE = (0.25, 0.6)
+
+
+def _q6(frames, positions):
+    """Steinhardt q6 of each sphere in each frame ``(F, N)``, 12 nearest neighbours (freud).
+
+    ``positions`` are the embedded frames' (wrapped into a periodic box).  In
+    a spherical container or open space the spheres sit in a box wide enough
+    that none sees an image (:class:`hardspheres.structure.BondOrder`).
+    """
+    from .structure import BondOrder
+    c = frames.container
+    if c is not None and c.periodic:
+        width = float(c.size)
+    else:
+        reach = float(np.max(np.abs(positions))) if positions.size else 1.0
+        if c is not None:
+            reach = max(reach, float(c.bounding_radius))
+        width = 4.0 * reach + 4.0 * float(np.max(frames.radii))
+    order = BondOrder(num_neighbors=min(12, max(1, positions.shape[1] - 1)))
+    return order.compute(positions, box=width).qs
+
+
 def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=None):
     times = np.asarray(frames.times, dtype=np.float64)
     pos = np.asarray(frames.positions, dtype=np.float64)
@@ -87,8 +117,11 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
     if pos.shape != (n_frames, n, 3) or vel.shape != (n_frames, n, 3) or masses.shape != (n,):
         raise ValueError(f"write_viewer: inconsistent shapes: times {times.shape}, positions {pos.shape}, "
                          f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}")
-    if color_by not in ("speed", "mass"):
-        raise ValueError("write_viewer: color_by must be 'speed' or 'mass'")
+    if color_by not in COLOR_BY:
+        raise ValueError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, "
+                         f"got {color_by!r}")
+    if color_by == "q6" and n < 2:
+        raise ValueError("write_viewer: color_by='q6' needs at least 2 spheres")
 
     keep = frame_indices(n_frames, n, max_frames, max_values)
     t = times[keep]
@@ -124,6 +157,11 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
         speed_max = float(finite_speeds.max()) if finite_speeds.size and finite_speeds.max() > 0 else 1.0
     speed_max = _round_up(speed_max)
 
+    scalar = None
+    if color_by == "q6":
+        scalar = {"name": "q6", "label": "bond order q6", "values": _b64(_q6(frames, p), np.float32),
+                  "range": list(Q6_RANGE)}
+
     names = [str(x) for x in frames.names] if (frames.names is not None and len(frames.names) == n and n <= 20000) else None
     return {
         "title": title or f"{n} hard spheres",
@@ -142,6 +180,7 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
         "speed_range": [0.0, speed_max],
         "mass_range": [float(masses.min()), float(masses.max())] if n else [1.0, 1.0],
         "color_by": color_by,
+        "scalar": scalar,
         "cut": None if cut is None else float(cut),
         "events": {
             "n": int(len(et)),
@@ -165,8 +204,12 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
         title: shown in the page's corner and tab (default ``"N hard spheres"``).
         max_frames: at most this many frames are embedded, evenly spaced
             (first and last kept).
-        color_by: initial colouring, ``"speed"`` or ``"mass"`` (switchable
-            in the page).
+        color_by: initial colouring, ``"speed"``, ``"mass"`` or ``"q6"``
+            (switchable in the page).  ``"q6"``: each sphere's Steinhardt
+            q6 over its 12 nearest neighbours in each embedded frame
+            (:class:`hardspheres.structure.BondOrder`, needs freud), on the
+            fixed scale :data:`Q6_RANGE` (0.25 to 0.6): a fluid or a jammed
+            packing sits near 0.3-0.45, FCC at 0.575.
         max_values: at most this many numbers (frames x spheres x 4: a
             position and a speed) are embedded, about 4/3 bytes each in the
             file; fewer frames are kept for large N (the default keeps the

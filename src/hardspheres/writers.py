@@ -92,7 +92,15 @@ def _positive_time(value: float, what: str) -> float:
     return value
 
 
-class Periodic:
+class _ByTime:
+    """Base of the triggers due at times only (never by collision count)."""
+
+    @property
+    def next_collisions(self) -> float:
+        return math.inf
+
+
+class Periodic(_ByTime):
     """Due at ``t0, t0 + period, t0 + 2 period, ...`` from the time it starts.
 
     Args:
@@ -111,15 +119,11 @@ class Periodic:
     def next_time(self) -> float:
         return self._t0 + self._count * self.period
 
-    @property
-    def next_collisions(self) -> float:
-        return math.inf
-
     def fired(self) -> None:
         self._count += 1
 
 
-class LogSpaced:
+class LogSpaced(_ByTime):
     """Due at ``t0`` and at ``t0 + first * factor^k``, ``k = 0, 1, ...``.
 
     Args:
@@ -156,15 +160,11 @@ class LogSpaced:
         lag = self.first * self.factor**self._k
         return self._t0 + lag if lag <= self.until * (1.0 + 1e-12) else math.inf
 
-    @property
-    def next_collisions(self) -> float:
-        return math.inf
-
     def fired(self) -> None:
         self._k += 1
 
 
-class AtTimes:
+class AtTimes(_ByTime):
     """Due at the given absolute times (those before it starts are skipped).
 
     Args:
@@ -185,10 +185,6 @@ class AtTimes:
     @property
     def next_time(self) -> float:
         return self.times[self._k] if self._k < len(self.times) else math.inf
-
-    @property
-    def next_collisions(self) -> float:
-        return math.inf
 
     def fired(self) -> None:
         self._k += 1
