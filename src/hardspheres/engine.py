@@ -490,8 +490,9 @@ class Engine:
 
     @property
     def counters(self) -> dict[str, int]:
-        """Dict of event counts: collisions, reflections, crossings, stale
-        (predictions dropped), refreshed (made afresh by the window rule)."""
+        """Dict of event counts: collisions, reflections, crossings (of a cell,
+        or, with neighbour lists, of a sphere's shell), stale (predictions
+        dropped), refreshed (made afresh by the window rule)."""
         c = self.counts
         return {"collisions": int(c[core.C_COLLISIONS]), "reflections": int(c[core.C_REFLECTIONS]),
                 "crossings": int(c[core.C_CROSSINGS]), "stale": int(c[core.C_STALE]),
