@@ -561,4 +561,4 @@ def test_compression_resumed_from_a_checkpoint_is_the_same_run(tmp_path):
     a = sim.compress(packing=0.45, rate=0.02)
     b = other.compress(packing=0.45, rate=0.02)
     assert a == b and a.reason == "packing"
-    assert np.array_equal(sim._engine.S, other._engine.S) and sim.time == other.time
+    assert np.array_equal(sim._engine.spheres, other._engine.spheres) and sim.time == other.time
