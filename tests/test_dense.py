@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
+from hardspheres import _core as core
 from hardspheres import physics
 from hardspheres.dense import Andersen, CompressionError, VelocityRescale
 from hardspheres.engine import Engine
@@ -130,10 +131,10 @@ def test_growth_never_overlaps_container(seed, ratio, rate):
 def test_growth_outgrows_cells_and_regrids():
     state = hs.random_spheres(300, 0.1, box=20.0, seed=1)
     eng = Engine(state.masses, state.radii, state.positions, state.velocities, box=20.0)
-    nc0 = int(eng.c[0])
+    nc0 = int(eng.counts[core.C_CELLS])
     eng.set_growth(0.2)
     eng.advance(collisions=20_000)
-    assert int(eng.c[0]) < nc0
+    assert int(eng.counts[core.C_CELLS]) < nc0
     assert eng.max_overlap() <= TOL
 
 
@@ -147,7 +148,7 @@ def test_exact_restart_mid_growth():
     eb = b.advance(collisions=3000)
     for k in ea.dtype.names:
         assert np.array_equal(ea[k], eb[k])
-    assert np.array_equal(a.S, b.S) and a.time == b.time
+    assert np.array_equal(a.spheres, b.spheres) and a.time == b.time
 
 
 # ---- compress ---------------------------------------------------------------------
@@ -228,7 +229,7 @@ def test_compress_restart_mid_compression_via_engine_checkpoint(tmp_path):
     other = hs.Simulation.load(tmp_path / "c.npz")
     sim.run(collisions=1500)
     other.run(collisions=1500)
-    assert np.array_equal(sim._engine.S, other._engine.S)
+    assert np.array_equal(sim._engine.spheres, other._engine.spheres)
     assert sim.packing == other.packing > 0.3
 
 
@@ -243,12 +244,12 @@ def test_andersen_reproducible_and_resumes_bit_for_bit(tmp_path):
     a, b = make(), make()
     a.run(until=2.0)
     b.run(until=2.0)
-    assert np.array_equal(a._engine.S, b._engine.S)
+    assert np.array_equal(a._engine.spheres, b._engine.spheres)
     a.save(tmp_path / "a.npz")
     c = hs.Simulation.load(tmp_path / "a.npz")
     a.run(until=4.0)
     c.run(until=4.0)
-    assert np.array_equal(a._engine.S, c._engine.S)
+    assert np.array_equal(a._engine.spheres, c._engine.spheres)
     assert a.thermostat.resampled == c.thermostat.resampled > 100
 
 
@@ -277,7 +278,7 @@ def test_no_thermostat_no_growth_is_nve():
     b = hs.Simulation(state, hs.PeriodicBox(8.0)).set_thermostat(None)
     a.run(collisions=3000)
     b.run(collisions=3000)
-    assert np.array_equal(a._engine.S, b._engine.S)
+    assert np.array_equal(a._engine.spheres, b._engine.spheres)
 
 
 # ---- the command line and README ------------------------------------------------------
@@ -560,4 +561,4 @@ def test_compression_resumed_from_a_checkpoint_is_the_same_run(tmp_path):
     a = sim.compress(packing=0.45, rate=0.02)
     b = other.compress(packing=0.45, rate=0.02)
     assert a == b and a.reason == "packing"
-    assert np.array_equal(sim._engine.S, other._engine.S) and sim.time == other.time
+    assert np.array_equal(sim._engine.spheres, other._engine.spheres) and sim.time == other.time

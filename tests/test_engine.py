@@ -8,6 +8,8 @@ import pytest
 from numba import njit
 
 from hardspheres import _core, reference
+from hardspheres import _core as core
+from hardspheres import engine as engine_module
 from hardspheres.builders import random_spheres
 from hardspheres.engine import Engine
 from hardspheres.reference import Reference
@@ -98,6 +100,52 @@ def test_engine_matches_brute_force(seed, n, window):
     for key in ("collisions", "reflections"):
         assert eng.counters[key] == ref.counters[key]
     assert (eng.time, eng.wall_impulse, eng.virial) == (ref.time, ref.wall_impulse, ref.virial)
+
+
+@pytest.fixture
+def lists(monkeypatch):
+    """The core predicts against neighbour lists whatever the density."""
+    monkeypatch.setattr(engine_module, "LISTS_FROM", 0.0)
+
+
+@pytest.mark.parametrize("seed,n", [(1, 2), (3, 10), (5, 100), (6, 300), (8, 200)])
+@pytest.mark.parametrize("window", [0.0, 1e-8])
+def test_engine_with_lists_matches_brute_force(lists, seed, n, window):
+    m, r, p, v, R = mixed_scenario(seed, n)
+    ref_ev, ref = run(CompiledReference, m, r, p, v, R, 1000, window)
+    eng_ev, eng = run(Engine, m, r, p, v, R, 1000, window)
+    assert eng.scalars[core.F_SHELL] > 0.0
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
+
+
+@pytest.mark.parametrize("phi,ratio", [(0.45, 1.0), (0.3, 1.0), (0.15, 3.0)])
+@pytest.mark.parametrize("window", [0.0, 1e-8])
+def test_dense_engine_with_lists_matches_brute_force(lists, phi, ratio, window):
+    """Neighbour lists in fluids up to packing 0.45, event for event, bit for bit."""
+    n = 300
+    radius = 0.5 * (n / phi) ** (1 / 3)
+    s = random_spheres(n, phi, container=radius, seed=11, radius_ratio=ratio)
+    m, r, p, v = s.masses, s.radii, s.positions, s.velocities
+    ref_ev, ref = run(CompiledReference, m, r, p, v, radius, 3000, window)
+    eng_ev, eng = run(Engine, m, r, p, v, radius, 3000, window)
+    assert eng.scalars[core.F_SHELL] > 0.0
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
+
+
+def test_lists_checkpoint_and_growth(lists):
+    """Lists survive a checkpoint bit for bit, and growth rebuilds them as radii outgrow them."""
+    s = random_spheres(400, 0.3, box=12.0, seed=2)
+    a = Engine(s.masses, s.radii, s.positions, s.velocities, box=12.0)
+    a.advance(collisions=3000)
+    b = Engine.restore({k: np.copy(v) for k, v in a.checkpoint().items()})
+    ea, eb = a.advance(collisions=3000), b.advance(collisions=3000)
+    assert all(np.array_equal(ea[k], eb[k]) for k in ea.dtype.names)
+    a.set_growth(0.05)
+    a.advance(collisions=20000, record=False)
+    assert a.scalars[core.F_SHELL] > 0.0
+    assert a.max_overlap() < 1e-9
 
 
 @pytest.mark.parametrize("seed", range(4))

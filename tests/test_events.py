@@ -21,11 +21,11 @@ from hardspheres.events import (
 
 
 def test_core_constants_are_the_enums():
-    assert core.WALL == EventKind.REFLECTION and core.COLLISION == EventKind.COLLISION
+    assert core.REFLECTION == EventKind.REFLECTION and core.COLLISION == EventKind.COLLISION
     assert reference.REFLECTION == EventKind.REFLECTION
     assert reference.COLLISION == EventKind.COLLISION
     # the core's own kinds come after the public ones (they are also the tie order)
-    assert {core.CROSS, core.NONE}.isdisjoint(int(k) for k in EventKind)
+    assert {core.CROSSING, core.NONE}.isdisjoint(int(k) for k in EventKind)
     assert [core.STOP_UNTIL, core.STOP_MAX_EVENTS, core.STOP_MAX_COLLISIONS, core.STOP_RECORD_FULL] == [
         StopReason.UNTIL,
         StopReason.MAX_EVENTS,

@@ -348,18 +348,18 @@ def variant(**changes):
         f(d)
     return d
 def heap(d): d["heap"][3] = 10 ** 9
-def link(d): d["nxt"][d["nxt"] >= 0][:1] = 0; d["nxt"][5] = -(10 ** 9)
-def head(d): d["head"][d["head"] >= 0] = len(d["mass"])
-def cells(d): d["c"][core.C_NC] = 10 ** 6
+def link(d): d["cell_next"][d["cell_next"] >= 0][:1] = 0; d["cell_next"][5] = -(10 ** 9)
+def head(d): d["cell_head"][d["cell_head"] >= 0] = len(d["masses"])
+def cells(d): d["counts"][core.C_CELLS] = 10 ** 6
 def partner(d):
-    k = d["K"]; i = int(np.nonzero(k[:, core.EV_KIND] == core.COLLISION)[0][0])
-    k[i, core.EV_PARTNER] = 10 ** 9
-def code(d): d["K"][0, core.CR_CODE] = 77
-def nan_pos(d): d["S"][7, 0] = np.nan
-def neg_mass(d): d["mass"][2] = -1.0
-def order(d): d["HT"][0] = 1e300
+    k = d["book"]; i = int(np.nonzero(k[:, core.EVENT_KIND] == core.COLLISION)[0][0])
+    k[i, core.PARTNER] = 10 ** 9
+def code(d): d["book"][0, core.CROSS_FACE] = 77
+def nan_pos(d): d["spheres"][7, 0] = np.nan
+def neg_mass(d): d["masses"][2] = -1.0
+def order(d): d["heap_t"][0] = 1e300
 def dtype(d): d["heap"] = d["heap"].astype(np.float64)
-def drop(d): del d["K"]
+def drop(d): del d["book"]
 def version(d): d["version"] = np.array(99)
 def foreign(d):
     d.clear(); d["x"] = np.arange(3)

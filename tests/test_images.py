@@ -186,14 +186,14 @@ def test_gsd_without_images_is_not_taken_as_zero_images(tmp_path):
 
 
 def test_checkpoint_from_before_images_and_tallies_loads(tmp_path):
-    """An older checkpoint (no img, short f, 5-column observables) resumes; averages restart."""
+    """An older checkpoint (no images, short scalars, 5-column observables) resumes; averages restart."""
     sim, _ = gas(n=32)
     sim.run(until=1.0)
     sim.save(tmp_path / "new.npz")
     with np.load(tmp_path / "new.npz") as z:
         data = {k: z[k] for k in z.files}
-    del data["img"], data["obs_samples"], data["obs_every"]
-    data["f"] = data["f"][:9]
+    del data["images"], data["obs_samples"], data["obs_every"]
+    data["scalars"] = data["scalars"][:9]
     data["obs"] = data["obs"][:5]
     np.savez(tmp_path / "old.npz", **data)
     old = hs.Simulation.load(tmp_path / "old.npz")

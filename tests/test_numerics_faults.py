@@ -165,8 +165,9 @@ def test_nan_until_returns():
                 "    print('refused', e)\n"
                 "from hardspheres import _core\n"
                 "e = s._engine\n"
-                "print(_core.run(e.S, e.mass, e.K, e.T, e.head, e.nxt, e.prv, e.heap, e.HT,"
-                " e.HKEY, e.f, e.c, e.stack, e.img, np.nan, 10**9, 10**9, *e._rec))\n")
+                "print(_core.run(e.spheres, e.masses, e.book, e.due, e.shells, e.neighbours,"
+                " e.cell_head, e.cell_next, e.cell_prev, e.heap, e.heap_t, e.heap_key,"
+                " e.scalars, e.counts, e.scratch, e.images, np.nan, 10**9, 10**9, *e._rec))\n")
     assert done.returncode == 0, done.stderr
     refused, core_returns = done.stdout.splitlines()
     assert refused.startswith("refused") and "NaN" in refused.replace("nan", "NaN")
@@ -362,13 +363,19 @@ def test_pair_time_is_pair_time_within_without_horizon(x, sigma):
             or math.isnan(pair_time(*x, sigma)))
 
 
+_OLD = {"masses": "mass", "spheres": "S", "book": "K", "due": "T", "cell_next": "nxt",
+        "cell_prev": "prv", "heap_t": "HT", "heap_key": "HKEY", "scalars": "f",
+        "counts": "c", "cell_head": "head", "images": "img"}
+
+
 def test_checkpoint_from_before_the_new_counters_resumes():
-    """Engine checkpoints saved with 6 counters and 9 scalars still resume alike."""
+    """Engine checkpoints saved with 6 counters and 9 scalars (and the arrays' old names) resume alike."""
     m, r, p, v = touching_lattice(3, 7)
     eng = Engine(m, r, p, v, container=5.0, window=1e-8)
     eng.advance(events=50)
     data = eng.checkpoint()
-    old = dict(data, c=data["c"][:6].copy(), f=data["f"][:9].copy())
+    old = {_OLD.get(k, k): v for k, v in data.items()}
+    old.update(c=data["counts"][:6].copy(), f=data["scalars"][:9].copy())
     a, b = Engine.restore(data), Engine.restore(old)
     ea, eb = a.advance(events=200), b.advance(events=200)
     assert all(np.array_equal(ea[k], eb[k]) for k in ea.dtype.names)

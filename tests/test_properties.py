@@ -22,6 +22,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from hardspheres import engine as engine_module
 from hardspheres import reference
 from hardspheres.cli import run_spheres
 from hardspheres.engine import Engine
@@ -191,6 +192,24 @@ def test_engine_matches_the_reference(scn, window):
         assert got[field].tolist() == want[field].tolist(), field
     assert eng.velocities.tolist() == ref.velocities
     assert (eng.wall_impulse, eng.virial) == (ref.wall_impulse, ref.virial)
+
+
+@settings(max_examples=40, deadline=None)
+@given(scn=scenarios(), window=st.sampled_from([0.0, reference.SIMULTANEOUS]))
+def test_engine_with_lists_matches_the_reference(scn, window):
+    """As above, with the core predicting against neighbour lists (dense fluids' way)."""
+    masses, radii, pos, vel, container = scn
+    saved = engine_module.LISTS_FROM
+    engine_module.LISTS_FROM = 0.0
+    try:
+        eng = Engine(masses, radii, pos, vel, container=container, window=window, rebase=False)
+    finally:
+        engine_module.LISTS_FROM = saved
+    ref = Reference(masses, radii, pos, vel, container=container, window=window)
+    got, want = eng.advance(events=200), ref.advance(events=200)
+    for field in got.dtype.names:
+        assert got[field].tolist() == want[field].tolist(), field
+    assert eng.velocities.tolist() == ref.velocities
 
 
 @settings(max_examples=40, deadline=None)

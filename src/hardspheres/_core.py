@@ -10,16 +10,21 @@ Lubachevsky, as in the fastest public codes):
 * **Local times.**  Sphere ``i`` is stored as its centre at its own time
   ``t_i`` (the time of its last collision or reflection); its centre at time
   ``t`` is ``x_i + v_i (t - t_i)``.  An event touches only the spheres
-  involved.  Each sphere's record is one 64-byte row of ``S``:
+  involved.  Each sphere's record is one 64-byte row of ``spheres``:
   ``x y z vx vy vz t_i R_i``.
-* **Cells.**  A cubic grid of ``nc^3`` cells, each at least as wide as the
-  largest contact distance, covers the container (or the periodic box); a
-  sphere is predicted only against the spheres in the 27 cells around its
-  own.  Leaving a cell is an event of its own; after it, only the 9 cells
-  that came into reach are searched.
+* **Neighbour lists with shells** (as in Smallenburg's "Single" EDMD).
+  Each sphere has a shell centre (its centre when it was last listed) and a
+  reach ``a_i >= R_i``; spheres ``i, j`` are neighbours while their shell
+  centres are nearer than ``s (a_i + a_j)`` (``s = F_SHELL``, 1.5), and a
+  sphere stays within ``(s - 1) a_i`` of its shell centre, so two spheres
+  that are not neighbours cannot touch.  A sphere is predicted only against
+  its neighbours.  Leaving its shell is an event of its own: a new shell
+  where it is, its list made anew from the 27 cells (each at least
+  ``2 s a_max`` wide) around the new centre, in both directions (the lists
+  are symmetric), and the sphere predicted afresh.
 * **Calendar.**  Each sphere keeps its earliest collision or reflection
-  (time, kind, partner, the partner's event count) and its next cell
-  crossing; an indexed binary heap orders the spheres by the earlier of
+  (time, kind, partner, the partner's event count) and the time it leaves
+  its shell; an indexed binary heap orders the spheres by the earlier of
   the two.  A prediction whose partner has had an event since is stale: it
   is dropped, and the sphere predicted afresh, when it reaches the top.
 * **Predictions that do not depend on when they are made.**  A pair is
@@ -94,13 +99,11 @@ def _compiler(**options):
 
 # error_model="numpy": IEEE division (x/0 = inf) without a zero check per division.
 # _nrt=False: nothing here allocates, and without numba's runtime no array
-# argument is reference-counted (an atomic increment and decrement per array
-# per call: 18% of the run time at N = 1e4 before; +9..19% collisions/s).
+# argument is reference-counted per call.
 _jit = _compiler()
 # The event loop's helpers are inlined into it (numba IR inlining): a call
-# passes every array as a struct of 7-9 words on the stack, 50-60 words for
-# a scan, which cost more than the few pairs a scan meets at low density
-# (+13..14% collisions/s at N = 1e4; the first compilation takes 13 s, not 5).
+# would pass every array as a struct of 7-9 words on the stack.  (What each
+# of these choices gained: benchmarks/README.md, "history of the core's speed".)
 _inline = _compiler(inline="always")
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
@@ -123,9 +126,9 @@ frozen_limit_of = _kernel(physics.frozen_limit)
 #: Event kinds (also the tie order at equal times): the public ones are
 #: :class:`hardspheres.events.EventKind`'s numbers; crossings and "nothing"
 #: are the core's own.
-WALL = int(events.EventKind.REFLECTION)
+REFLECTION = int(events.EventKind.REFLECTION)
 COLLISION = int(events.EventKind.COLLISION)
-CROSS = 2
+CROSSING = 2
 NONE = 3
 
 #: Why :func:`run` returned: :class:`hardspheres.events.StopReason`'s numbers.
@@ -134,16 +137,58 @@ STOP_MAX_EVENTS = int(events.StopReason.MAX_EVENTS)
 STOP_MAX_COLLISIONS = int(events.StopReason.MAX_COLLISIONS)
 STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 
-# columns of S (float64 per sphere)
-X, Y, Z, VX, VY, VZ, TL, RAD = 0, 1, 2, 3, 4, 5, 6, 7
-# columns of T (float64 per sphere)
-EV_T, CR_T = 0, 1
-# columns of K (int64 per sphere)
-(COUNT, CX, CY, CZ, CELL, EV_KEY, EV_KIND, EV_PARTNER, EV_PCOUNT, CR_CODE,
- FRESH, HPOS) = range(12)
-K_COLS = 12
+# ---- the arrays -------------------------------------------------------------------
+# The engine (hardspheres.engine.Engine) owns them, under the same names; per
+# sphere i (N rows each):
+#
+#   masses     float64 (N,)              [mass]
+#   spheres    float64 (N, SPHERE_COLS)  one 64-byte row: centre and velocity
+#                                        at the sphere's own time, that time, radius
+#   due        float64 (N, DUE_COLS)     when its next event and its shell crossing are due
+#   book       int64   (N, BOOK_COLS)    bookkeeping: course changes, cell, the
+#                                        predicted event, heap position, list length
+#   shells     float64 (N, SHELL_COLS)   shell centre and reach
+#   neighbours int32   (N, cap)          neighbour list: 32 j + image code (see _pair_code)
+#   images     int64   (N, 3)            crossings of the periodic box per axis
+#   cell_next, cell_prev  int64 (N,)     the doubly linked list of the cell of its shell centre
+#
+# and for the whole system:
+#
+#   cell_head  int64   (nc^3,)           first sphere of each cell (-1: empty)
+#   heap       int64   (N,)              the calendar: spheres by heap position,
+#   heap_t, heap_key                     with the entry's time and tie key beside
+#   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
+#   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
+#   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
 
-# indices into the float64 array `f` of scalars
+# columns of `spheres`
+X, Y, Z, VX, VY, VZ = 0, 1, 2, 3, 4, 5  # centre and velocity at T_OWN
+T_OWN = 6    # the sphere's own time: of its last collision or reflection (or rebase)
+RADIUS = 7   # radius at the time origin (see F_GROW)
+SPHERE_COLS = 8
+# columns of `due`
+EVENT_T = 0  # time of the predicted collision or reflection (inf: none)
+CROSS_T = 1  # time it leaves its shell (inf: never)
+DUE_COLS = 2
+# columns of `shells`
+SHELL_X, SHELL_Y, SHELL_Z = 0, 1, 2  # shell centre: the sphere's centre when it was last listed
+REACH = 3    # the radius its neighbour list is made for (>= its radius until the next build)
+SHELL_COLS = 4
+# columns of `book`
+CHANGES = 0          # collisions and reflections (and kicks) so far: a prediction's stamp
+CELL_X, CELL_Y, CELL_Z = 1, 2, 3  # cell coordinates of its shell centre
+CELL = 4             # cell index, (CELL_Z * nc + CELL_Y) * nc + CELL_X
+EVENT_KEY = 5        # tie key of the predicted event (see _key)
+EVENT_KIND = 6       # its kind: REFLECTION, COLLISION or NONE
+PARTNER = 7          # its partner (-1 for a reflection or none)
+PARTNER_CHANGES = 8  # the partner's CHANGES when predicted (stale if it moved on)
+CROSS_FACE = 9       # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 none
+FRESH = 10           # C_SERIAL when last predicted (refresh_window predicts once per serial)
+HEAP_POS = 11        # position of the sphere's entry in the heap
+NEIGHBOURS = 12      # lists: length of its neighbour list (the first entries of its row)
+BOOK_COLS = 13
+
+# indices into `scalars`
 F_CLOCK = 0      # time of the last processed event (relative to the origin)
 F_ANCHOR = 1     # time of the last collision or reflection
 F_CONTAINER = 2  # container radius (0 for a periodic box)
@@ -163,86 +208,89 @@ F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
 F_HEAT_INT = 34  # its time integral up to F_T_KIN
 F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
 F_STREAK = 38    # time of the first event of the current C_FROZEN streak
-F_GROW = 39     # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
-F_NF = 40
+F_GROW = 39      # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
+F_SHELL = 40     # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
+F_HEADROOM = 41  # reach over radius at a build (> 1 while growing: room to grow)
+N_SCALARS = 42
 
-# indices into the int64 array `c` of counters
-C_NC = 0         # cells per axis
-C_COLL = 1       # collisions processed
-C_WALL = 2       # reflections processed
-C_CROSS = 3      # cell crossings processed
-C_STALE = 4      # stale predictions discarded
-C_SERIAL = 5     # collisions and reflections processed (freshness stamps)
-C_FROZEN = 6     # collisions and reflections in a row with the clock not advancing
-C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
-C_NC_ = 8
+# indices into `counts`
+C_CELLS = 0        # cells per axis (nc)
+C_COLLISIONS = 1   # collisions processed
+C_REFLECTIONS = 2  # reflections processed
+C_CROSSINGS = 3    # shell crossings processed (neighbour lists made anew)
+C_STALE = 4        # stale predictions discarded
+C_SERIAL = 5       # collisions and reflections processed (freshness stamps)
+C_FROZEN = 6       # collisions and reflections in a row with the clock not advancing
+C_REFRESHED = 7    # predictions made afresh by the window rule (refresh_window)
+N_COUNTS = 8
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
 STOP_SLIDING = int(events.StopReason.SLIDING)
+STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engine widens them)
 
 
 # ---- the calendar: an indexed binary heap over spheres -------------------------
 # The heap keeps each entry's time and tie key beside the sphere's index
-# (arrays HT, HKEY, heap by heap position), so sifting reads contiguous memory.
+# (arrays heap_t, heap_key, heap by heap position), so sifting reads contiguous memory.
 
 @_inline
-def _sift_up(heap, HT, HKEY, K, k):
-    i, t, key = heap[k], HT[k], HKEY[k]
+def _sift_up(heap, heap_t, heap_key, book, k):
+    i, t, key = heap[k], heap_t[k], heap_key[k]
     while k > 0:
         parent = (k - 1) >> 1
-        tp = HT[parent]
-        if t < tp or (t == tp and key < HKEY[parent]):
+        tp = heap_t[parent]
+        if t < tp or (t == tp and key < heap_key[parent]):
             p = heap[parent]
-            heap[k], HT[k], HKEY[k] = p, tp, HKEY[parent]
-            K[p, HPOS] = k
+            heap[k], heap_t[k], heap_key[k] = p, tp, heap_key[parent]
+            book[p, HEAP_POS] = k
             k = parent
         else:
             break
-    heap[k], HT[k], HKEY[k] = i, t, key
-    K[i, HPOS] = k
+    heap[k], heap_t[k], heap_key[k] = i, t, key
+    book[i, HEAP_POS] = k
 
 
 @_inline
-def _sift_down(heap, HT, HKEY, K, k, n):
-    i, t, key = heap[k], HT[k], HKEY[k]
+def _sift_down(heap, heap_t, heap_key, book, k, n):
+    i, t, key = heap[k], heap_t[k], heap_key[k]
     while True:
         child = 2 * k + 1
         if child >= n:
             break
-        tc, kc = HT[child], HKEY[child]
+        tc, kc = heap_t[child], heap_key[child]
         if child + 1 < n:
-            t2, k2 = HT[child + 1], HKEY[child + 1]
+            t2, k2 = heap_t[child + 1], heap_key[child + 1]
             if t2 < tc or (t2 == tc and k2 < kc):
                 child += 1
                 tc, kc = t2, k2
         if tc < t or (tc == t and kc < key):
-            c = heap[child]
-            heap[k], HT[k], HKEY[k] = c, tc, kc
-            K[c, HPOS] = k
+            jc = heap[child]
+            heap[k], heap_t[k], heap_key[k] = jc, tc, kc
+            book[jc, HEAP_POS] = k
             k = child
         else:
             break
-    heap[k], HT[k], HKEY[k] = i, t, key
-    K[i, HPOS] = k
+    heap[k], heap_t[k], heap_key[k] = i, t, key
+    book[i, HEAP_POS] = k
 
 
 @_inline
-def _schedule(heap, HT, HKEY, T, K, i):
+def _schedule(heap, heap_t, heap_key, due, book, i):
     """Sphere ``i``'s heap entry becomes the earlier of its event and its crossing."""
     n = heap.shape[0]
-    cross_key = _key(CROSS, i, -1, n)
-    if T[i, CR_T] < T[i, EV_T] or (T[i, CR_T] == T[i, EV_T] and cross_key < K[i, EV_KEY]):
-        t, key = T[i, CR_T], cross_key
+    cross_key = _key(CROSSING, i, -1, n)
+    if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
+        t, key = due[i, CROSS_T], cross_key
     else:
-        t, key = T[i, EV_T], K[i, EV_KEY]
-    k = K[i, HPOS]
-    HT[k] = t
-    HKEY[k] = key
-    if k > 0 and (t < HT[(k - 1) >> 1] or (t == HT[(k - 1) >> 1] and key < HKEY[(k - 1) >> 1])):
-        _sift_up(heap, HT, HKEY, K, k)
+        t, key = due[i, EVENT_T], book[i, EVENT_KEY]
+    k = book[i, HEAP_POS]
+    heap_t[k] = t
+    heap_key[k] = key
+    if k > 0 and (t < heap_t[(k - 1) >> 1] or (t == heap_t[(k - 1) >> 1] and key < heap_key[(k - 1) >> 1])):
+        _sift_up(heap, heap_t, heap_key, book, k)
     else:
-        _sift_down(heap, HT, HKEY, K, k, n)
+        _sift_down(heap, heap_t, heap_key, book, k, n)
 
 
 @_inline
@@ -265,41 +313,41 @@ def cell_of(x, lo, w, nc):
 
 
 @_inline
-def _cell_insert(head, nxt, prv, K, i, c):
-    K[i, CELL] = c
-    h = head[c]
-    nxt[i] = h
-    prv[i] = -1
+def _cell_insert(cell_head, cell_next, cell_prev, book, i, cell):
+    book[i, CELL] = cell
+    h = cell_head[cell]
+    cell_next[i] = h
+    cell_prev[i] = -1
     if h >= 0:
-        prv[h] = i
-    head[c] = i
+        cell_prev[h] = i
+    cell_head[cell] = i
 
 
 @_inline
-def _cell_remove(head, nxt, prv, K, i):
-    c = K[i, CELL]
-    a, b = prv[i], nxt[i]
+def _cell_remove(cell_head, cell_next, cell_prev, book, i):
+    cell = book[i, CELL]
+    a, b = cell_prev[i], cell_next[i]
     if a >= 0:
-        nxt[a] = b
+        cell_next[a] = b
     else:
-        head[c] = b
+        cell_head[cell] = b
     if b >= 0:
-        prv[b] = a
+        cell_prev[b] = a
 
 
 # ---- predictions ---------------------------------------------------------------
 
 @_inline
-def _crossing(S, K, T, f, nc, i, t):
-    """Store the time sphere ``i`` leaves its cell, from time ``t``."""
-    lo, w, box = f[F_LO], f[F_W], f[F_BOX]
-    dt_i = t - S[i, TL]
+def _crossing(spheres, book, due, scalars, nc, i, t):
+    """Store the time sphere ``i`` leaves its cell, from time ``t`` (cell mode)."""
+    lo, w, box = scalars[F_LO], scalars[F_W], scalars[F_BOX]
+    dt_i = t - spheres[i, T_OWN]
     best = np.inf
     code = -1
     for ax in range(3):
-        v = S[i, VX + ax]
-        k = K[i, CX + ax]
-        x = S[i, X + ax] + v * dt_i
+        v = spheres[i, VX + ax]
+        k = book[i, CELL_X + ax]
+        x = spheres[i, X + ax] + v * dt_i
         if v > 0.0:
             if box == 0.0 and k == nc - 1:
                 continue
@@ -317,33 +365,178 @@ def _crossing(S, K, T, f, nc, i, t):
         if d < best:
             best = d
             code = 2 * ax + up
-    T[i, CR_T] = t + best
-    K[i, CR_CODE] = code
+    due[i, CROSS_T] = t + best
+    book[i, CROSS_FACE] = code
 
 
 @_inline
-def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
+def _shell_exit(spheres, shells, due, scalars, i, t):
+    """Store the time sphere ``i`` leaves its shell, from time ``t``.
+
+    The shell is the ball of radius ``(F_SHELL - 1) * reach`` around the
+    sphere's shell centre; inf if it stands still or has no reach.
+    """
+    delta = (scalars[F_SHELL] - 1.0) * shells[i, REACH]
+    dt_i = t - spheres[i, T_OWN]
+    dx = (spheres[i, X] + spheres[i, VX] * dt_i) - shells[i, SHELL_X]
+    dy = (spheres[i, Y] + spheres[i, VY] * dt_i) - shells[i, SHELL_Y]
+    dz = (spheres[i, Z] + spheres[i, VZ] * dt_i) - shells[i, SHELL_Z]
+    vx, vy, vz = spheres[i, VX], spheres[i, VY], spheres[i, VZ]
+    a = vx * vx + vy * vy + vz * vz
+    b = dx * vx + dy * vy + dz * vz
+    c = delta * delta - (dx * dx + dy * dy + dz * dz)  # >= 0 inside (up to rounding)
+    if not (a > 0.0 and delta > 0.0):
+        due[i, CROSS_T] = np.inf
+        return
+    if c <= 0.0:
+        due[i, CROSS_T] = t
+        return
+    # the positive root of a tau^2 + 2 b tau - c = 0, without cancellation
+    q = np.sqrt(b * b + a * c)
+    if b >= 0.0:
+        tau = c / (b + q)
+    else:
+        tau = (q - b) / a
+    due[i, CROSS_T] = t + tau
+
+
+@_inline
+def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+    """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
+
+    ``j`` seen at its image shifted by ``(sx, sy, sz)``; returns the new
+    ``(best_t, best_key, best_p)``.
+    """
+    tj = spheres[j, T_OWN]
+    t0 = ti if ti > tj else tj
+    di = t0 - ti
+    dj = t0 - tj
+    # i minus j, each from its own time.  IEEE subtraction
+    # is exactly antisymmetric and pair_time even in
+    # (dr, dv), so this is bit for bit what the lower
+    # index minus the higher gives: the same result
+    # whichever sphere predicts the pair.
+    # pairs that surely meet after the best event so far
+    # are not solved (the window's "now" is never later);
+    # two ulps of best_t more, as a root that rounds to
+    # best_t ties with it and the tie order decides
+    horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
+               if best_t >= soon else np.inf)
+    dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
+    dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
+    dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
+    dvx = spheres[i, VX] - spheres[j, VX]
+    dvy = spheres[i, VY] - spheres[j, VY]
+    dvz = spheres[i, VZ] - spheres[j, VZ]
+    sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
+    if grow != 0.0:
+        # growing (the one branch a plain run pays here)
+        dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
+                            sigma * (1.0 + grow * t0), sigma * grow,
+                            horizon)
+    # pair_time_within's own tests up to the root,
+    # the same expressions, combined without branches (half
+    # the pairs recede, at random, and a branch on that
+    # mispredicts half the time): a pair they reject is
+    # inf for it too.  The rest, NaNs and the pairs it
+    # rescales (|dv|^2 |dr|^2 out of range) go through it.
+    # The miss test is b^2 - a c < 0 by a margin that
+    # covers its rounding and that of the kernel's own
+    # discriminant (physics.MISS_MARGIN).
+    b = dx * dvx + dy * dvy + dz * dvz
+    a = dvx * dvx + dvy * dvy + dvz * dvz
+    r2 = dx * dx + dy * dy + dz * dz
+    cc = r2 - sigma * sigma
+    ar2 = a * r2
+    recede = b >= 0.0
+    beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
+    touch = cc <= 0.0
+    miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
+    # (past RANGE_HI no test here rejects wrongly: an
+    # overflow makes them false, or NaN, so the kernel
+    # decides; below RANGE_LO, b may underflow)
+    if grow != 0.0:
+        pass
+    elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
+            touch | ((beyond ^ True) & (miss ^ True)))):
+        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
+                              sigma, horizon)
+    else:
+        dt = np.inf
+    if dt < np.inf:
+        te = t0 + dt
+        if te < soon:
+            te = now
+        if te < clock:
+            te = clock  # a root rounded into the past
+        if te <= best_t:
+            kk = _key(COLLISION, min(i, j), max(i, j), n)
+            if te < best_t or kk < best_key:
+                best_t, best_key, best_p = te, kk, j
+    return best_t, best_key, best_p
+
+
+@_inline
+def _store(due, book, i, best_t, best_key, best_p):
+    if best_p >= 0:
+        due[i, EVENT_T] = best_t
+        book[i, EVENT_KEY] = best_key
+        book[i, EVENT_KIND] = COLLISION
+        book[i, PARTNER] = best_p
+        book[i, PARTNER_CHANGES] = book[best_p, CHANGES]
+
+
+@_inline
+def _scan_list(spheres, book, due, neighbours, scalars, i):
+    """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
+    n = spheres.shape[0]
+    box = scalars[F_BOX]
+    now = scalars[F_ANCHOR]
+    soon = now + scalars[F_WINDOW]
+    clock = scalars[F_CLOCK]
+    grow = scalars[F_GROW]
+    best_t = due[i, EVENT_T]
+    best_key = book[i, EVENT_KEY]
+    best_p = -1
+    ti = spheres[i, T_OWN]
+    # exactly 1.0, but not to the compiler: it would otherwise see that the
+    # kernel's own first test (receding: inf) decides both branches below
+    # and test it first again, on its own
+    one = 1.0 if n > 0 else 2.0
+    for q in range(book[i, NEIGHBOURS]):
+        entry = neighbours[i, q]
+        j = entry >> 5
+        code = entry & 31
+        # the image of j next to i (periodic box): -1, 0, 1 box edges per axis
+        sx = ((code // 9) - 1) * box
+        sy = (((code // 3) % 3) - 1) * box
+        sz = ((code % 3) - 1) * box
+        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow,
+                                         one, n, best_t, best_key, best_p)
+    _store(due, book, i, best_t, best_key, best_p)
+
+
+@_inline
+def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi,
+                xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
     axis for the full 27 cells.
     """
-    n = S.shape[0]
-    nc = c[C_NC]
-    box = f[F_BOX]
-    now = f[F_ANCHOR]
-    soon = now + f[F_WINDOW]
-    clock = f[F_CLOCK]
-    grow = f[F_GROW]
-    best_t = T[i, EV_T]
-    best_key = K[i, EV_KEY]
+    n = spheres.shape[0]
+    nc = counts[C_CELLS]
+    box = scalars[F_BOX]
+    now = scalars[F_ANCHOR]
+    soon = now + scalars[F_WINDOW]
+    clock = scalars[F_CLOCK]
+    grow = scalars[F_GROW]
+    best_t = due[i, EVENT_T]
+    best_key = book[i, EVENT_KEY]
     best_p = -1
-    ti = S[i, TL]
-    cx0, cy0, cz0 = K[i, CX], K[i, CY], K[i, CZ]
-    # exactly 1.0, but not to the compiler: it would otherwise see that the
-    # kernel's own first test (receding: inf) decides both branches below
-    # and test it first again, on its own
-    one = 1.0 if nc > 0 else 2.0
+    ti = spheres[i, T_OWN]
+    cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
+    one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
@@ -387,159 +580,358 @@ def _scan(S, K, T, head, nxt, f, c, i, zlo, zhi, ylo, yhi, xlo, xhi):
                         continue
                     nx -= nc
                     sx = box
-                j = head[(nz * nc + ny) * nc + nx]
+                j = cell_head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
-                        tj = S[j, TL]
-                        t0 = ti if ti > tj else tj
-                        di = t0 - ti
-                        dj = t0 - tj
-                        # i minus j, each from its own time.  IEEE subtraction
-                        # is exactly antisymmetric and pair_time even in
-                        # (dr, dv), so this is bit for bit what the lower
-                        # index minus the higher gives: the same result
-                        # whichever sphere predicts the pair.
-                        # pairs that surely meet after the best event so far
-                        # are not solved (the window's "now" is never later);
-                        # two ulps of best_t more, as a root that rounds to
-                        # best_t ties with it and the tie order decides
-                        horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
-                                   if best_t >= soon else np.inf)
-                        dx = (S[i, X] + S[i, VX] * di) - (S[j, X] + S[j, VX] * dj + sx)
-                        dy = (S[i, Y] + S[i, VY] * di) - (S[j, Y] + S[j, VY] * dj + sy)
-                        dz = (S[i, Z] + S[i, VZ] * di) - (S[j, Z] + S[j, VZ] * dj + sz)
-                        dvx = S[i, VX] - S[j, VX]
-                        dvy = S[i, VY] - S[j, VY]
-                        dvz = S[i, VZ] - S[j, VZ]
-                        sigma = S[i, RAD] + S[j, RAD]
-                        if grow != 0.0:
-                            # growing (the one branch a plain run pays here)
-                            dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
-                                                sigma * (1.0 + grow * t0), sigma * grow,
-                                                horizon)
-                        # pair_time_within's own tests up to the root,
-                        # the same expressions, combined without branches (half
-                        # the pairs recede, at random, and a branch on that
-                        # mispredicts half the time): a pair they reject is
-                        # inf for it too.  The rest, NaNs and the pairs it
-                        # rescales (|dv|^2 |dr|^2 out of range) go through it.
-                        # The miss test is b^2 - a c < 0 by a margin that
-                        # covers its rounding and that of the kernel's own
-                        # discriminant (physics.MISS_MARGIN).
-                        b = dx * dvx + dy * dvy + dz * dvz
-                        a = dvx * dvx + dvy * dvy + dvz * dvz
-                        r2 = dx * dx + dy * dy + dz * dz
-                        cc = r2 - sigma * sigma
-                        ar2 = a * r2
-                        recede = b >= 0.0
-                        beyond = cc > -2.0 * b * horizon * (1.0 + 1e-12)
-                        touch = cc <= 0.0
-                        miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
-                        # (past RANGE_HI no test here rejects wrongly: an
-                        # overflow makes them false, or NaN, so the kernel
-                        # decides; below RANGE_LO, b may underflow)
-                        if grow != 0.0:
-                            pass
-                        elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
-                                touch | ((beyond ^ True) & (miss ^ True)))):
-                            dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
-                                                  sigma, horizon)
-                        else:
-                            dt = np.inf
-                        if dt < np.inf:
-                            te = t0 + dt
-                            if te < soon:
-                                te = now
-                            if te < clock:
-                                te = clock  # a root rounded into the past
-                            if te <= best_t:
-                                kk = _key(COLLISION, min(i, j), max(i, j), n)
-                                if te < best_t or kk < best_key:
-                                    best_t, best_key, best_p = te, kk, j
-                    j = nxt[j]
-    if best_p >= 0:
-        T[i, EV_T] = best_t
-        K[i, EV_KEY] = best_key
-        K[i, EV_KIND] = COLLISION
-        K[i, EV_PARTNER] = best_p
-        K[i, EV_PCOUNT] = K[best_p, COUNT]
+                        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon,
+                                                         clock, grow, one, n, best_t, best_key,
+                                                         best_p)
+                    j = cell_next[j]
+    _store(due, book, i, best_t, best_key, best_p)
 
 
 @_inline
-def predict(S, K, T, head, nxt, f, c, i, t):
+def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
     """Find sphere ``i``'s earliest collision or reflection and its next crossing.
+
+    Against its neighbours and leaving its shell (``F_SHELL > 0``), or
+    against the 27 cells around it and leaving its cell.
 
     A collision or reflection less than the simultaneity window after the
     anchor (the last collision or reflection) is put at the anchor itself:
     it happens now.  Does not touch the heap.
     """
-    n = S.shape[0]
-    T[i, EV_T] = np.inf
-    K[i, EV_KEY] = _key(NONE, n, n - 1, n)
-    K[i, EV_KIND] = NONE
-    K[i, EV_PARTNER] = -1
-    if f[F_BOX] == 0.0:
+    n = spheres.shape[0]
+    due[i, EVENT_T] = np.inf
+    book[i, EVENT_KEY] = _key(NONE, n, n - 1, n)
+    book[i, EVENT_KIND] = NONE
+    book[i, PARTNER] = -1
+    if scalars[F_BOX] == 0.0:
         # the wall, from the sphere's own time
-        grow = f[F_GROW]
+        grow = scalars[F_GROW]
         if grow != 0.0:
-            dt = wall_time_grow(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
-                                f[F_CONTAINER] - S[i, RAD] * (1.0 + grow * S[i, TL]),
-                                S[i, RAD] * grow)
+            dt = wall_time_grow(spheres[i, X], spheres[i, Y], spheres[i, Z], spheres[i, VX], spheres[i, VY], spheres[i, VZ],
+                                scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
+                                spheres[i, RADIUS] * grow)
         else:
-            dt = wall_time(S[i, X], S[i, Y], S[i, Z], S[i, VX], S[i, VY], S[i, VZ],
-                           f[F_CONTAINER] - S[i, RAD])
+            dt = wall_time(spheres[i, X], spheres[i, Y], spheres[i, Z], spheres[i, VX], spheres[i, VY], spheres[i, VZ],
+                           scalars[F_CONTAINER] - spheres[i, RADIUS])
         if dt < np.inf:
-            te = S[i, TL] + dt
-            if te < f[F_ANCHOR] + f[F_WINDOW]:
-                te = f[F_ANCHOR]
-            if te < f[F_CLOCK]:
-                te = f[F_CLOCK]
-            T[i, EV_T] = te
-            K[i, EV_KEY] = _key(WALL, i, -1, n)
-            K[i, EV_KIND] = WALL
-    _scan(S, K, T, head, nxt, f, c, i, -1, 1, -1, 1, -1, 1)
-    _crossing(S, K, T, f, c[C_NC], i, t)
+            te = spheres[i, T_OWN] + dt
+            if te < scalars[F_ANCHOR] + scalars[F_WINDOW]:
+                te = scalars[F_ANCHOR]
+            if te < scalars[F_CLOCK]:
+                te = scalars[F_CLOCK]
+            due[i, EVENT_T] = te
+            book[i, EVENT_KEY] = _key(REFLECTION, i, -1, n)
+            book[i, EVENT_KIND] = REFLECTION
+    if scalars[F_SHELL] > 0.0:
+        _scan_list(spheres, book, due, neighbours, scalars, i)
+        _shell_exit(spheres, shells, due, scalars, i, t)
+    else:
+        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
+        _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
+
+
+@_jit
+def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+    """:func:`predict`, called rather than inlined: for the callers outside the event loop.
+
+    (Each inlined copy holds both scans and costs compile time.)
+    """
+    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
 
 
 @_inline
-def _advance(S, i, t):
-    dt = t - S[i, TL]
-    S[i, X] += S[i, VX] * dt
-    S[i, Y] += S[i, VY] * dt
-    S[i, Z] += S[i, VZ] * dt
-    S[i, TL] = t
+def _advance(spheres, i, t):
+    dt = t - spheres[i, T_OWN]
+    spheres[i, X] += spheres[i, VX] * dt
+    spheres[i, Y] += spheres[i, VY] * dt
+    spheres[i, Z] += spheres[i, VZ] * dt
+    spheres[i, T_OWN] = t
+
+
+@_inline
+def _pair_code(scalars, shells, i, j):
+    """Image code of ``j`` next to ``i`` (periodic box), and whether their shells are neighbours.
+
+    The code is ``9 (kx + 1) + 3 (ky + 1) + (kz + 1)`` with ``j``'s image
+    shifted by ``k`` box edges per axis (the minimum image of the shell
+    centres); neighbours: shell centres nearer than ``F_SHELL`` times the
+    sum of the two reaches (a hair more, for rounding).
+    """
+    box = scalars[F_BOX]
+    half = 0.5 * box
+    code = 0
+    r2 = 0.0
+    for ax in range(3):
+        d = shells[i, SHELL_X + ax] - shells[j, SHELL_X + ax]
+        k = 0
+        if box != 0.0:
+            if d > half:
+                k = 1
+                d -= box
+            elif d < -half:
+                k = -1
+                d += box
+        code = 3 * code + (k + 1)
+        r2 += d * d
+    cut = scalars[F_SHELL] * (shells[i, REACH] + shells[j, REACH]) * (1.0 + 1e-9)
+    return code, r2 < cut * cut
+
+
+@_inline
+def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+               i, t, insert):
+    """Sphere ``i``'s shell centre becomes its centre at ``t``, in its cell.
+
+    In a periodic box a centre outside the box first moves back in by one
+    edge (the stored centre with it, the image count the other way).
+    ``insert``: the sphere is in no cell list yet.
+    """
+    box = scalars[F_BOX]
+    lo, w = scalars[F_LO], scalars[F_W]
+    nc = counts[C_CELLS]
+    dt = t - spheres[i, T_OWN]
+    for ax in range(3):
+        x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+        if box != 0.0:
+            if x < lo:
+                spheres[i, X + ax] += box
+                images[i, ax] -= 1
+                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+            elif x >= lo + box:
+                spheres[i, X + ax] -= box
+                images[i, ax] += 1
+                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
+        shells[i, SHELL_X + ax] = x
+        book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
+    if not insert:
+        _cell_remove(cell_head, cell_next, cell_prev, book, i)
+    _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                 (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+
+
+@_inline
+def _wrapped(x, lo, box):
+    """``x`` moved by one box edge into ``[lo, lo + box)`` if outside (box 0: as it is)."""
+    if box != 0.0:
+        if x < lo:
+            return x + box
+        if x >= lo + box:
+            return x - box
+    return x
+
+
+@_inline
+def _nearest(d, box):
+    """The difference ``d`` of two centres in the box, to the nearest image."""
+    if box != 0.0:
+        if d > 0.5 * box:
+            return d - box
+        if d < -0.5 * box:
+            return d + box
+    return d
+
+
+@_inline
+def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
+            counts, scratch, i, t):
+    """Sphere ``i`` left its shell at ``t``: a new shell, and its neighbour list anew.
+
+    Returns False, changing nothing, if a list would overflow (the engine
+    widens the lists and calls again).
+    """
+    cap = neighbours.shape[1]
+    n = spheres.shape[0]
+    # the candidates first, into scratch (nothing changes if they do not fit)
+    box = scalars[F_BOX]
+    lo = scalars[F_LO]
+    dt = t - spheres[i, T_OWN]
+    cx = _wrapped(spheres[i, X] + spheres[i, VX] * dt, lo, box)
+    cy = _wrapped(spheres[i, Y] + spheres[i, VY] * dt, lo, box)
+    cz = _wrapped(spheres[i, Z] + spheres[i, VZ] * dt, lo, box)
+    nc = counts[C_CELLS]
+    w = scalars[F_W]
+    kx = cell_of(cx, lo, w, nc)
+    ky = cell_of(cy, lo, w, nc)
+    kz = cell_of(cz, lo, w, nc)
+    found = 0
+    cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
+    for oz in range(-1, 2):
+        nz = kz + oz
+        if nz < 0 or nz >= nc:
+            if box == 0.0:
+                continue
+            nz = (nz + nc) % nc
+        for oy in range(-1, 2):
+            ny = ky + oy
+            if ny < 0 or ny >= nc:
+                if box == 0.0:
+                    continue
+                ny = (ny + nc) % nc
+            for ox in range(-1, 2):
+                nx = kx + ox
+                if nx < 0 or nx >= nc:
+                    if box == 0.0:
+                        continue
+                    nx = (nx + nc) % nc
+                j = cell_head[(nz * nc + ny) * nc + nx]
+                while j >= 0:
+                    if j != i:
+                        ddx = _nearest(cx - shells[j, SHELL_X], box)
+                        ddy = _nearest(cy - shells[j, SHELL_Y], box)
+                        ddz = _nearest(cz - shells[j, SHELL_Z], box)
+                        r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                        cut = cut0 * (shells[i, REACH] + shells[j, REACH])
+                        if r2 < cut * cut:
+                            if found >= cap or book[j, NEIGHBOURS] >= cap:
+                                # j's list may already hold i: only a guess, on the safe side
+                                return False
+                            scratch[found] = j
+                            found += 1
+                    j = cell_next[j]
+    # nc < 3 in a periodic box would visit a cell twice: guarded by the engine (nc >= 3)
+    # i leaves its old neighbours' lists
+    for q in range(book[i, NEIGHBOURS]):
+        j = neighbours[i, q] >> 5
+        m = book[j, NEIGHBOURS]
+        for r in range(m):
+            if (neighbours[j, r] >> 5) == i:
+                neighbours[j, r] = neighbours[j, m - 1]
+                book[j, NEIGHBOURS] = m - 1
+                break
+    _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+               i, t, False)
+    book[i, NEIGHBOURS] = 0
+    for q in range(found):
+        j = scratch[q]
+        code, near = _pair_code(scalars, shells, i, j)
+        if near:
+            neighbours[i, book[i, NEIGHBOURS]] = (j << 5) | code
+            book[i, NEIGHBOURS] += 1
+            neighbours[j, book[j, NEIGHBOURS]] = (i << 5) | (26 - code)
+            book[j, NEIGHBOURS] += 1
+    return n >= 0
 
 
 @_jit
-def build(S, K, T, head, nxt, prv, heap, HT, HKEY, f, c):
-    """Fill the cells, predict every sphere from the clock, build the heap."""
-    n = S.shape[0]
-    nc = c[C_NC]
-    lo, w = f[F_LO], f[F_W]
-    head[:] = -1
-    t = f[F_CLOCK]
+def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
+          heap_key, images, scalars, counts):
+    """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
+
+    Returns the longest neighbour list (0 without lists); if it is longer
+    than ``neighbours.shape[1]``, nothing was predicted: call again with
+    wider lists.
+    """
+    n = spheres.shape[0]
+    nc = counts[C_CELLS]
+    cell_head[:] = -1
+    t = scalars[F_CLOCK]
+    longest = 0
+    if scalars[F_SHELL] == 0.0:
+        # cells alone
+        lo, w = scalars[F_LO], scalars[F_W]
+        for i in range(n):
+            _advance(spheres, i, t)
+            book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
+            book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
+            book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+    else:
+        longest = _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
+                               images, scalars, counts)
+        if longest > neighbours.shape[1]:
+            return longest
     for i in range(n):
-        _advance(S, i, t)
-        K[i, CX] = cell_of(S[i, X], lo, w, nc)
-        K[i, CY] = cell_of(S[i, Y], lo, w, nc)
-        K[i, CZ] = cell_of(S[i, Z], lo, w, nc)
-        _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
-    for i in range(n):
-        predict(S, K, T, head, nxt, f, c, i, t)
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
+                    t)
     for i in range(n):
         heap[i] = i
-        K[i, HPOS] = i
-        cross_key = _key(CROSS, i, -1, n)
-        if T[i, CR_T] < T[i, EV_T] or (T[i, CR_T] == T[i, EV_T] and cross_key < K[i, EV_KEY]):
-            HT[i], HKEY[i] = T[i, CR_T], cross_key
+        book[i, HEAP_POS] = i
+        cross_key = _key(CROSSING, i, -1, n)
+        if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
+            heap_t[i], heap_key[i] = due[i, CROSS_T], cross_key
         else:
-            HT[i], HKEY[i] = T[i, EV_T], K[i, EV_KEY]
+            heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
     for k in range(n // 2 - 1, -1, -1):
-        _sift_down(heap, HT, HKEY, K, k, n)
+        _sift_down(heap, heap_t, heap_key, book, k, n)
+    return longest
+
+
+@_inline
+def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
+                 counts):
+    """Shells from the clock (in the box), cells by shell centre, every neighbour list.
+
+    Returns the longest list (the lists are only filled up to their width).
+    """
+    n = spheres.shape[0]
+    nc = counts[C_CELLS]
+    t = scalars[F_CLOCK]
+    grow = scalars[F_GROW]
+    box = scalars[F_BOX]
+    rmax = 0.0
+    for i in range(n):
+        rmax = max(rmax, spheres[i, RADIUS])
+    for i in range(n):
+        _advance(spheres, i, t)
+        if box != 0.0:
+            # into the box, whole edges at a time
+            for ax in range(3):
+                k = np.floor((spheres[i, X + ax] - scalars[F_LO]) / box)
+                if k != 0.0:
+                    spheres[i, X + ax] -= k * box
+                    images[i, ax] += int(k)
+        # the reach: the radius now with the growth headroom, and no less than
+        # half the largest (a sphere of radius 0 still needs a shell)
+        shells[i, REACH] = max(spheres[i, RADIUS], 0.5 * rmax) * (1.0 + grow * t) * scalars[F_HEADROOM]
+        _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
+                   i, t, True)
+    cap = neighbours.shape[1]
+    longest = 0
+    for i in range(n):
+        book[i, NEIGHBOURS] = 0
+    for i in range(n):
+        kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
+        for oz in range(-1, 2):
+            nz = kz + oz
+            if nz < 0 or nz >= nc:
+                if box == 0.0:
+                    continue
+                nz = (nz + nc) % nc
+            for oy in range(-1, 2):
+                ny = ky + oy
+                if ny < 0 or ny >= nc:
+                    if box == 0.0:
+                        continue
+                    ny = (ny + nc) % nc
+                for ox in range(-1, 2):
+                    nx = kx + ox
+                    if nx < 0 or nx >= nc:
+                        if box == 0.0:
+                            continue
+                        nx = (nx + nc) % nc
+                    j = cell_head[(nz * nc + ny) * nc + nx]
+                    while j >= 0:
+                        if j > i:
+                            code, near = _pair_code(scalars, shells, i, j)
+                            if near:
+                                a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
+                                if a < cap and b < cap:
+                                    neighbours[i, a] = (j << 5) | code
+                                    neighbours[j, b] = (i << 5) | (26 - code)
+                                book[i, NEIGHBOURS] = a + 1
+                                book[j, NEIGHBOURS] = b + 1
+                                longest = max(longest, a + 1, b + 1)
+                        j = cell_next[j]
+    return longest
 
 
 @_jit
-def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
+def refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t,
+                   heap_key, scalars, counts, scratch):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -551,51 +943,52 @@ def refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack):
     n = heap.shape[0]
     if n == 0:
         return
-    t = f[F_CLOCK]
-    limit = t + f[F_WINDOW]
-    serial = c[C_SERIAL]
+    t = scalars[F_CLOCK]
+    limit = t + scalars[F_WINDOW]
+    serial = counts[C_SERIAL]
     top = 0
     found = 0
-    if HT[0] < limit:
-        stack[0] = 0
+    if heap_t[0] < limit:
+        scratch[0] = 0
         top = 1
     while top > 0:
         top -= 1
-        k = stack[top]
-        stack[n + found] = heap[k]
+        k = scratch[top]
+        scratch[n + found] = heap[k]
         found += 1
         for child in (2 * k + 1, 2 * k + 2):
-            if child < n and HT[child] < limit:
-                stack[top] = child
+            if child < n and heap_t[child] < limit:
+                scratch[top] = child
                 top += 1
     for q in range(found):
-        i = stack[n + q]
-        if K[i, FRESH] != serial:
-            K[i, FRESH] = serial
-            c[C_REFRESHED] += 1
-            predict(S, K, T, head, nxt, f, c, i, t)
-            _schedule(heap, HT, HKEY, T, K, i)
+        i = scratch[n + q]
+        if book[i, FRESH] != serial:
+            book[i, FRESH] = serial
+            counts[C_REFRESHED] += 1
+            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
+                    t)
+            _schedule(heap, heap_t, heap_key, due, book, i)
 
 
 # ---- transport tallies -----------------------------------------------------------
 
 @_inline
-def _kinetic_terms(f, m, vx, vy, vz, sign):
+def _kinetic_terms(scalars, m, vx, vy, vz, sign):
     """Add ``sign`` times one sphere's share to the kinetic tensor and energy current now."""
-    f[F_KIN_T] += sign * m * vx * vx
-    f[F_KIN_T + 1] += sign * m * vy * vy
-    f[F_KIN_T + 2] += sign * m * vz * vz
-    f[F_KIN_T + 3] += sign * m * vx * vy
-    f[F_KIN_T + 4] += sign * m * vx * vz
-    f[F_KIN_T + 5] += sign * m * vy * vz
+    scalars[F_KIN_T] += sign * m * vx * vx
+    scalars[F_KIN_T + 1] += sign * m * vy * vy
+    scalars[F_KIN_T + 2] += sign * m * vz * vz
+    scalars[F_KIN_T + 3] += sign * m * vx * vy
+    scalars[F_KIN_T + 4] += sign * m * vx * vz
+    scalars[F_KIN_T + 5] += sign * m * vy * vz
     e = 0.5 * m * (vx * vx + vy * vy + vz * vz)
-    f[F_HEAT_KIN] += sign * vx * e
-    f[F_HEAT_KIN + 1] += sign * vy * e
-    f[F_HEAT_KIN + 2] += sign * vz * e
+    scalars[F_HEAT_KIN] += sign * vx * e
+    scalars[F_HEAT_KIN + 1] += sign * vy * e
+    scalars[F_HEAT_KIN + 2] += sign * vz * e
 
 
 @_inline
-def _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2):
+def _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2):
     """Before the velocities of ``a`` and ``b`` change at ``te``: the transport tallies.
 
     The Helfand moments of momentum (``sum m x v``) and energy (``sum x E``)
@@ -606,53 +999,58 @@ def _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2):
     and the thermal conductivity by the Einstein-Helfand route.  Reads the
     velocities only: the caller changes them.
     """
-    dtk = te - f[F_T_KIN]
+    dtk = te - scalars[F_T_KIN]
     for q in range(6):
-        f[F_KIN_INT + q] += f[F_KIN_T + q] * dtk
+        scalars[F_KIN_INT + q] += scalars[F_KIN_T + q] * dtk
     for q in range(3):
-        f[F_HEAT_INT + q] += f[F_HEAT_KIN + q] * dtk
-    f[F_T_KIN] = te
-    ma, mb = mass[a], mass[b]
+        scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
+    scalars[F_T_KIN] = te
+    ma, mb = masses[a], masses[b]
     px, py, pz = -ma * k1 * dx, -ma * k1 * dy, -ma * k1 * dz  # impulse on a
-    f[F_VIR_T] += dx * px
-    f[F_VIR_T + 1] += dy * py
-    f[F_VIR_T + 2] += dz * pz
-    f[F_VIR_T + 3] += dx * py
-    f[F_VIR_T + 4] += dx * pz
-    f[F_VIR_T + 5] += dy * pz
-    ax, ay, az = S[a, VX], S[a, VY], S[a, VZ]
-    bx, by, bz = S[b, VX], S[b, VY], S[b, VZ]
-    _kinetic_terms(f, ma, ax, ay, az, -1.0)
-    _kinetic_terms(f, mb, bx, by, bz, -1.0)
+    scalars[F_VIR_T] += dx * px
+    scalars[F_VIR_T + 1] += dy * py
+    scalars[F_VIR_T + 2] += dz * pz
+    scalars[F_VIR_T + 3] += dx * py
+    scalars[F_VIR_T + 4] += dx * pz
+    scalars[F_VIR_T + 5] += dy * pz
+    ax, ay, az = spheres[a, VX], spheres[a, VY], spheres[a, VZ]
+    bx, by, bz = spheres[b, VX], spheres[b, VY], spheres[b, VZ]
+    _kinetic_terms(scalars, ma, ax, ay, az, -1.0)
+    _kinetic_terms(scalars, mb, bx, by, bz, -1.0)
     ax2, ay2, az2 = ax - k1 * dx, ay - k1 * dy, az - k1 * dz
-    _kinetic_terms(f, ma, ax2, ay2, az2, 1.0)
-    _kinetic_terms(f, mb, bx + k2 * dx, by + k2 * dy, bz + k2 * dz, 1.0)
+    _kinetic_terms(scalars, ma, ax2, ay2, az2, 1.0)
+    _kinetic_terms(scalars, mb, bx + k2 * dx, by + k2 * dy, bz + k2 * dz, 1.0)
     de = 0.5 * ma * ((ax2 * ax2 + ay2 * ay2 + az2 * az2) - (ax * ax + ay * ay + az * az))
-    f[F_HEAT_COLL] += dx * de
-    f[F_HEAT_COLL + 1] += dy * de
-    f[F_HEAT_COLL + 2] += dz * de
+    scalars[F_HEAT_COLL] += dx * de
+    scalars[F_HEAT_COLL + 1] += dy * de
+    scalars[F_HEAT_COLL + 2] += dz * de
 
 
 @_jit
-def kinetic_sums(S, mass, f):
+def kinetic_sums(spheres, masses, scalars):
     """Set the kinetic tensor and the energy current from the velocities now."""
     for q in range(6):
-        f[F_KIN_T + q] = 0.0
+        scalars[F_KIN_T + q] = 0.0
     for q in range(3):
-        f[F_HEAT_KIN + q] = 0.0
-    for i in range(S.shape[0]):
-        _kinetic_terms(f, mass[i], S[i, VX], S[i, VY], S[i, VZ], 1.0)
+        scalars[F_HEAT_KIN + q] = 0.0
+    for i in range(spheres.shape[0]):
+        _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], 1.0)
 
 
 # ---- the event loop ------------------------------------------------------------
 
 @_jit
-def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, max_events,
-        max_collisions, rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
+def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
+        heap_key, scalars, counts, scratch, images, until, max_events, max_collisions,
+        rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
     """Process events in order until one of the limits.
 
-    ``img`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
-    box (the image it is in: unwrapped centre = stored centre + img * box).
+    The arrays come one by one (see "the arrays" at the top of this module),
+    as the engine, their one caller, holds them; a grouping (a tuple) was
+    not measured, so none was made.
+
+    ``images`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
+    box (the image it is in: unwrapped centre = stored centre + images * box).
     ``rec_dp`` ``(cap, 3)`` receives the impulse vector of sphere ``i``.
     In a periodic box each collision also adds to the transport tallies
     (``F_VIR_T`` ... ``F_HEAT_INT``, see :func:`_transfer`).
@@ -683,44 +1081,49 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
     prediction as valid as it was, and only the spheres it touched are
     predicted again.
     """
-    n = S.shape[0]
+    n = spheres.shape[0]
     if n == 0:
         return 0, STOP_UNTIL
-    nc = c[C_NC]
-    box = f[F_BOX]
-    window = f[F_WINDOW]
+    box = scalars[F_BOX]
+    window = scalars[F_WINDOW]
     cap = rec_t.shape[0]
     done = 0
-    coll0 = c[C_COLL]
+    coll0 = counts[C_COLLISIONS]
     frozen_limit = frozen_limit_of(n)
     while True:
         if done >= max_events:
             return done, STOP_MAX_EVENTS
-        if c[C_COLL] - coll0 >= max_collisions:
+        if counts[C_COLLISIONS] - coll0 >= max_collisions:
             return done, STOP_MAX_COLLISIONS
         if done >= cap:
             return done, STOP_RECORD_FULL
         i = heap[0]
-        te = HT[0]
+        te = heap_t[0]
         if not te <= until or te == np.inf:  # NaN `until` too
             return done, STOP_UNTIL
-        if HKEY[0] != K[i, EV_KEY]:
+        # the spheres to predict afresh after the event (one place for all
+        # kinds: the prediction is compiled into this loop only once)
+        p0, p1, tp = i, -1, te
+        stale = False
+        if heap_key[0] != book[i, EVENT_KEY] and scalars[F_SHELL] == 0.0:
             # leaving the cell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not)
-            f[F_CLOCK] = te
-            code = K[i, CR_CODE]
+            scalars[F_CLOCK] = te
+            nc = counts[C_CELLS]
+            code = book[i, CROSS_FACE]
             ax = code >> 1
             step = 1 if (code & 1) else -1
-            k = K[i, CX + ax] + step
+            k = book[i, CELL_X + ax] + step
             if k < 0 or k >= nc:
                 # periodic wrap: shift the stored centre by one box edge
                 k = (k + nc) % nc
-                S[i, X + ax] -= step * box
-                img[i, ax] += step
-            K[i, CX + ax] = k
-            _cell_remove(head, nxt, prv, K, i)
-            _cell_insert(head, nxt, prv, K, i, (K[i, CZ] * nc + K[i, CY]) * nc + K[i, CX])
-            c[C_CROSS] += 1
+                spheres[i, X + ax] -= step * box
+                images[i, ax] += step
+            book[i, CELL_X + ax] = k
+            _cell_remove(cell_head, cell_next, cell_prev, book, i)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i,
+                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+            counts[C_CROSSINGS] += 1
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
             yl = step if ax == 1 else -1
@@ -728,209 +1131,220 @@ def run(S, mass, K, T, head, nxt, prv, heap, HT, HKEY, f, c, stack, img, until, 
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            _scan(S, K, T, head, nxt, f, c, i, zl, zh, yl, yh, xl, xh)
-            _crossing(S, K, T, f, nc, i, te)
-            _schedule(heap, HT, HKEY, T, K, i)
+            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh,
+                        xl, xh)
+            _crossing(spheres, book, due, scalars, nc, i, te)
+            _schedule(heap, heap_t, heap_key, due, book, i)
             continue
-        kind = K[i, EV_KIND]
-        # the spheres to predict afresh after the event (one place for all
-        # kinds: the prediction is compiled into this loop only once)
-        p0, p1, tp = i, -1, te
-        stale = False
+        if heap_key[0] != book[i, EVENT_KEY]:
+            # leaving its shell: not an event of the physics (the clock
+            # moves, the anchor of the simultaneity window does not); a new
+            # shell and neighbour list, and the sphere predicted afresh
+            if not _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
+                           images, scalars, counts, scratch, i, te):
+                return done, STOP_LISTS_FULL
+            scalars[F_CLOCK] = te
+            counts[C_CROSSINGS] += 1
+            kind = CROSSING
+            stale = True  # (not an event: predict i, then on)
+        else:
+            kind = book[i, EVENT_KIND]
         if kind == COLLISION:
-            j = K[i, EV_PARTNER]
-            if K[j, COUNT] != K[i, EV_PCOUNT]:
+            j = book[i, PARTNER]
+            if book[j, CHANGES] != book[i, PARTNER_CHANGES]:
                 # stale: the partner has changed course since
-                c[C_STALE] += 1
+                counts[C_STALE] += 1
                 stale = True
-                tp = f[F_CLOCK]
-        anchor = f[F_ANCHOR]
+                tp = scalars[F_CLOCK]
+        anchor = scalars[F_ANCHOR]
         if not stale and kind != NONE:
             # a collision or reflection: count those in a row during which
             # the clock has not advanced (physics.FROZEN_RELATIVE)
-            if te - f[F_STREAK] <= physics.FROZEN_RELATIVE * abs(te + f[F_OFFSET]):
-                if c[C_FROZEN] >= frozen_limit:
+            if te - scalars[F_STREAK] <= physics.FROZEN_RELATIVE * abs(te + scalars[F_OFFSET]):
+                if counts[C_FROZEN] >= frozen_limit:
                     return done, STOP_FROZEN
             else:
-                c[C_FROZEN] = 0
-                f[F_STREAK] = te
+                counts[C_FROZEN] = 0
+                scalars[F_STREAK] = te
         if kind == COLLISION and not stale:
-            c[C_FROZEN] += 1
-            f[F_CLOCK] = te
-            f[F_ANCHOR] = te
-            _advance(S, i, te)
-            _advance(S, j, te)
+            counts[C_FROZEN] += 1
+            scalars[F_CLOCK] = te
+            scalars[F_ANCHOR] = te
+            _advance(spheres, i, te)
+            _advance(spheres, j, te)
             a, b = (i, j) if i < j else (j, i)
-            dx = S[a, X] - S[b, X]
-            dy = S[a, Y] - S[b, Y]
-            dz = S[a, Z] - S[b, Z]
+            dx = spheres[a, X] - spheres[b, X]
+            dy = spheres[a, Y] - spheres[b, Y]
+            dz = spheres[a, Z] - spheres[b, Z]
             if box != 0.0:
                 # the partner may be an image across the box
                 dx -= box * np.round(dx / box)
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
-            if f[F_GROW] != 0.0:
-                k1, k2 = collide_grow(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
-                                      S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ],
-                                      (S[a, RAD] + S[b, RAD]) * f[F_GROW])
+            if scalars[F_GROW] != 0.0:
+                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, spheres[a, VX] - spheres[b, VX],
+                                      spheres[a, VY] - spheres[b, VY], spheres[a, VZ] - spheres[b, VZ],
+                                      (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW])
             else:
-                k1, k2 = collide(mass[a], mass[b], dx, dy, dz, S[a, VX] - S[b, VX],
-                                 S[a, VY] - S[b, VY], S[a, VZ] - S[b, VZ])
+                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, spheres[a, VX] - spheres[b, VX],
+                                 spheres[a, VY] - spheres[b, VY], spheres[a, VZ] - spheres[b, VZ])
             if box != 0.0:
-                _transfer(S, mass, f, a, b, te, dx, dy, dz, k1, k2)
-            S[a, VX] -= k1 * dx
-            S[a, VY] -= k1 * dy
-            S[a, VZ] -= k1 * dz
-            S[b, VX] += k2 * dx
-            S[b, VY] += k2 * dy
-            S[b, VZ] += k2 * dz
+                _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2)
+            spheres[a, VX] -= k1 * dx
+            spheres[a, VY] -= k1 * dy
+            spheres[a, VZ] -= k1 * dz
+            spheres[b, VX] += k2 * dx
+            spheres[b, VY] += k2 * dy
+            spheres[b, VZ] += k2 * dz
             d2 = dx * dx + dy * dy + dz * dz
-            f[F_VIRIAL] -= mass[a] * k1 * d2
-            K[a, COUNT] += 1
-            K[b, COUNT] += 1
-            c[C_COLL] += 1
-            c[C_SERIAL] += 1
-            K[a, FRESH] = c[C_SERIAL]
-            K[b, FRESH] = c[C_SERIAL]
+            scalars[F_VIRIAL] -= masses[a] * k1 * d2
+            book[a, CHANGES] += 1
+            book[b, CHANGES] += 1
+            counts[C_COLLISIONS] += 1
+            counts[C_SERIAL] += 1
+            book[a, FRESH] = counts[C_SERIAL]
+            book[b, FRESH] = counts[C_SERIAL]
             p0, p1 = a, b
             rec_t[done] = te
             rec_kind[done] = COLLISION
             rec_i[done] = a
             rec_j[done] = b
-            rec_imp[done] = -mass[a] * k1 * np.sqrt(d2)
-            rec_dp[done, 0] = -mass[a] * k1 * dx
-            rec_dp[done, 1] = -mass[a] * k1 * dy
-            rec_dp[done, 2] = -mass[a] * k1 * dz
+            rec_imp[done] = -masses[a] * k1 * np.sqrt(d2)
+            rec_dp[done, 0] = -masses[a] * k1 * dx
+            rec_dp[done, 1] = -masses[a] * k1 * dy
+            rec_dp[done, 2] = -masses[a] * k1 * dz
             done += 1
-        elif kind == WALL:
-            clock0 = f[F_CLOCK]
-            f[F_CLOCK] = te
-            f[F_ANCHOR] = te
-            _advance(S, i, te)
-            px, py, pz = S[i, X], S[i, Y], S[i, Z]
-            if f[F_GROW] != 0.0:
-                k = reflect_grow(px, py, pz, S[i, VX], S[i, VY], S[i, VZ],
-                                 S[i, RAD] * f[F_GROW])
+        elif kind == REFLECTION:
+            clock0 = scalars[F_CLOCK]
+            scalars[F_CLOCK] = te
+            scalars[F_ANCHOR] = te
+            _advance(spheres, i, te)
+            px, py, pz = spheres[i, X], spheres[i, Y], spheres[i, Z]
+            if scalars[F_GROW] != 0.0:
+                k = reflect_grow(px, py, pz, spheres[i, VX], spheres[i, VY], spheres[i, VZ],
+                                 spheres[i, RADIUS] * scalars[F_GROW])
             else:
-                k = reflect(px, py, pz, S[i, VX], S[i, VY], S[i, VZ])
+                k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], spheres[i, VZ])
             if k == 0.0:
                 # nothing would change, and the same reflection would come
                 # again: not an event (the clock keeps its time)
-                f[F_CLOCK] = clock0
-                f[F_ANCHOR] = anchor
+                scalars[F_CLOCK] = clock0
+                scalars[F_ANCHOR] = anchor
                 return done, STOP_SLIDING
-            c[C_FROZEN] += 1
-            S[i, VX] -= k * px
-            S[i, VY] -= k * py
-            S[i, VZ] -= k * pz
-            imp = mass[i] * k * np.sqrt(px * px + py * py + pz * pz)
-            f[F_WALL_IMPULSE] += imp
-            K[i, COUNT] += 1
-            c[C_WALL] += 1
-            c[C_SERIAL] += 1
-            K[i, FRESH] = c[C_SERIAL]
+            counts[C_FROZEN] += 1
+            spheres[i, VX] -= k * px
+            spheres[i, VY] -= k * py
+            spheres[i, VZ] -= k * pz
+            imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
+            scalars[F_WALL_IMPULSE] += imp
+            book[i, CHANGES] += 1
+            counts[C_REFLECTIONS] += 1
+            counts[C_SERIAL] += 1
+            book[i, FRESH] = counts[C_SERIAL]
             rec_t[done] = te
-            rec_kind[done] = WALL
+            rec_kind[done] = REFLECTION
             rec_i[done] = i
             rec_j[done] = -1
             rec_imp[done] = imp
-            rec_dp[done, 0] = -mass[i] * k * px
-            rec_dp[done, 1] = -mass[i] * k * py
-            rec_dp[done, 2] = -mass[i] * k * pz
+            rec_dp[done, 0] = -masses[i] * k * px
+            rec_dp[done, 1] = -masses[i] * k * py
+            rec_dp[done, 2] = -masses[i] * k * pz
             done += 1
         elif not stale:
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(S, K, T, head, nxt, f, c, x, tp)
-            _schedule(heap, HT, HKEY, T, K, x)
+            predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
+            _schedule(heap, heap_t, heap_key, due, book, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(S, K, T, head, nxt, heap, HT, HKEY, f, c, stack)
+            refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap,
+                           heap_t, heap_key, scalars, counts, scratch)
 
 
 @_jit
-def kick(S, mass, K, T, head, nxt, heap, HT, HKEY, f, c, i, t, vx, vy, vz):
+def kick(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t, heap_key,
+         scalars, counts, i, t, vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
     event count moves on) and ``i`` is predicted afresh.  For thermostats.
     """
-    f[F_CLOCK] = t
-    _advance(S, i, t)
+    scalars[F_CLOCK] = t
+    _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
-    dtk = t - f[F_T_KIN]
+    dtk = t - scalars[F_T_KIN]
     for q in range(6):
-        f[F_KIN_INT + q] += f[F_KIN_T + q] * dtk
+        scalars[F_KIN_INT + q] += scalars[F_KIN_T + q] * dtk
     for q in range(3):
-        f[F_HEAT_INT + q] += f[F_HEAT_KIN + q] * dtk
-    f[F_T_KIN] = t
-    _kinetic_terms(f, mass[i], S[i, VX], S[i, VY], S[i, VZ], -1.0)
-    _kinetic_terms(f, mass[i], vx, vy, vz, 1.0)
-    S[i, VX] = vx
-    S[i, VY] = vy
-    S[i, VZ] = vz
-    K[i, COUNT] += 1
-    c[C_SERIAL] += 1
-    K[i, FRESH] = c[C_SERIAL]
-    predict(S, K, T, head, nxt, f, c, i, t)
-    _schedule(heap, HT, HKEY, T, K, i)
+        scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
+    scalars[F_T_KIN] = t
+    _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], -1.0)
+    _kinetic_terms(scalars, masses[i], vx, vy, vz, 1.0)
+    spheres[i, VX] = vx
+    spheres[i, VY] = vy
+    spheres[i, VZ] = vz
+    book[i, CHANGES] += 1
+    counts[C_SERIAL] += 1
+    book[i, FRESH] = counts[C_SERIAL]
+    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    _schedule(heap, heap_t, heap_key, due, book, i)
 
 
 # ---- state and checks ------------------------------------------------------------
 
 @_jit
-def positions_at(S, t, out, box):
+def positions_at(spheres, t, out, box):
     """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box)."""
-    n = S.shape[0]
+    n = spheres.shape[0]
     for i in range(n):
-        dt = t - S[i, TL]
+        dt = t - spheres[i, T_OWN]
         for k in range(3):
-            x = S[i, X + k] + S[i, VX + k] * dt
+            x = spheres[i, X + k] + spheres[i, VX + k] * dt
             if box != 0.0:
                 x -= box * np.floor(x / box + 0.5)
             out[i, k] = x
 
 
 @_jit
-def unwrapped_at(S, img, t, out, box):
+def unwrapped_at(spheres, images, t, out, box):
     """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift."""
-    n = S.shape[0]
+    n = spheres.shape[0]
     for i in range(n):
-        dt = t - S[i, TL]
+        dt = t - spheres[i, T_OWN]
         for k in range(3):
-            out[i, k] = (S[i, X + k] + S[i, VX + k] * dt) + img[i, k] * box
+            out[i, k] = (spheres[i, X + k] + spheres[i, VX + k] * dt) + images[i, k] * box
 
 
 @_jit
-def rebase(S, T, HT, f):
+def rebase(spheres, due, heap_t, scalars):
     """Move the time origin to the clock: advance everyone, shift all times."""
-    t = f[F_CLOCK]
-    n = S.shape[0]
+    t = scalars[F_CLOCK]
+    n = spheres.shape[0]
     for i in range(n):
-        _advance(S, i, t)
-        S[i, TL] = 0.0
-        T[i, EV_T] -= t
-        T[i, CR_T] -= t
-        HT[i] -= t
-    f[F_ANCHOR] -= t
-    f[F_T_KIN] -= t
-    f[F_STREAK] -= t
-    f[F_OFFSET] += t
-    f[F_CLOCK] = 0.0
-    grow = f[F_GROW]
+        _advance(spheres, i, t)
+        spheres[i, T_OWN] = 0.0
+        due[i, EVENT_T] -= t
+        due[i, CROSS_T] -= t
+        heap_t[i] -= t
+    scalars[F_ANCHOR] -= t
+    scalars[F_T_KIN] -= t
+    scalars[F_STREAK] -= t
+    scalars[F_OFFSET] += t
+    scalars[F_CLOCK] = 0.0
+    grow = scalars[F_GROW]
     if grow != 0.0:
         # radii to the new origin; the growth speed of each stays the same
         factor = 1.0 + grow * t
         for i in range(n):
-            S[i, RAD] *= factor
-        f[F_GROW] = grow / factor
+            spheres[i, RADIUS] *= factor
+        scalars[F_GROW] = grow / factor
     return t
 
 
 @_jit
-def max_overlap(x, S, K, head, nxt, nc, box, scale):
+def max_overlap(x, spheres, book, cell_head, cell_next, nc, box, scale):
     """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
 
     ``x`` are the centres at one time, ``scale`` the radii's factor then
@@ -940,15 +1354,15 @@ def max_overlap(x, S, K, head, nxt, nc, box, scale):
     worst = 0.0
     for i in range(n):
         for oz in range(-1, 2):
-            nz = K[i, CZ] + oz
+            nz = book[i, CELL_Z] + oz
             for oy in range(-1, 2):
-                ny = K[i, CY] + oy
+                ny = book[i, CELL_Y] + oy
                 for ox in range(-1, 2):
-                    nx = K[i, CX] + ox
+                    nx = book[i, CELL_X] + ox
                     if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or
                                        nx >= nc or ny >= nc or nz >= nc):
                         continue
-                    j = head[((nz % nc) * nc + (ny % nc)) * nc + (nx % nc)]
+                    j = cell_head[((nz % nc) * nc + (ny % nc)) * nc + (nx % nc)]
                     while j >= 0:
                         if j > i:
                             dx = x[i, 0] - x[j, 0]
@@ -958,10 +1372,10 @@ def max_overlap(x, S, K, head, nxt, nc, box, scale):
                                 dx -= box * np.round(dx / box)
                                 dy -= box * np.round(dy / box)
                                 dz -= box * np.round(dz / box)
-                            sigma = (S[i, RAD] + S[j, RAD]) * scale
+                            sigma = (spheres[i, RADIUS] + spheres[j, RADIUS]) * scale
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma
                                 if ov > worst:
                                     worst = ov
-                        j = nxt[j]
+                        j = cell_next[j]
     return worst

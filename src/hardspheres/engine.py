@@ -25,6 +25,16 @@ CHUNK = 1 << 14
 #: The time origin moves to the clock after this many events per sphere.
 REBASE_EVERY = 64
 
+#: Neighbour distance over the sum of two reaches (``_core.F_SHELL``): a sphere
+#: may move half a reach from its shell centre before its list is made anew.
+SHELL = 1.5
+
+#: Packing fraction from which the core predicts against neighbour lists
+#: rather than cells (benchmarks/README.md, "neighbour lists": they pay in
+#: dense fluids, where spheres rattle in their cages, and cost at low density,
+#: where spheres leave their shells more often than they collide).
+LISTS_FROM = 0.35
+
 
 class CheckpointError(ValueError):
     """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
@@ -62,27 +72,30 @@ class Engine:
                  box: float | None = None, window: float = 0.0, time: float = 0.0,
                  rebase: bool = True) -> None:
         self.container: Container = as_container(container, box)
-        self.mass = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
-        n = self.mass.shape[0]
+        self.masses = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
+        n = self.masses.shape[0]
         # one 64-byte row per sphere: x y z vx vy vz t_own radius
-        self.S = np.zeros((n, 8))
-        self.S[:, 0:3] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
-        self.S[:, 3:6] = np.asarray(velocities, dtype=np.float64).reshape(n, 3)
-        self.S[:, 7] = np.asarray(radii, dtype=np.float64).reshape(n)
-        self.K = np.zeros((n, core.K_COLS), np.int64)
-        self.T = np.zeros((n, 2))
-        self.nxt = np.zeros(n, np.int64)
-        self.prv = np.zeros(n, np.int64)
+        self.spheres = np.zeros((n, core.SPHERE_COLS))
+        self.spheres[:, core.X:core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
+        self.spheres[:, core.VX:core.VZ + 1] = np.asarray(velocities,
+                                                          dtype=np.float64).reshape(n, 3)
+        self.spheres[:, core.RADIUS] = np.asarray(radii, dtype=np.float64).reshape(n)
+        self.book = np.zeros((n, core.BOOK_COLS), np.int64)
+        self.due = np.zeros((n, core.DUE_COLS))
+        self.shells = np.zeros((n, core.SHELL_COLS))
+        self.neighbours = np.zeros((n, 0), np.int32)  # widened as needed (_build, advance)
+        self.cell_next = np.zeros(n, np.int64)
+        self.cell_prev = np.zeros(n, np.int64)
         self.heap = np.zeros(n, np.int64)
-        self.HT = np.zeros(n)
-        self.HKEY = np.zeros(n, np.int64)
-        self.stack = np.zeros(2 * n + 2, np.int64)
-        self.img = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
-        self.f = np.zeros(core.F_NF)
-        self.c = np.zeros(core.C_NC_, np.int64)
+        self.heap_t = np.zeros(n)
+        self.heap_key = np.zeros(n, np.int64)
+        self.scratch = np.zeros(2 * n + 2, np.int64)
+        self.images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
+        self.scalars = np.zeros(core.N_SCALARS)
+        self.counts = np.zeros(core.N_COUNTS, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
-        self.f[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
-        self.f[core.F_WINDOW] = window
+        self.scalars[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
+        self.scalars[core.F_WINDOW] = window
         self._grid(n)
         self._rec = _events.empty_buffers(CHUNK)
         self._since_rebase = 0
@@ -93,41 +106,44 @@ class Engine:
     @property
     def n(self) -> int:
         """Number of spheres."""
-        return self.mass.shape[0]
-
-    @property
-    def masses(self) -> np.ndarray:
-        """``(N,)`` masses [mass] (a view: do not write)."""
-        return self.mass
+        return self.masses.shape[0]
 
     @property
     def velocities(self) -> np.ndarray:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
-        return self.S[:, 3:6]
+        return self.spheres[:, core.VX:core.VZ + 1]
 
     #: The old name of :attr:`velocities` (other branches may still use it).
     vel = velocities
 
     @property
-    def rad(self) -> np.ndarray:
-        """``(N,)`` radii [length] (a view)."""
-        return self.S[:, 7]
+    def radii(self) -> np.ndarray:
+        """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""
+        return self.spheres[:, core.RADIUS]
 
     @property
     def box(self) -> float | None:
         """Edge of the periodic box as the core reads it [length], or ``None`` (no box)."""
-        box = float(self.f[core.F_BOX])
+        box = float(self.scalars[core.F_BOX])
         return box if box else None
 
     def _grid(self, n, headroom=1.0):
-        sigma = 2.0 * float(self.rad.max()) * headroom if n else 0.0
+        sigma = 2.0 * float(self.radii.max()) * headroom if n else 0.0
         params = self.container.core_params()
         span, box = params["span"], params["box"]
-        self.f[core.F_CONTAINER] = params["wall_radius"]
-        self.f[core.F_BOX] = box
-        # cells at least as wide as the largest contact distance, with a
-        # small relative margin for rounding; a few cells per sphere at most
-        nc = int(span / (sigma * (1.0 + 1e-6))) if sigma > 0.0 else 1
+        self.scalars[core.F_CONTAINER] = params["wall_radius"]
+        self.scalars[core.F_BOX] = box
+        # neighbour lists in dense fluids (cells at least as wide as the
+        # largest neighbour distance, SHELL largest diameters), else cells
+        # at least as wide as the largest contact distance; with a small
+        # relative margin for rounding, and a few cells per sphere at most
+        volume = self.container.volume
+        phi = float(np.sum(self.radii ** 3)) * (4.0 / 3.0) * np.pi / volume if n else 0.0
+        shell = SHELL if phi >= LISTS_FROM else 0.0
+        if box and shell and shell * sigma * 3.0 > box:
+            shell = 0.0  # a box too small for three cells of lists: cells
+        reach = sigma * shell if shell else sigma
+        nc = int(span / (reach * (1.0 + 1e-6))) if sigma > 0.0 else 1
         nc = max(1, min(nc, int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0))) + 1, 1 << 10))
         if box and nc < 3:
             if sigma * 3.0 > box:
@@ -135,38 +151,53 @@ class Engine:
                     f"periodic box {box:g} is smaller than three largest diameters "
                     f"({sigma:g}); use a larger box")
             nc = 3
-        self.c[core.C_NC] = nc
-        self.f[core.F_LO] = -0.5 * span
-        self.f[core.F_W] = span / nc
-        self.head = np.full(nc ** 3, -1, np.int64)
+        self.scalars[core.F_SHELL] = shell
+        self.scalars[core.F_HEADROOM] = headroom
+        self.counts[core.C_CELLS] = nc
+        self.scalars[core.F_LO] = -0.5 * span
+        self.scalars[core.F_W] = span / nc
+        self.cell_head = np.full(nc ** 3, -1, np.int64)
 
     def _build(self):
-        core.build(self.S, self.K, self.T, self.head, self.nxt, self.prv, self.heap,
-                   self.HT, self.HKEY, self.f, self.c)
-        self.f[core.F_T_KIN] = self.f[core.F_CLOCK]
-        core.kinetic_sums(self.S, self.mass, self.f)
+        while True:
+            longest = core.build(self.spheres, self.book, self.due, self.shells,
+                                 self.neighbours, self.cell_head, self.cell_next,
+                                 self.cell_prev, self.heap, self.heap_t, self.heap_key,
+                                 self.images, self.scalars, self.counts)
+            if longest <= self.neighbours.shape[1]:
+                break
+            # room for the longest list and more: lists change as spheres move
+            self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
+        self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
+        core.kinetic_sums(self.spheres, self.masses, self.scalars)
+
+    def _widen_lists(self):
+        """Twice as many entries per neighbour list (the lists stay as they are)."""
+        wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
+        wider[:, :self.neighbours.shape[1]] = self.neighbours
+        self.neighbours = wider
 
     # ---- time -------------------------------------------------------------
     @property
     def time(self) -> float:
         """Time of the last processed event (or the start) [time]."""
-        return self.offset + self.f[core.F_CLOCK]
+        return self.offset + self.scalars[core.F_CLOCK]
 
     def _rebase(self):
-        self.offset += core.rebase(self.S, self.T, self.HT, self.f)
+        self.offset += core.rebase(self.spheres, self.due, self.heap_t, self.scalars)
         self._since_rebase = 0
 
     @property
     def window(self):
         """The simultaneity window [time]."""
-        return float(self.f[core.F_WINDOW])
+        return float(self.scalars[core.F_WINDOW])
 
     # ---- growth and velocities -----------------------------------------------
     @property
     def growth(self):
         """Radii's relative growth rate now: ``dR_i/dt / R_i`` [1/time] (0: off)."""
-        g = self.f[core.F_GROW]
-        return float(g / (1.0 + g * self.f[core.F_CLOCK])) if g else 0.0
+        g = self.scalars[core.F_GROW]
+        return float(g / (1.0 + g * self.scalars[core.F_CLOCK])) if g else 0.0
 
     def set_growth(self, rate):
         """Grow every radius from now at ``dR_i/dt = rate * R_i(now)`` [1/time]; 0 stops.
@@ -179,65 +210,76 @@ class Engine:
         if not (rate >= 0.0 and np.isfinite(rate)):
             raise ValueError(f"growth rate must be a finite number >= 0, got {rate}")
         self._rebase()  # radii to the clock
-        self.f[core.F_GROW] = rate
+        self.scalars[core.F_GROW] = rate
         self._regrid()
 
     def _regrid(self):
         """Cells for the radii now (with room to grow), everything predicted afresh."""
-        headroom = 1.05 if self.f[core.F_GROW] else 1.0
+        headroom = 1.05 if self.scalars[core.F_GROW] else 1.0
         self._grid(self.n, headroom)
         self._build()
 
     def _grid_limit(self):
-        """Absolute time the growing radii outgrow the cells (``inf``: never)."""
-        g = self.f[core.F_GROW]
+        """Absolute time the growing radii outgrow the cells or their neighbour lists' reach.
+
+        ``inf``: never.
+        """
+        g = self.scalars[core.F_GROW]
         if not g or self.n == 0:
             return np.inf
-        nc = int(self.c[core.C_NC])
-        if nc == 1 and self.box is None:
+        if not self.scalars[core.F_SHELL]:
+            nc = int(self.counts[core.C_CELLS])
+            if nc == 1 and self.box is None:
+                return np.inf
+            rmax = float(self.radii.max())
+            if rmax <= 0.0:
+                return np.inf
+            w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
+            return self.offset + (w / (2.0 * rmax) - 1.0) / g
+        r = self.radii
+        grows = r > 0.0
+        if not np.any(grows):
             return np.inf
-        rmax = float(self.rad.max())
-        if rmax <= 0.0:
-            return np.inf
-        w = float(self.f[core.F_W]) / (1.0 + 1e-6)
-        return self.offset + (w / (2.0 * rmax) - 1.0) / g
+        ratio = float(np.min(self.shells[grows, core.REACH] / r[grows]))
+        return self.offset + (ratio - 1.0) / g
 
     def move_clock(self, t):
         """Move the clock to absolute time ``t`` (no event may be pending before it)."""
         t = float(t) - self.offset
-        if self.n and self.HT[0] < t:
+        if self.n and self.heap_t[0] < t:
             raise ValueError("events are pending before that time: advance first")
-        if t > self.f[core.F_CLOCK]:
-            self.f[core.F_CLOCK] = t
+        if t > self.scalars[core.F_CLOCK]:
+            self.scalars[core.F_CLOCK] = t
 
     def radii_at(self, t=None):
         """``(N,)`` radii at absolute time ``t`` (default: now) [length]."""
-        g = self.f[core.F_GROW]
+        g = self.scalars[core.F_GROW]
         if not g:
-            return self.rad.copy()
+            return self.radii.copy()
         t = self.time if t is None else t
-        return self.rad * (1.0 + g * (t - self.offset))
+        return self.radii * (1.0 + g * (t - self.offset))
 
     def rescale_velocities(self, factor):
         """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
         self._rebase()
-        f = self.f
+        f = self.scalars
         dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
         f[core.F_KIN_INT:core.F_KIN_INT + 6] += f[core.F_KIN_T:core.F_KIN_T + 6] * dt
         f[core.F_HEAT_INT:core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3] * dt
         f[core.F_T_KIN] = f[core.F_CLOCK]
-        self.S[:, 3:6] *= factor
-        core.kinetic_sums(self.S, self.mass, f)
+        self.spheres[:, core.VX:core.VZ + 1] *= factor
+        core.kinetic_sums(self.spheres, self.masses, f)
         self._build()
 
     def kick(self, i, t, velocity):
         """Sphere ``i`` takes ``velocity`` at absolute time ``t`` (not before the clock)."""
         t = float(t) - self.offset
-        if t < self.f[core.F_CLOCK]:
+        if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.S, self.mass, self.K, self.T, self.head, self.nxt, self.heap, self.HT,
-                  self.HKEY, self.f, self.c, int(i), t, vx, vy, vz)
+        core.kick(self.spheres, self.masses, self.book, self.due, self.shells,
+                  self.neighbours, self.cell_head, self.cell_next, self.heap, self.heap_t,
+                  self.heap_key, self.scalars, self.counts, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(self, until: float = np.inf, events: int | None = None,
@@ -265,7 +307,7 @@ class Engine:
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
         chunks = []
-        coll0 = int(self.c[core.C_COLL])
+        coll0 = int(self.counts[core.C_COLLISIONS])
         done_total = 0
         rec = self._rec
         while True:
@@ -277,10 +319,12 @@ class Engine:
             rebase_due = (REBASE_EVERY * max(self.n, 16) if self._rebase_on
                           else np.iinfo(np.int64).max)
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
-            left_coll = max_coll - (int(self.c[core.C_COLL]) - coll0)
-            done, reason = core.run(self.S, self.mass, self.K, self.T, self.head, self.nxt,
-                                    self.prv, self.heap, self.HT, self.HKEY, self.f,
-                                    self.c, self.stack, self.img,
+            left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
+            done, reason = core.run(self.spheres, self.masses, self.book, self.due,
+                                    self.shells, self.neighbours,
+                                    self.cell_head, self.cell_next, self.cell_prev,
+                                    self.heap, self.heap_t, self.heap_key, self.scalars,
+                                    self.counts, self.scratch, self.images,
                                     stop - self.offset, left_ev, left_coll, *rec)
             done_total += done
             self._since_rebase += done
@@ -288,21 +332,24 @@ class Engine:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
                 self._rebase()
+            if reason == core.STOP_LISTS_FULL:
+                self._widen_lists()
+                continue
             if reason == StopReason.FROZEN or reason == StopReason.SLIDING:
                 if done_total == 0:
                     self.last_reason, self.last_done = StopReason(reason), 0
                     raise StuckError("frozen" if reason == StopReason.FROZEN else "sliding",
-                                     float(self.offset + self.HT[0]), int(self.heap[0]))
+                                     float(self.offset + self.heap_t[0]), int(self.heap[0]))
                 break  # the events before it first; the next call raises
             if reason == StopReason.UNTIL and stop < until:
                 # growing radii reached the cells' width: move the clock
                 # there (nothing happens before), and coarser cells
-                if self.f[core.F_CLOCK] < limit - self.offset:
-                    self.f[core.F_CLOCK] = limit - self.offset
+                if self.scalars[core.F_CLOCK] < limit - self.offset:
+                    self.scalars[core.F_CLOCK] = limit - self.offset
                 self._rebase()
-                nc = int(self.c[core.C_NC])
+                nc = int(self.counts[core.C_CELLS])
                 self._regrid()
-                if int(self.c[core.C_NC]) >= nc and self._grid_limit() <= limit:
+                if int(self.counts[core.C_CELLS]) >= nc and self._grid_limit() <= limit:
                     raise ValueError("the spheres have grown too large for the periodic box "
                                      "(three diameters at least)")
                 continue
@@ -329,8 +376,8 @@ class Engine:
         return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("mass", "S", "K", "T", "nxt", "prv", "heap", "HT", "HKEY", "f", "c", "head",
-              "img")
+    _SAVED = ("masses", "spheres", "book", "due", "cell_next", "cell_prev", "heap", "heap_t",
+              "heap_key", "scalars", "counts", "cell_head", "images", "shells", "neighbours")
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -354,14 +401,23 @@ class Engine:
         Raises:
             CheckpointError: an array is missing or inconsistent.
         """
+        data = _current_names(data)
         check_arrays(data)
         eng = cls.__new__(cls)
+        n = len(data["masses"])
         for k in cls._SAVED:
-            if k == "img" and k not in data:  # checkpoints from before image counts
-                data = dict(data, img=np.zeros((len(data["mass"]), 3), np.int64))
+            if k == "images" and k not in data:  # checkpoints from before image counts
+                data = dict(data, images=np.zeros((n, 3), np.int64))
+            if k == "shells" and k not in data:  # from before the lists: cells alone
+                data = dict(data, shells=np.zeros((n, core.SHELL_COLS)),
+                            neighbours=np.zeros((n, 0), np.int32))
             setattr(eng, k, np.array(data[k]))
-        if eng.c.shape[0] < core.C_NC_:  # saved before the last two counters
-            eng.c = np.concatenate([eng.c, np.zeros(core.C_NC_ - eng.c.shape[0], np.int64)])
+        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
+            eng.book = np.concatenate(
+                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1)
+        if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
+            eng.counts = np.concatenate(
+                [eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
         offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -372,24 +428,24 @@ class Engine:
             except (ValueError, TypeError):
                 raise CheckpointError("damaged checkpoint: no valid container") from None
             params = eng.container.core_params()
-            if (params["wall_radius"] != eng.f[core.F_CONTAINER]
-                    or params["box"] != eng.f[core.F_BOX]):
+            if (params["wall_radius"] != eng.scalars[core.F_CONTAINER]
+                    or params["box"] != eng.scalars[core.F_BOX]):
                 raise CheckpointError("damaged checkpoint: the container disagrees with the "
                                       "core's")
         else:
             eng.container = as_container(None if np.isnan(radius) else radius,
                                          None if np.isnan(box) else box)
-        eng.stack = np.zeros(2 * eng.n + 2, np.int64)
+        eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
         eng._rec = _events.empty_buffers(CHUNK)
-        saved = eng.f.shape[0]
-        if saved < core.F_NF:  # checkpoints from before the last scalars
-            eng.f = np.concatenate([eng.f, np.zeros(core.F_NF - saved)])
+        saved = eng.scalars.shape[0]
+        if saved < core.N_SCALARS:  # checkpoints from before the last scalars
+            eng.scalars = np.concatenate([eng.scalars, np.zeros(core.N_SCALARS - saved)])
         if saved <= core.F_T_KIN:  # before the transport tallies
-            eng.f[core.F_T_KIN] = eng.f[core.F_CLOCK]
-            core.kinetic_sums(eng.S, eng.mass, eng.f)
+            eng.scalars[core.F_T_KIN] = eng.scalars[core.F_CLOCK]
+            core.kinetic_sums(eng.spheres, eng.masses, eng.scalars)
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
-            eng.f[core.F_OFFSET] = offset
-            eng.f[core.F_STREAK] = eng.f[core.F_CLOCK]
+            eng.scalars[core.F_OFFSET] = offset
+            eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -407,11 +463,11 @@ class Engine:
         if spheres is not None and self.box is None:
             t -= self.offset
             for k in spheres:  # a few: Python floats beat numpy's set-up
-                x, y, z, vx, vy, vz, tk = self.S[k, :7].tolist()
+                x, y, z, vx, vy, vz, tk = self.spheres[k, :7].tolist()
                 dt = t - tk
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
-        core.positions_at(self.S, t - self.offset, out, self.f[core.F_BOX])
+        core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
         return out
 
     def unwrapped_at(self, t=None, out=None):
@@ -423,21 +479,23 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.unwrapped_at(self.S, self.img, t - self.offset, out, self.f[core.F_BOX])
+        core.unwrapped_at(self.spheres, self.images, t - self.offset, out,
+                          self.scalars[core.F_BOX])
         return out
 
     @property
     def idle(self):
         """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
-        return self.n == 0 or not self.HT[0] < np.inf
+        return self.n == 0 or not self.heap_t[0] < np.inf
 
     @property
     def counters(self) -> dict[str, int]:
-        """Dict of event counts: collisions, reflections, crossings, stale
-        (predictions dropped), refreshed (made afresh by the window rule)."""
-        c = self.c
-        return {"collisions": int(c[core.C_COLL]), "reflections": int(c[core.C_WALL]),
-                "crossings": int(c[core.C_CROSS]), "stale": int(c[core.C_STALE]),
+        """Dict of event counts: collisions, reflections, crossings (of a cell,
+        or, with neighbour lists, of a sphere's shell), stale (predictions
+        dropped), refreshed (made afresh by the window rule)."""
+        c = self.counts
+        return {"collisions": int(c[core.C_COLLISIONS]), "reflections": int(c[core.C_REFLECTIONS]),
+                "crossings": int(c[core.C_CROSSINGS]), "stale": int(c[core.C_STALE]),
                 "refreshed": int(c[core.C_REFRESHED])}
 
     def transport_tallies(self, t=None):
@@ -450,7 +508,7 @@ class Engine:
             (3,) ``int sum v E dt``.  Tensors in the order xx yy zz xy xz yz;
             all summed since the engine was built.
         """
-        f = self.f
+        f = self.scalars
         dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
         return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
                 "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
@@ -462,22 +520,22 @@ class Engine:
     @property
     def wall_impulse(self) -> float:
         """Total impulse delivered to the container wall [mass*length/time]."""
-        return float(self.f[core.F_WALL_IMPULSE])
+        return float(self.scalars[core.F_WALL_IMPULSE])
 
     @property
     def virial(self) -> float:
         """Sum over collisions of ``r_ij . dp_i`` [mass*length^2/time]."""
-        return float(self.f[core.F_VIRIAL])
+        return float(self.scalars[core.F_VIRIAL])
 
     # ---- checks -----------------------------------------------------------
     def max_overlap(self, t: float | None = None) -> float:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         t = self.time if t is None else t
         x = self.positions_at(t)  # pairs across the box compare by minimum image
-        g = self.f[core.F_GROW]
+        g = self.scalars[core.F_GROW]
         scale = 1.0 + g * (t - self.offset) if g else 1.0
-        return float(core.max_overlap(x, self.S, self.K, self.head, self.nxt,
-                                      int(self.c[core.C_NC]),
+        return float(core.max_overlap(x, self.spheres, self.book, self.cell_head, self.cell_next,
+                                      int(self.counts[core.C_CELLS]),
                                       0.0 if self.box is None else self.box, scale))
 
     def outside(self, t: float | None = None, tol: float = 1e-9) -> int:
@@ -491,6 +549,18 @@ class Engine:
 
 
 # ---- checking a checkpoint ------------------------------------------------------
+#: The arrays' names in checkpoints written before they were named for what they hold.
+_OLD_NAMES = {"mass": "masses", "S": "spheres", "K": "book", "T": "due", "nxt": "cell_next",
+              "prv": "cell_prev", "HT": "heap_t", "HKEY": "heap_key", "f": "scalars",
+              "c": "counts", "head": "cell_head", "img": "images"}
+
+
+def _current_names(data):
+    """``data`` with the arrays of an older checkpoint under today's names."""
+    if not any(k in data for k in _OLD_NAMES):
+        return data
+    return {_OLD_NAMES.get(k, k): v for k, v in data.items()}
+
 def _bad(what):
     raise CheckpointError(f"damaged checkpoint: {what}")
 
@@ -508,7 +578,7 @@ def check_arrays(data):
     """Check :meth:`Engine.checkpoint`'s arrays before the compiled core sees them.
 
     Everything the core indexes with is checked (heap, cell lists, partners,
-    cell coordinates, counters), and everything it computes with is finite
+    cell coordinates, counts), and everything it computes with is finite
     where it must be, so that a damaged or crafted file is refused rather
     than crashing the interpreter or running on NaNs.  O(N).
 
@@ -519,46 +589,54 @@ def check_arrays(data):
     Raises:
         CheckpointError: naming the first problem found.
     """
-    mass = np.asarray(data.get("mass", np.zeros((0, 0))))
-    if mass.ndim != 1:
-        _bad("'mass' is not a list of masses")
-    n = mass.shape[0]
-    _array(data, "mass", np.float64, (n,))
-    S = _array(data, "S", np.float64, (n, 8))
-    K = _array(data, "K", np.int64, (n, core.K_COLS))
-    T = _array(data, "T", np.float64, (n, 2))
-    nxt = _array(data, "nxt", np.int64, (n,))
-    prv = _array(data, "prv", np.int64, (n,))
+    data = _current_names(data)
+    masses = np.asarray(data.get("masses", np.zeros((0, 0))))
+    if masses.ndim != 1:
+        _bad("'masses' is not a list of masses")
+    n = masses.shape[0]
+    _array(data, "masses", np.float64, (n,))
+    spheres = _array(data, "spheres", np.float64, (n, core.SPHERE_COLS))
+    book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
+    if "book" not in data:
+        _bad("no array 'book'")
+    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
+        # (12 columns: from before the neighbour lists)
+        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
+    due = _array(data, "due", np.float64, (n, core.DUE_COLS))
+    cell_next = _array(data, "cell_next", np.int64, (n,))
+    cell_prev = _array(data, "cell_prev", np.int64, (n,))
     heap = _array(data, "heap", np.int64, (n,))
-    HT = _array(data, "HT", np.float64, (n,))
-    HKEY = _array(data, "HKEY", np.int64, (n,))
-    f = np.asarray(data.get("f", np.zeros(0)))
-    if f.dtype != np.float64 or f.ndim != 1 or not core.F_WINDOW < f.shape[0] <= core.F_NF:
-        _bad(f"'f' is {f.dtype}{list(f.shape)}, expected float64[{core.F_NF}]")
-    if "img" in data:  # periodic image counts, where the core keeps them
-        _array(data, "img", np.int64, (n, 3))
-    if "c" not in data:
-        _bad("no array 'c'")
-    c = np.asarray(data["c"])
-    if c.dtype != np.int64 or c.ndim != 1 or not core.C_SERIAL < c.shape[0] <= core.C_NC_:
-        _bad(f"'c' is {c.dtype}{list(c.shape)}, expected int64[{core.C_NC_}]")
+    heap_t = _array(data, "heap_t", np.float64, (n,))
+    heap_key = _array(data, "heap_key", np.int64, (n,))
+    scalars = np.asarray(data.get("scalars", np.zeros(0)))
+    if (scalars.dtype != np.float64 or scalars.ndim != 1
+            or not core.F_WINDOW < scalars.shape[0] <= core.N_SCALARS):
+        _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
+    if "images" in data:  # periodic image counts, where the core keeps them
+        _array(data, "images", np.int64, (n, 3))
+    if "counts" not in data:
+        _bad("no array 'counts'")
+    counts = np.asarray(data["counts"])
+    if (counts.dtype != np.int64 or counts.ndim != 1
+            or not core.C_SERIAL < counts.shape[0] <= core.N_COUNTS):
+        _bad(f"'counts' is {counts.dtype}{list(counts.shape)}, expected int64[{core.N_COUNTS}]")
     meta = _array(data, "meta", np.float64, (5,))
-    nc = int(c[core.C_NC])
+    nc = int(counts[core.C_CELLS])
     if not 1 <= nc <= 1 << 10:
         _bad(f"{nc} cells per axis")
-    head = _array(data, "head", np.int64, (nc ** 3,))
+    cell_head = _array(data, "cell_head", np.int64, (nc ** 3,))
     # the physical state
-    if not np.all(np.isfinite(mass) & (mass > 0)):
-        _bad("a mass is not a finite number > 0")
-    if not np.all(np.isfinite(S)):
+    if not np.all(np.isfinite(masses) & (masses > 0)):
+        _bad("a masses is not a finite number > 0")
+    if not np.all(np.isfinite(spheres)):
         _bad("a position, velocity, time or radius is not finite")
-    if np.any(S[:, core.RAD] < 0):
+    if np.any(spheres[:, core.RADIUS] < 0):
         _bad("a negative radius")
-    if np.any(np.isnan(T)) or np.any(np.isnan(HT)):
+    if np.any(np.isnan(due)) or np.any(np.isnan(heap_t)):
         _bad("a predicted time is NaN")
-    if not np.all(np.isfinite(f)) or f[core.F_W] <= 0 or f[core.F_WINDOW] < 0:
+    if not np.all(np.isfinite(scalars)) or scalars[core.F_W] <= 0 or scalars[core.F_WINDOW] < 0:
         _bad("the scalars (clock, grid, window) are not finite and positive where needed")
-    if np.any(c < 0):
+    if np.any(counts < 0):
         _bad("a negative counter")
     offset, since, rebase_on, container, box = meta.tolist()
     if not (np.isfinite(offset) and np.isfinite(since) and since >= 0):
@@ -568,60 +646,91 @@ def check_arrays(data):
     size = box if np.isnan(container) else container
     if not (np.isfinite(size) and size > 0):
         _bad("the container size is not a finite number > 0")
-    if (f[core.F_BOX] if np.isnan(container) else f[core.F_CONTAINER]) != size:
+    if (scalars[core.F_BOX] if np.isnan(container) else scalars[core.F_CONTAINER]) != size:
         _bad("the container size disagrees with the core's")
     if n == 0:
-        if np.any(head != -1):
+        if np.any(cell_head != -1):
             _bad("cells hold spheres that do not exist")
         return
     ids = np.arange(n)
     # cells: coordinates in the grid, and each cell's list holds exactly its spheres
-    cxyz = K[:, core.CX:core.CZ + 1]
+    cxyz = book[:, core.CELL_X:core.CELL_Z + 1]
     if np.any((cxyz < 0) | (cxyz >= nc)):
         _bad("a cell coordinate outside the grid")
-    if np.any(K[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
+    if np.any(book[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
         _bad("a cell index disagrees with its coordinates")
-    for name, a in (("head", head), ("nxt", nxt), ("prv", prv)):
+    for name, a in (("cell_head", cell_head), ("cell_next", cell_next), ("cell_prev", cell_prev)):
         if np.any((a < -1) | (a >= n)):
             _bad(f"{name!r} points outside the spheres")
     seen = np.zeros(n, bool)
-    for cell in np.nonzero(head >= 0)[0].tolist():
-        j, before = int(head[cell]), -1
+    for cell in np.nonzero(cell_head >= 0)[0].tolist():
+        j, before = int(cell_head[cell]), -1
         while j >= 0:
-            if seen[j] or K[j, core.CELL] != cell or prv[j] != before:
+            if seen[j] or book[j, core.CELL] != cell or cell_prev[j] != before:
                 _bad("the cell lists are inconsistent")
             seen[j] = True
-            before, j = j, int(nxt[j])
+            before, j = j, int(cell_next[j])
     if not np.all(seen):
         _bad("a sphere is in no cell list")
     # the calendar: a heap over all spheres, each entry its sphere's earlier event
-    if not np.array_equal(np.sort(heap), ids) or np.any(K[heap, core.HPOS] != ids):
+    if not np.array_equal(np.sort(heap), ids) or np.any(book[heap, core.HEAP_POS] != ids):
         _bad("the event calendar is not a permutation of the spheres")
-    kind, partner = K[:, core.EV_KIND], K[:, core.EV_PARTNER]
+    kind, partner = book[:, core.EVENT_KIND], book[:, core.PARTNER]
     coll = kind == core.COLLISION
-    if np.any(~np.isin(kind, (core.WALL, core.COLLISION, core.NONE))):
+    if np.any(~np.isin(kind, (core.REFLECTION, core.COLLISION, core.NONE))):
         _bad("an unknown event kind")
     if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
         _bad("a collision partner outside the spheres")
     lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
     key = np.where(coll, _key(core.COLLISION, lo, hi, n),
-                   np.where(kind == core.WALL, _key(core.WALL, ids, -1, n),
+                   np.where(kind == core.REFLECTION, _key(core.REFLECTION, ids, -1, n),
                             _key(core.NONE, n, n - 1, n)))
-    if np.any(K[:, core.EV_KEY] != key):
+    if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
-    code = K[:, core.CR_CODE]
-    if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (T[:, core.CR_T] < np.inf)):
-        _bad("an unknown cell crossing")
-    cross_key = _key(core.CROSS, ids, -1, n)
-    ev_t, cr_t = T[:, core.EV_T], T[:, core.CR_T]
+    shell = scalars[core.F_SHELL] if scalars.shape[0] > core.F_SHELL else 0.0
+    if shell:  # neighbour lists
+        if not shell > 1.0:
+            _bad("the shell factor is not > 1")
+        if "neighbours" not in data or book.shape[1] <= core.NEIGHBOURS:
+            _bad("no neighbour lists")
+        _check_lists(data, book, n)
+    else:  # cells
+        code = book[:, core.CROSS_FACE]
+        if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
+            _bad("an unknown cell crossing")
+    cross_key = _key(core.CROSSING, ids, -1, n)
+    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
     first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
-    if (np.any(HT[K[:, core.HPOS]] != np.where(first, cr_t, ev_t))
-            or np.any(HKEY[K[:, core.HPOS]] != np.where(first, cross_key, key))):
+    if (np.any(heap_t[book[:, core.HEAP_POS]] != np.where(first, cr_t, ev_t))
+            or np.any(heap_key[book[:, core.HEAP_POS]] != np.where(first, cross_key, key))):
         _bad("the event calendar disagrees with the predictions")
     k = np.arange(1, n)
     p = (k - 1) >> 1
-    if np.any((HT[k] < HT[p]) | ((HT[k] == HT[p]) & (HKEY[k] < HKEY[p]))):
+    if np.any((heap_t[k] < heap_t[p]) | ((heap_t[k] == heap_t[p]) & (heap_key[k] < heap_key[p]))):
         _bad("the event calendar is out of order")
+
+
+def _check_lists(data, book, n):
+    """The shells and neighbour lists: finite, in range, symmetric."""
+    shells = _array(data, "shells", np.float64, (n, core.SHELL_COLS))
+    neighbours = np.asarray(data["neighbours"])
+    if neighbours.dtype != np.int32 or neighbours.ndim != 2 or neighbours.shape[0] != n:
+        _bad(f"'neighbours' is {neighbours.dtype}{list(neighbours.shape)}, expected int32[{n}, k]")
+    if not np.all(np.isfinite(shells)) or np.any(shells[:, core.REACH] < 0):
+        _bad("a shell is not finite")
+    length = book[:, core.NEIGHBOURS]
+    if np.any((length < 0) | (length > neighbours.shape[1])):
+        _bad("a neighbour list longer than its row")
+    rows = np.repeat(np.arange(n), length)
+    used = np.arange(neighbours.shape[1])[None, :] < length[:, None]
+    entries = neighbours[used].astype(np.int64)
+    j, code = entries >> 5, entries & 31
+    if np.any((j < 0) | (j >= n) | (j == rows) | (code > 26)):
+        _bad("a neighbour outside the spheres")
+    there = np.sort(rows * n + j)
+    back = np.sort(j * n + rows)
+    if not np.array_equal(there, back) or np.any(np.diff(there) == 0):
+        _bad("the neighbour lists are not symmetric")
 
 
 def _key(kind, a, b, n):

@@ -121,7 +121,7 @@ class Simulation:
             images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
         self._engine = Engine(state.masses, state.radii, container.wrap(state.positions),
                               state.velocities, container, window=window, time=state.time)
-        self._engine.img[:] = images
+        self._engine.images[:] = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
