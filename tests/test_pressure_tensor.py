@@ -22,9 +22,9 @@ def test_tallies_rebuilt_from_the_recorded_impulse_vectors():
     sim = gas()
     sim.run(collisions=2000)
     eng = sim._engine
-    sigma = 2.0 * eng.rad[0]
-    m = eng.mass
-    v = eng.vel.copy()
+    sigma = 2.0 * eng.radii[0]
+    m = eng.masses
+    v = eng.velocities.copy()
     a = eng.transport_tallies()
     t_last = t0 = sim.time
     vir, kin, heat_c, heat_k = np.zeros(6), np.zeros(6), np.zeros(3), np.zeros(3)
@@ -48,7 +48,7 @@ def test_tallies_rebuilt_from_the_recorded_impulse_vectors():
         v[ev.i] += dp / m[ev.i]
         v[ev.j] -= dp / m[ev.j]
         heat_c += r * (0.5 * m[ev.i] * v[ev.i] @ v[ev.i] - e_old)
-    np.testing.assert_allclose(v, eng.vel, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(v, eng.velocities, rtol=1e-9, atol=1e-12)
     kt, jt = kinetic(v)
     kin += kt * (sim.time - t_last)
     heat_k += jt * (sim.time - t_last)

@@ -118,7 +118,7 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
     kT = _kT(sim)
     if not kT > 0:
         raise CompressionError("compress: the spheres are at rest (kT = 0); give them velocities")
-    vth = math.sqrt(kT / float(np.mean(eng.mass)))
+    vth = math.sqrt(kT / float(np.mean(eng.masses)))
     rmax = float(radii.max())
     speed = 0.5 * rate * vth  # dR_max/dt
     t_target = math.inf
@@ -173,7 +173,7 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
         eng.set_growth(0.0)
         sim._clock = max(sim._clock, eng.time)
         sim.observables.reset()
-    phi = packing_fraction(eng.rad, sim.container)
+    phi = packing_fraction(eng.radii, sim.container)
     return CompressResult(
         phi, float(z), eng.counters["collisions"] - c_start, reason, reason in ("pressure", "stuck")
     )
@@ -210,7 +210,7 @@ class Andersen:
     def write(self, sim, t):
         eng = sim.engine
         i = int(self._rng.integers(sim.n))
-        v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.mass[i])
+        v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.masses[i])
         eng.kick(i, t, v)
         self.resampled += 1
         self.next_time = t + self._rng.exponential(1.0 / (self.rate * sim.n))

@@ -105,12 +105,9 @@ class Engine:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
         return self.S[:, 3:6]
 
-    #: The old name of :attr:`velocities` (other branches may still use it).
-    vel = velocities
-
     @property
-    def rad(self) -> np.ndarray:
-        """``(N,)`` radii [length] (a view)."""
+    def radii(self) -> np.ndarray:
+        """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""
         return self.S[:, 7]
 
     @property
@@ -120,7 +117,7 @@ class Engine:
         return box if box else None
 
     def _grid(self, n, headroom=1.0):
-        sigma = 2.0 * float(self.rad.max()) * headroom if n else 0.0
+        sigma = 2.0 * float(self.radii.max()) * headroom if n else 0.0
         params = self.container.core_params()
         span, box = params["span"], params["box"]
         self.f[core.F_CONTAINER] = params["wall_radius"]
@@ -196,7 +193,7 @@ class Engine:
         nc = int(self.c[core.C_NC])
         if nc == 1 and self.box is None:
             return np.inf
-        rmax = float(self.rad.max())
+        rmax = float(self.radii.max())
         if rmax <= 0.0:
             return np.inf
         w = float(self.f[core.F_W]) / (1.0 + 1e-6)
@@ -214,9 +211,9 @@ class Engine:
         """``(N,)`` radii at absolute time ``t`` (default: now) [length]."""
         g = self.f[core.F_GROW]
         if not g:
-            return self.rad.copy()
+            return self.radii.copy()
         t = self.time if t is None else t
-        return self.rad * (1.0 + g * (t - self.offset))
+        return self.radii * (1.0 + g * (t - self.offset))
 
     def rescale_velocities(self, factor):
         """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
