@@ -284,12 +284,12 @@ def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled
     pressure``.
 
     Returns:
-        ``(bar, show)``: close ``bar`` (:class:`hardspheres.runner.Progress`)
+        ``(bar, show)``: close ``bar`` (:class:`hardspheres.progress.Progress`)
         at the end; pass ``show`` as ``progress=``.
     """
-    from .runner import Progress
+    from .progress import Progress
 
-    bar = Progress(1.0, stream=stream, enabled=enabled)
+    bar = Progress(1.0, stream=stream, enabled=enabled, unit="collisions")
 
     def show(phi, z, coll):
         if packing is not None and packing > phi0:
@@ -298,7 +298,7 @@ def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled
             done = math.log(z) / math.log(pressure)
         else:
             done = 0.0
-        bar.update(max(0.0, min(1.0, done)), coll, f"packing {phi:.5f}  Z {z:.4g}")
+        bar.update(max(0.0, min(1.0, done)), label=f"packing {phi:.5f}  Z {z:.4g}", events=coll)
 
     return bar, show
 
