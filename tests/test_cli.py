@@ -388,3 +388,18 @@ def test_ctrl_c_exits_130(engine, tmp_path):
     assert "Traceback" not in err and "KeyboardInterrupt" not in err
     assert err.count("\n") <= 1
     assert out_path.read_bytes().count(b"time of event:") > 100
+
+
+def test_small_inputs_start_without_numpy_or_numba():
+    """The reference engine runs the assignment's small inputs: no numpy, no numba loaded."""
+    code = ("import io, sys\n"
+            "from hardspheres.cli import run_spheres\n"
+            "out = io.StringIO()\n"
+            "status = run_spheres(['120', '200'], io.BytesIO(sys.stdin.buffer.read()), out)\n"
+            "print(status, out.getvalue().count('time of event'), 'numpy' in sys.modules,"
+            " 'numba' in sys.modules)\n")
+    res = subprocess.run([sys.executable, "-c", code], input=b"20 1 0 0 0 0 0 1 one\n"
+                         b"2 5 0 1 100 0 0 0 two\n3 1 2 -1 -2 0 0 0 three\n",
+                         capture_output=True, cwd=ROOT, timeout=60,
+                         env={k: v for k, v in os.environ.items() if k != "HARDSPHERES_ENGINE"})
+    assert res.stdout.split() == [b"0", b"7", b"False", b"False"], res.stderr

@@ -241,8 +241,8 @@ class _Terminal(io.StringIO):
 def test_progress_bar_rate_eta_and_no_stale_characters():
     term = _Terminal()
     bar = Progress(10.0, stream=term)
-    bar.update(5.0, "t=105.123456", events=1000)
-    bar.update(10.0, "t=10", events=2000)
+    bar.update(5.0, 1000, "t=105.123456")
+    bar.update(10.0, 2000, "t=10")
     first, second = term.getvalue().split("\r")[1:3]
     assert "events/s" in first and "left" in first and "50.0%" in first
     assert len(second) >= len(first) and second.rstrip().endswith("done")
@@ -256,10 +256,10 @@ def test_progress_bar_rate_eta_and_no_stale_characters():
 
 
 def test_progress_bar_with_a_label_only_and_notes():
-    """``compress`` and ``sweep`` give a label and no count (once a TypeError on a terminal)."""
+    """``sweep`` gives a label and no count (once a TypeError on a terminal)."""
     term = _Terminal()
     bar = Progress(1.0, stream=term)
-    bar.update(0.5, "packing 0.40000  Z 5.1  collisions 100")
+    bar.update(0.5, label="packing 0.40000  Z 5.1  collisions 100")
     assert "packing 0.40000" in term.getvalue() and "/s" not in term.getvalue()
     bar.note("a line of its own")
     assert "\ra line of its own\n" in term.getvalue()

@@ -113,9 +113,6 @@ class Engine:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
         return self.spheres[:, core.VX:core.VZ + 1]
 
-    #: The old name of :attr:`velocities` (other branches may still use it).
-    vel = velocities
-
     @property
     def radii(self) -> np.ndarray:
         """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""

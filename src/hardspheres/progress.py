@@ -8,7 +8,7 @@ dependency): a few lines, and the same look on every command.
 Example:
     >>> import io
     >>> bar = Progress(10.0, stream=io.StringIO(), enabled=True)
-    >>> bar.line(10.0, "t=10")
+    >>> bar.line(10.0, label="t=10")
     '[##############################] 100.0%  t=10  done'
 """
 
@@ -77,7 +77,7 @@ class Progress:
         self._text = ""
         self._shown = -math.inf
 
-    def line(self, done: float, label: str = "", events: float = 0) -> str:
+    def line(self, done: float, events: float = 0, label: str = "") -> str:
         """The text of the bar after ``done`` of ``total``, ``events`` counted so far."""
         frac = min(1.0, done / self.total) if self.total > 0 else 1.0
         wall = time.perf_counter() - self.t0
@@ -88,15 +88,15 @@ class Progress:
         parts = [f"[{bar:<30}] {frac:6.1%}", label, rate, eta]
         return "  ".join(p for p in parts if p)
 
-    def update(self, done: float, label: str = "", events: float = 0) -> None:
-        """Redraw the bar: ``done`` of ``total``, a ``label``, ``events`` for the rate."""
+    def update(self, done: float, events: float = 0, label: str = "") -> None:
+        """Redraw the bar: ``done`` of ``total``, ``events`` counted (the rate), a ``label``."""
         if not self.on:
             return
         now = time.perf_counter()
         if now - self._shown < self.every and done < self.total:
             return
         self._shown = now
-        self._text = self.line(done, label, events)
+        self._text = self.line(done, events, label)
         self._show()
 
     def _show(self):

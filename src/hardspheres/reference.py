@@ -170,9 +170,9 @@ def apply_event(kind, i, j, p, v, masses):
 class Reference:
     """Exact event-driven dynamics of hard spheres, by brute force, in pure Python.
 
-    The arguments and methods are :class:`~hardspheres.engine.Engine`'s
-    (those that do not concern its cells, time origin, growth, kicks or
-    checkpoints); arrays come back as lists.
+    The arguments, and the methods that run and read, are
+    :class:`~hardspheres.engine.Engine`'s (not its cells, time origin,
+    growth, kicks, checkpoints or overlap checks); arrays come back as lists.
 
     Args:
         masses: ``N`` [mass], > 0.

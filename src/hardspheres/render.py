@@ -241,7 +241,7 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
                     elif bar.on:
                         bar.note(f"rendering {len(keep)} frames to {path.name}, about "
                                  f"{duration(total)}")
-                bar.update(f + 1, f"rendering {f + 1}/{len(keep)}", events=f + 1)
+                bar.update(f + 1, f + 1, f"rendering {f + 1}/{len(keep)}")
     finally:
         bar.close()
     return path

@@ -90,7 +90,7 @@ class ProgressWriter:
         if self.first is not None and t > self.start:
             first, self.first = self.first, None
             first(done, t - self.start)
-        self.progress.update(t - self.start, f"t={t:.6g}", events=done)
+        self.progress.update(t - self.start, done, f"t={t:.6g}")
 
     def observe(self, events):
         pass
@@ -298,7 +298,7 @@ def _equilibrate(sim, args, progress, start_time):
             raise ValueError(f"--equilibrate {args.equilibrate} did not finish before --until "
                              f"{args.until:g} (at {sim.counters['collisions']} collisions): "
                              "raise --until or lower --equilibrate")
-    progress.update(sim.time - start_time, "equilibrated", events=_events_so_far(sim))
+    progress.update(sim.time - start_time, _events_so_far(sim), "equilibrated")
     return f"{what}, to t = {sim.time:.6g}"
 
 

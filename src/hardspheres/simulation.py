@@ -1,8 +1,9 @@
 """Simulation: the object physicists script.
 
 A :class:`Simulation` holds spheres in a container, runs them exactly
-(compiled event core, :mod:`hardspheres.engine`), hands out the state at any
-time, calls writers at fixed time intervals, and accumulates observables.
+(compiled event core, :mod:`hardspheres.engine`), hands out the state at its
+clock, calls writers when their triggers say (:mod:`hardspheres.writers`),
+and accumulates observables.
 
 Example:
     >>> import hardspheres as hs

@@ -92,7 +92,7 @@ def _local_configurations(source, box=None):
 
 
 def _wrap(x, L):
-    return x - L * np.floor(x / L + 0.5)
+    return PeriodicBox(L).wrap(x)
 
 
 def _contact_distance(radii):

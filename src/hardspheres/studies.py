@@ -596,7 +596,7 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
         done += 1
         _write_table(_collect(all_tasks), folder / "results")
         if bar is not None and bar.on:
-            bar.update(done, f"{done}/{len(todo)} tasks")
+            bar.update(done, label=f"{done}/{len(todo)} tasks")
         else:
             say(f"[{done}/{len(todo)}] {_describe(task)} done")
 
