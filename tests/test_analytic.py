@@ -28,8 +28,9 @@ ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 
 
 def sim(masses, radii, positions, velocities, container, window=0.0):
-    return hs.Simulation.from_arrays(masses, radii, positions, velocities,
-                                     hs.SphericalContainer(container), window=window)
+    return hs.Simulation.from_arrays(
+        masses, radii, positions, velocities, hs.SphericalContainer(container), window=window
+    )
 
 
 def report(argv, text, monkeypatch, engine, fmt="text"):
@@ -54,6 +55,7 @@ def blocks(text):
 
 # ---- collisions --------------------------------------------------------------------
 
+
 def test_equal_masses_head_on_swap_velocities():
     """Gap 12 - 2 = 10 closing at 4: contact at t = 2.5, at x = 1.5 and 3.5."""
     assert pair_time(-12.0, 0.0, 0.0, 4.0, 0.0, 0.0, 2.0) == 2.5
@@ -69,8 +71,9 @@ def test_equal_masses_head_on_swap_velocities():
     assert st_.positions.tolist() == [[1.0, 0.0, 0.0], [5.0, 0.0, 0.0]]
 
 
-@pytest.mark.parametrize("m1,m2,v1,v2", [(2.0, 5.0, 3.0, -4.0), (1.0, 1e3, 1.0, 0.0),
-                                         (1e3, 1.0, 0.5, -2.0), (3.0, 7.0, 0.0, -1.0)])
+@pytest.mark.parametrize(
+    "m1,m2,v1,v2", [(2.0, 5.0, 3.0, -4.0), (1.0, 1e3, 1.0, 0.0), (1e3, 1.0, 0.5, -2.0), (3.0, 7.0, 0.0, -1.0)]
+)
 def test_unequal_masses_one_dimensional(m1, m2, v1, v2):
     """v1' = ((m1 - m2) v1 + 2 m2 v2)/(m1 + m2), v2' = ((m2 - m1) v2 + 2 m1 v1)/(m1 + m2)."""
     w1 = ((m1 - m2) * v1 + 2 * m2 * v2) / (m1 + m2)
@@ -105,6 +108,7 @@ def test_equal_masses_oblique_leave_at_right_angles():
 
 
 # ---- walls -------------------------------------------------------------------------
+
 
 def test_wall_chord_through_the_centre():
     """r = 1 in R = 11 (reach 10) from the origin at speed 5: walls at 2, 6, 10, ...
@@ -152,20 +156,21 @@ def test_wall_chord_off_centre():
 def test_wall_chord_in_the_report(engine, monkeypatch):
     out = report([11, 11], "1 1 0 0 0 3 4 0 ball\n", monkeypatch, engine)
     assert blocks(out) == [
-        ("2", ["reflecting ball", "ball m=1 R=1 p=(6,8,0) v=(-3,-4,0)",
-               "energy: 12.5", "momentum: (-3,-4,0)"]),
-        ("6", ["reflecting ball", "ball m=1 R=1 p=(-6,-8,0) v=(3,4,0)",
-               "energy: 12.5", "momentum: (3,4,0)"]),
-        ("10", ["reflecting ball", "ball m=1 R=1 p=(6,8,0) v=(-3,-4,0)",
-                "energy: 12.5", "momentum: (-3,-4,0)"])]
+        (
+            "2",
+            ["reflecting ball", "ball m=1 R=1 p=(6,8,0) v=(-3,-4,0)", "energy: 12.5", "momentum: (-3,-4,0)"],
+        ),
+        ("6", ["reflecting ball", "ball m=1 R=1 p=(-6,-8,0) v=(3,4,0)", "energy: 12.5", "momentum: (3,4,0)"]),
+        (
+            "10",
+            ["reflecting ball", "ball m=1 R=1 p=(6,8,0) v=(-3,-4,0)", "energy: 12.5", "momentum: (-3,-4,0)"],
+        ),
+    ]
 
 
 # ---- Newton's cradle ---------------------------------------------------------------
 
-CRADLE = ("1 1 -5 0 0 1 0 0 a\n"
-          "1 1 0 0 0 0 0 0 b\n"
-          "1 1 2 0 0 0 0 0 c\n"
-          "1 1 4 0 0 0 0 0 d\n")
+CRADLE = "1 1 -5 0 0 1 0 0 a\n1 1 0 0 0 0 0 0 b\n1 1 2 0 0 0 0 0 c\n1 1 4 0 0 0 0 0 d\n"
 
 
 @ENGINES
@@ -178,25 +183,35 @@ def test_newtons_cradle_in_the_report(engine, monkeypatch):
     out = report([100, 10], CRADLE, monkeypatch, engine)
     got = blocks(out)
     assert [(t, lines[0]) for t, lines in got] == [
-        ("3", "colliding a b"), ("3", "colliding b c"), ("3", "colliding c d")]
-    assert got[-1][1][1:] == ["a m=1 R=1 p=(-2,0,0) v=(0,0,0)",
-                              "b m=1 R=1 p=(0,0,0) v=(0,0,0)",
-                              "c m=1 R=1 p=(2,0,0) v=(0,0,0)",
-                              "d m=1 R=1 p=(4,0,0) v=(1,0,0)",
-                              "energy: 0.5", "momentum: (1,0,0)"]
+        ("3", "colliding a b"),
+        ("3", "colliding b c"),
+        ("3", "colliding c d"),
+    ]
+    assert got[-1][1][1:] == [
+        "a m=1 R=1 p=(-2,0,0) v=(0,0,0)",
+        "b m=1 R=1 p=(0,0,0) v=(0,0,0)",
+        "c m=1 R=1 p=(2,0,0) v=(0,0,0)",
+        "d m=1 R=1 p=(4,0,0) v=(1,0,0)",
+        "energy: 0.5",
+        "momentum: (1,0,0)",
+    ]
     # the momentum moves down the line one sphere per event
-    movers = [[ln.split()[0] for ln in lines[1:5] if not ln.endswith("v=(0,0,0)")]
-              for _, lines in got]
+    movers = [[ln.split()[0] for ln in lines[1:5] if not ln.endswith("v=(0,0,0)")] for _, lines in got]
     assert movers == [["b"], ["c"], ["d"]]
 
 
 @pytest.mark.parametrize("window", [0.0, SIMULTANEOUS])
 def test_newtons_cradle_in_the_library(window):
-    s = sim([1.0] * 4, [1.0] * 4, [[-5, 0, 0], [0, 0, 0], [2, 0, 0], [4, 0, 0]],
-            [[1, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0]], 100.0, window=window)
+    s = sim(
+        [1.0] * 4,
+        [1.0] * 4,
+        [[-5, 0, 0], [0, 0, 0], [2, 0, 0], [4, 0, 0]],
+        [[1, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0]],
+        100.0,
+        window=window,
+    )
     evs = [(e.time, e.kind, e.i, e.j) for e in s.iter_events(until=10.0)]
-    assert evs == [(3.0, "collision", 0, 1), (3.0, "collision", 1, 2),
-                   (3.0, "collision", 2, 3)]
+    assert evs == [(3.0, "collision", 0, 1), (3.0, "collision", 1, 2), (3.0, "collision", 2, 3)]
     assert s.state().velocities.tolist() == [[0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0]]
 
 
@@ -206,21 +221,25 @@ def test_newtons_cradle_with_gaps_inside_the_window(engine, monkeypatch):
 
     The clock does not advance, so all three are reported at t = 3 exactly.
     """
-    text = ("1 1 -5 0 0 1 0 0 a\n1 1 0 0 0 0 0 0 b\n"
-            f"1 1 {2 + 3e-9!r} 0 0 0 0 0 c\n1 1 {4 + 6e-9!r} 0 0 0 0 0 d\n")
+    text = (
+        f"1 1 -5 0 0 1 0 0 a\n1 1 0 0 0 0 0 0 b\n1 1 {2 + 3e-9!r} 0 0 0 0 0 c\n1 1 {4 + 6e-9!r} 0 0 0 0 0 d\n"
+    )
     evs = report([100, 10], text, monkeypatch, engine, fmt="jsonl")
     assert [(e["time"], e["spheres"]) for e in evs] == [
-        (3.0, ["a", "b"]), (3.0, ["b", "c"]), (3.0, ["c", "d"])]
+        (3.0, ["a", "b"]),
+        (3.0, ["b", "c"]),
+        (3.0, ["c", "d"]),
+    ]
     assert evs[-1]["v"] == [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
 
 
 # ---- the 1e-8 s rule -----------------------------------------------------------------
 
+
 def two_pairs(delta):
     """Pair a-b meets at t = 1; pair c-d (50 m away) at t = 1 + delta."""
     x = 2.0 + delta
-    return ("1 1 -2 0 0 1 0 0 a\n1 1 2 0 0 -1 0 0 b\n"
-            f"1 1 {-x!r} 50 0 1 0 0 c\n1 1 {x!r} 50 0 -1 0 0 d\n")
+    return f"1 1 -2 0 0 1 0 0 a\n1 1 2 0 0 -1 0 0 b\n1 1 {-x!r} 50 0 1 0 0 c\n1 1 {x!r} 50 0 -1 0 0 d\n"
 
 
 @ENGINES
@@ -245,8 +264,7 @@ def test_events_beyond_the_window_are_separate(engine, monkeypatch):
 def test_window_is_measured_from_the_clock(engine, monkeypatch):
     """Events at 1, 1 + 0.6e-8, 1 + 1.2e-8: the second joins the first (the
     clock stays at 1), the third is 1.2e-8 after the clock and is separate."""
-    text = two_pairs(0.6e-8) + (f"1 1 {-(2 + 1.2e-8)!r} -50 0 1 0 0 e\n"
-                                f"1 1 {2 + 1.2e-8!r} -50 0 -1 0 0 f\n")
+    text = two_pairs(0.6e-8) + (f"1 1 {-(2 + 1.2e-8)!r} -50 0 1 0 0 e\n1 1 {2 + 1.2e-8!r} -50 0 -1 0 0 f\n")
     evs = report([1000, 5], text, monkeypatch, engine, fmt="jsonl")
     assert [e["spheres"] for e in evs] == [["a", "b"], ["c", "d"], ["e", "f"]]
     assert evs[0]["time"] == evs[1]["time"] == 1.0
@@ -258,8 +276,7 @@ def test_simultaneous_reflection_goes_before_collision(engine, monkeypatch):
     """The pair (input first) and the reflection of c (input last) both at t = 1."""
     text = "1 1 -2 0 0 1 0 0 a\n1 1 2 0 0 -1 0 0 b\n1 1 0 0 50 0 0 1 c\n"
     out = report([52, 1.5], text, monkeypatch, engine)
-    assert [(t, lines[0]) for t, lines in blocks(out)] == [
-        ("1", "reflecting c"), ("1", "colliding a b")]
+    assert [(t, lines[0]) for t, lines in blocks(out)] == [("1", "reflecting c"), ("1", "colliding a b")]
 
 
 # ---- event times against exact rational arithmetic -------------------------------------
@@ -272,6 +289,7 @@ def test_simultaneous_reflection_goes_before_collision(engine, monkeypatch):
 # are exact in doubles: what is left is the root formula, which must be within
 # 2 ulps of the exact root.  The same inputs through the textbook formula
 # (-b -+ sqrt(b^2 - ac)) / a lose up to millions of ulps, so the tests can fail.
+
 
 def _sqrt(q, bits=200):
     """sqrt of a Fraction to ``bits`` bits (relative), as a Fraction."""
@@ -350,10 +368,19 @@ PAIR_CASES = {
     "slow-and-near": (-3.0, 1.0, 0.0, 1.0, 0.0, 0.0, 2.0),
 }
 
-SCALES = [(1.0, 1.0), (2.0 ** 60, 1.0), (2.0 ** -60, 1.0), (2.0 ** 150, 2.0 ** 140),
-          (2.0 ** -150, 2.0 ** -160), (2.0 ** 23, 2.0 ** -10), (2.0 ** -33, 2.0 ** 10),
-          # speeds whose squares underflow (|v|^2 < 1e-200 is solved rescaled)
-          (1.0, 2.0 ** -400), (2.0 ** -10, 2.0 ** -600), (2.0 ** 20, 2.0 ** -900)]
+SCALES = [
+    (1.0, 1.0),
+    (2.0**60, 1.0),
+    (2.0**-60, 1.0),
+    (2.0**150, 2.0**140),
+    (2.0**-150, 2.0**-160),
+    (2.0**23, 2.0**-10),
+    (2.0**-33, 2.0**10),
+    # speeds whose squares underflow (|v|^2 < 1e-200 is solved rescaled)
+    (1.0, 2.0**-400),
+    (2.0**-10, 2.0**-600),
+    (2.0**20, 2.0**-900),
+]
 
 
 @pytest.mark.parametrize("scale", SCALES, ids=lambda s: f"{s[0]:.0e}/{s[1]:.0e}")
@@ -421,19 +448,29 @@ speed_power = st.integers(-1000, 120)  # down to speeds whose squares underflow
 
 
 @settings(max_examples=300, deadline=None)
-@given(d=st.tuples(small, small, small), w=st.tuples(small, small, small),
-       sigma=st.integers(0, 2047), k=power, m=speed_power)
+@given(
+    d=st.tuples(small, small, small),
+    w=st.tuples(small, small, small),
+    sigma=st.integers(0, 2047),
+    k=power,
+    m=speed_power,
+)
 def test_pair_time_exact_for_any_exact_coefficients(d, w, sigma, k, m):
     k = min(k, m + 900)  # times stay below the largest double
-    args = scaled((*map(float, d), *map(float, w), float(sigma)), 2.0 ** k, 2.0 ** m)
+    args = scaled((*map(float, d), *map(float, w), float(sigma)), 2.0**k, 2.0**m)
     exact = exact_pair_time(*args)
     got = pair_time(*args)
     assert ulps(got, exact) <= 2.0, (args, got, float(exact) if exact != math.inf else exact)
 
 
 @settings(max_examples=300, deadline=None)
-@given(p=st.tuples(small, small, small), w=st.tuples(small, small, small),
-       extra=st.integers(0, 2047), k=power, m=speed_power)
+@given(
+    p=st.tuples(small, small, small),
+    w=st.tuples(small, small, small),
+    extra=st.integers(0, 2047),
+    k=power,
+    m=speed_power,
+)
 def test_wall_time_exact_for_any_exact_coefficients(p, w, extra, k, m):
     k = min(k, m + 900)
     if w == (0, 0, 0):
@@ -443,13 +480,14 @@ def test_wall_time_exact_for_any_exact_coefficients(p, w, extra, k, m):
     reach = math.isqrt(n) + extra
     if reach * reach < n:
         reach += 1  # inside or on the wall
-    args = scaled((*map(float, p), *map(float, w), float(reach)), 2.0 ** k, 2.0 ** m)
+    args = scaled((*map(float, p), *map(float, w), float(reach)), 2.0**k, 2.0**m)
     exact = exact_wall_time(*args)
     got = wall_time(*args)
     assert ulps(got, exact) <= 2.0, (args, got, float(exact))
 
 
 # ---- regressions ------------------------------------------------------------------------
+
 
 @ENGINES
 @pytest.mark.parametrize("speed", ["1e-100", "1e-170", "1e-300"])
@@ -459,18 +497,29 @@ def test_tiny_outward_speed_at_the_wall_reflects_now(engine, speed, monkeypatch)
     (|v|^2 underflowed to 0 below ~1e-162 m/s and wall_time said "never".)
     """
     out = report([10, 1], f"1 1 9 0 0 {speed} 0 0 a\n", monkeypatch, engine)
-    assert blocks(out) == [("0", ["reflecting a", f"a m=1 R=1 p=(9,0,0) v=(-{speed},0,0)",
-                                  blocks(out)[0][1][2], f"momentum: (-{speed},0,0)"])]
+    assert blocks(out) == [
+        (
+            "0",
+            [
+                "reflecting a",
+                f"a m=1 R=1 p=(9,0,0) v=(-{speed},0,0)",
+                blocks(out)[0][1][2],
+                f"momentum: (-{speed},0,0)",
+            ],
+        )
+    ]
 
 
 def test_tiny_speeds_keep_spheres_in_and_apart():
     """At 1e-215 m/s events are ~1e215 s apart, but they still happen."""
     v = 1.2558692501600596e-215
     assert wall_time(0.0, -0.377, -0.377, v, v, 0.0, 0.8) == pytest.approx(
-        float(exact_wall_time(0.0, -0.377, -0.377, v, v, 0.0, 0.8)), rel=1e-15)
+        float(exact_wall_time(0.0, -0.377, -0.377, v, v, 0.0, 0.8)), rel=1e-15
+    )
     assert pair_time(-3.0, 0.0, 0.0, 1e-250, 0.0, 0.0, 2.0) == pytest.approx(1e250, rel=1e-15)
-    s = sim([1.0, 1.0], [0.2, 0.2], [[0.0, -0.4, -0.4], [0.5, 0.1, -0.4]],
-            [[v, v, 0.0], [0.0, 0.0, 0.0]], 1.0)
+    s = sim(
+        [1.0, 1.0], [0.2, 0.2], [[0.0, -0.4, -0.4], [0.5, 0.1, -0.4]], [[v, v, 0.0], [0.0, 0.0, 0.0]], 1.0
+    )
     evs = list(s.iter_events(events=6))
     assert len(evs) == 6 and evs[0].kind == "collision"
     eng = s.engine
@@ -489,15 +538,18 @@ def test_engine_breaks_exact_ties_in_tie_order():
 
     r = 5.902408432445262
     a, b = 11.804816864890526, 11.804816864890523
-    pos = [[0.0, a, 0.0], [0.0, -b, -b], [0.0, a, a], [0.0, 0.0, 0.0], [0.0, 0.0, -b],
-           [a, -b, -b]]
+    pos = [[0.0, a, 0.0], [0.0, -b, -b], [0.0, a, a], [0.0, 0.0, 0.0], [0.0, 0.0, -b], [a, -b, -b]]
     vel = [[0.0, 0.0, 0.0]] * 5 + [[0.0, 31.295728444953568, 0.0]]
     R = 31.295728444953568
     for window in (0.0, SIMULTANEOUS):
-        runs = [engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window,
-                       rebase=False).advance(events=8) for engine in (Reference, Engine)]
-        want, got = (list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(),
-                              ev["j"].tolist())) for ev in runs)
+        runs = [
+            engine([1.0] * 6, [r] * 6, pos, vel, container=R, window=window, rebase=False).advance(events=8)
+            for engine in (Reference, Engine)
+        ]
+        want, got = (
+            list(zip(ev["time"].tolist(), ev["kind"].tolist(), ev["i"].tolist(), ev["j"].tolist()))
+            for ev in runs
+        )
         assert got == want
         assert [e[2:] for e in got[1:4]] == [(0, 5), (0, 2), (0, 3)]
         assert got[1][0] == got[2][0] == got[3][0]

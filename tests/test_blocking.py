@@ -19,7 +19,7 @@ def ar1(phi, n, seed):
 
 def ar1_sem(phi, n):
     """Exact large-n standard error of the mean of an AR(1) series."""
-    return math.sqrt(1.0 / (1.0 - phi ** 2) / n * (1.0 + phi) / (1.0 - phi))
+    return math.sqrt(1.0 / (1.0 - phi**2) / n * (1.0 + phi) / (1.0 - phi))
 
 
 def test_white_noise_is_std_over_sqrt_n():
@@ -64,7 +64,7 @@ def test_summary_has_error_bars():
     for name in ("pressure", "compressibility", "collision_rate", "mean_free_path"):
         assert 0.0 < s[f"{name}_error"] < 0.05 * s[name]
     # Carnahan-Starling at packing 0.3 (small N: within 5 error bars + 1%)
-    zcs = (1 + 0.3 + 0.09 - 0.027) / 0.7 ** 3
+    zcs = (1 + 0.3 + 0.09 - 0.027) / 0.7**3
     assert abs(s["compressibility"] - zcs) < 5 * s["compressibility_error"] + 0.01 * zcs
     x = obs.blocks("compressibility")
     assert x.shape == (s["blocks"],)
@@ -96,8 +96,7 @@ def test_results_before_measuring_raise():
 
 
 def test_spherical_container_pressure_error_and_checkpoint(tmp_path):
-    sim = hs.Simulation(hs.random_spheres(50, 0.1, container=10.0, seed=1),
-                        hs.SphericalContainer(10.0))
+    sim = hs.Simulation(hs.random_spheres(50, 0.1, container=10.0, seed=1), hs.SphericalContainer(10.0))
     obs = sim.observables.reset()
     sim.run(collisions=2000)
     assert obs.error("pressure") > 0

@@ -35,9 +35,14 @@ def run(argv, data=b"", capsys=None):
 
 def program(argv, data=b"", env=None, timeout=60):
     """``python spheres.py ARGV < data``: the completed process (bytes)."""
-    return subprocess.run([sys.executable, "spheres.py", *map(str, argv)], input=data,
-                          capture_output=True, cwd=ROOT, timeout=timeout,
-                          env=None if env is None else {**os.environ, **env})
+    return subprocess.run(
+        [sys.executable, "spheres.py", *map(str, argv)],
+        input=data,
+        capture_output=True,
+        cwd=ROOT,
+        timeout=timeout,
+        env=None if env is None else {**os.environ, **env},
+    )
 
 
 def assert_refused(status, out, err, *words):
@@ -55,49 +60,36 @@ def assert_refused(status, out, err, *words):
 BAD_LINES = [
     # (input bytes, words the message must contain)
     pytest.param(OK + b"1 1 0 0 5 0 0 0\n", ["line 2", "9 fields", "got 8"], id="8-fields"),
-    pytest.param(OK + b"1 1 0 0 5 0 0 0 b c\n", ["line 2", "9 fields", "got 10"],
-                 id="10-fields"),
+    pytest.param(OK + b"1 1 0 0 5 0 0 0 b c\n", ["line 2", "9 fields", "got 10"], id="10-fields"),
     pytest.param(b"1\n", ["line 1", "9 fields", "got 1"], id="1-field"),
-    pytest.param(OK + b"\n1 1 0 0 5 one 0 0 b\n", ["line 3", "vx", "not a number", "'one'"],
-                 id="word"),
-    pytest.param(OK + b"1 1 nan 0 5 0 0 0 b\n", ["line 2", "x", "not a finite number", "nan"],
-                 id="nan"),
-    pytest.param(OK + b"1 1 0 0 5 0 inf 0 b\n", ["line 2", "vy", "not a finite number", "inf"],
-                 id="inf"),
-    pytest.param(OK + b"1 1 0 0 5 0 0 -inf b\n",
-                 ["line 2", "vz", "not a finite number", "-inf"], id="-inf"),
-    pytest.param(OK + b"1 1 0 0 5 0 0 1e999 b\n", ["line 2", "vz", "not a finite number"],
-                 id="overflow"),
-    pytest.param(OK + b"1,5 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "not a number", "1,5"],
-                 id="comma"),
+    pytest.param(OK + b"\n1 1 0 0 5 one 0 0 b\n", ["line 3", "vx", "not a number", "'one'"], id="word"),
+    pytest.param(OK + b"1 1 nan 0 5 0 0 0 b\n", ["line 2", "x", "not a finite number", "nan"], id="nan"),
+    pytest.param(OK + b"1 1 0 0 5 0 inf 0 b\n", ["line 2", "vy", "not a finite number", "inf"], id="inf"),
+    pytest.param(OK + b"1 1 0 0 5 0 0 -inf b\n", ["line 2", "vz", "not a finite number", "-inf"], id="-inf"),
+    pytest.param(OK + b"1 1 0 0 5 0 0 1e999 b\n", ["line 2", "vz", "not a finite number"], id="overflow"),
+    pytest.param(OK + b"1,5 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "not a number", "1,5"], id="comma"),
     pytest.param(OK + b"0 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "> 0"], id="mass-0"),
     pytest.param(OK + b"-0 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "> 0"], id="mass-minus-0"),
-    pytest.param(OK + b"-3 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "> 0", "-3"],
-                 id="mass-negative"),
-    pytest.param(OK + b"1 -0.5 0 0 5 0 0 0 b\n", ["line 2", "radius", ">= 0", "-0.5"],
-                 id="radius-negative"),
-    pytest.param(OK + b"1 1 0 0 9.5 0 0 0 b\n", ["line 2", "'b'", "not wholly inside"],
-                 id="outside"),
-    pytest.param(OK + b"1 0 0 0 11 0 0 0 b\n", ["line 2", "'b'", "not wholly inside"],
-                 id="point-outside"),
-    pytest.param(OK + b"1 1 0 0 1.9 0 0 0 b\n", ["line 2", "'b'", "overlaps", "'a'", "line 1"],
-                 id="overlap"),
-    pytest.param(OK + b"1 1 0 3 0 0 0 0 b\n1 1 0 1 0 0 0 0 c\n",
-                 ["line 3", "'c'", "overlaps"], id="overlap-third"),
+    pytest.param(OK + b"-3 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "> 0", "-3"], id="mass-negative"),
+    pytest.param(OK + b"1 -0.5 0 0 5 0 0 0 b\n", ["line 2", "radius", ">= 0", "-0.5"], id="radius-negative"),
+    pytest.param(OK + b"1 1 0 0 9.5 0 0 0 b\n", ["line 2", "'b'", "not wholly inside"], id="outside"),
+    pytest.param(OK + b"1 0 0 0 11 0 0 0 b\n", ["line 2", "'b'", "not wholly inside"], id="point-outside"),
+    pytest.param(OK + b"1 1 0 0 1.9 0 0 0 b\n", ["line 2", "'b'", "overlaps", "'a'", "line 1"], id="overlap"),
+    pytest.param(
+        OK + b"1 1 0 3 0 0 0 0 b\n1 1 0 1 0 0 0 0 c\n", ["line 3", "'c'", "overlaps"], id="overlap-third"
+    ),
     pytest.param(OK + b"1 1 0 0 1 0 0 0 b\n", ["line 2", "overlaps"], id="half-overlap"),
     pytest.param(OK + b"1 1 0 0 0 0 0 0 b\n", ["line 2", "overlaps"], id="concentric"),
-    pytest.param(OK + b"1 1 0 0 5 0 0 0 a\n", ["line 2", "'a'", "already used", "line 1"],
-                 id="same-name"),
+    pytest.param(OK + b"1 1 0 0 5 0 0 0 a\n", ["line 2", "'a'", "already used", "line 1"], id="same-name"),
     pytest.param(b"\xff\xfe1 1 0 0 0 0 0 0 a\n", ["line 1", "not UTF-8"], id="utf16-bom"),
     pytest.param(OK + b"\n1 1 0 0 5 0 0 0 b\xe9\n", ["line 3", "not UTF-8"], id="latin1"),
     # float() would take these
-    pytest.param(OK + b"1_5 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "not a number", "1_5"],
-                 id="underscore"),
-    pytest.param(OK + "1 1 0 0 \u0665 0 0 0 b\n".encode(), ["line 2", "z", "not a number"],
-                 id="arabic-indic-digit"),
+    pytest.param(OK + b"1_5 1 0 0 5 0 0 0 b\n", ["line 2", "mass", "not a number", "1_5"], id="underscore"),
+    pytest.param(
+        OK + "1 1 0 0 \u0665 0 0 0 b\n".encode(), ["line 2", "z", "not a number"], id="arabic-indic-digit"
+    ),
     # squares and energies would overflow
-    pytest.param(OK + b"1 1 0 0 5 1e101 0 0 b\n", ["line 2", "vx", "too large", "1e+100"],
-                 id="huge-speed"),
+    pytest.param(OK + b"1 1 0 0 5 1e101 0 0 b\n", ["line 2", "vx", "too large", "1e+100"], id="huge-speed"),
     pytest.param(b"1e120 1 0 0 0 0 0 0 a\n", ["line 1", "mass", "too large"], id="huge-mass"),
 ]
 
@@ -116,11 +108,11 @@ def test_bad_scenario_refused_by_the_program(data, words):
 def test_whole_input_is_checked_before_the_report(capsys):
     """A bad last line refuses the whole run: no initial conditions printed."""
     good = b"".join(b"1 0.5 %d 0 0 1 0 0 s%d\n" % (2 * k - 6, k) for k in range(6))
-    assert_refused(*run([100, 5], good + b"1 0.5 0 9 0 0 0 0 s3\n", capsys),
-                   "line 7", "'s3'", "already used")
+    assert_refused(*run([100, 5], good + b"1 0.5 0 9 0 0 0 0 s3\n", capsys), "line 7", "'s3'", "already used")
 
 
 # ---- touching within rounding ----------------------------------------------------
+
 
 @pytest.mark.parametrize("distance", [2.0, 2.0 * (1 - 1e-12), 2.0 * (1 - 1e-10)])
 def test_touching_within_rounding_accepted(distance, capsys):
@@ -185,17 +177,21 @@ def test_end_time_zero_accepted(capsys):
 
 # ---- odd but valid input -------------------------------------------------------------
 
+
 def report_tail(out):
     """The report after the prompt (which must be there, with its blank line)."""
     assert out.startswith(PROMPT + "\n")
-    return out[len(PROMPT) + 1:]
+    return out[len(PROMPT) + 1 :]
 
 
 def events_of(out):
     """``[(time text, what line)]`` of a text report."""
     lines = out.splitlines()
-    return [(ln[len("time of event: "):], lines[k + 1]) for k, ln in enumerate(lines)
-            if ln.startswith("time of event: ")]
+    return [
+        (ln[len("time of event: ") :], lines[k + 1])
+        for k, ln in enumerate(lines)
+        if ln.startswith("time of event: ")
+    ]
 
 
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
@@ -205,6 +201,7 @@ ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 def _compiled_core():
     """The core compiled up front, silently: a cold cache's note is not a test's stderr."""
     from hardspheres.warmup import ensure_compiled
+
     ensure_compiled(quiet=True)
 
 
@@ -212,8 +209,7 @@ def _compiled_core():
 def test_blank_and_whitespace_lines_ignored(engine, monkeypatch, capsys):
     monkeypatch.setenv("HARDSPHERES_ENGINE", engine)
     plain = b"1 1 0 0 0 1 0 0 a\n2 1 0 5 0 0 0 0 b\n"
-    padded = (b"\n   \n\t\n" b"  1 1 0 0 0 1 0 0 a  \r\n" b"\n \t \n"
-              b"2\t1 0  5 0 0 0 0\tb\n" b"\n\n  ")
+    padded = b"\n   \n\t\n  1 1 0 0 0 1 0 0 a  \r\n\n \t \n2\t1 0  5 0 0 0 0\tb\n\n\n  "
     s1, o1, _ = run([10, 30], plain, capsys)
     s2, o2, e2 = run([10, 30], padded, capsys)
     assert s1 == s2 == 0 and e2 == ""
@@ -227,9 +223,11 @@ def test_zero_spheres(engine, monkeypatch, capsys):
     for data in (b"", b"\n\n  \n"):
         status, out, err = run([10, 5], data, capsys)
         assert status == 0 and err == ""
-        assert report_tail(out) == ("Here are the initial conditions.\n"
-                                    "universe radius 10.0\nend simulation 5.0\n"
-                                    "energy: 0\nmomentum: (0,0,0)\n\nHere are the events.\n")
+        assert report_tail(out) == (
+            "Here are the initial conditions.\n"
+            "universe radius 10.0\nend simulation 5.0\n"
+            "energy: 0\nmomentum: (0,0,0)\n\nHere are the events.\n"
+        )
 
 
 @ENGINES
@@ -238,8 +236,11 @@ def test_one_sphere(engine, monkeypatch, capsys):
     monkeypatch.setenv("HARDSPHERES_ENGINE", engine)
     status, out, err = run([10, 25], b"3 1 0 0 0 0 2 0 solo\n", capsys)
     assert status == 0 and err == ""
-    assert events_of(out) == [("4.5", "reflecting solo"), ("13.5", "reflecting solo"),
-                              ("22.5", "reflecting solo")]
+    assert events_of(out) == [
+        ("4.5", "reflecting solo"),
+        ("13.5", "reflecting solo"),
+        ("22.5", "reflecting solo"),
+    ]
     blocks = out.split("\ntime of event: ")
     assert "solo m=3 R=1 p=(0,9,0) v=(0,-2,0)\nenergy: 6\nmomentum: (0,-6,0)\n" in blocks[1]
     assert "solo m=3 R=1 p=(0,-9,0) v=(0,2,0)\nenergy: 6\nmomentum: (0,6,0)\n" in blocks[2]
@@ -278,14 +279,13 @@ def jsonl(argv, data, capsys):
     return [json.loads(x) for x in out.splitlines()][1:]
 
 
-SCALE_FREE = (b"1 0.1 -0.5 0 0 0.3 0.1 0 a\n"
-              b"4 0.2 0.3 0.05 0 -0.2 0 0.1 b\n"
-              b"2 0.05 0 0.6 0.2 0 -0.4 0.05 c\n")
+SCALE_FREE = b"1 0.1 -0.5 0 0 0.3 0.1 0 a\n4 0.2 0.3 0.05 0 -0.2 0 0.1 b\n2 0.05 0 0.6 0.2 0 -0.4 0.05 c\n"
 
 
 @pytest.mark.parametrize("scale", [1e7, 1e-3])
 def test_huge_and_tiny_scales(scale, capsys):
     """Lengths and speeds times ``scale``: the same events at the same times."""
+
     def scaled(s):
         rows = []
         for line in SCALE_FREE.decode().splitlines():
@@ -317,8 +317,9 @@ def test_wall_chord_at_extreme_scales(container, radius, speed, capsys):
     assert [t for t, _ in events_of(out)] == [f"{first:g}", f"{3 * first:g}"]
 
 
-@pytest.mark.parametrize("data", [b"", b"5 1 0 0 0 0 0 0 rest\n",
-                                  b"5 1 0 0 0 0 0 0 a\n5 1 2 0 0 0 0 0 b\n5 2 -4 -3 0 0 0 0 c\n"])
+@pytest.mark.parametrize(
+    "data", [b"", b"5 1 0 0 0 0 0 0 rest\n", b"5 1 0 0 0 0 0 0 a\n5 1 2 0 0 0 0 0 b\n5 2 -4 -3 0 0 0 0 c\n"]
+)
 def test_end_time_1e84_finishes(data, capsys):
     t0 = time.perf_counter()
     status, out, err = run([2000, "1e84"], data, capsys)
@@ -335,6 +336,7 @@ def test_end_time_1e84_by_the_program():
 
 # ---- pipes and signals ----------------------------------------------------------------
 
+
 def busy_scenario(n=12):
     """``n`` spheres bouncing around a container of radius 100: endless events."""
     rows = []
@@ -349,10 +351,17 @@ def test_stdout_closed_early(engine, tmp_path):
     scn = tmp_path / "busy.txt"
     scn.write_bytes(busy_scenario())
     res = subprocess.run(
-        ["bash", "-c", f'"{sys.executable}" spheres.py 100 1e6 < "{scn}" | head -n 3; '
-                       'echo "status ${PIPESTATUS[0]}" >&2'],
-        capture_output=True, cwd=ROOT, timeout=60,
-        env={**os.environ, "HARDSPHERES_ENGINE": engine})
+        [
+            "bash",
+            "-c",
+            f'"{sys.executable}" spheres.py 100 1e6 < "{scn}" | head -n 3; '
+            'echo "status ${PIPESTATUS[0]}" >&2',
+        ],
+        capture_output=True,
+        cwd=ROOT,
+        timeout=60,
+        env={**os.environ, "HARDSPHERES_ENGINE": engine},
+    )
     assert res.stdout.decode() == "".join(PROMPT.splitlines(keepends=True)[:3])
     err = res.stderr.decode()
     assert "Traceback" not in err and "Error" not in err
@@ -367,9 +376,14 @@ def test_ctrl_c_exits_130(engine, tmp_path):
     scn.write_bytes(busy_scenario())
     out_path = tmp_path / "out.txt"
     with open(scn, "rb") as fin, open(out_path, "wb") as fout:
-        proc = subprocess.Popen([sys.executable, "spheres.py", "100", "1e9"], stdin=fin,
-                                stdout=fout, stderr=subprocess.PIPE, cwd=ROOT,
-                                env={**os.environ, "HARDSPHERES_ENGINE": engine})
+        proc = subprocess.Popen(
+            [sys.executable, "spheres.py", "100", "1e9"],
+            stdin=fin,
+            stdout=fout,
+            stderr=subprocess.PIPE,
+            cwd=ROOT,
+            env={**os.environ, "HARDSPHERES_ENGINE": engine},
+        )
         try:
             # wait until the simulation is under way (imports done, events flowing)
             deadline = time.monotonic() + 30
@@ -392,14 +406,20 @@ def test_ctrl_c_exits_130(engine, tmp_path):
 
 def test_small_inputs_start_without_numpy_or_numba():
     """The reference engine runs the assignment's small inputs: no numpy, no numba loaded."""
-    code = ("import io, sys\n"
-            "from hardspheres.cli import run_spheres\n"
-            "out = io.StringIO()\n"
-            "status = run_spheres(['120', '200'], io.BytesIO(sys.stdin.buffer.read()), out)\n"
-            "print(status, out.getvalue().count('time of event'), 'numpy' in sys.modules,"
-            " 'numba' in sys.modules)\n")
-    res = subprocess.run([sys.executable, "-c", code], input=b"20 1 0 0 0 0 0 1 one\n"
-                         b"2 5 0 1 100 0 0 0 two\n3 1 2 -1 -2 0 0 0 three\n",
-                         capture_output=True, cwd=ROOT, timeout=60,
-                         env={k: v for k, v in os.environ.items() if k != "HARDSPHERES_ENGINE"})
+    code = (
+        "import io, sys\n"
+        "from hardspheres.cli import run_spheres\n"
+        "out = io.StringIO()\n"
+        "status = run_spheres(['120', '200'], io.BytesIO(sys.stdin.buffer.read()), out)\n"
+        "print(status, out.getvalue().count('time of event'), 'numpy' in sys.modules,"
+        " 'numba' in sys.modules)\n"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code],
+        input=b"20 1 0 0 0 0 0 1 one\n2 5 0 1 100 0 0 0 two\n3 1 2 -1 -2 0 0 0 three\n",
+        capture_output=True,
+        cwd=ROOT,
+        timeout=60,
+        env={k: v for k, v in os.environ.items() if k != "HARDSPHERES_ENGINE"},
+    )
     assert res.stdout.split() == [b"0", b"7", b"False", b"False"], res.stderr

@@ -32,8 +32,13 @@ N_FRAMES = 21
 
 
 def hs(*args, cwd, check=True):
-    res = subprocess.run([sys.executable, "-m", "hardspheres", *map(str, args)], cwd=cwd,
-                         capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [sys.executable, "-m", "hardspheres", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     if check:
         assert res.returncode == 0, (args, res.stderr)
         assert "Traceback" not in res.stderr, res.stderr
@@ -66,10 +71,33 @@ def run(tmp_path_factory):
     d = tmp_path_factory.mktemp("pictures")
     scn = hs("generate", "--n", N, "--container", R, "--packing", 0.2, "--seed", 2, cwd=d).stdout
     (d / "scn.txt").write_text(scn)
-    hs("run", "scn.txt", "--container", R, "--until", UNTIL, "--trajectory", "run.gsd",
-       "--every", EVERY, "--events", cwd=d)
-    hs("run", "scn.txt", "--container", R, "--until", UNTIL, "--trajectory", "run.xyz",
-       "--every", EVERY, cwd=d)
+    hs(
+        "run",
+        "scn.txt",
+        "--container",
+        R,
+        "--until",
+        UNTIL,
+        "--trajectory",
+        "run.gsd",
+        "--every",
+        EVERY,
+        "--events",
+        cwd=d,
+    )
+    hs(
+        "run",
+        "scn.txt",
+        "--container",
+        R,
+        "--until",
+        UNTIL,
+        "--trajectory",
+        "run.xyz",
+        "--every",
+        EVERY,
+        cwd=d,
+    )
     return d
 
 
@@ -136,27 +164,42 @@ def test_pictures_straight_from_a_scenario(run):
     assert out.strip() == f"wrote scn.html ({N} spheres, 201 frames)"
     data = embedded((run / "scn.html").read_text(encoding="utf-8"))
     assert data["times"][0] == 0.0 and data["times"][-1] == pytest.approx(1.0)
-    hs("plot", "conservation", "scn.txt", "--container", R, "--until", 1, "--every", 0.25,
-       "-o", "scn.png", cwd=run)
+    hs(
+        "plot",
+        "conservation",
+        "scn.txt",
+        "--container",
+        R,
+        "--until",
+        1,
+        "--every",
+        0.25,
+        "-o",
+        "scn.png",
+        cwd=run,
+    )
     assert_picture(run / "scn.png", (960, 720))
 
 
-@pytest.mark.parametrize("args, says", [
-    (["view", "scn.txt", "--container", R], "--until"),
-    (["render", "scn.txt", "--until", 1], "--container"),
-    (["view", "missing.gsd"], "missing.gsd"),
-    (["render", "missing.xyz", "-o", "m.gif"], "missing.xyz"),
-    (["plot", "speeds", "missing.txt", "--container", R, "--until", 1], "missing.txt"),
-    (["plot", "eos", "missing.csv"], "missing.csv"),
-    (["view", "text.gsd"], "text.gsd"),
-    (["plot", "conservation", "text.xyz"], "text.xyz"),
-    (["view", "run.gsd.html", "--container", R, "--until", 1], "run.gsd.html"),
-    (["plot", "eos", "run.gsd"], "run.gsd"),
-    (["view", "run.gsd", "--until", 1], "trajectories"),
-    (["render", "run.gsd", "-o", "m.gif", "--time", 1], "--time"),
-    (["render", "run.gsd", "-o", "m.bmp"], ".bmp"),
-    (["view", "run.gsd", "--screenshot", "v.jpg"], ".png"),
-])
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["view", "scn.txt", "--container", R], "--until"),
+        (["render", "scn.txt", "--until", 1], "--container"),
+        (["view", "missing.gsd"], "missing.gsd"),
+        (["render", "missing.xyz", "-o", "m.gif"], "missing.xyz"),
+        (["plot", "speeds", "missing.txt", "--container", R, "--until", 1], "missing.txt"),
+        (["plot", "eos", "missing.csv"], "missing.csv"),
+        (["view", "text.gsd"], "text.gsd"),
+        (["plot", "conservation", "text.xyz"], "text.xyz"),
+        (["view", "run.gsd.html", "--container", R, "--until", 1], "run.gsd.html"),
+        (["plot", "eos", "run.gsd"], "run.gsd"),
+        (["view", "run.gsd", "--until", 1], "trajectories"),
+        (["render", "run.gsd", "-o", "m.gif", "--time", 1], "--time"),
+        (["render", "run.gsd", "-o", "m.bmp"], ".bmp"),
+        (["view", "run.gsd", "--screenshot", "v.jpg"], ".png"),
+    ],
+)
 def test_bad_usage_is_one_line(run, args, says):
     (run / "text.gsd").write_text("not a trajectory\n")
     (run / "text.xyz").write_text("not a trajectory\n")
@@ -198,15 +241,16 @@ def test_readme_pictures_commands_run(tmp_path):
     for line in _readme_pictures_block():
         if not browser:
             line = line.replace(" --screenshot viewer.png", "")
-        res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True,
-                             timeout=180)
+        res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True, timeout=180)
         assert res.returncode == 0, (line, res.stderr)
     assert_picture(tmp_path / "still.png", (1280, 720))
     for name in ("conservation.png", "speeds.png", "eos.png"):
         assert_picture(tmp_path / name, (960, 720))
     if not browser:
-        pytest.skip("view --screenshot not tried: needs chromium and the Python playwright "
-                    "(the other picture commands passed)")
+        pytest.skip(
+            "view --screenshot not tried: needs chromium and the Python playwright "
+            "(the other picture commands passed)"
+        )
     img = assert_picture(tmp_path / "viewer.png", (960, 640), min_colours=200)
     scene = img[100:540, 240:720]  # the middle of the canvas: spheres, not background
     assert len(np.unique(scene.reshape(-1, 3), axis=0)) > 500 and scene.std() > 20

@@ -24,9 +24,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def hs_cmd(*args, cwd, env=None, timeout=300):
     """``python -m hardspheres ARGS``: the completed process (text)."""
-    return subprocess.run([sys.executable, "-m", "hardspheres", *map(str, args)], cwd=cwd,
-                          capture_output=True, text=True, timeout=timeout,
-                          env=None if env is None else {**os.environ, **env})
+    return subprocess.run(
+        [sys.executable, "-m", "hardspheres", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=None if env is None else {**os.environ, **env},
+    )
 
 
 def assert_one_line(res, *words):
@@ -46,11 +51,13 @@ def scn(tmp_path_factory):
     (d / "s.txt").write_text(hs.random_spheres(200, 0.2, container=10.0, seed=3).to_text())
     (d / "b.txt").write_text(hs.random_spheres(200, 0.2, box=15.0, seed=3).to_text())
     from hardspheres.warmup import ensure_compiled
+
     ensure_compiled(quiet=True)
     return d
 
 
 # ---- 1. the first compilation is announced and kept out of the rates ------------------
+
 
 @pytest.mark.slow
 def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
@@ -68,6 +75,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     """The assignment's program (compiled engine) gives the same note, on stderr only."""
     from hardspheres import warmup
     from hardspheres.cli import run_spheres
+
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
     monkeypatch.setattr(warmup, "is_cold", lambda: True)
     out = io.StringIO()
@@ -80,6 +88,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
 
 def test_cold_cache_detection(tmp_path, monkeypatch):
     from hardspheres import warmup
+
     assert warmup.ensure_compiled(quiet=True) >= 0.0
     assert not warmup.is_cold()
     paths = warmup._index_paths()
@@ -90,18 +99,34 @@ def test_cold_cache_detection(tmp_path, monkeypatch):
 
 # ---- 2. trajectories: events opt-in, size estimated -------------------------------------
 
+
 def test_events_are_opt_in(scn):
     gsd = pytest.importorskip("gsd.hoomd")
     for name, extra in (("plain.gsd", []), ("events.gsd", ["--events"])):
-        res = hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--trajectory", name,
-                     "--every", 0.5, *extra, cwd=scn)
+        res = hs_cmd(
+            "run",
+            "s.txt",
+            "--container",
+            10,
+            "--until",
+            1,
+            "--trajectory",
+            name,
+            "--every",
+            0.5,
+            *extra,
+            cwd=scn,
+        )
         assert res.returncode == 0, res.stderr
     with gsd.open(scn / "plain.gsd") as f:
         assert not any(k.startswith("hardspheres/events") for k in f[1].log)
     with gsd.open(scn / "events.gsd") as f:  # one array per event field
         assert len(f[1].log["hardspheres/events/time"]) > 0
-    assert_one_line(hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--trajectory",
-                           "t.xyz", "--events", cwd=scn), "--events", ".gsd")
+    assert_one_line(
+        hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--trajectory", "t.xyz", "--events", cwd=scn),
+        "--events",
+        ".gsd",
+    )
 
 
 def test_large_trajectory_is_warned(scn, monkeypatch, capsys):
@@ -110,8 +135,9 @@ def test_large_trajectory_is_warned(scn, monkeypatch, capsys):
     assert runner.estimate_trajectory_bytes(20000, 33, 1e5, 32.0, True) == frames + 1e5 * 32 * 40
     monkeypatch.setattr(runner, "LARGE_TRAJECTORY", 1000.0)
     monkeypatch.chdir(scn)
-    status = commands.main(["run", "s.txt", "--container", "10", "--until", "1",
-                            "--trajectory", "w.gsd", "--every", "0.1"])
+    status = commands.main(
+        ["run", "s.txt", "--container", "10", "--until", "1", "--trajectory", "w.gsd", "--every", "0.1"]
+    )
     err = capsys.readouterr().err
     assert status == 0
     m = re.search(r"warning: w.gsd will grow to about ([\d.]+) kB \(11 frames\)", err)
@@ -120,6 +146,7 @@ def test_large_trajectory_is_warned(scn, monkeypatch, capsys):
 
 
 # ---- 3. run summaries -------------------------------------------------------------------
+
 
 def test_equilibrate_and_labelled_pressures(scn):
     res = hs_cmd("run", "s.txt", "--container", 10, "--until", 3, "--equilibrate", 5, cwd=scn)
@@ -135,17 +162,30 @@ def test_equilibrate_and_labelled_pressures(scn):
     assert "after equilibrating: 0.5 time units, to t = 0.5" in box.stdout
     plain = hs_cmd("run", "s.txt", "--container", 10, "--until", 1, cwd=scn)
     assert "from the start" in plain.stdout and "--equilibrate" in plain.stdout
-    assert_one_line(hs_cmd("run", "s.txt", "--container", 10, "--until", 1,
-                           "--equilibrate-time", 2, cwd=scn), "--equilibrate-time", "--until")
-    assert_one_line(hs_cmd("run", "s.txt", "--container", 10, "--until", 0.01,
-                           "--equilibrate", 1000, cwd=scn), "--equilibrate", "--until")
+    assert_one_line(
+        hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--equilibrate-time", 2, cwd=scn),
+        "--equilibrate-time",
+        "--until",
+    )
+    assert_one_line(
+        hs_cmd("run", "s.txt", "--container", 10, "--until", 0.01, "--equilibrate", 1000, cwd=scn),
+        "--equilibrate",
+        "--until",
+    )
 
 
 def test_summary_shows_errors_when_the_observables_give_them():
-    s = {"pressure": 1.234567, "pressure_error": 0.0123, "pressure_converged": True,
-         "compressibility": 2.0, "compressibility_error": float("nan"),
-         "collision_rate": 3.0, "collision_rate_error": 0.1, "collision_rate_converged": False,
-         "mean_free_path": 0.5}
+    s = {
+        "pressure": 1.234567,
+        "pressure_error": 0.0123,
+        "pressure_converged": True,
+        "compressibility": 2.0,
+        "compressibility_error": float("nan"),
+        "collision_rate": 3.0,
+        "collision_rate_error": 0.1,
+        "collision_rate_converged": False,
+        "mean_free_path": 0.5,
+    }
     assert runner._value(s, "pressure") == "1.23457 +- 0.012"
     assert "error unknown" in runner._value(s, "compressibility")
     assert "lower bound" in runner._value(s, "collision_rate")
@@ -154,22 +194,29 @@ def test_summary_shows_errors_when_the_observables_give_them():
 
 # ---- 4. numbers as physicists type them; every message names the option ----------------
 
+
 def test_integral_floats_are_counts():
     args = commands.build_parser().parse_args(
-        ["bench", "--n", "1e4", "--packing", "0.3", "--collisions", "2e6", "--seed", "7.0"])
+        ["bench", "--n", "1e4", "--packing", "0.3", "--collisions", "2e6", "--seed", "7.0"]
+    )
     assert (args.n, args.collisions, args.seed) == (10000, 2000000, 7)
     assert isinstance(args.collisions, int)
 
 
-@pytest.mark.parametrize("args, words", [
-    (["bench", "--n", "100", "--packing", "0.3", "--collisions", "1.5"], ["--collisions", "whole"]),
-    (["validate", "--packings", "abc"], ["--packings", "packing fractions"]),
-    (["generate", "--n", "5", "--container", "9", "--packing", "0.3", "--seed", "-1"],
-     ["--seed", ">= 0"]),
-    (["generate", "--n", "5", "--container", "abc", "--packing", "0.3"], ["--container", "> 0"]),
-    (["render", "x.gsd", "-o", "m.bmp"], ["-o", ".gif"]),
-    (["render", "x.gsd", "--size", "big"], ["--size", "WIDTHxHEIGHT"]),
-])
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["bench", "--n", "100", "--packing", "0.3", "--collisions", "1.5"], ["--collisions", "whole"]),
+        (["validate", "--packings", "abc"], ["--packings", "packing fractions"]),
+        (
+            ["generate", "--n", "5", "--container", "9", "--packing", "0.3", "--seed", "-1"],
+            ["--seed", ">= 0"],
+        ),
+        (["generate", "--n", "5", "--container", "abc", "--packing", "0.3"], ["--container", "> 0"]),
+        (["render", "x.gsd", "-o", "m.bmp"], ["-o", ".gif"]),
+        (["render", "x.gsd", "--size", "big"], ["--size", "WIDTHxHEIGHT"]),
+    ],
+)
 def test_bad_options_are_named(args, words, tmp_path):
     res = hs_cmd(*args, cwd=tmp_path)
     assert_one_line(res, f"hardspheres {args[0]}:", *words)
@@ -177,16 +224,20 @@ def test_bad_options_are_named(args, words, tmp_path):
 
 # ---- 5. degenerate requests refused, before any work --------------------------------------
 
-@pytest.mark.parametrize("args, words", [
-    (["generate", "--n", "0", "--container", "9", "--packing", "0.3"], ["--n", ">= 1"]),
-    (["bench", "--n", "0", "--packing", "0.3", "--collisions", "10"], ["--n"]),
-    (["bench", "--n", "100", "--packing", "0.3", "--collisions", "0"], ["--collisions"]),
-    (["validate", "--collisions", "0"], ["--collisions"]),
-    (["validate", "--packings", "0.3,nan"], ["--packings", "'nan'"]),
-    (["validate", "--packings", "0.3,0.8"], ["--packings", "'0.8'"]),
-    (["render", "s.txt", "--container", "10", "--until", "1", "--fps", "0"], ["--fps"]),
-    (["render", "s.txt", "--container", "10", "--until", "1", "--fps", "-3"], ["--fps"]),
-])
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["generate", "--n", "0", "--container", "9", "--packing", "0.3"], ["--n", ">= 1"]),
+        (["bench", "--n", "0", "--packing", "0.3", "--collisions", "10"], ["--n"]),
+        (["bench", "--n", "100", "--packing", "0.3", "--collisions", "0"], ["--collisions"]),
+        (["validate", "--collisions", "0"], ["--collisions"]),
+        (["validate", "--packings", "0.3,nan"], ["--packings", "'nan'"]),
+        (["validate", "--packings", "0.3,0.8"], ["--packings", "'0.8'"]),
+        (["render", "s.txt", "--container", "10", "--until", "1", "--fps", "0"], ["--fps"]),
+        (["render", "s.txt", "--container", "10", "--until", "1", "--fps", "-3"], ["--fps"]),
+    ],
+)
 def test_degenerate_requests_refused(args, words, scn):
     res = hs_cmd(*args, cwd=scn)
     assert_one_line(res, *words)
@@ -195,26 +246,28 @@ def test_degenerate_requests_refused(args, words, scn):
 
 # ---- 6. small systems ------------------------------------------------------------------------
 
+
 @pytest.mark.parametrize("n, radius", [(1, 10), (8, 10), (10, 10), (10, 5)])
 def test_small_systems_generate_and_run(n, radius, tmp_path):
     res = hs_cmd("generate", "--n", n, "--container", radius, "--packing", 0.3, cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     (tmp_path / "s.txt").write_text(res.stdout)
-    state = hs.Simulation.from_scenario(str(tmp_path / "s.txt"),
-                                        hs.SphericalContainer(radius)).state()
+    state = hs.Simulation.from_scenario(str(tmp_path / "s.txt"), hs.SphericalContainer(radius)).state()
     assert state.n == n
-    phi = float(np.sum(state.radii ** 3) / radius ** 3)
+    phi = float(np.sum(state.radii**3) / radius**3)
     assert abs(phi - 0.3) < 1e-9
     run = hs_cmd("run", "s.txt", "--container", radius, "--until", 1, cwd=tmp_path)
     assert run.returncode == 0, run.stderr
 
 
 def test_box_too_small_for_the_engine_is_refused_by_generate(tmp_path):
-    assert_one_line(hs_cmd("generate", "--n", 1, "--box", 10, "--packing", 0.3, cwd=tmp_path),
-                    "three largest diameters")
+    assert_one_line(
+        hs_cmd("generate", "--n", 1, "--box", 10, "--packing", 0.3, cwd=tmp_path), "three largest diameters"
+    )
 
 
 # ---- 7. formats ------------------------------------------------------------------------------
+
 
 def test_plot_and_still_formats(scn):
     pytest.importorskip("matplotlib")
@@ -225,13 +278,13 @@ def test_plot_and_still_formats(scn):
         assert (scn / name).read_bytes().startswith(magic), name
     res = hs_cmd("render", "s.txt", *scen, "-o", "still.svg", cwd=scn)
     assert res.returncode == 0 and b"<svg" in (scn / "still.svg").read_bytes()[:2000]
-    assert_one_line(hs_cmd("plot", "speeds", "s.txt", *scen, "-o", "p.jpg", cwd=scn),
-                    "-o", ".pdf")
+    assert_one_line(hs_cmd("plot", "speeds", "s.txt", *scen, "-o", "p.jpg", cwd=scn), "-o", ".pdf")
     assert_one_line(hs_cmd("view", "s.txt", *scen, "-o", "v.png", cwd=scn), "-o", ".html")
     assert not (scn / "v.png").exists() and not (scn / "p.jpg").exists()
 
 
 # ---- 8. progress --------------------------------------------------------------------------------
+
 
 class _Terminal(io.StringIO):
     def isatty(self):
@@ -276,8 +329,12 @@ def test_progress_is_a_writer_redrawn_by_its_trigger():
     sim = hs.Simulation(hs.random_spheres(20, 0.1, container=8.0, seed=1), 8.0)
     term = _Terminal()
     seen = []
-    bar = runner.ProgressWriter(Progress(2.0, stream=term), 0.0, steps=20,
-                                first=lambda events, elapsed: seen.append((events, elapsed)))
+    bar = runner.ProgressWriter(
+        Progress(2.0, stream=term),
+        0.0,
+        steps=20,
+        first=lambda events, elapsed: seen.append((events, elapsed)),
+    )
     assert isinstance(bar, Writer)
     sim.writers.append(bar)
     sim.run(until=2.0)
@@ -296,9 +353,11 @@ def test_run_is_silent_on_stderr_when_not_a_terminal(scn):
 
 # ---- 9. pictures of many spheres ------------------------------------------------------------
 
+
 def test_render_slice_caption_and_size(scn):
     pytest.importorskip("matplotlib")
     from PIL import Image
+
     scen = ["s.txt", "--container", 10, "--until", 0.5]
     assert hs_cmd("render", *scen, "-o", "all.png", cwd=scn).returncode == 0
     res = hs_cmd("render", *scen, "-o", "cut.png", "--slice", 0, "--size", "800x450", cwd=scn)
@@ -311,15 +370,18 @@ def test_render_slice_caption_and_size(scn):
     white = lambda img: np.mean(np.all(img[120:300, 400:880] > 245, axis=2))  # noqa: E731
     assert white(c) > white(a) + 0.2
     from hardspheres.render import packing_fraction
+
     frames = hs.read_trajectory  # noqa: F841 (the caption's phi comes from packing_fraction)
-    f = hs.Frames(np.zeros(1), np.zeros((1, 1, 3)), np.zeros((1, 1, 3)), np.ones(1),
-                  np.ones(1), ["a"], container=2.0)
+    f = hs.Frames(
+        np.zeros(1), np.zeros((1, 1, 3)), np.zeros((1, 1, 3)), np.ones(1), np.ones(1), ["a"], container=2.0
+    )
     assert abs(packing_fraction(f) - 1 / 8) < 1e-12
 
 
 def test_view_slice_is_in_the_page(scn):
-    res = hs_cmd("view", "s.txt", "--container", 10, "--until", 0.5, "--slice", -2.5,
-                 "-o", "cut.html", cwd=scn)
+    res = hs_cmd(
+        "view", "s.txt", "--container", 10, "--until", 0.5, "--slice", -2.5, "-o", "cut.html", cwd=scn
+    )
     assert res.returncode == 0, res.stderr
     page = (scn / "cut.html").read_text()
     assert '"cut":-2.5' in page and 'id="cut"' in page
@@ -330,15 +392,18 @@ def test_screenshot_of_20000_spheres(tmp_path):
     """The page of 20000 spheres renders, plays and is saved, with no click to time out."""
     from hardspheres.screenshot import find_chromium, screenshot
     from hardspheres.viewer import write_viewer
+
     pytest.importorskip("playwright.sync_api")
     if find_chromium() is None:
         pytest.skip("needs chromium")
     from PIL import Image
+
     state = hs.random_spheres(20000, 0.3, container=40.0, seed=1)
     t = np.array([0.0, 0.1])
     pos = np.stack([state.positions, state.positions + 0.1 * state.velocities])
-    frames = hs.Frames(t, pos, np.stack([state.velocities] * 2), state.radii, state.masses,
-                       state.names, container=40.0)
+    frames = hs.Frames(
+        t, pos, np.stack([state.velocities] * 2), state.radii, state.masses, state.names, container=40.0
+    )
     write_viewer(frames, tmp_path / "big.html", cut=0.0)
     screenshot(tmp_path / "big.html", tmp_path / "big.png", timeout=240)
     with Image.open(tmp_path / "big.png") as im:
@@ -348,16 +413,27 @@ def test_screenshot_of_20000_spheres(tmp_path):
 
 # ---- 10. small things -------------------------------------------------------------------------
 
+
 def test_refused_or_kept_options_of_run(scn):
     ck = scn / "ck.npz"
-    assert hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--checkpoint", ck,
-                  cwd=scn).returncode == 0
-    assert_one_line(hs_cmd("run", "--resume", ck, "--container", 10, "--until", 2, cwd=scn),
-                    "--container", "checkpoint")
-    assert_one_line(hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--every", 0.1,
-                           cwd=scn), "--every", "--trajectory")
-    assert_one_line(hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--trajectory",
-                           "t.gsd", "--every", 5, cwd=scn), "--every", "longer")
+    assert (
+        hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--checkpoint", ck, cwd=scn).returncode == 0
+    )
+    assert_one_line(
+        hs_cmd("run", "--resume", ck, "--container", 10, "--until", 2, cwd=scn), "--container", "checkpoint"
+    )
+    assert_one_line(
+        hs_cmd("run", "s.txt", "--container", 10, "--until", 1, "--every", 0.1, cwd=scn),
+        "--every",
+        "--trajectory",
+    )
+    assert_one_line(
+        hs_cmd(
+            "run", "s.txt", "--container", 10, "--until", 1, "--trajectory", "t.gsd", "--every", 5, cwd=scn
+        ),
+        "--every",
+        "longer",
+    )
     res = hs_cmd("run", "--resume", ck, "--until", 2, cwd=scn)  # keeps checkpointing
     assert res.returncode == 0 and f"checkpoint {ck}" in res.stdout
     assert hs.Simulation.load(ck).time == 2.0
@@ -365,27 +441,49 @@ def test_refused_or_kept_options_of_run(scn):
 
 def test_help_and_version_of_both_programs(tmp_path):
     for argv in (["--help"], ["-h"]):
-        res = subprocess.run([sys.executable, "spheres.py", *argv], capture_output=True,
-                             text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
+        res = subprocess.run(
+            [sys.executable, "spheres.py", *argv],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            stdin=subprocess.DEVNULL,
+        )
         assert res.returncode == 0 and res.stdout.startswith("usage: spheres"), res
-    res = subprocess.run([sys.executable, "spheres.py", "--version"], capture_output=True,
-                         text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
+    res = subprocess.run(
+        [sys.executable, "spheres.py", "--version"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        stdin=subprocess.DEVNULL,
+    )
     assert res.returncode == 0 and res.stdout.strip() == f"spheres (hardspheres {hs.__version__})"
     res = hs_cmd("--version", cwd=tmp_path)
     assert res.returncode == 0 and res.stdout.strip() == f"hardspheres {hs.__version__}"
     res = hs_cmd("run", "--help", cwd=tmp_path)
     assert res.returncode == 0 and "--equilibrate" in res.stdout and "--events" in res.stdout
     # the assignment's arguments are untouched
-    res = subprocess.run([sys.executable, "spheres.py", "120", "105"], capture_output=True,
-                         text=True, cwd=ROOT, input=(ROOT / "examples" / "three.txt").read_text())
+    res = subprocess.run(
+        [sys.executable, "spheres.py", "120", "105"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        input=(ROOT / "examples" / "three.txt").read_text(),
+    )
     assert res.returncode == 0 and "colliding one two" in res.stdout
 
 
 def test_reprs_are_summaries_and_help_lists_attributes():
     state = hs.random_spheres(1000, 0.3, container=20.0, seed=1)
     assert repr(state) == "State(n=1000, time=0, names=[s0, s1, s2, ...])"
-    f = hs.Frames(np.array([0.0, 1.0]), np.zeros((2, 1000, 3)), np.zeros((2, 1000, 3)),
-                  state.radii, state.masses, state.names, container=20.0)
+    f = hs.Frames(
+        np.array([0.0, 1.0]),
+        np.zeros((2, 1000, 3)),
+        np.zeros((2, 1000, 3)),
+        state.radii,
+        state.masses,
+        state.names,
+        container=20.0,
+    )
     assert repr(f) == "Frames(n=1000, frames=2, t=0..1, container=20, events=0)"
     doc = hs.Simulation.__doc__
     for name in ("observables", "writers", "container"):
@@ -394,18 +492,28 @@ def test_reprs_are_summaries_and_help_lists_attributes():
 
 def test_viewer_colour_bar_top_is_round():
     from hardspheres.viewer import _payload, _round_up
+
     assert _round_up(3.6388) == 3.7 and _round_up(0.012345) == 0.013 and _round_up(2.0) == 2.0
     rng = np.random.default_rng(0)
     v = rng.normal(size=(2, 50, 3))
-    f = hs.Frames(np.array([0.0, 1.0]), np.zeros((2, 50, 3)), v, np.ones(50), np.ones(50),
-                  [f"s{i}" for i in range(50)], container=20.0)
+    f = hs.Frames(
+        np.array([0.0, 1.0]),
+        np.zeros((2, 50, 3)),
+        v,
+        np.ones(50),
+        np.ones(50),
+        [f"s{i}" for i in range(50)],
+        container=20.0,
+    )
     top = _payload(f, None, 600, 10**7, 1000, "speed")["speed_range"][1]
     assert top == float(f"{top:.2g}")
 
 
 def test_empty_scenario_is_refused(tmp_path):
     (tmp_path / "empty.txt").write_text("")
-    for args in (["run", "empty.txt", "--container", 10, "--until", 1],
-                 ["view", "empty.txt", "--container", 10, "--until", 1, "-o", "e.html"]):
+    for args in (
+        ["run", "empty.txt", "--container", 10, "--until", 1],
+        ["view", "empty.txt", "--container", 10, "--until", 1, "-o", "e.html"],
+    ):
         assert_one_line(hs_cmd(*args, cwd=tmp_path), "empty.txt", "no spheres")
     assert not (tmp_path / "e.html").exists()

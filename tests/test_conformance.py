@@ -23,22 +23,26 @@ from hardspheres.cli import run_spheres
 from hardspheres.report import PROMPT
 
 ROOT = Path(__file__).resolve().parents[1]
-SUITE = Path(os.environ.get("HARDSPHERES_CONFORMANCE")
-             or ROOT / "tests" / "data" / "assignment")
+SUITE = Path(os.environ.get("HARDSPHERES_CONFORMANCE") or ROOT / "tests" / "data" / "assignment")
 START = b"Here are the initial conditions.\n"
 
 
 def _cases():
     table = SUITE / "cases.tsv"
     if not table.is_file():
-        return [pytest.param(None, marks=pytest.mark.skip(
-            reason=f"conformance suite not found: no {table} (set HARDSPHERES_CONFORMANCE "
-                   "to the folder holding cases.tsv, inputs/ and expected/)"),
-            id="suite-absent")]
+        return [
+            pytest.param(
+                None,
+                marks=pytest.mark.skip(
+                    reason=f"conformance suite not found: no {table} (set HARDSPHERES_CONFORMANCE "
+                    "to the folder holding cases.tsv, inputs/ and expected/)"
+                ),
+                id="suite-absent",
+            )
+        ]
     with open(table, newline="", encoding="utf-8") as fh:
         rows = list(csv.DictReader(fh, delimiter="\t"))
-    return [pytest.param(row, id=f"{row['scenario']}_{row['radius']}_{row['end_time']}")
-            for row in rows]
+    return [pytest.param(row, id=f"{row['scenario']}_{row['radius']}_{row['end_time']}") for row in rows]
 
 
 CASES = _cases()
@@ -51,15 +55,15 @@ def _input(row):
 def _expected_tail(row):
     expected = (SUITE / row["expected"]).read_bytes()
     assert expected.count(START) == 1, f"{row['expected']} has no single {START!r} line"
-    return expected[expected.index(START):]
+    return expected[expected.index(START) :]
 
 
 def _check(stdout, row):
     """stdout: the prompt, one blank line, then the expected file's tail exactly."""
     prompt = PROMPT.encode()
     assert stdout.startswith(prompt), stdout[:200]
-    assert stdout[len(prompt):len(prompt) + 1] == b"\n"  # one blank line after the prompt
-    assert stdout[len(prompt) + 1:] == _expected_tail(row)
+    assert stdout[len(prompt) : len(prompt) + 1] == b"\n"  # one blank line after the prompt
+    assert stdout[len(prompt) + 1 :] == _expected_tail(row)
 
 
 def test_suite_has_the_published_runs():
@@ -75,8 +79,13 @@ def test_suite_has_the_published_runs():
 @pytest.mark.parametrize("row", CASES)
 def test_program_output_matches(row):
     """``python spheres.py RADIUS END_TIME < input`` as the course runs it."""
-    res = subprocess.run([sys.executable, "spheres.py", row["radius"], row["end_time"]],
-                         input=_input(row), capture_output=True, cwd=ROOT, timeout=120)
+    res = subprocess.run(
+        [sys.executable, "spheres.py", row["radius"], row["end_time"]],
+        input=_input(row),
+        capture_output=True,
+        cwd=ROOT,
+        timeout=120,
+    )
     assert res.returncode == 0, res.stderr.decode(errors="replace")
     assert res.stderr == b""
     _check(res.stdout, row)
@@ -87,7 +96,7 @@ def test_program_output_matches(row):
 def test_both_engines_match(row, engine, monkeypatch, capsys):
     """The same report in-process, from the pure-Python loop and from the compiled core."""
     monkeypatch.setenv("HARDSPHERES_ENGINE", engine)
-    assert choose_engine(1) == choose_engine(10 ** 6) == engine
+    assert choose_engine(1) == choose_engine(10**6) == engine
     out = io.StringIO()
     status = run_spheres([row["radius"], row["end_time"]], io.BytesIO(_input(row)), out)
     assert status == 0

@@ -23,8 +23,13 @@ def _compiled(fn):
     :mod:`hardspheres.physics`); not cached: numba's cache would not see
     changes to the kernels.
     """
-    glob = dict(fn.__globals__, wall_time=_core.wall_time, pair_time=_core.pair_time,
-                reflect=_core.reflect, collide=_core.collide)
+    glob = dict(
+        fn.__globals__,
+        wall_time=_core.wall_time,
+        pair_time=_core.pair_time,
+        reflect=_core.reflect,
+        collide=_core.collide,
+    )
     return njit(types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__))
 
 
@@ -85,8 +90,7 @@ def run(engine, masses, radii, pos, vel, container, n_events, window):
     return eng.advance(events=n_events), eng
 
 
-@pytest.mark.parametrize("seed,n", [(1, 2), (2, 3), (3, 10), (4, 40), (5, 100), (6, 300),
-                                    (7, 17), (8, 200)])
+@pytest.mark.parametrize("seed,n", [(1, 2), (2, 3), (3, 10), (4, 40), (5, 100), (6, 300), (7, 17), (8, 200)])
 @pytest.mark.parametrize("window", [0.0, 1e-8])
 def test_engine_matches_brute_force(seed, n, window):
     """Same events, same order, same times, impulses and velocities, bit for bit."""
@@ -161,8 +165,9 @@ def test_brute_force_is_the_reference(seed):
 @ENGINES
 def test_head_on_pair_and_wall(engine):
     """Two spheres meet head on at t = 4, then each reflects off the wall at t = 102."""
-    eng = engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
-                 [[1.0, 0, 0], [-1.0, 0, 0]], container=100.0)
+    eng = engine(
+        [1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]], [[1.0, 0, 0], [-1.0, 0, 0]], container=100.0
+    )
     assert eng.step(until=3.0) is None
     assert eng.step(until=10.0) == (4.0, 1, 0, 1)
     assert np.asarray(eng.velocities).tolist() == [[-1.0, 0, 0], [1.0, 0, 0]]
@@ -241,8 +246,8 @@ def test_rebase_keeps_time_and_physics():
     # identical until the first rebase, then the same events to rounding for a while
     first = 64 * 200
     assert np.array_equal(ea["time"][:first], eb["time"][:first])
-    assert np.array_equal(ea["i"][:first + 50], eb["i"][:first + 50])
-    np.testing.assert_allclose(ea["time"][:first + 50], eb["time"][:first + 50], rtol=1e-12)
+    assert np.array_equal(ea["i"][: first + 50], eb["i"][: first + 50])
+    np.testing.assert_allclose(ea["time"][: first + 50], eb["time"][: first + 50], rtol=1e-12)
 
 
 def test_assignment_report_same_from_both_engines():
@@ -257,9 +262,10 @@ def test_assignment_report_same_from_both_engines():
     for trial in range(5):
         n = int(rng.integers(25, 60))
         m, r, p, v, R = mixed_scenario(200 + trial, n)
-        text = "".join(f"{a!r} {b!r} {x[0]!r} {x[1]!r} {x[2]!r} {y[0]!r} {y[1]!r} {y[2]!r} s{k}\n"
-                       for k, (a, b, x, y) in enumerate(zip(m.tolist(), r.tolist(),
-                                                            p.tolist(), v.tolist())))
+        text = "".join(
+            f"{a!r} {b!r} {x[0]!r} {x[1]!r} {x[2]!r} {y[0]!r} {y[1]!r} {y[2]!r} s{k}\n"
+            for k, (a, b, x, y) in enumerate(zip(m.tolist(), r.tolist(), p.tolist(), v.tolist()))
+        )
         outs = []
         for engine in ("reference", "compiled"):
             os.environ["HARDSPHERES_ENGINE"] = engine

@@ -30,16 +30,25 @@ ENV = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
 
 
 def hs_cmd(*args, cwd, stdout=subprocess.PIPE, timeout=120, env=ENV):
-    return subprocess.run([sys.executable, "-m", "hardspheres", *map(str, args)], cwd=cwd,
-                          stdout=stdout, stderr=subprocess.PIPE, text=True, env=env,
-                          timeout=timeout)
+    return subprocess.run(
+        [sys.executable, "-m", "hardspheres", *map(str, args)],
+        cwd=cwd,
+        stdout=stdout,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        timeout=timeout,
+    )
 
 
 def one_line(err, *words, warnings_too=True):
     """The error is one line (besides the compile note and, if allowed, warnings)."""
     assert "Traceback" not in err and err.endswith("\n"), err
-    lines = [ln for ln in err.splitlines() if not ln.startswith("compiling the event core")
-             and not (warnings_too and ": warning: " in ln)]
+    lines = [
+        ln
+        for ln in err.splitlines()
+        if not ln.startswith("compiling the event core") and not (warnings_too and ": warning: " in ln)
+    ]
     assert len(lines) == 1, err
     for w in words:
         assert w in lines[0], (w, err)
@@ -54,9 +63,14 @@ def scenario(tmp_path_factory):
 
 def start_run(scn, cwd, *extra):
     """A long ``hardspheres run`` in the background, once it is running (checkpoint locked)."""
-    proc = subprocess.Popen([sys.executable, "-m", "hardspheres", "run", str(scn),
-                             "--container", "20", "--until", "1e9", *extra], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "hardspheres", "run", str(scn), "--container", "20", "--until", "1e9", *extra],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=ENV,
+    )
     deadline = time.time() + 90
     try:
         while not (cwd / ".c.npz.lock").exists():
@@ -72,16 +86,25 @@ def start_run(scn, cwd, *extra):
 
 
 def small_sim(n=50, seed=1):
-    return hs.Simulation(hs.random_spheres(n, 0.2, container=8.0, seed=seed),
-                         hs.SphericalContainer(8.0))
+    return hs.Simulation(hs.random_spheres(n, 0.2, container=8.0, seed=seed), hs.SphericalContainer(8.0))
 
 
 # ---- 1. concurrent writers ----------------------------------------------------------
 def test_second_run_on_one_checkpoint_is_refused_and_sigterm_saves(scenario, tmp_path):
     first = start_run(scenario, tmp_path, "--checkpoint", "c.npz")
     try:
-        second = hs_cmd("run", scenario, "--container", "20", "--until", "1e9",
-                        "--checkpoint", "c.npz", cwd=tmp_path, timeout=60)
+        second = hs_cmd(
+            "run",
+            scenario,
+            "--container",
+            "20",
+            "--until",
+            "1e9",
+            "--checkpoint",
+            "c.npz",
+            cwd=tmp_path,
+            timeout=60,
+        )
         assert second.returncode == 1
         one_line(second.stderr, "c.npz", "another writer", f"process {first.pid}")
     finally:
@@ -122,17 +145,24 @@ def test_lock_survives_the_previous_holder_removing_the_file(tmp_path):
 # ---- 2. short writes ------------------------------------------------------------------
 def test_generate_to_a_full_disk(tmp_path):
     with open("/dev/full", "w") as full:
-        r = hs_cmd("generate", "--n", "2000", "--container", "20", "--packing", "0.3",
-                   cwd=tmp_path, stdout=full)
+        r = hs_cmd(
+            "generate", "--n", "2000", "--container", "20", "--packing", "0.3", cwd=tmp_path, stdout=full
+        )
     assert r.returncode == 1
     one_line(r.stderr, "hardspheres", "/dev/full", "No space left on device")
 
 
 def test_spheres_to_a_full_disk(tmp_path):
     with open("/dev/full", "w") as full:
-        r = subprocess.run([sys.executable, "spheres.py", "120", "105"], cwd=ROOT,
-                           stdin=open(ROOT / "examples" / "three.txt"), stdout=full,
-                           stderr=subprocess.PIPE, text=True, timeout=60)
+        r = subprocess.run(
+            [sys.executable, "spheres.py", "120", "105"],
+            cwd=ROOT,
+            stdin=open(ROOT / "examples" / "three.txt"),
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=60,
+        )
     assert r.returncode == 1
     one_line(r.stderr, "spheres:", "/dev/full", "No space left on device")
 
@@ -141,8 +171,18 @@ def test_spheres_to_a_full_disk(tmp_path):
 def test_generate_to_a_disk_that_fills_up(small_disk, tmp_path, unbuffered):
     # PYTHONUNBUFFERED: Python's text layer ignores a short write (the cut the issue saw)
     with open(small_disk / "scn.txt", "w") as fh:
-        r = hs_cmd("generate", "--n", "2000", "--container", "20", "--packing", "0.3",
-                   cwd=tmp_path, stdout=fh, env={**ENV, "PYTHONUNBUFFERED": unbuffered})
+        r = hs_cmd(
+            "generate",
+            "--n",
+            "2000",
+            "--container",
+            "20",
+            "--packing",
+            "0.3",
+            cwd=tmp_path,
+            stdout=fh,
+            env={**ENV, "PYTHONUNBUFFERED": unbuffered},
+        )
     assert r.returncode == 1
     one_line(r.stderr, str(small_disk / "scn.txt"), "No space left on device")
 
@@ -220,8 +260,7 @@ def test_an_interrupted_xyz_warns(tmp_path):
 
 
 def can_mount():
-    return os.geteuid() == 0 and subprocess.run(
-        ["mount", "--version"], capture_output=True).returncode == 0
+    return os.geteuid() == 0 and subprocess.run(["mount", "--version"], capture_output=True).returncode == 0
 
 
 @pytest.fixture
@@ -229,8 +268,12 @@ def small_disk(tmp_path):
     """A 256 kB tmpfs (root only), unmounted afterwards."""
     d = tmp_path / "disk"
     d.mkdir()
-    if not can_mount() or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs",
-                                          str(d)], capture_output=True).returncode:
+    if (
+        not can_mount()
+        or subprocess.run(
+            ["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(d)], capture_output=True
+        ).returncode
+    ):
         pytest.skip("cannot mount a tmpfs here")
     yield d
     subprocess.run(["umount", str(d)], check=False)
@@ -238,8 +281,9 @@ def small_disk(tmp_path):
 
 def test_full_disk_view_keeps_the_old_page(small_disk, scenario, tmp_path):
     (small_disk / "v.html").write_text("good\n")
-    r = hs_cmd("view", scenario, "--container", "20", "--until", "0.2", "-o",
-               small_disk / "v.html", cwd=tmp_path)
+    r = hs_cmd(
+        "view", scenario, "--container", "20", "--until", "0.2", "-o", small_disk / "v.html", cwd=tmp_path
+    )
     assert r.returncode == 1
     one_line(r.stderr, str(small_disk / "v.html"), "No space left on device")
     assert (small_disk / "v.html").read_text() == "good\n"
@@ -249,9 +293,21 @@ def test_full_disk_view_keeps_the_old_page(small_disk, scenario, tmp_path):
 def test_full_trajectory_disk_still_checkpoints(small_disk, tmp_path):
     # 200 spheres: some 25 frames fit, over several of the run's pieces
     (tmp_path / "s.txt").write_text(hs.random_spheres(200, 0.3, container=9.0).to_text())
-    r = hs_cmd("run", "s.txt", "--container", "9", "--until", "2", "--every", "0.01",
-               "--trajectory", small_disk / "t.gsd", "--checkpoint", tmp_path / "c.npz",
-               cwd=tmp_path)
+    r = hs_cmd(
+        "run",
+        "s.txt",
+        "--container",
+        "9",
+        "--until",
+        "2",
+        "--every",
+        "0.01",
+        "--trajectory",
+        small_disk / "t.gsd",
+        "--checkpoint",
+        tmp_path / "c.npz",
+        cwd=tmp_path,
+    )
     assert r.returncode == 1
     # the run warned at its start that the file would not fit, then failed as told
     assert "will grow to about" in r.stderr and "is free there" in r.stderr
@@ -260,8 +316,7 @@ def test_full_trajectory_disk_still_checkpoints(small_disk, tmp_path):
     assert 0 < sim.time < 2
     with pytest.warns(TruncatedTrajectory):
         read_trajectory(small_disk / "t.gsd")
-    r = hs_cmd("plot", "conservation", small_disk / "t.gsd", "-o", tmp_path / "c.png",
-               cwd=tmp_path)
+    r = hs_cmd("plot", "conservation", small_disk / "t.gsd", "-o", tmp_path / "c.png", cwd=tmp_path)
     assert r.returncode == 0
     one_line(r.stderr, "warning", "t.gsd", "cut short", warnings_too=False)
 
@@ -282,8 +337,18 @@ def test_two_ctrl_c_still_save(scenario, tmp_path):
 def test_checkpoint_path_checked_before_the_run(scenario, tmp_path, where):
     (tmp_path / "folder").mkdir()
     # --until 1e9: only a check before the run returns in time
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "1e9", "--checkpoint", where,
-               cwd=tmp_path, timeout=60)
+    r = hs_cmd(
+        "run",
+        scenario,
+        "--container",
+        "20",
+        "--until",
+        "1e9",
+        "--checkpoint",
+        where,
+        cwd=tmp_path,
+        timeout=60,
+    )
     assert r.returncode == 1 and r.stdout == ""
     one_line(r.stderr, where)
     assert os.listdir(tmp_path / "folder") == []
@@ -294,12 +359,33 @@ def test_checkpoint_path_checked_before_the_run(scenario, tmp_path, where):
 @pytest.mark.parametrize("ext", [".gsd", ".xyz"])
 def test_resume_continues_the_trajectory(scenario, tmp_path, ext):
     traj = f"seg{ext}"
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "1", "--trajectory", traj,
-               "--checkpoint", "seg.npz", cwd=tmp_path)
+    r = hs_cmd(
+        "run",
+        scenario,
+        "--container",
+        "20",
+        "--until",
+        "1",
+        "--trajectory",
+        traj,
+        "--checkpoint",
+        "seg.npz",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     first = read_trajectory(tmp_path / traj)
-    r = hs_cmd("run", "--resume", "seg.npz", "--until", "2", "--trajectory", traj,
-               "--checkpoint", "seg.npz", cwd=tmp_path)
+    r = hs_cmd(
+        "run",
+        "--resume",
+        "seg.npz",
+        "--until",
+        "2",
+        "--trajectory",
+        traj,
+        "--checkpoint",
+        "seg.npz",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     both = read_trajectory(tmp_path / traj)
     n1 = len(first.times)
@@ -307,36 +393,56 @@ def test_resume_continues_the_trajectory(scenario, tmp_path, ext):
     assert np.array_equal(both.positions[:n1], first.positions)
     assert np.all(np.diff(both.times) > 0) and both.times[-1] == 2.0
     # the frames after the seam are the resumed run's: the same as one run to 2
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "2", "--every", "0.01",
-               "--trajectory", f"whole{ext}", cwd=tmp_path)
+    r = hs_cmd(
+        "run",
+        scenario,
+        "--container",
+        "20",
+        "--until",
+        "2",
+        "--every",
+        "0.01",
+        "--trajectory",
+        f"whole{ext}",
+        cwd=tmp_path,
+    )
     whole = read_trajectory(tmp_path / f"whole{ext}")
     assert np.allclose(whole.positions[-1], both.positions[-1], rtol=0, atol=1e-9)
 
 
 def test_trajectory_not_clobbered(scenario, tmp_path):
-    hs_cmd("run", scenario, "--container", "20", "--until", "0.5", "--trajectory", "a.gsd",
-           "--checkpoint", "a.npz", cwd=tmp_path)
+    hs_cmd(
+        "run",
+        scenario,
+        "--container",
+        "20",
+        "--until",
+        "0.5",
+        "--trajectory",
+        "a.gsd",
+        "--checkpoint",
+        "a.npz",
+        cwd=tmp_path,
+    )
     before = (tmp_path / "a.gsd").read_bytes()
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "0.5", "--trajectory", "a.gsd",
-               cwd=tmp_path)
+    r = hs_cmd("run", scenario, "--container", "20", "--until", "0.5", "--trajectory", "a.gsd", cwd=tmp_path)
     assert r.returncode == 1
     one_line(r.stderr, "a.gsd", "--overwrite")
     # a checkpoint of another run (here: later) does not continue it
-    hs_cmd("run", scenario, "--container", "20", "--until", "0.7", "--checkpoint", "b.npz",
-           cwd=tmp_path)
-    r = hs_cmd("run", "--resume", "b.npz", "--until", "1", "--trajectory", "a.gsd",
-               cwd=tmp_path)
+    hs_cmd("run", scenario, "--container", "20", "--until", "0.7", "--checkpoint", "b.npz", cwd=tmp_path)
+    r = hs_cmd("run", "--resume", "b.npz", "--until", "1", "--trajectory", "a.gsd", cwd=tmp_path)
     assert r.returncode == 1
     one_line(r.stderr, "a.gsd", "does not end where", "--overwrite")
     assert (tmp_path / "a.gsd").read_bytes() == before
-    r = hs_cmd("run", "--resume", "b.npz", "--until", "1", "--trajectory", "a.gsd",
-               "--overwrite", cwd=tmp_path)
+    r = hs_cmd(
+        "run", "--resume", "b.npz", "--until", "1", "--trajectory", "a.gsd", "--overwrite", cwd=tmp_path
+    )
     assert r.returncode == 0, r.stderr
     assert read_trajectory(tmp_path / "a.gsd").times[0] == pytest.approx(0.7)
 
 
 # ---- 6. damaged checkpoints -----------------------------------------------------------------
-DAMAGE = r'''
+DAMAGE = r"""
 import json, sys, numpy as np, hardspheres as hs
 from hardspheres import _core as core
 good = sys.argv[1]
@@ -375,7 +481,7 @@ for name, f in cases.items():
     except hs.CheckpointError as e:
         out[name] = "refused: " + str(e)
 print(json.dumps(out))
-'''
+"""
 
 
 def test_damaged_checkpoints_are_refused(tmp_path):
@@ -383,8 +489,14 @@ def test_damaged_checkpoints_are_refused(tmp_path):
     sim.run(collisions=2000)
     sim.save(tmp_path / "good.npz")
     # a subprocess: the old code crashed the interpreter on some of these
-    r = subprocess.run([sys.executable, "-c", DAMAGE, "good.npz"], cwd=tmp_path, env=ENV,
-                       capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-c", DAMAGE, "good.npz"],
+        cwd=tmp_path,
+        env=ENV,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr[-2000:]
     results = json.loads(r.stdout)
     assert len(results) == 13
@@ -393,8 +505,7 @@ def test_damaged_checkpoints_are_refused(tmp_path):
         assert "\n" not in result and "bad_" in result
 
 
-@pytest.mark.parametrize("content", [b"", b"PK\x03\x04garbage", b"not a checkpoint\n",
-                                     "truncate"])
+@pytest.mark.parametrize("content", [b"", b"PK\x03\x04garbage", b"not a checkpoint\n", "truncate"])
 def test_unreadable_checkpoints_one_line(tmp_path, content):
     sim = small_sim()
     sim.save(tmp_path / "good.npz")
@@ -415,23 +526,27 @@ def test_checkpoint_has_format_and_version(tmp_path):
 
 
 # ---- 11. library input -------------------------------------------------------------------
-GOOD = dict(masses=[1.0, 1.0], radii=[1.0, 1.0], positions=[[-5, 0, 0], [5, 0, 0]],
-            velocities=[[1, 0, 0], [-1, 0, 0]])
+GOOD = dict(
+    masses=[1.0, 1.0], radii=[1.0, 1.0], positions=[[-5, 0, 0], [5, 0, 0]], velocities=[[1, 0, 0], [-1, 0, 0]]
+)
 
 
-@pytest.mark.parametrize("change, words", [
-    (dict(positions=[[np.nan, 0, 0], [5, 0, 0]]), ["position", "finite"]),
-    (dict(velocities=[[np.inf, 0, 0], [-1, 0, 0]]), ["velocity", "finite"]),
-    (dict(masses=[1.0, np.nan]), ["mass", "> 0"]),
-    (dict(masses=[1.0, -1.0]), ["mass", "> 0"]),
-    (dict(masses=[1.0, 0.0]), ["mass", "> 0"]),
-    (dict(radii=[1.0, -1.0]), ["radius", ">= 0"]),
-    (dict(radii=[1.0, np.nan]), ["radius"]),
-    (dict(names=["a", "a"]), ["'a'", "already"]),
-    (dict(window=-1.0), ["window", ">= 0"]),
-    (dict(window=np.nan), ["window"]),
-    (dict(velocities=[[1, 0, 0]]), ["velocities", "shape"]),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        (dict(positions=[[np.nan, 0, 0], [5, 0, 0]]), ["position", "finite"]),
+        (dict(velocities=[[np.inf, 0, 0], [-1, 0, 0]]), ["velocity", "finite"]),
+        (dict(masses=[1.0, np.nan]), ["mass", "> 0"]),
+        (dict(masses=[1.0, -1.0]), ["mass", "> 0"]),
+        (dict(masses=[1.0, 0.0]), ["mass", "> 0"]),
+        (dict(radii=[1.0, -1.0]), ["radius", ">= 0"]),
+        (dict(radii=[1.0, np.nan]), ["radius"]),
+        (dict(names=["a", "a"]), ["'a'", "already"]),
+        (dict(window=-1.0), ["window", ">= 0"]),
+        (dict(window=np.nan), ["window"]),
+        (dict(velocities=[[1, 0, 0]]), ["velocities", "shape"]),
+    ],
+)
 def test_from_arrays_refuses(change, words):
     args = {**GOOD, **change}
     with pytest.raises(ValueError) as info:
@@ -440,14 +555,17 @@ def test_from_arrays_refuses(change, words):
         assert w in str(info.value), (w, str(info.value))
 
 
-@pytest.mark.parametrize("call", [
-    lambda s: s.run(until=float("nan")),
-    lambda s: s.run(until=-1.0),
-    lambda s: s.run(collisions=-5),
-    lambda s: s.run(events=-1),
-    lambda s: s.state(float("nan")),
-    lambda s: list(s.iter_events(until=float("inf"), collisions=float("nan"))),
-])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda s: s.run(until=float("nan")),
+        lambda s: s.run(until=-1.0),
+        lambda s: s.run(collisions=-5),
+        lambda s: s.run(events=-1),
+        lambda s: s.state(float("nan")),
+        lambda s: list(s.iter_events(until=float("inf"), collisions=float("nan"))),
+    ],
+)
 def test_run_and_state_refuse(call):
     sim = hs.Simulation.from_arrays(container=hs.SphericalContainer(100.0), **GOOD)
     sim.run(until=1.0)
@@ -473,14 +591,23 @@ def test_closed_writer(tmp_path):
 # ---- 12. messages ---------------------------------------------------------------------------
 def test_long_tokens_and_control_bytes_are_not_echoed(tmp_path):
     big = b"1" * 10_000_000
-    r = subprocess.run([sys.executable, "spheres.py", "10", "1"], cwd=ROOT,
-                       input=b"1 1 0 0 0 " + big + b" 0 0 a\n", capture_output=True,
-                       timeout=120)
+    r = subprocess.run(
+        [sys.executable, "spheres.py", "10", "1"],
+        cwd=ROOT,
+        input=b"1 1 0 0 0 " + big + b" 0 0 a\n",
+        capture_output=True,
+        timeout=120,
+    )
     assert r.returncode == 1 and len(r.stderr) < 300, r.stderr[:300]
-    r = subprocess.run([sys.executable, "spheres.py", "10", "1"], cwd=ROOT,
-                       input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n",
-                       capture_output=True, timeout=60)
+    r = subprocess.run(
+        [sys.executable, "spheres.py", "10", "1"],
+        cwd=ROOT,
+        input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n",
+        capture_output=True,
+        timeout=60,
+    )
     assert r.returncode == 1 and b"\x1b" not in r.stderr and b"\\x1b" in r.stderr
-    r = subprocess.run([sys.executable, "spheres.py", "1" * 100_000, "1"], cwd=ROOT,
-                       capture_output=True, timeout=60)
+    r = subprocess.run(
+        [sys.executable, "spheres.py", "1" * 100_000, "1"], cwd=ROOT, capture_output=True, timeout=60
+    )
     assert r.returncode == 1 and len(r.stderr) < 400

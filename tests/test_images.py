@@ -44,8 +44,7 @@ def test_images_match_brute_force_unwrapping():
 def test_free_flight_is_exact():
     """A lone sphere crosses the box at known times: images are the integer part."""
     box = 10.0
-    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0.0, 0.0, 0.0]], [[3.0, -7.0, 0.25]],
-                                    hs.PeriodicBox(box))
+    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0.0, 0.0, 0.0]], [[3.0, -7.0, 0.25]], hs.PeriodicBox(box))
     st = sim.run(until=100.0).state(unwrapped=True)  # state() never runs the simulation
     np.testing.assert_allclose(st.positions[0], [300.0, -700.0, 25.0], rtol=1e-12)
     # 300 = 30 boxes, -700 = -70 boxes, 25 = 3 boxes - 5 (the box is [-L/2, L/2))
@@ -54,8 +53,7 @@ def test_free_flight_is_exact():
 
 def test_input_outside_the_box_keeps_its_unwrapped_centre():
     box = 10.0
-    sim = hs.Simulation.from_arrays([1.0], [0.5], [[23.0, -14.0, 1.0]], [[0, 0, 0]],
-                                    hs.PeriodicBox(box))
+    sim = hs.Simulation.from_arrays([1.0], [0.5], [[23.0, -14.0, 1.0]], [[0, 0, 0]], hs.PeriodicBox(box))
     st = sim.state()
     np.testing.assert_array_equal(st.images, [[2, -1, 0]])
     np.testing.assert_allclose(sim.state(unwrapped=True).positions, [[23.0, -14.0, 1.0]])
@@ -78,16 +76,14 @@ def test_checkpoint_and_gsd_keep_images(tmp_path):
     back = hs.Simulation.load(tmp_path / "c.npz")
     sim.run(until=6.0)
     back.run(until=6.0)
-    np.testing.assert_array_equal(back.state(unwrapped=True).positions,
-                                  sim.state(unwrapped=True).positions)
+    np.testing.assert_array_equal(back.state(unwrapped=True).positions, sim.state(unwrapped=True).positions)
 
 
 def test_xyz_keeps_images_as_gsd_does(tmp_path):
     """Extended XYZ carries the image counts as three integer columns: same unwrapping as GSD."""
     pytest.importorskip("gsd")
     sim, box = gas(n=32)
-    with GSDWriter(tmp_path / "t.gsd", every=0.5) as g, XYZWriter(tmp_path / "t.xyz",
-                                                                  every=0.5) as x:
+    with GSDWriter(tmp_path / "t.gsd", every=0.5) as g, XYZWriter(tmp_path / "t.xyz", every=0.5) as x:
         sim.writers.extend([g, x])
         sim.run(until=3.0)
     fg, fx = read_trajectory(tmp_path / "t.gsd"), read_trajectory(tmp_path / "t.xyz")
@@ -153,15 +149,15 @@ def test_xyz_from_before_images_reads_without_them(tmp_path):
 
 def test_xyz_with_unknown_columns_is_refused(tmp_path):
     p = tmp_path / "odd.xyz"
-    p.write_text('1\nLattice="10 0 0 0 10 0 0 0 10" Properties=species:S:1:pos:R:3 '
-                 "Time=0.0 box_length=10.0\na 0 0 0\n")
+    p.write_text(
+        '1\nLattice="10 0 0 0 10 0 0 0 10" Properties=species:S:1:pos:R:3 Time=0.0 box_length=10.0\na 0 0 0\n'
+    )
     with pytest.raises(ValueError, match="odd.xyz.*Properties"):
         read_trajectory(p)
 
 
 def test_images_in_a_spherical_container_raise():
-    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]],
-                                    hs.SphericalContainer(5.0))
+    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]], hs.SphericalContainer(5.0))
     assert sim.state().images is None
     with pytest.raises(PeriodicBoxRequired, match="periodic box"):
         sim.state(unwrapped=True)

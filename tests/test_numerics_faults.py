@@ -39,8 +39,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def _sibling(name):
     """A sibling test module (pytest runs with --import-mode=importlib)."""
-    spec = importlib.util.spec_from_file_location(f"_{name}", Path(__file__).with_name(
-        f"{name}.py"))
+    spec = importlib.util.spec_from_file_location(f"_{name}", Path(__file__).with_name(f"{name}.py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -48,8 +47,11 @@ def _sibling(name):
 
 # exact rational roots and the compiled brute-force loop
 _analytic = _sibling("test_analytic")
-exact_pair_time, exact_wall_time, ulps = (_analytic.exact_pair_time,
-                                          _analytic.exact_wall_time, _analytic.ulps)
+exact_pair_time, exact_wall_time, ulps = (
+    _analytic.exact_pair_time,
+    _analytic.exact_wall_time,
+    _analytic.ulps,
+)
 _test_engine = _sibling("test_engine")
 CompiledReference, same_events = _test_engine.CompiledReference, _test_engine.same_events
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
@@ -63,15 +65,15 @@ def spheres(argv, text, engine, monkeypatch, fmt="jsonl"):
     extra = ["--format", "jsonl"] if fmt == "jsonl" else []
     status = run_spheres(extra + [str(a) for a in argv], io.BytesIO(text.encode()), out)
     lines = out.getvalue().splitlines()
-    return status, [json.loads(x) for x in lines[1:]] if fmt == "jsonl" else lines, \
-        err.getvalue()
+    return status, [json.loads(x) for x in lines[1:]] if fmt == "jsonl" else lines, err.getvalue()
 
 
 def ends(code, timeout=60):
     """Run ``code`` in a fresh interpreter; its result, or fail if it does not end."""
     try:
-        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                              timeout=timeout, cwd=ROOT)
+        done = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout, cwd=ROOT
+        )
     except subprocess.TimeoutExpired:
         pytest.fail(f"did not end within {timeout} s")
     return done
@@ -84,8 +86,14 @@ TANGENT = "100 10 0 0 100 1 0 0 tangent\n"
 
 def test_sphere_moving_along_the_wall_is_refused_in_one_line():
     """The hook's case: it printed ``reflecting tangent`` at t = 0 forever."""
-    done = subprocess.run([sys.executable, "spheres.py", "110", "50"], input=TANGENT,
-                          capture_output=True, text=True, timeout=60, cwd=ROOT)
+    done = subprocess.run(
+        [sys.executable, "spheres.py", "110", "50"],
+        input=TANGENT,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=ROOT,
+    )
     assert done.returncode == 1
     err = done.stderr.strip().splitlines()
     assert len(err) == 1 and "line 1" in err[0] and "'tangent'" in err[0]
@@ -147,10 +155,14 @@ def test_frozen_clock_with_gaps_stops_the_library_run(window, gap):
 
     (Within the window the light sphere is soon stuck at one instant; with
     exact times it takes 3.7 million collisions for the clock to stall.)"""
-    sim = hs.Simulation.from_arrays([1e-100, 1e100], [1.0, 4.0],
-                                    [[9.0 - gap, 0, 0], [4.0 - 2 * gap, 0, 0]],
-                                    [[0, 0, 0], [1.0, 0, 0]], hs.SphericalContainer(10.0),
-                                    window=window)
+    sim = hs.Simulation.from_arrays(
+        [1e-100, 1e100],
+        [1.0, 4.0],
+        [[9.0 - gap, 0, 0], [4.0 - 2 * gap, 0, 0]],
+        [[0, 0, 0], [1.0, 0, 0]],
+        hs.SphericalContainer(10.0),
+        window=window,
+    )
     with pytest.raises(StuckError, match="clock is stuck") as e:
         sim.run(until=10.0)
     assert e.value.reason == "frozen" and e.value.time < 2.0 * gap + 1e-8
@@ -158,16 +170,18 @@ def test_frozen_clock_with_gaps_stops_the_library_run(window, gap):
 
 def test_nan_until_returns():
     """``until=nan`` ran forever (the core never found an event past it)."""
-    done = ends("import hardspheres as hs, numpy as np\n"
-                "s = hs.Simulation.from_arrays([1, 1], [1, 1], [[-5, 0, 0], [5, 0, 0]],"
-                " [[1, 0, 0], [-1, 0, 0]], hs.SphericalContainer(20.0))\n"
-                "try:\n    s.run(until=float('nan'))\nexcept ValueError as e:\n"
-                "    print('refused', e)\n"
-                "from hardspheres import _core\n"
-                "e = s._engine\n"
-                "print(_core.run(e.spheres, e.masses, e.book, e.due, e.shells, e.neighbours,"
-                " e.cell_head, e.cell_next, e.cell_prev, e.heap, e.heap_t, e.heap_key,"
-                " e.scalars, e.counts, e.scratch, e.images, np.nan, 10**9, 10**9, *e._rec))\n")
+    done = ends(
+        "import hardspheres as hs, numpy as np\n"
+        "s = hs.Simulation.from_arrays([1, 1], [1, 1], [[-5, 0, 0], [5, 0, 0]],"
+        " [[1, 0, 0], [-1, 0, 0]], hs.SphericalContainer(20.0))\n"
+        "try:\n    s.run(until=float('nan'))\nexcept ValueError as e:\n"
+        "    print('refused', e)\n"
+        "from hardspheres import _core\n"
+        "e = s._engine\n"
+        "print(_core.run(e.spheres, e.masses, e.book, e.due, e.shells, e.neighbours,"
+        " e.cell_head, e.cell_next, e.cell_prev, e.heap, e.heap_t, e.heap_key,"
+        " e.scalars, e.counts, e.scratch, e.images, np.nan, 10**9, 10**9, *e._rec))\n"
+    )
     assert done.returncode == 0, done.stderr
     refused, core_returns = done.stdout.splitlines()
     assert refused.startswith("refused") and "NaN" in refused.replace("nan", "NaN")
@@ -175,6 +189,7 @@ def test_nan_until_returns():
 
 
 # ---- 8: an event re-predicts only what it touched ---------------------------------------
+
 
 def touching_lattice(k, seed=0):
     """``k^3`` spheres of radius 0.5 exactly touching on a simple cubic lattice."""
@@ -203,13 +218,15 @@ def test_touching_lattice_same_events_as_brute_force(k, seed):
     want = CompiledReference(m, r, p, v, container=8.0, window=1e-8).advance(events=n_events)
     eng = Engine(m, r, p, v, container=8.0, window=1e-8, rebase=False)
     assert same_events(eng.advance(events=n_events), want)
-    assert np.sum(want["time"] == 0.0) > k ** 3 // 2  # a real cascade at t = 0
+    assert np.sum(want["time"] == 0.0) > k**3 // 2  # a real cascade at t = 0
 
 
 def test_touching_lattice_jsonl_same_from_both_engines(monkeypatch):
     pos, vel = (a.tolist() for a in touching_lattice(3, 4)[2:])
-    text = "".join(f"1 0.5 {x!r} {y!r} {z!r} {a!r} {b!r} {c!r} s{i}\n"
-                   for i, ((x, y, z), (a, b, c)) in enumerate(zip(pos, vel)))
+    text = "".join(
+        f"1 0.5 {x!r} {y!r} {z!r} {a!r} {b!r} {c!r} s{i}\n"
+        for i, ((x, y, z), (a, b, c)) in enumerate(zip(pos, vel))
+    )
     got = {e: spheres([4, 2], text, e, monkeypatch) for e in ("reference", "compiled")}
     assert got["reference"][0] == 0 and len(got["reference"][1]) > 27
     assert got["reference"] == got["compiled"]
@@ -217,11 +234,11 @@ def test_touching_lattice_jsonl_same_from_both_engines(monkeypatch):
 
 # ---- 9: no overflow inside the accepted range --------------------------------------------
 
+
 @ENGINES
 def test_fast_sphere_in_a_huge_container_reflects(engine, monkeypatch):
     """|v| |p| ~ 1e160: b^2 overflowed and the sphere flew out to x = 1e101."""
-    status, events, _ = spheres(["1e100", "1e41"], "1 1 0 0 0 1e60 0 0 a\n", engine,
-                                monkeypatch)
+    status, events, _ = spheres(["1e100", "1e41"], "1 1 0 0 0 1e60 0 0 a\n", engine, monkeypatch)
     assert status == 0
     times = [e["time"] for e in events]
     want = [(1e100 - 1) / 1e60 * (2 * k + 1) for k in range(5)]
@@ -252,20 +269,30 @@ edge = st.integers(-2047, 2047)
 
 
 @settings(max_examples=300, deadline=None)
-@given(d=st.tuples(edge, edge, edge), w=st.tuples(edge, edge, edge),
-       sigma=st.integers(0, 2047), k=st.integers(-340, 330), m=st.integers(-1000, 330))
+@given(
+    d=st.tuples(edge, edge, edge),
+    w=st.tuples(edge, edge, edge),
+    sigma=st.integers(0, 2047),
+    k=st.integers(-340, 330),
+    m=st.integers(-1000, 330),
+)
 def test_pair_time_exact_over_the_whole_accepted_range(d, w, sigma, k, m):
     """Lengths 2^-340..2^341 (past 1e-100..1e100), speeds 2^-1000..2^341."""
     k = max(min(k, m + 1000), m - 1000)  # times stay normal doubles
-    L, V = 2.0 ** k, 2.0 ** m
+    L, V = 2.0**k, 2.0**m
     args = (*(x * L for x in d), *(x * V for x in w), sigma * L)
     exact = exact_pair_time(*args)
     assert ulps(pair_time(*args), exact) <= 2.0
 
 
 @settings(max_examples=300, deadline=None)
-@given(p=st.tuples(edge, edge, edge), w=st.tuples(edge, edge, edge),
-       extra=st.integers(0, 2047), k=st.integers(-340, 330), m=st.integers(-1000, 330))
+@given(
+    p=st.tuples(edge, edge, edge),
+    w=st.tuples(edge, edge, edge),
+    extra=st.integers(0, 2047),
+    k=st.integers(-340, 330),
+    m=st.integers(-1000, 330),
+)
 def test_wall_time_exact_over_the_whole_accepted_range(p, w, extra, k, m):
     if w == (0, 0, 0):
         return
@@ -274,12 +301,13 @@ def test_wall_time_exact_over_the_whole_accepted_range(p, w, extra, k, m):
     reach = math.isqrt(n) + extra
     if reach * reach < n:
         reach += 1
-    L, V = 2.0 ** k, 2.0 ** m
+    L, V = 2.0**k, 2.0**m
     args = (*(x * L for x in p), *(x * V for x in w), reach * L)
     assert ulps(wall_time(*args), exact_wall_time(*args)) <= 2.0
 
 
 # ---- 10: no cancellation when the contact distance is small -------------------------------
+
 
 def _unit(rng):
     v = [rng.gauss(0.0, 1.0) for _ in range(3)]
@@ -287,7 +315,7 @@ def _unit(rng):
     return [x / n for x in v]
 
 
-@pytest.mark.parametrize("ratio", [10.0 ** -e for e in range(1, 13)])
+@pytest.mark.parametrize("ratio", [10.0**-e for e in range(1, 13)])
 def test_pair_time_exact_for_small_contact_distances(ratio):
     """Contact distance / separation from 1e-1 to 1e-12, impact parameter up to
     0.9 contact distances, arbitrary floats: within 4 ulps of the exact root.
@@ -334,8 +362,11 @@ def test_compiled_core_does_not_drop_what_the_kernel_finds():
 
 
 @settings(max_examples=500, deadline=None)
-@given(st.lists(st.floats(-1e3, 1e3, allow_subnormal=False), min_size=6, max_size=6),
-       st.floats(1e-6, 1e3), st.integers(-30, 30))
+@given(
+    st.lists(st.floats(-1e3, 1e3, allow_subnormal=False), min_size=6, max_size=6),
+    st.floats(1e-6, 1e3),
+    st.integers(-30, 30),
+)
 def test_miss_margin_covers_both_discriminants(x, sigma, shift):
     """What the core rejects as a miss (b^2 - a c below -MISS_MARGIN |dv|^2 |dr|^2),
     the kernel finds to miss too, in either form of the discriminant."""
@@ -349,23 +380,35 @@ def test_miss_margin_covers_both_discriminants(x, sigma, shift):
         assert pair_time(dx, dy, dz, dvx, dvy, dvz, sigma) == math.inf
         d = [Fraction(t) for t in (dx, dy, dz)]
         w = [Fraction(t) for t in (dvx, dvy, dvz)]
-        exact = (sum(p * q for p, q in zip(d, w)) ** 2
-                 - sum(q * q for q in w) * (sum(p * p for p in d) - Fraction(sigma) ** 2))
+        exact = sum(p * q for p, q in zip(d, w)) ** 2 - sum(q * q for q in w) * (
+            sum(p * p for p in d) - Fraction(sigma) ** 2
+        )
         assert exact < 0
 
 
 # ---- issue 10, item 3: one body for both pair predictions ---------------------------------
 
+
 @settings(max_examples=300, deadline=None)
 @given(st.lists(st.floats(-1e6, 1e6), min_size=6, max_size=6), st.floats(0.0, 1e3))
 def test_pair_time_is_pair_time_within_without_horizon(x, sigma):
-    assert (pair_time(*x, sigma) == pair_time_within(*x, sigma, math.inf)
-            or math.isnan(pair_time(*x, sigma)))
+    assert pair_time(*x, sigma) == pair_time_within(*x, sigma, math.inf) or math.isnan(pair_time(*x, sigma))
 
 
-_OLD = {"masses": "mass", "spheres": "S", "book": "K", "due": "T", "cell_next": "nxt",
-        "cell_prev": "prv", "heap_t": "HT", "heap_key": "HKEY", "scalars": "f",
-        "counts": "c", "cell_head": "head", "images": "img"}
+_OLD = {
+    "masses": "mass",
+    "spheres": "S",
+    "book": "K",
+    "due": "T",
+    "cell_next": "nxt",
+    "cell_prev": "prv",
+    "heap_t": "HT",
+    "heap_key": "HKEY",
+    "scalars": "f",
+    "counts": "c",
+    "cell_head": "head",
+    "images": "img",
+}
 
 
 def test_checkpoint_from_before_the_new_counters_resumes():

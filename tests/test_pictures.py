@@ -28,10 +28,20 @@ def synthetic_frames(n=40, n_frames=12, container=10.0, box=None, equal_masses=F
     times = np.linspace(0.0, 1.0, n_frames)
     positions = start[None] + times[:, None, None] * velocities[None]
     vel = np.broadcast_to(velocities, (n_frames, n, 3)).copy()
-    return Frames(times=times, positions=positions, velocities=vel, radii=radii, masses=masses,
-                  names=[f"s{i}" for i in range(n)], container=container, box=box,
-                  event_times=np.array([0.2, 0.5]), event_kinds=np.array([1, 0], np.int8),
-                  event_i=np.array([0, 1]), event_j=np.array([2, -1]))
+    return Frames(
+        times=times,
+        positions=positions,
+        velocities=vel,
+        radii=radii,
+        masses=masses,
+        names=[f"s{i}" for i in range(n)],
+        container=container,
+        box=box,
+        event_times=np.array([0.2, 0.5]),
+        event_kinds=np.array([1, 0], np.int8),
+        event_i=np.array([0, 1]),
+        event_j=np.array([2, -1]),
+    )
 
 
 def assert_not_blank(img, min_colours=20):
@@ -45,7 +55,7 @@ def test_movie_gif(tmp_path, capsys):
     frames = synthetic_frames()
     out = render_movie(frames, tmp_path / "run.gif", fps=10, size=(320, 240))
     assert out == tmp_path / "run.gif" and out.stat().st_size > 0
-    assert capsys.readouterr().err == ""      # no progress bar: stderr is not a terminal
+    assert capsys.readouterr().err == ""  # no progress bar: stderr is not a terminal
     with Image.open(out) as im:
         assert im.size == (320, 240)
         images = [f.convert("RGB") for f in ImageSequence.Iterator(im)]
@@ -58,8 +68,15 @@ def test_movie_gif(tmp_path, capsys):
 
 def test_movie_box_by_mass_subsampled(tmp_path):
     frames = synthetic_frames(n=30, n_frames=30, container=None, box=20.0)
-    out = render_movie(frames, tmp_path / "box.gif", size=(200, 160), max_frames=5, color_by="mass",
-                       title="box", progress=False)
+    out = render_movie(
+        frames,
+        tmp_path / "box.gif",
+        size=(200, 160),
+        max_frames=5,
+        color_by="mass",
+        title="box",
+        progress=False,
+    )
     with Image.open(out) as im:
         assert im.size == (200, 160) and im.n_frames == 5
         assert_not_blank(im)
@@ -81,14 +98,43 @@ def test_movie_mp4(tmp_path):
     frames = synthetic_frames()
     out = render_movie(frames, tmp_path / "run.mp4", fps=10, size=(320, 240), progress=False)
     assert out.stat().st_size > 0
-    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-count_frames",
-                            "-show_entries", "stream=width,height,nb_read_frames", "-of", "csv=p=0", str(out)],
-                           capture_output=True, text=True, check=True)
+    probe = subprocess.run(
+        [
+            "ffprobe",
+            "-v",
+            "error",
+            "-select_streams",
+            "v:0",
+            "-count_frames",
+            "-show_entries",
+            "stream=width,height,nb_read_frames",
+            "-of",
+            "csv=p=0",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     width, height, count = (int(x) for x in probe.stdout.strip().split(",")[:3])
     assert (width, height, count) == (320, 240, len(frames.times))
     png = tmp_path / "f.png"
-    subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", str(out), "-vf", r"select=eq(n\,5)", "-frames:v", "1",
-                    str(png)], check=True)
+    subprocess.run(
+        [
+            "ffmpeg",
+            "-v",
+            "error",
+            "-y",
+            "-i",
+            str(out),
+            "-vf",
+            r"select=eq(n\,5)",
+            "-frames:v",
+            "1",
+            str(png),
+        ],
+        check=True,
+    )
     with Image.open(png) as img:
         assert img.size == (320, 240)
         assert_not_blank(img)
@@ -113,8 +159,9 @@ def check_png(path, size=plots.SIZE):
 
 @pytest.mark.parametrize("where", ["container", "box"])
 def test_plot_conservation(tmp_path, where):
-    frames = synthetic_frames(container=10.0 if where == "container" else None,
-                              box=20.0 if where == "box" else None)
+    frames = synthetic_frames(
+        container=10.0 if where == "container" else None, box=20.0 if where == "box" else None
+    )
     out = plots.plot_conservation(frames, tmp_path / "c.png")
     assert out == tmp_path / "c.png"
     check_png(out)
@@ -124,7 +171,9 @@ def test_plot_conservation(tmp_path, where):
 def test_plot_speeds(tmp_path, equal):
     frames = synthetic_frames(n=400, n_frames=5, equal_masses=equal)
     check_png(plots.plot_speeds(frames, tmp_path / "s.png"))
-    check_png(plots.plot_speeds(frames, tmp_path / "s2.png", kT=1.0, start=1, size=(640, 480)), size=(640, 480))
+    check_png(
+        plots.plot_speeds(frames, tmp_path / "s2.png", kT=1.0, start=1, size=(640, 480)), size=(640, 480)
+    )
 
 
 def test_maxwell_densities_are_normalised():
@@ -133,7 +182,7 @@ def test_maxwell_densities_are_normalised():
     for kT, m in [(1.0, 1.0), (2.5, 0.3)]:
         f = maxwell.speed_density(v, kT, m)
         assert integrate(f, v) == pytest.approx(1.0, abs=1e-6)
-        assert integrate(0.5 * m * v ** 2 * f, v) == pytest.approx(1.5 * kT, rel=1e-6)
+        assert integrate(0.5 * m * v**2 * f, v) == pytest.approx(1.5 * kT, rel=1e-6)
     assert integrate(maxwell.reduced_density(v), v) == pytest.approx(1.0, abs=1e-6)
 
 

@@ -31,8 +31,7 @@ def test_tallies_rebuilt_from_the_recorded_impulse_vectors():
 
     def kinetic(v):
         e = 0.5 * m * np.sum(v * v, axis=1)
-        return (np.array([np.sum(m * v[:, p] * v[:, q]) for p, q in PAIRS]),
-                np.sum(v * e[:, None], axis=0))
+        return (np.array([np.sum(m * v[:, p] * v[:, q]) for p, q in PAIRS]), np.sum(v * e[:, None], axis=0))
 
     offset = eng.offset
     for ev in sim.iter_events(collisions=6000):
@@ -55,10 +54,12 @@ def test_tallies_rebuilt_from_the_recorded_impulse_vectors():
     b = eng.transport_tallies()
     np.testing.assert_allclose(b["virial"] - a["virial"], vir, rtol=1e-9)
     np.testing.assert_allclose(b["kinetic"] - a["kinetic"], kin, rtol=1e-9)
-    np.testing.assert_allclose(b["heat_collisional"] - a["heat_collisional"], heat_c,
-                               rtol=1e-8, atol=1e-9 * np.abs(heat_c).max())
-    np.testing.assert_allclose(b["heat_kinetic"] - a["heat_kinetic"], heat_k, rtol=1e-9,
-                               atol=1e-9 * np.abs(heat_k).max())
+    np.testing.assert_allclose(
+        b["heat_collisional"] - a["heat_collisional"], heat_c, rtol=1e-8, atol=1e-9 * np.abs(heat_c).max()
+    )
+    np.testing.assert_allclose(
+        b["heat_kinetic"] - a["heat_kinetic"], heat_k, rtol=1e-9, atol=1e-9 * np.abs(heat_k).max()
+    )
     assert sim.time > t0
     assert eng.offset > offset  # the time origin moved on the way (rebase)
 
@@ -87,12 +88,13 @@ def test_free_flight_kinetic_tensor_is_exact():
     box, n = 10.0, 20
     rng = np.random.default_rng(2)
     v = rng.normal(size=(n, 3))
-    sim = hs.Simulation.from_arrays(np.ones(n), np.full(n, 1e-3), rng.uniform(-5, 5, (n, 3)),
-                                    v, hs.PeriodicBox(box))
+    sim = hs.Simulation.from_arrays(
+        np.ones(n), np.full(n, 1e-3), rng.uniform(-5, 5, (n, 3)), v, hs.PeriodicBox(box)
+    )
     obs = sim.observables.reset()
     sim.run(until=7.0)
     assert sim.counters["collisions"] == 0
-    expect = np.einsum("ia,ib->ab", v, v) / box ** 3
+    expect = np.einsum("ia,ib->ab", v, v) / box**3
     np.testing.assert_allclose(obs.pressure_tensor(), expect, rtol=1e-12)
 
 
@@ -111,8 +113,7 @@ def test_einstein_helfand_near_enskog():
 
 
 def test_transport_in_a_container_raises():
-    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1),
-                        hs.SphericalContainer(5.0))
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1), hs.SphericalContainer(5.0))
     sim.run(collisions=100)
     with pytest.raises(PeriodicBoxRequired, match="periodic box"):
         sim.observables.pressure_tensor()

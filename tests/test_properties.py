@@ -48,10 +48,10 @@ def scenarios(draw, max_n=12):
     container = scale
     half = container / math.sqrt(3.0) * 0.98  # the grid's cube lies inside
     w = 2.0 * half / CELLS
-    cells = draw(st.permutations(range(CELLS ** 3)))[:n]
+    cells = draw(st.permutations(range(CELLS**3)))[:n]
     masses, radii, pos, vel = [], [], [], []
     for c in cells:
-        centre = [-half + w * (0.5 + k) for k in (c % CELLS, c // CELLS % CELLS, c // CELLS ** 2)]
+        centre = [-half + w * (0.5 + k) for k in (c % CELLS, c // CELLS % CELLS, c // CELLS**2)]
         if draw(st.integers(0, 3)) == 0:  # touches any such neighbour exactly
             r, p = 0.5 * w, centre
         else:
@@ -69,8 +69,10 @@ def scenarios(draw, max_n=12):
 
 
 def as_text(masses, radii, pos, vel):
-    return "".join(f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} s{k}\n"
-                   for k, (m, r, p, v) in enumerate(zip(masses, radii, pos, vel)))
+    return "".join(
+        f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} s{k}\n"
+        for k, (m, r, p, v) in enumerate(zip(masses, radii, pos, vel))
+    )
 
 
 def norm(a):

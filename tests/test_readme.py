@@ -18,9 +18,14 @@ def test_readme_python_example_runs(tmp_path, monkeypatch):
 
 def test_readme_first_command_output():
     """`spheres 120 105 < examples/three.txt` prints the assignment text's example events."""
-    out = subprocess.run([sys.executable, "spheres.py", "120", "105"],
-                         stdin=open(ROOT / "examples" / "three.txt"), capture_output=True,
-                         text=True, cwd=ROOT, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, "spheres.py", "120", "105"],
+        stdin=open(ROOT / "examples" / "three.txt"),
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        check=True,
+    ).stdout
     assert "time of event: 94.0839\ncolliding one two\n" in out
     assert "time of event: 102.539\nreflecting two\n" in out
     assert out.rstrip().endswith("momentum: (0,-0.217836,12.8993)")
@@ -31,9 +36,11 @@ def test_readme_commands_run(tmp_path):
     for line in cmds.strip().splitlines():
         line = line.replace("--collisions 2000000", "--collisions 20000")
         line = line.replace("--collisions 2e6", "--collisions 2e4")
-        line = line.replace("hardspheres validate --csv validation.csv",
-                            "hardspheres validate --n 500 --collisions 20 --equilibrate 5 "
-                            "--packings 0.2 --csv validation.csv")
+        line = line.replace(
+            "hardspheres validate --csv validation.csv",
+            "hardspheres validate --n 500 --collisions 20 --equilibrate 5 "
+            "--packings 0.2 --csv validation.csv",
+        )
         res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
         assert res.returncode == 0, (line, res.stderr)
 
@@ -43,7 +50,6 @@ def test_readme_layout_names_every_module():
     layout = re.search(r"## Layout\n(.*?)(\n## |\Z)", README, re.S).group(1)
     named = set(re.findall(r"`_?\w+\.py`", layout))
     src = ROOT / "src" / "hardspheres"
-    modules = {f"`{p.name}`" for p in src.glob("*.py") if p.name not in ("__init__.py",
-                                                                          "__main__.py")}
+    modules = {f"`{p.name}`" for p in src.glob("*.py") if p.name not in ("__init__.py", "__main__.py")}
     assert modules - named == set(), "modules the Layout does not name"
     assert named - modules == set(), "the Layout names modules that do not exist"

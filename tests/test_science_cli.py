@@ -35,8 +35,7 @@ def test_plot(trajectory, tmp_path, capsys, what):
 
 def test_plot_gr_needs_a_periodic_box(tmp_path, capsys):
     path = tmp_path / "c.gsd"
-    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1),
-                        hs.SphericalContainer(5.0))
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1), hs.SphericalContainer(5.0))
     with GSDWriter(path, every=0.5) as w:
         sim.writers.append(w)
         sim.run(until=2.0)
@@ -48,6 +47,7 @@ def test_readme_study_runs(tmp_path, monkeypatch):
     """The README's study, shortened (N = 108, 30 time units)."""
     import re
     from pathlib import Path
+
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     block = re.search(r"## A study.*?```python\n(.*?)```", readme, re.S).group(1)
     assert len(block.strip().splitlines()) < 20

@@ -20,14 +20,18 @@ ROOT = Path(__file__).resolve().parents[1]
 def small_sim(box=False, seed=1, n=300):
     if box:
         return hs.Simulation(hs.random_spheres(n, 0.3, box=12.0, seed=seed), hs.PeriodicBox(12.0))
-    return hs.Simulation(hs.random_spheres(n, 0.3, container=8.0, seed=seed),
-                         hs.SphericalContainer(8.0))
+    return hs.Simulation(hs.random_spheres(n, 0.3, container=8.0, seed=seed), hs.SphericalContainer(8.0))
 
 
 def test_from_arrays_and_state_at_any_time():
-    sim = hs.Simulation.from_arrays([1.0, 3.0], [1.0, 1.0], [[-5, 0, 0], [5, 0, 0]],
-                                    [[2, 0, 0], [0, 0, 0]], hs.SphericalContainer(50.0),
-                                    names=["a", "b"])
+    sim = hs.Simulation.from_arrays(
+        [1.0, 3.0],
+        [1.0, 1.0],
+        [[-5, 0, 0], [5, 0, 0]],
+        [[2, 0, 0], [0, 0, 0]],
+        hs.SphericalContainer(50.0),
+        names=["a", "b"],
+    )
     assert list(sim.iter_events(until=3.5)) == []  # gap 8 closing at speed 2
     evs = list(sim.iter_events(until=4.5))
     assert [(e.time, e.kind, e.i, e.j) for e in evs] == [(4.0, "collision", 0, 1)]
@@ -52,11 +56,11 @@ def test_from_scenario_file_and_errors(tmp_path):
     sim = hs.Simulation.from_scenario(str(path), hs.SphericalContainer(10.0))
     assert sim.n == 2 and sim.names == ["a", "b"]
     with pytest.raises(hs.ScenarioError, match="line 2"):
-        hs.Simulation.from_scenario("1 1 0 0 0 1 0 0 a\n1 1 1 0 0 0 0 0 b\n",
-                                    hs.SphericalContainer(10.0))
+        hs.Simulation.from_scenario("1 1 0 0 0 1 0 0 a\n1 1 1 0 0 0 0 0 b\n", hs.SphericalContainer(10.0))
     with pytest.raises(hs.ScenarioError, match="overlap"):
-        hs.Simulation.from_arrays([1, 1], [1, 1], [[0, 0, 0], [1, 0, 0]], np.zeros((2, 3)),
-                                  hs.PeriodicBox(10.0))
+        hs.Simulation.from_arrays(
+            [1, 1], [1, 1], [[0, 0, 0], [1, 0, 0]], np.zeros((2, 3)), hs.PeriodicBox(10.0)
+        )
     with pytest.raises(ValueError):
         small_sim().run()
 
@@ -128,8 +132,9 @@ def test_ks_distance_detects_wrong_temperature():
 
 
 def cli(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "hardspheres", *args],
-                          capture_output=True, text=True, cwd=ROOT, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "hardspheres", *args], capture_output=True, text=True, cwd=ROOT, **kw
+    )
 
 
 def test_generate_and_run_commands(tmp_path):
@@ -159,9 +164,25 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
     scn = tmp_path / "s.txt"
     scn.write_text(hs.random_spheres(3000, 0.3, container=20.0, seed=1).to_text())
     ck = tmp_path / "ck.npz"
-    proc = subprocess.Popen([sys.executable, "-m", "hardspheres", "run", str(scn),
-                             "--container", "20", "--until", "1e9", "--checkpoint", str(ck)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "hardspheres",
+            "run",
+            str(scn),
+            "--container",
+            "20",
+            "--until",
+            "1e9",
+            "--checkpoint",
+            str(ck),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+    )
     time.sleep(8.0)  # past the start-up (about 4 s of wall time on a loaded 2-core machine)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
@@ -173,16 +194,24 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
 
 
 def test_spheres_jsonl():
-    res = subprocess.run([sys.executable, "spheres.py", "--format", "jsonl", "120", "200"],
-                         input=(ROOT / "examples" / "three.txt").read_text(),
-                         capture_output=True, text=True, cwd=ROOT)
+    res = subprocess.run(
+        [sys.executable, "spheres.py", "--format", "jsonl", "120", "200"],
+        input=(ROOT / "examples" / "three.txt").read_text(),
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
     assert res.returncode == 0
     rows = [json.loads(x) for x in res.stdout.splitlines()]
     assert rows[0]["kind"] == "initial" and len(rows[0]["spheres"]) == 3
     assert rows[1]["kind"] == "collision" and rows[1]["spheres"] == ["one", "two"]
     assert f"{rows[1]['time']:g}" == "94.0839"
-    text = subprocess.run([sys.executable, "spheres.py", "120", "200"],
-                          input=(ROOT / "examples" / "three.txt").read_text(),
-                          capture_output=True, text=True, cwd=ROOT).stdout
+    text = subprocess.run(
+        [sys.executable, "spheres.py", "120", "200"],
+        input=(ROOT / "examples" / "three.txt").read_text(),
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    ).stdout
     kinds = [ln.split()[0] for ln in text.splitlines() if ln.startswith(("colliding", "reflecting"))]
     assert [r["kind"][:4] for r in rows[1:]] == [k[:4] for k in kinds]

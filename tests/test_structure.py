@@ -70,8 +70,7 @@ def test_fluid_is_not_crystal_and_fcc_is(fluid):
 
 def test_structure_factor_of_the_fluid(fluid):
     frames, _, _ = fluid
-    sk = StructureFactor(bins=40, k_max=15.0).compute(frames.positions[::20],
-                                                      box=frames.box)
+    sk = StructureFactor(bins=40, k_max=15.0).compute(frames.positions[::20], box=frames.box)
     # the main peak of the hard-sphere fluid near k sigma ~ 7 at packing 0.3,
     # and S(k) well below 1 at low k (compressibility ~0.1 by Carnahan-Starling)
     peak = sk.k[np.nanargmax(sk.S)]
@@ -82,7 +81,6 @@ def test_structure_factor_of_the_fluid(fluid):
 def test_bad_input():
     with pytest.raises(NotComputedError, match="compute"):
         RDF().g  # noqa: B018 - attribute only exists after compute
-    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]],
-                                    hs.SphericalContainer(5.0))
+    sim = hs.Simulation.from_arrays([1.0], [0.5], [[0, 0, 0]], [[1, 0, 0]], hs.SphericalContainer(5.0))
     with pytest.raises(PeriodicBoxRequired):
         RDF().compute(sim)

@@ -17,8 +17,12 @@ from hardspheres import studies
 from hardspheres.commands import main as hardspheres
 
 ROOT = Path(__file__).resolve().parents[1]
-ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(
-    [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
+ENV = {
+    **os.environ,
+    "PYTHONPATH": os.pathsep.join(
+        [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    ),
+}
 
 # `dask scheduler` and `dask worker`, by this Python whatever the PATH
 DASK = [sys.executable, "-m"]
@@ -55,8 +59,15 @@ def _free_port():
 
 
 def _cli(*args, cwd, timeout=240):
-    return subprocess.run([sys.executable, "-m", "hardspheres", *map(str, args)], cwd=cwd,
-                          env=ENV, capture_output=True, text=True, timeout=timeout, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "hardspheres", *map(str, args)],
+        cwd=cwd,
+        env=ENV,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
 
 
 def _stop(procs):
@@ -88,21 +99,66 @@ def test_two_workers_one_killed_same_bits_as_serial_and_rerun_computes_nothing(t
     address = f"tcp://127.0.0.1:{port}"
     procs = []
     try:
-        procs.append(subprocess.Popen(
-            [*DASK, "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", str(port),
-             "--no-dashboard"],
-            env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        workers = [subprocess.Popen(
-            [*DASK, "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
-             "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60", "--name", f"w{k}"],
-            env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for k in range(2)]
+        procs.append(
+            subprocess.Popen(
+                [
+                    *DASK,
+                    "distributed.cli.dask_scheduler",
+                    "--host",
+                    "127.0.0.1",
+                    "--port",
+                    str(port),
+                    "--no-dashboard",
+                ],
+                env=ENV,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        )
+        workers = [
+            subprocess.Popen(
+                [
+                    *DASK,
+                    "distributed.cli.dask_worker",
+                    address,
+                    "--nthreads",
+                    "1",
+                    "--no-nanny",
+                    "--no-dashboard",
+                    "--host",
+                    "127.0.0.1",
+                    "--death-timeout",
+                    "60",
+                    "--name",
+                    f"w{k}",
+                ],
+                env=ENV,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+            for k in range(2)
+        ]
         procs += workers
         with Client(address, timeout=60) as client:
             client.wait_for_workers(2, timeout=60)
-        run = subprocess.Popen([sys.executable, "-m", "hardspheres", "sweep", "study.toml",
-                                "--scheduler", address, "--timeout", "30"], cwd=cluster_dir,
-                               env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True)
+        run = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "hardspheres",
+                "sweep",
+                "study.toml",
+                "--scheduler",
+                address,
+                "--timeout",
+                "30",
+            ],
+            cwd=cluster_dir,
+            env=ENV,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         procs.append(run)
         # kill -9 the worker of a task that has checkpointed and not finished
         out = cluster_dir / "out"
@@ -116,14 +172,20 @@ def test_two_workers_one_killed_same_bits_as_serial_and_rerun_computes_nothing(t
                     info = json.loads(prog.read_text())
                 except (OSError, ValueError):
                     continue
-                if (not (out / "rows" / f"{key}.parquet").exists()
-                        and info.get("pid") in pids and info["chunk"] < 2 * 16 - 2):
+                if (
+                    not (out / "rows" / f"{key}.parquet").exists()
+                    and info.get("pid") in pids
+                    and info["chunk"] < 2 * 16 - 2
+                ):
                     os.kill(info["pid"], signal.SIGKILL)
                     killed = key
                     break
             time.sleep(0.01)
-        assert killed is not None, ("no task was caught mid-run", run.poll(),
-                                    run.poll() is not None and run.communicate())
+        assert killed is not None, (
+            "no task was caught mid-run",
+            run.poll(),
+            run.poll() is not None and run.communicate(),
+        )
         _, stderr = run.communicate(timeout=240)
         assert run.returncode == 0, stderr
 
@@ -131,19 +193,21 @@ def test_two_workers_one_killed_same_bits_as_serial_and_rerun_computes_nothing(t
         assert cluster["key"].is_unique and len(cluster) == 4
         assert set(cluster["key"]) == set(serial["key"])
         pd.testing.assert_frame_equal(cluster, _results(serial_dir / "out"), check_exact=True)
-        pd.testing.assert_frame_equal(pd.read_parquet(out / "summary.parquet"),
-                                      pd.read_parquet(serial_dir / "out" / "summary.parquet"),
-                                      check_exact=True)
+        pd.testing.assert_frame_equal(
+            pd.read_parquet(out / "summary.parquet"),
+            pd.read_parquet(serial_dir / "out" / "summary.parquet"),
+            check_exact=True,
+        )
         # the killed task started again on the other worker, from its checkpoint
-        attempts = [json.loads(line) for line in
-                    (out / "tasks" / killed / "attempts.jsonl").read_text().splitlines()]
+        attempts = [
+            json.loads(line) for line in (out / "tasks" / killed / "attempts.jsonl").read_text().splitlines()
+        ]
         assert len(attempts) == 2 and attempts[1]["chunk"] > 0
         assert attempts[1]["pid"] != attempts[0]["pid"]
 
         # rerun: nothing recomputed
         rows = {p.name: p.stat().st_mtime_ns for p in (out / "rows").iterdir()}
-        again = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "30",
-                     cwd=cluster_dir)
+        again = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "30", cwd=cluster_dir)
         assert again.returncode == 0, again.stderr
         assert "4 tasks: 4 already done, 0 to run" in again.stdout
         assert {p.name: p.stat().st_mtime_ns for p in (out / "rows").iterdir()} == rows
@@ -161,8 +225,9 @@ def test_local_cluster_same_bits_as_serial(tmp_path):
     assert res.returncode == 0, res.stderr
     assert "dashboard:" in res.stdout and "4 rows" in res.stdout
     studies.sweep(tmp_path / "b" / "study.toml", serial=True)
-    pd.testing.assert_frame_equal(_results(tmp_path / "a" / "out"),
-                                  _results(tmp_path / "b" / "out"), check_exact=True)
+    pd.testing.assert_frame_equal(
+        _results(tmp_path / "a" / "out"), _results(tmp_path / "b" / "out"), check_exact=True
+    )
     csv = pd.read_csv(tmp_path / "a" / "out" / "results.csv")
     assert list(csv.columns) == list(_results(tmp_path / "a" / "out").columns)
     summary = pd.read_csv(tmp_path / "a" / "out" / "summary.csv")
@@ -170,12 +235,21 @@ def test_local_cluster_same_bits_as_serial(tmp_path):
 
 
 def test_summary_mean_and_standard_error_over_seeds():
-    df = pd.DataFrame({"container": "box", "packing": [0.3, 0.3, 0.3, 0.4], "n": 10,
-                       "radius_ratio": 1.0, "mass_ratio": 1.0, "seed": [0, 1, 2, 0],
-                       "Z": [1.0, 2.0, 3.0, 5.0], "Z_err": [0.1, 0.2, 0.2, 0.5]})
+    df = pd.DataFrame(
+        {
+            "container": "box",
+            "packing": [0.3, 0.3, 0.3, 0.4],
+            "n": 10,
+            "radius_ratio": 1.0,
+            "mass_ratio": 1.0,
+            "seed": [0, 1, 2, 0],
+            "Z": [1.0, 2.0, 3.0, 5.0],
+            "Z_err": [0.1, 0.2, 0.2, 0.5],
+        }
+    )
     s = studies.summarize(df)
     assert s["Z"].tolist() == [2.0, 5.0]
-    assert s["Z_err"].tolist() == pytest.approx([1.0 / 3 ** 0.5, 0.5])
+    assert s["Z_err"].tolist() == pytest.approx([1.0 / 3**0.5, 0.5])
     assert s["Z_err_blocks"].tolist() == pytest.approx([0.3 / 3, 0.5])
     assert s["seeds"].tolist() == [3, 1]
 
@@ -183,8 +257,17 @@ def test_summary_mean_and_standard_error_over_seeds():
 def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
     """A task interrupted after a checkpoint inside a block ends as the uninterrupted one."""
     monkeypatch.setattr(studies, "STEP", 50)  # blocks of 320 collisions: 7 steps each
-    spec = studies.parse_study({"packing": 0.3, "n": 64, "equilibrate": 4, "collisions": 40,
-                                "blocks": 4, "checkpoint_seconds": 0, "output": "x"})
+    spec = studies.parse_study(
+        {
+            "packing": 0.3,
+            "n": 64,
+            "equilibrate": 4,
+            "collisions": 40,
+            "blocks": 4,
+            "checkpoint_seconds": 0,
+            "output": "x",
+        }
+    )
     whole = dict(studies.tasks(spec)[0], folder=str(tmp_path / "whole"))
     cut = dict(whole, folder=str(tmp_path / "cut"))
     ref = studies.run_task(whole)
@@ -215,18 +298,21 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
     assert second["chunk"] == 4 + 2 and second["step"] == 6  # in block 3, at its last step
 
 
-@pytest.mark.parametrize("text, words", [
-    ("packing = 0.3\nn = 10\ncolour = 1\n", ["colour", "unknown key"]),
-    ("packing = 0.7405\nn = 10\n", ["packing", "0.7405"]),
-    ("packing = [0.3, 0.75]\nn = 10\n", ["packing", "0.75"]),
-    ("packing = 0.3\nn = -5\n", ["n = -5"]),
-    ("packing = 0.3\nn = 10\nmeasure = [\"Z\", \"entropy\"]\n", ["measure", "entropy"]),
-    ("packing = 0.3\nn = 10\nseeds = 0\n", ["seeds"]),
-    ("packing = 0.3\nn = 10\ncollisions = 5\ntime = 2.0\n", ["collisions", "time"]),
-    ("packing = 0.3\nn = 10\ncontainer = \"cube\"\n", ["container", "cube"]),
-    ("n = 10\n", ["packing", "missing"]),
-    ("packing = 0.3\nn = [10\n", ["not valid TOML"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("packing = 0.3\nn = 10\ncolour = 1\n", ["colour", "unknown key"]),
+        ("packing = 0.7405\nn = 10\n", ["packing", "0.7405"]),
+        ("packing = [0.3, 0.75]\nn = 10\n", ["packing", "0.75"]),
+        ("packing = 0.3\nn = -5\n", ["n = -5"]),
+        ('packing = 0.3\nn = 10\nmeasure = ["Z", "entropy"]\n', ["measure", "entropy"]),
+        ("packing = 0.3\nn = 10\nseeds = 0\n", ["seeds"]),
+        ("packing = 0.3\nn = 10\ncollisions = 5\ntime = 2.0\n", ["collisions", "time"]),
+        ('packing = 0.3\nn = 10\ncontainer = "cube"\n', ["container", "cube"]),
+        ("n = 10\n", ["packing", "missing"]),
+        ("packing = 0.3\nn = [10\n", ["not valid TOML"]),
+    ],
+)
 def test_bad_study_files_one_line_exit_1(tmp_path, capsys, text, words):
     path = tmp_path / "bad.toml"
     path.write_text(text)
@@ -242,8 +328,7 @@ def test_bad_study_files_one_line_exit_1(tmp_path, capsys, text, words):
 def test_unreachable_scheduler_exits_1_naming_the_address(tmp_path):
     (tmp_path / "study.toml").write_text(TINY_STUDY)
     address = f"tcp://127.0.0.1:{_free_port()}"
-    res = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "1", cwd=tmp_path,
-               timeout=60)
+    res = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "1", cwd=tmp_path, timeout=60)
     assert res.returncode == 1
     assert res.stderr.count("\n") == 1 and address in res.stderr, res.stderr
     assert "Traceback" not in res.stderr
@@ -264,29 +349,33 @@ def test_plot_sweep_with_error_bars_and_reference(tmp_path, capsys):
     out = tmp_path / "out"
     for table in ("results.parquet", "summary.csv"):
         png = tmp_path / f"{table}.png"
-        assert hardspheres(["plot", "sweep", str(out / table), "--x", "packing", "--y", "Z",
-                            "-o", str(png)]) == 0
+        assert (
+            hardspheres(["plot", "sweep", str(out / table), "--x", "packing", "--y", "Z", "-o", str(png)])
+            == 0
+        )
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20000
     capsys.readouterr()
-    assert hardspheres(["plot", "sweep", str(out / "results.parquet"), "--y", "entropy",
-                        "-o", str(tmp_path / "x.png")]) == 1
+    assert (
+        hardspheres(
+            ["plot", "sweep", str(out / "results.parquet"), "--y", "entropy", "-o", str(tmp_path / "x.png")]
+        )
+        == 1
+    )
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "entropy" in err and "Z, pressure" in err
-    assert hardspheres(["plot", "sweep", str(tmp_path / "study.toml"),
-                        "-o", str(tmp_path / "x.png")]) == 1
+    assert hardspheres(["plot", "sweep", str(tmp_path / "study.toml"), "-o", str(tmp_path / "x.png")]) == 1
     assert "study.toml" in capsys.readouterr().err
 
 
 def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
     # serial: the LocalCluster path is test_local_cluster_same_bits_as_serial's
-    res = _cli("validate", "--quick", "--serial", "--csv", "v.csv", "--output", "study",
-               cwd=tmp_path)
+    res = _cli("validate", "--quick", "--serial", "--csv", "v.csv", "--output", "study", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     assert "z_HG" in res.stdout and "largest |z| of Z" in res.stdout
     rows = pd.read_csv(tmp_path / "v.csv")
     assert rows["phi"].tolist() == [0.1, 0.3, 0.45]
     assert {"Z", "Z_err", "Z_HG", "z_HG", "Z_KLM", "z_KLM", "gamma"} <= set(rows.columns)
-    assert (rows["z_HG"].abs() < 6).all()   # N = 500: loose, a smoke test
+    assert (rows["z_HG"].abs() < 6).all()  # N = 500: loose, a smoke test
     assert len(pd.read_parquet(tmp_path / "study" / "results.parquet")) == 3
     res = _cli("plot", "eos", "v.csv", "-o", "eos.png", cwd=tmp_path)
     assert res.returncode == 0 and (tmp_path / "eos.png").exists(), res.stderr
@@ -300,14 +389,12 @@ def test_readme_study_file_and_plot_command(tmp_path):
     data = studies.tomllib.loads(block)
     assert len(studies.tasks(studies.parse_study(data, base=tmp_path))) == 24
     data.update(packing=[0.2, 0.3], n=64, seeds=2, equilibrate=5, collisions=10)
-    (tmp_path / "eos.toml").write_text(
-        "\n".join(f"{k} = {json.dumps(v)}" for k, v in data.items()) + "\n")
+    (tmp_path / "eos.toml").write_text("\n".join(f"{k} = {json.dumps(v)}" for k, v in data.items()) + "\n")
     cmds = re.search(r"```sh\n(.*?)```", section, re.DOTALL).group(1).splitlines()
     sweep_cmd = next(c for c in cmds if c.startswith("hardspheres sweep")).split("#")[0]
     plot_cmd = next(c for c in cmds if c.startswith("hardspheres plot sweep")).split("#")[0]
     argv = sweep_cmd.split()[1:] + ["--serial"]
     assert hardspheres([str(tmp_path / a) if a.endswith(".toml") else a for a in argv]) == 0
     argv = plot_cmd.split()[1:]
-    assert hardspheres([str(tmp_path / a) if a.endswith((".parquet", ".png")) else a
-                        for a in argv]) == 0
+    assert hardspheres([str(tmp_path / a) if a.endswith((".parquet", ".png")) else a for a in argv]) == 0
     assert (tmp_path / "eos-study.png").exists()

@@ -8,8 +8,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.events import EVENT_DTYPE
-from hardspheres.trajectory import (GSDWriter, XYZWriter, frames_from_simulation,
-                                    read_trajectory)
+from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")
 
@@ -18,8 +17,7 @@ def _sim(box=False, n=60, seed=3):
     if box:
         state = hs.random_spheres(n, 0.3, box=8.0, seed=seed)
         return hs.Simulation(state, hs.PeriodicBox(8.0))
-    state = hs.random_spheres(n, 0.1, container=6.0, seed=seed, radius_ratio=1.5,
-                              mass_ratio=5.0)
+    state = hs.random_spheres(n, 0.1, container=6.0, seed=seed, radius_ratio=1.5, mass_ratio=5.0)
     state.names = [f"ball-{i}-é" for i in range(n)]  # names are kept, UTF-8 included
     return hs.Simulation(state, hs.SphericalContainer(6.0))
 
@@ -48,8 +46,7 @@ def test_gsd_frames_match_the_run(tmp_path, box):
     assert frames.events.dtype == EVENT_DTYPE
     assert frames.event_kinds.tolist() == [int(e.kind == "collision") for e in events]
     # the impulse is read back, too
-    np.testing.assert_allclose(frames.events["impulse"], [e.impulse for e in events],
-                               rtol=1e-12)
+    np.testing.assert_allclose(frames.events["impulse"], [e.impulse for e in events], rtol=1e-12)
     assert frames.event_i.tolist() == [e.i for e in events]
     assert frames.event_j.tolist() == [e.j for e in events]
     np.testing.assert_allclose(frames.event_times, [e.time for e in events], rtol=1e-12)
@@ -100,8 +97,9 @@ def test_xyz_reads_back_exactly(tmp_path, box):
 
 
 def test_xyz_refuses_names_it_cannot_keep(tmp_path):
-    sim = hs.Simulation.from_arrays([1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]],
-                                    hs.SphericalContainer(3.0), names=["a b"])
+    sim = hs.Simulation.from_arrays(
+        [1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]], hs.SphericalContainer(3.0), names=["a b"]
+    )
     sim.writers.append(XYZWriter(tmp_path / "x.xyz", every=1.0))
     with pytest.raises(ValueError, match="use GSD"):
         sim.run(until=1.0)
@@ -120,8 +118,7 @@ def test_writer_survives_several_runs(tmp_path):
         sim.writers.append(w)
         sim.run(until=0.5)
         sim.run(until=1.0)
-    assert read_trajectory(str(tmp_path / "run.gsd")).times.tolist() == pytest.approx(
-        [0.0, 0.3, 0.6, 0.9])
+    assert read_trajectory(str(tmp_path / "run.gsd")).times.tolist() == pytest.approx([0.0, 0.3, 0.6, 0.9])
 
 
 def test_not_a_trajectory(tmp_path):
@@ -141,9 +138,25 @@ def test_run_command_writes_a_trajectory(tmp_path):
     scn = tmp_path / "scn.txt"
     scn.write_text(hs.random_spheres(40, 0.2, container=5.0, seed=2).to_text())
     out = tmp_path / "out.gsd"
-    r = subprocess.run([sys.executable, "-m", "hardspheres", "run", str(scn),
-                        "--container", "5", "--until", "2", "--trajectory", str(out),
-                        "--every", "0.5"], capture_output=True, text=True)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "hardspheres",
+            "run",
+            str(scn),
+            "--container",
+            "5",
+            "--until",
+            "2",
+            "--trajectory",
+            str(out),
+            "--every",
+            "0.5",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr
     assert f"trajectory {out}" in r.stdout
     frames = read_trajectory(str(out))

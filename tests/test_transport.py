@@ -18,17 +18,18 @@ def test_free_gas_is_ballistic_exactly():
     """Spheres that never meet: MSD = <v^2> t^2 and C(t) = <v^2>, across many box crossings."""
     box, n = 10.0, 50
     rng = np.random.default_rng(1)
-    st = hs.State.from_arrays(np.ones(n), np.full(n, 1e-4), rng.uniform(-5, 5, (n, 3)),
-                              rng.normal(size=(n, 3)))
+    st = hs.State.from_arrays(
+        np.ones(n), np.full(n, 1e-4), rng.uniform(-5, 5, (n, 3)), rng.normal(size=(n, 3))
+    )
     sim = hs.Simulation(st, hs.PeriodicBox(box))
     fr = frames_from_simulation(sim, until=20.0, every=0.25)
     assert sim.counters["collisions"] == 0
     assert np.abs(fr.images[-1]).max() >= 3  # crossed the box several times
-    v2 = np.mean(np.sum(st.velocities ** 2, axis=1))
+    v2 = np.mean(np.sum(st.velocities**2, axis=1))
     msd = MSD().compute(fr)
     # freud works in single precision: ~1e-7 of the squared unwrapped positions
     scale = np.max(fr.unwrapped() ** 2)
-    np.testing.assert_allclose(msd.msd, v2 * msd.t ** 2, rtol=1e-5, atol=1e-6 * scale)
+    np.testing.assert_allclose(msd.msd, v2 * msd.t**2, rtol=1e-5, atol=1e-6 * scale)
     vacf = VACF().compute(fr)
     np.testing.assert_allclose(vacf.c, v2, rtol=1e-12)
 
@@ -78,22 +79,25 @@ def test_vacf_needs_no_image_counts(fluid):
 
 def test_vacf_refuses_coarse_frames(fluid):
     fr, _, _ = fluid
-    coarse = fr.replace(times=fr.times[::5], positions=fr.positions[::5],
-                        velocities=fr.velocities[::5], images=fr.images[::5])
+    coarse = fr.replace(
+        times=fr.times[::5], positions=fr.positions[::5], velocities=fr.velocities[::5], images=fr.images[::5]
+    )
     with pytest.raises(ValueError, match="frames"):
         VACF().compute(coarse).diffusion()
 
 
 def test_yeh_hummer_adds_the_hydrodynamic_term():
     assert yeh_hummer(0.2, 8.0, 0.5, kT=2.0) == pytest.approx(
-        0.2 + 2.837297 * 2.0 / (6 * math.pi * 0.5 * 8.0))
+        0.2 + 2.837297 * 2.0 / (6 * math.pi * 0.5 * 8.0)
+    )
 
 
 def test_bad_input(tmp_path):
     with pytest.raises(NotComputedError):
         MSD().diffusion()
-    sim = hs.Simulation.from_arrays([1.0, 1.0], [0.5, 0.5], [[0, 0, 0], [2, 0, 0]],
-                                    [[1, 0, 0], [0, 1, 0]], hs.SphericalContainer(5.0))
+    sim = hs.Simulation.from_arrays(
+        [1.0, 1.0], [0.5, 0.5], [[0, 0, 0], [2, 0, 0]], [[1, 0, 0], [0, 1, 0]], hs.SphericalContainer(5.0)
+    )
     fr = frames_from_simulation(sim, until=2.0, every=0.5)
     with pytest.raises(PeriodicBoxRequired, match="periodic box"):
         MSD().compute(fr)

@@ -43,9 +43,20 @@ def synthetic_frames(n=80, n_frames=40, container=10.0, box=None, seed=3):
     kinds = rng.integers(0, 2, e).astype(np.int8)
     ei = rng.integers(0, n, e)
     ej = np.where(kinds == 1, (ei + 1 + rng.integers(0, n - 1, e)) % n, -1)
-    return Frames(times=times, positions=positions, velocities=vel, radii=radii, masses=masses,
-                  names=[f"s{i}" for i in range(n)], container=container, box=box,
-                  event_times=event_times, event_kinds=kinds, event_i=ei, event_j=ej)
+    return Frames(
+        times=times,
+        positions=positions,
+        velocities=vel,
+        radii=radii,
+        masses=masses,
+        names=[f"s{i}" for i in range(n)],
+        container=container,
+        box=box,
+        event_times=event_times,
+        event_kinds=kinds,
+        event_i=ei,
+        event_j=ej,
+    )
 
 
 def embedded_data(html):
@@ -83,7 +94,9 @@ def test_html_is_self_contained(tmp_path):
 def _launch():
     if not os.path.exists(CHROMIUM):
         pytest.skip(f"{CHROMIUM} is missing (apt-get install chromium)")
-    sync_api = pytest.importorskip("playwright.sync_api", reason="Python playwright is missing (pip install playwright)")
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="Python playwright is missing (pip install playwright)"
+    )
     return sync_api
 
 
@@ -98,7 +111,10 @@ def test_viewer_in_chromium(tmp_path):
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
             page = browser.new_page(viewport={"width": 1000, "height": 700})
-            page.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
+            page.on(
+                "console",
+                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
+            )
             page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
             page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
             page.goto(path.as_uri())
@@ -113,7 +129,7 @@ def test_viewer_in_chromium(tmp_path):
             assert img.shape == (700, 1000, 3)
             canvas_box = page.locator("#view canvas").bounding_box()
             x0, y0 = int(canvas_box["x"]), int(canvas_box["y"])
-            region = img[y0:y0 + int(canvas_box["height"]), x0:x0 + int(canvas_box["width"])]
+            region = img[y0 : y0 + int(canvas_box["height"]), x0 : x0 + int(canvas_box["width"])]
             colours = np.unique(region.reshape(-1, 3), axis=0)
             assert len(colours) > 200, f"canvas looks blank: {len(colours)} colours"
             assert region.std() > 5
@@ -122,7 +138,9 @@ def test_viewer_in_chromium(tmp_path):
             time0 = page.locator("#time").inner_text()
             assert state0["playing"] is False and state0["frame"] == 0
             page.click("#play")
-            page.wait_for_function(f"document.getElementById('time').textContent !== {json.dumps(time0)}", timeout=10_000)
+            page.wait_for_function(
+                f"document.getElementById('time').textContent !== {json.dumps(time0)}", timeout=10_000
+            )
             page.wait_for_timeout(700)
             state1 = page.evaluate("({...window.viewerState})")
             assert state1["playing"] is True and state1["time"] > state0["time"]
@@ -146,7 +164,10 @@ def test_viewer_in_chromium(tmp_path):
             one.masses = np.ones(3)
             one.events = empty_events()
             page2 = browser.new_page(viewport={"width": 600, "height": 400})
-            page2.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
+            page2.on(
+                "console",
+                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
+            )
             page2.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
             page2.goto(write_viewer(one, tmp_path / "one.html").as_uri())
             page2.wait_for_function("window.viewerReady === true", timeout=30_000)
@@ -165,6 +186,7 @@ def test_page_is_a_packaged_file_and_render_does_not_import_the_viewer():
     from importlib import resources
     import subprocess
     import sys
+
     page = (resources.files("hardspheres") / "_static" / "viewer.html").read_text(encoding="utf-8")
     assert page.startswith("<!DOCTYPE html>") and "__DATA__" in page and "__JS__" in page
     viewer_src = (resources.files("hardspheres") / "viewer.py").read_text(encoding="utf-8")
@@ -182,9 +204,15 @@ def _fcc_frames(k=3, a=2.0, n_frames=3, jitter=0.0, seed=1):
     pos = ((cells[:, None, :] + base[None]) * a).reshape(-1, 3) - 0.5 * k * a
     n = len(pos)
     positions = np.stack([pos + jitter * rng.normal(size=pos.shape) for _ in range(n_frames)])
-    return Frames(times=np.arange(n_frames, dtype=float), positions=positions,
-                  velocities=rng.normal(size=(n_frames, n, 3)), radii=np.full(n, 0.7),
-                  masses=np.ones(n), names=[f"s{i}" for i in range(n)], box=k * a)
+    return Frames(
+        times=np.arange(n_frames, dtype=float),
+        positions=positions,
+        velocities=rng.normal(size=(n_frames, n, 3)),
+        radii=np.full(n, 0.7),
+        masses=np.ones(n),
+        names=[f"s{i}" for i in range(n)],
+        box=k * a,
+    )
 
 
 def test_viewer_colours_by_q6(tmp_path):
@@ -197,8 +225,9 @@ def test_viewer_colours_by_q6(tmp_path):
     assert np.allclose(q6, 0.5745, atol=1e-3)  # FCC, 12 neighbours (Steinhardt q6 = 0.5745)
     assert sc["range"] == [0.25, 0.6]  # fixed, so that pictures compare
     # a liquid-like (strongly jittered) lattice: lower q6 than the crystal
-    liquid = embedded_data(write_viewer(_fcc_frames(jitter=0.4), tmp_path / "l.html",
-                                        color_by="q6").read_text())
+    liquid = embedded_data(
+        write_viewer(_fcc_frames(jitter=0.4), tmp_path / "l.html", color_by="q6").read_text()
+    )
     ql = np.frombuffer(base64.b64decode(liquid["scalar"]["values"]), "<f4")
     assert ql.mean() < 0.5
     # speed and mass colouring carry no scalar; a bad colour names the choices

@@ -19,23 +19,42 @@ from .scenario import Scenario, ScenarioError, parse_scenario
 def _version():
     """The installed distribution's version (pyproject.toml's, the one place it is set)."""
     from importlib.metadata import PackageNotFoundError, version
+
     try:
         return version("hardspheres")
     except PackageNotFoundError:  # run from a source tree that is not installed
         return "0+unknown"
 
+
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
-_LAZY = {"BuildError": "builders", "maxwell_boltzmann": "maxwell",
-         "random_spheres": "builders", "Event": "simulation", "Observables": "observables",
-         "Simulation": "simulation", "State": "state", "GSDWriter": "trajectory",
-         "XYZWriter": "trajectory", "read_trajectory": "trajectory", "Frames": "frames",
-         "sweep": "studies", "StudyError": "studies",
-         "CheckpointError": "engine", "FileInUseError": "fileio",
-         "TruncatedTrajectory": "trajectory",
-         "RDF": "structure", "StructureFactor": "structure", "BondOrder": "structure",
-         "MSD": "transport", "VACF": "transport", "ShearViscosity": "transport",
-         "ThermalConductivity": "transport", "yeh_hummer": "transport", "enskog": "transport"}
+_LAZY = {
+    "BuildError": "builders",
+    "maxwell_boltzmann": "maxwell",
+    "random_spheres": "builders",
+    "Event": "simulation",
+    "Observables": "observables",
+    "Simulation": "simulation",
+    "State": "state",
+    "GSDWriter": "trajectory",
+    "XYZWriter": "trajectory",
+    "read_trajectory": "trajectory",
+    "Frames": "frames",
+    "sweep": "studies",
+    "StudyError": "studies",
+    "CheckpointError": "engine",
+    "FileInUseError": "fileio",
+    "TruncatedTrajectory": "trajectory",
+    "RDF": "structure",
+    "StructureFactor": "structure",
+    "BondOrder": "structure",
+    "MSD": "transport",
+    "VACF": "transport",
+    "ShearViscosity": "transport",
+    "ThermalConductivity": "transport",
+    "yeh_hummer": "transport",
+    "enskog": "transport",
+}
 
 
 def __getattr__(name):
@@ -46,10 +65,39 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BondOrder", "BuildError", "CheckpointError", "Container", "Event", "EventKind",
-           "FileInUseError", "Frames", "GSDWriter", "MSD", "Observables", "PeriodicBox",
-           "PeriodicBoxRequired", "RDF", "Scenario", "ScenarioError", "ShearViscosity",
-           "Simulation", "SphericalContainer", "State", "StopReason", "StructureFactor",
-           "StudyError", "ThermalConductivity", "TruncatedTrajectory", "VACF", "XYZWriter",
-           "enskog", "maxwell_boltzmann", "parse_scenario", "random_spheres", "read_trajectory",
-           "sweep", "yeh_hummer"]
+__all__ = [
+    "BondOrder",
+    "BuildError",
+    "CheckpointError",
+    "Container",
+    "Event",
+    "EventKind",
+    "FileInUseError",
+    "Frames",
+    "GSDWriter",
+    "MSD",
+    "Observables",
+    "PeriodicBox",
+    "PeriodicBoxRequired",
+    "RDF",
+    "Scenario",
+    "ScenarioError",
+    "ShearViscosity",
+    "Simulation",
+    "SphericalContainer",
+    "State",
+    "StopReason",
+    "StructureFactor",
+    "StudyError",
+    "ThermalConductivity",
+    "TruncatedTrajectory",
+    "VACF",
+    "XYZWriter",
+    "enskog",
+    "maxwell_boltzmann",
+    "parse_scenario",
+    "random_spheres",
+    "read_trajectory",
+    "sweep",
+    "yeh_hummer",
+]

@@ -73,27 +73,27 @@ def _cache_dir():
     for path in (__file__, physics.__file__, events.__file__):
         with open(path, "rb") as fh:
             digest.update(fh.read())
-    return os.path.join(os.path.dirname(__file__), "__pycache__",
-                        f"numba-{digest.hexdigest()[:16]}")
+    return os.path.join(os.path.dirname(__file__), "__pycache__", f"numba-{digest.hexdigest()[:16]}")
 
 
 _CACHE_DIR = _cache_dir()
 
 # numba's private switch for its runtime (see below); a numba without it
 # still compiles the core, only slower
-_NO_NRT = ({"_nrt": False} if hasattr(numba.core.cpu.CPUTargetOptions, "_nrt") else {})
+_NO_NRT = {"_nrt": False} if hasattr(numba.core.cpu.CPUTargetOptions, "_nrt") else {}
 
 
 def _compiler(**options):
     """``njit(cache=True, **options)`` caching in :data:`_CACHE_DIR`."""
+
     def decorate(fn):
         saved = numba.config.CACHE_DIR
         numba.config.CACHE_DIR = _CACHE_DIR  # read when the cache is set up
         try:
-            return numba.njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT,
-                              **options)(fn)
+            return numba.njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT, **options)(fn)
         finally:
             numba.config.CACHE_DIR = saved
+
     return decorate
 
 
@@ -163,8 +163,8 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 
 # columns of `spheres`
 X, Y, Z, VX, VY, VZ = 0, 1, 2, 3, 4, 5  # centre and velocity at T_OWN
-T_OWN = 6    # the sphere's own time: of its last collision or reflection (or rebase)
-RADIUS = 7   # radius at the time origin (see F_GROW)
+T_OWN = 6  # the sphere's own time: of its last collision or reflection (or rebase)
+RADIUS = 7  # radius at the time origin (see F_GROW)
 SPHERE_COLS = 8
 # columns of `due`
 EVENT_T = 0  # time of the predicted collision or reflection (inf: none)
@@ -172,56 +172,56 @@ CROSS_T = 1  # time it leaves its shell (inf: never)
 DUE_COLS = 2
 # columns of `shells`
 SHELL_X, SHELL_Y, SHELL_Z = 0, 1, 2  # shell centre: the sphere's centre when it was last listed
-REACH = 3    # the radius its neighbour list is made for (>= its radius until the next build)
+REACH = 3  # the radius its neighbour list is made for (>= its radius until the next build)
 SHELL_COLS = 4
 # columns of `book`
-CHANGES = 0          # collisions and reflections (and kicks) so far: a prediction's stamp
+CHANGES = 0  # collisions and reflections (and kicks) so far: a prediction's stamp
 CELL_X, CELL_Y, CELL_Z = 1, 2, 3  # cell coordinates of its shell centre
-CELL = 4             # cell index, (CELL_Z * nc + CELL_Y) * nc + CELL_X
-EVENT_KEY = 5        # tie key of the predicted event (see _key)
-EVENT_KIND = 6       # its kind: REFLECTION, COLLISION or NONE
-PARTNER = 7          # its partner (-1 for a reflection or none)
+CELL = 4  # cell index, (CELL_Z * nc + CELL_Y) * nc + CELL_X
+EVENT_KEY = 5  # tie key of the predicted event (see _key)
+EVENT_KIND = 6  # its kind: REFLECTION, COLLISION or NONE
+PARTNER = 7  # its partner (-1 for a reflection or none)
 PARTNER_CHANGES = 8  # the partner's CHANGES when predicted (stale if it moved on)
-CROSS_FACE = 9       # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 none
-FRESH = 10           # C_SERIAL when last predicted (refresh_window predicts once per serial)
-HEAP_POS = 11        # position of the sphere's entry in the heap
-NEIGHBOURS = 12      # lists: length of its neighbour list (the first entries of its row)
+CROSS_FACE = 9  # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 none
+FRESH = 10  # C_SERIAL when last predicted (refresh_window predicts once per serial)
+HEAP_POS = 11  # position of the sphere's entry in the heap
+NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its row)
 BOOK_COLS = 13
 
 # indices into `scalars`
-F_CLOCK = 0      # time of the last processed event (relative to the origin)
-F_ANCHOR = 1     # time of the last collision or reflection
+F_CLOCK = 0  # time of the last processed event (relative to the origin)
+F_ANCHOR = 1  # time of the last collision or reflection
 F_CONTAINER = 2  # container radius (0 for a periodic box)
-F_BOX = 3        # periodic box edge (0 for a spherical container)
-F_LO = 4         # grid origin (lower corner) per axis
-F_W = 5          # cell width
-F_WINDOW = 6     # simultaneity window
-F_WALL_IMPULSE = 7   # sum of impulse magnitudes delivered to the wall
-F_VIRIAL = 8         # sum over collisions of r_ij . dp_i
+F_BOX = 3  # periodic box edge (0 for a spherical container)
+F_LO = 4  # grid origin (lower corner) per axis
+F_W = 5  # cell width
+F_WINDOW = 6  # simultaneity window
+F_WALL_IMPULSE = 7  # sum of impulse magnitudes delivered to the wall
+F_VIRIAL = 8  # sum over collisions of r_ij . dp_i
 # transport tallies (periodic box; 6 tensor components in the order xx yy zz xy xz yz)
-F_VIR_T = 9      # collisional virial tensor, sum over collisions of r_ij dp_i
-F_KIN_T = 15     # kinetic tensor now, sum_i m_i v_i v_i
-F_KIN_INT = 21   # its time integral up to F_T_KIN
-F_T_KIN = 27     # time the integrals were last brought up to date
+F_VIR_T = 9  # collisional virial tensor, sum over collisions of r_ij dp_i
+F_KIN_T = 15  # kinetic tensor now, sum_i m_i v_i v_i
+F_KIN_INT = 21  # its time integral up to F_T_KIN
+F_T_KIN = 27  # time the integrals were last brought up to date
 F_HEAT_COLL = 28  # heat Helfand moment, collisional part: sum over collisions of r_ij dE_i
 F_HEAT_KIN = 31  # energy current now, sum_i v_i E_i (E_i = m_i v_i^2 / 2)
 F_HEAT_INT = 34  # its time integral up to F_T_KIN
-F_OFFSET = 37    # absolute time of the time origin (the engine's offset)
-F_STREAK = 38    # time of the first event of the current C_FROZEN streak
-F_GROW = 39      # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
-F_SHELL = 40     # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
+F_OFFSET = 37  # absolute time of the time origin (the engine's offset)
+F_STREAK = 38  # time of the first event of the current C_FROZEN streak
+F_GROW = 39  # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
+F_SHELL = 40  # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
 F_HEADROOM = 41  # reach over radius at a build (> 1 while growing: room to grow)
 N_SCALARS = 42
 
 # indices into `counts`
-C_CELLS = 0        # cells per axis (nc)
-C_COLLISIONS = 1   # collisions processed
+C_CELLS = 0  # cells per axis (nc)
+C_COLLISIONS = 1  # collisions processed
 C_REFLECTIONS = 2  # reflections processed
-C_CROSSINGS = 3    # shell crossings processed (neighbour lists made anew)
-C_STALE = 4        # stale predictions discarded
-C_SERIAL = 5       # collisions and reflections processed (freshness stamps)
-C_FROZEN = 6       # collisions and reflections in a row with the clock not advancing
-C_REFRESHED = 7    # predictions made afresh by the window rule (refresh_window)
+C_CROSSINGS = 3  # shell crossings processed (neighbour lists made anew)
+C_STALE = 4  # stale predictions discarded
+C_SERIAL = 5  # collisions and reflections processed (freshness stamps)
+C_FROZEN = 6  # collisions and reflections in a row with the clock not advancing
+C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
 N_COUNTS = 8
 
 # stop reasons of run() beyond 0..3 (see its docstring)
@@ -233,6 +233,7 @@ STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engi
 # ---- the calendar: an indexed binary heap over spheres -------------------------
 # The heap keeps each entry's time and tie key beside the sphere's index
 # (arrays heap_t, heap_key, heap by heap position), so sifting reads contiguous memory.
+
 
 @_inline
 def _sift_up(heap, heap_t, heap_key, book, k):
@@ -280,7 +281,9 @@ def _schedule(heap, heap_t, heap_key, due, book, i):
     """Sphere ``i``'s heap entry becomes the earlier of its event and its crossing."""
     n = heap.shape[0]
     cross_key = _key(CROSSING, i, -1, n)
-    if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
+    if due[i, CROSS_T] < due[i, EVENT_T] or (
+        due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
+    ):
         t, key = due[i, CROSS_T], cross_key
     else:
         t, key = due[i, EVENT_T], book[i, EVENT_KEY]
@@ -300,6 +303,7 @@ def _key(kind, a, b, n):
 
 
 # ---- cells ---------------------------------------------------------------------
+
 
 @_inline
 def cell_of(x, lo, w, nc):
@@ -336,6 +340,7 @@ def _cell_remove(cell_head, cell_next, cell_prev, book, i):
 
 
 # ---- predictions ---------------------------------------------------------------
+
 
 @_inline
 def _crossing(spheres, book, due, scalars, nc, i, t):
@@ -420,8 +425,7 @@ def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t,
     # are not solved (the window's "now" is never later);
     # two ulps of best_t more, as a root that rounds to
     # best_t ties with it and the tie order decides
-    horizon = ((best_t - t0) + 4.5e-16 * abs(best_t)
-               if best_t >= soon else np.inf)
+    horizon = (best_t - t0) + 4.5e-16 * abs(best_t) if best_t >= soon else np.inf
     dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
     dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
     dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
@@ -431,9 +435,7 @@ def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t,
     sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
     if grow != 0.0:
         # growing (the one branch a plain run pays here)
-        dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz,
-                            sigma * (1.0 + grow * t0), sigma * grow,
-                            horizon)
+        dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz, sigma * (1.0 + grow * t0), sigma * grow, horizon)
     # pair_time_within's own tests up to the root,
     # the same expressions, combined without branches (half
     # the pairs recede, at random, and a branch on that
@@ -457,10 +459,8 @@ def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t,
     # decides; below RANGE_LO, b may underflow)
     if grow != 0.0:
         pass
-    elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (
-            touch | ((beyond ^ True) & (miss ^ True)))):
-        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one,
-                              sigma, horizon)
+    elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (touch | ((beyond ^ True) & (miss ^ True)))):
+        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one, sigma, horizon)
     else:
         dt = np.inf
     if dt < np.inf:
@@ -511,14 +511,14 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         sx = ((code // 9) - 1) * box
         sy = (((code // 3) % 3) - 1) * box
         sz = ((code % 3) - 1) * box
-        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow,
-                                         one, n, best_t, best_key, best_p)
+        best_t, best_key, best_p = _pair(
+            spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+        )
     _store(due, book, i, best_t, best_key, best_p)
 
 
 @_inline
-def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi,
-                xlo, xhi):
+def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
@@ -583,9 +583,24 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                 j = cell_head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
-                        best_t, best_key, best_p = _pair(spheres, i, j, sx, sy, sz, ti, now, soon,
-                                                         clock, grow, one, n, best_t, best_key,
-                                                         best_p)
+                        best_t, best_key, best_p = _pair(
+                            spheres,
+                            i,
+                            j,
+                            sx,
+                            sy,
+                            sz,
+                            ti,
+                            now,
+                            soon,
+                            clock,
+                            grow,
+                            one,
+                            n,
+                            best_t,
+                            best_key,
+                            best_p,
+                        )
                     j = cell_next[j]
     _store(due, book, i, best_t, best_key, best_p)
 
@@ -610,12 +625,26 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
         # the wall, from the sphere's own time
         grow = scalars[F_GROW]
         if grow != 0.0:
-            dt = wall_time_grow(spheres[i, X], spheres[i, Y], spheres[i, Z], spheres[i, VX], spheres[i, VY], spheres[i, VZ],
-                                scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
-                                spheres[i, RADIUS] * grow)
+            dt = wall_time_grow(
+                spheres[i, X],
+                spheres[i, Y],
+                spheres[i, Z],
+                spheres[i, VX],
+                spheres[i, VY],
+                spheres[i, VZ],
+                scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
+                spheres[i, RADIUS] * grow,
+            )
         else:
-            dt = wall_time(spheres[i, X], spheres[i, Y], spheres[i, Z], spheres[i, VX], spheres[i, VY], spheres[i, VZ],
-                           scalars[F_CONTAINER] - spheres[i, RADIUS])
+            dt = wall_time(
+                spheres[i, X],
+                spheres[i, Y],
+                spheres[i, Z],
+                spheres[i, VX],
+                spheres[i, VY],
+                spheres[i, VZ],
+                scalars[F_CONTAINER] - spheres[i, RADIUS],
+            )
         if dt < np.inf:
             te = spheres[i, T_OWN] + dt
             if te < scalars[F_ANCHOR] + scalars[F_WINDOW]:
@@ -681,8 +710,7 @@ def _pair_code(scalars, shells, i, j):
 
 
 @_inline
-def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
-               i, t, insert):
+def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, insert):
     """Sphere ``i``'s shell centre becomes its centre at ``t``, in its cell.
 
     In a periodic box a centre outside the box first moves back in by one
@@ -708,8 +736,14 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
         book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
     if not insert:
         _cell_remove(cell_head, cell_next, cell_prev, book, i)
-    _cell_insert(cell_head, cell_next, cell_prev, book, i,
-                 (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+    _cell_insert(
+        cell_head,
+        cell_next,
+        cell_prev,
+        book,
+        i,
+        (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
+    )
 
 
 @_inline
@@ -735,8 +769,9 @@ def _nearest(d, box):
 
 
 @_inline
-def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
-            counts, scratch, i, t):
+def _relist(
+    spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts, scratch, i, t
+):
     """Sphere ``i`` left its shell at ``t``: a new shell, and its neighbour list anew.
 
     Returns False, changing nothing, if a list would overflow (the engine
@@ -801,8 +836,7 @@ def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, 
                 neighbours[j, r] = neighbours[j, m - 1]
                 book[j, NEIGHBOURS] = m - 1
                 break
-    _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
-               i, t, False)
+    _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, False)
     book[i, NEIGHBOURS] = 0
     for q in range(found):
         j = scratch[q]
@@ -816,8 +850,22 @@ def _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, 
 
 
 @_jit
-def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
-          heap_key, images, scalars, counts):
+def build(
+    spheres,
+    book,
+    due,
+    shells,
+    neighbours,
+    cell_head,
+    cell_next,
+    cell_prev,
+    heap,
+    heap_t,
+    heap_key,
+    images,
+    scalars,
+    counts,
+):
     """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
 
     Returns the longest neighbour list (0 without lists); if it is longer
@@ -837,21 +885,29 @@ def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_pre
             book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
             book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
             book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
-            _cell_insert(cell_head, cell_next, cell_prev, book, i,
-                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+            _cell_insert(
+                cell_head,
+                cell_next,
+                cell_prev,
+                book,
+                i,
+                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
+            )
     else:
-        longest = _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
-                               images, scalars, counts)
+        longest = _build_lists(
+            spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts
+        )
         if longest > neighbours.shape[1]:
             return longest
     for i in range(n):
-        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
-                    t)
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
     for i in range(n):
         heap[i] = i
         book[i, HEAP_POS] = i
         cross_key = _key(CROSSING, i, -1, n)
-        if due[i, CROSS_T] < due[i, EVENT_T] or (due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]):
+        if due[i, CROSS_T] < due[i, EVENT_T] or (
+            due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
+        ):
             heap_t[i], heap_key[i] = due[i, CROSS_T], cross_key
         else:
             heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
@@ -861,8 +917,7 @@ def build(spheres, book, due, shells, neighbours, cell_head, cell_next, cell_pre
 
 
 @_inline
-def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars,
-                 counts):
+def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts):
     """Shells from the clock (in the box), cells by shell centre, every neighbour list.
 
     Returns the longest list (the lists are only filled up to their width).
@@ -887,8 +942,9 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         # the reach: the radius now with the growth headroom, and no less than
         # half the largest (a sphere of radius 0 still needs a shell)
         shells[i, REACH] = max(spheres[i, RADIUS], 0.5 * rmax) * (1.0 + grow * t) * scalars[F_HEADROOM]
-        _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts,
-                   i, t, True)
+        _set_shell(
+            spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, True
+        )
     cap = neighbours.shape[1]
     longest = 0
     for i in range(n):
@@ -930,8 +986,21 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
 
 
 @_jit
-def refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t,
-                   heap_key, scalars, counts, scratch):
+def refresh_window(
+    spheres,
+    book,
+    due,
+    shells,
+    neighbours,
+    cell_head,
+    cell_next,
+    heap,
+    heap_t,
+    heap_key,
+    scalars,
+    counts,
+    scratch,
+):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -965,12 +1034,12 @@ def refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next,
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i,
-                    t)
+            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
             _schedule(heap, heap_t, heap_key, due, book, i)
 
 
 # ---- transport tallies -----------------------------------------------------------
+
 
 @_inline
 def _kinetic_terms(scalars, m, vx, vy, vz, sign):
@@ -1039,10 +1108,35 @@ def kinetic_sums(spheres, masses, scalars):
 
 # ---- the event loop ------------------------------------------------------------
 
+
 @_jit
-def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, cell_prev, heap, heap_t,
-        heap_key, scalars, counts, scratch, images, until, max_events, max_collisions,
-        rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp):
+def run(
+    spheres,
+    masses,
+    book,
+    due,
+    shells,
+    neighbours,
+    cell_head,
+    cell_next,
+    cell_prev,
+    heap,
+    heap_t,
+    heap_key,
+    scalars,
+    counts,
+    scratch,
+    images,
+    until,
+    max_events,
+    max_collisions,
+    rec_t,
+    rec_kind,
+    rec_i,
+    rec_j,
+    rec_imp,
+    rec_dp,
+):
     """Process events in order until one of the limits.
 
     The arrays come one by one (see "the arrays" at the top of this module),
@@ -1121,8 +1215,14 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
                 images[i, ax] += step
             book[i, CELL_X + ax] = k
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
-            _cell_insert(cell_head, cell_next, cell_prev, book, i,
-                         (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X])
+            _cell_insert(
+                cell_head,
+                cell_next,
+                cell_prev,
+                book,
+                i,
+                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
+            )
             counts[C_CROSSINGS] += 1
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
@@ -1131,8 +1231,7 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh,
-                        xl, xh)
+            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
             _crossing(spheres, book, due, scalars, nc, i, te)
             _schedule(heap, heap_t, heap_key, due, book, i)
             continue
@@ -1140,8 +1239,21 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
             # leaving its shell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not); a new
             # shell and neighbour list, and the sphere predicted afresh
-            if not _relist(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev,
-                           images, scalars, counts, scratch, i, te):
+            if not _relist(
+                spheres,
+                book,
+                shells,
+                neighbours,
+                cell_head,
+                cell_next,
+                cell_prev,
+                images,
+                scalars,
+                counts,
+                scratch,
+                i,
+                te,
+            ):
                 return done, STOP_LISTS_FULL
             scalars[F_CLOCK] = te
             counts[C_CROSSINGS] += 1
@@ -1182,12 +1294,28 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
             if scalars[F_GROW] != 0.0:
-                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, spheres[a, VX] - spheres[b, VX],
-                                      spheres[a, VY] - spheres[b, VY], spheres[a, VZ] - spheres[b, VZ],
-                                      (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW])
+                k1, k2 = collide_grow(
+                    masses[a],
+                    masses[b],
+                    dx,
+                    dy,
+                    dz,
+                    spheres[a, VX] - spheres[b, VX],
+                    spheres[a, VY] - spheres[b, VY],
+                    spheres[a, VZ] - spheres[b, VZ],
+                    (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW],
+                )
             else:
-                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, spheres[a, VX] - spheres[b, VX],
-                                 spheres[a, VY] - spheres[b, VY], spheres[a, VZ] - spheres[b, VZ])
+                k1, k2 = collide(
+                    masses[a],
+                    masses[b],
+                    dx,
+                    dy,
+                    dz,
+                    spheres[a, VX] - spheres[b, VX],
+                    spheres[a, VY] - spheres[b, VY],
+                    spheres[a, VZ] - spheres[b, VZ],
+                )
             if box != 0.0:
                 _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2)
             spheres[a, VX] -= k1 * dx
@@ -1221,8 +1349,15 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
             _advance(spheres, i, te)
             px, py, pz = spheres[i, X], spheres[i, Y], spheres[i, Z]
             if scalars[F_GROW] != 0.0:
-                k = reflect_grow(px, py, pz, spheres[i, VX], spheres[i, VY], spheres[i, VZ],
-                                 spheres[i, RADIUS] * scalars[F_GROW])
+                k = reflect_grow(
+                    px,
+                    py,
+                    pz,
+                    spheres[i, VX],
+                    spheres[i, VY],
+                    spheres[i, VZ],
+                    spheres[i, RADIUS] * scalars[F_GROW],
+                )
             else:
                 k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], spheres[i, VZ])
             if k == 0.0:
@@ -1259,13 +1394,44 @@ def run(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, ce
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(spheres, book, due, shells, neighbours, cell_head, cell_next, heap,
-                           heap_t, heap_key, scalars, counts, scratch)
+            refresh_window(
+                spheres,
+                book,
+                due,
+                shells,
+                neighbours,
+                cell_head,
+                cell_next,
+                heap,
+                heap_t,
+                heap_key,
+                scalars,
+                counts,
+                scratch,
+            )
 
 
 @_jit
-def kick(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, heap, heap_t, heap_key,
-         scalars, counts, i, t, vx, vy, vz):
+def kick(
+    spheres,
+    masses,
+    book,
+    due,
+    shells,
+    neighbours,
+    cell_head,
+    cell_next,
+    heap,
+    heap_t,
+    heap_key,
+    scalars,
+    counts,
+    i,
+    t,
+    vx,
+    vy,
+    vz,
+):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
@@ -1293,6 +1459,7 @@ def kick(spheres, masses, book, due, shells, neighbours, cell_head, cell_next, h
 
 
 # ---- state and checks ------------------------------------------------------------
+
 
 @_jit
 def positions_at(spheres, t, out, box):
@@ -1359,8 +1526,7 @@ def max_overlap(x, spheres, book, cell_head, cell_next, nc, box, scale):
                 ny = book[i, CELL_Y] + oy
                 for ox in range(-1, 2):
                     nx = book[i, CELL_X] + ox
-                    if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or
-                                       nx >= nc or ny >= nc or nz >= nc):
+                    if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or nx >= nc or ny >= nc or nz >= nc):
                         continue
                     j = cell_head[((nz % nc) * nc + (ny % nc)) * nc + (nx % nc)]
                     while j >= 0:

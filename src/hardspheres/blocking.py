@@ -95,7 +95,7 @@ def blocking(x, min_blocks=MIN_BLOCKS):
         errs.append(s / np.sqrt(2.0 * (n - 1)))
         counts.append(n)
         m = n // 2
-        y = 0.5 * (y[0:2 * m:2] + y[1:2 * m:2])
+        y = 0.5 * (y[0 : 2 * m : 2] + y[1 : 2 * m : 2])
     sems, errs, counts = np.array(sems), np.array(errs), np.array(counts)
     usable = np.nonzero(counts >= min(min_blocks, counts[0]))[0]
     last = int(usable[-1])
@@ -103,14 +103,16 @@ def blocking(x, min_blocks=MIN_BLOCKS):
     for k in range(last - 1):
         rise1 = sems[k + 1] - sems[k]
         rise2 = sems[k + 2] - sems[k]
-        later = sems[k + 1:last + 1] - sems[k]
-        if (rise1 <= np.hypot(errs[k], errs[k + 1])
-                and rise2 <= np.hypot(errs[k], errs[k + 2])
-                and np.all(later <= 2.0 * np.hypot(errs[k], errs[k + 1:last + 1]))):
+        later = sems[k + 1 : last + 1] - sems[k]
+        if (
+            rise1 <= np.hypot(errs[k], errs[k + 1])
+            and rise2 <= np.hypot(errs[k], errs[k + 2])
+            and np.all(later <= 2.0 * np.hypot(errs[k], errs[k + 1 : last + 1]))
+        ):
             level, converged = k, True
             break
     if level is None:
-        level = int(np.argmax(sems[:last + 1]))
+        level = int(np.argmax(sems[: last + 1]))
         sem = sems[level]
     else:
         # the plateau's first level still underestimates a little when the

@@ -65,7 +65,7 @@ def _fcc(k, a, index=None):
     ``None``), so that only the sites used are ever made.
     """
     if index is None:
-        index = np.arange(4 * k ** 3)
+        index = np.arange(4 * k**3)
     cell, corner = np.divmod(np.asarray(index, dtype=np.int64), 4)
     cx, rest = np.divmod(cell, k * k)
     cy, cz = np.divmod(rest, k)
@@ -81,7 +81,7 @@ def _fcc(k, a, index=None):
 def _whole_cells(sites):
     """Fewest cubic FCC cells per edge, ``k``, whose ``4 k^3`` sites number at least ``sites``."""
     k = max(1, int(np.ceil((sites / 4.0) ** (1.0 / 3.0))))
-    while 4 * k ** 3 < sites:
+    while 4 * k**3 < sites:
         k += 1
     while k > 1 and 4 * (k - 1) ** 3 >= sites:
         k -= 1
@@ -96,7 +96,7 @@ def _box_lattice(n, side, a_min):
     continues across it).
     """
     k_max = int(np.floor(side / a_min))
-    k = min(k_max, _whole_cells(_target_sites(n, 4 * k_max ** 3)))
+    k = min(k_max, _whole_cells(_target_sites(n, 4 * k_max**3)))
     return k, (side / k if k >= 1 else 0.0)
 
 
@@ -108,8 +108,8 @@ def _ball_sites(k, a, where, rmax):
     per_slab = 4 * k * k
     step = max(1, _SLAB_SITES // per_slab) * per_slab
     kept = []
-    for start in range(0, 4 * k ** 3, step):
-        sites = _fcc(k, a, np.arange(start, min(start + step, 4 * k ** 3)))
+    for start in range(0, 4 * k**3, step):
+        sites = _fcc(k, a, np.arange(start, min(start + step, 4 * k**3)))
         kept.append(sites[~where.outside(sites, np.full(len(sites), rmax), tol=-1e-12)])
     return np.concatenate(kept) if kept else np.zeros((0, 3))
 
@@ -125,8 +125,8 @@ def _sphere_lattice(n, where, rmax, a_min):
     reach = where.half_width - rmax
     a = a_min
     if n and reach > 0.0:
-        ball = 16.0 * np.pi * reach ** 3 / 3.0  # 4 sites per a^3 in the ball of radius reach
-        a = max(a_min, (ball / _target_sites(n, ball / a_min ** 3)) ** (1.0 / 3.0))
+        ball = 16.0 * np.pi * reach**3 / 3.0  # 4 sites per a^3 in the ball of radius reach
+        a = max(a_min, (ball / _target_sites(n, ball / a_min**3)) ** (1.0 / 3.0))
     while True:
         k = int(np.ceil(2.0 * where.half_width / a)) + 1 if n else 1
         sites = _ball_sites(k, a, where, rmax)
@@ -166,8 +166,7 @@ def _insert(rng, radii, container, sweeps=20000):
         dist = np.linalg.norm(d, axis=2)
         np.fill_diagonal(dist, np.inf)
         overlap = np.maximum(contact - dist, 0.0)
-        out = (np.zeros(n) if container.periodic
-               else np.maximum(np.linalg.norm(x, axis=1) - reach, 0.0))
+        out = np.zeros(n) if container.periodic else np.maximum(np.linalg.norm(x, axis=1) - reach, 0.0)
         if overlap.max() <= 0.0 and out.max() <= 0.0:
             return x
         dist = np.where(dist == 0.0, 1.0, dist)
@@ -187,9 +186,16 @@ def _radii(rng, n, ratio):
     return rng.uniform(1.0, ratio, n)
 
 
-def random_spheres(n: int, packing: float, container: Container | float | None = None,
-                   box: float | None = None, seed: int | None = 0, radius_ratio: float = 1.0,
-                   mass_ratio: float = 1.0, kT: float = 1.0) -> State:
+def random_spheres(
+    n: int,
+    packing: float,
+    container: Container | float | None = None,
+    box: float | None = None,
+    seed: int | None = 0,
+    radius_ratio: float = 1.0,
+    mass_ratio: float = 1.0,
+    kT: float = 1.0,
+) -> State:
     """N non-overlapping spheres filling the fraction ``packing`` of a container.
 
     Args:
@@ -219,15 +225,21 @@ def random_spheres(n: int, packing: float, container: Container | float | None =
         (100, 0.3)
     """
     masses, radii, positions, velocities = random_arrays(
-        n, packing, container, box, seed=seed, radius_ratio=radius_ratio,
-        mass_ratio=mass_ratio, kT=kT)
+        n, packing, container, box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
+    )
     return State.from_arrays(masses, radii, positions, velocities)
 
 
-def random_arrays(n: int, packing: float, container: Container | float | None = None,
-                  box: float | None = None, seed: int | None = 0, radius_ratio: float = 1.0,
-                  mass_ratio: float = 1.0, kT: float = 1.0
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def random_arrays(
+    n: int,
+    packing: float,
+    container: Container | float | None = None,
+    box: float | None = None,
+    seed: int | None = 0,
+    radius_ratio: float = 1.0,
+    mass_ratio: float = 1.0,
+    kT: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`random_spheres` as bare arrays, without names or a :class:`State`.
 
     For millions of spheres (the benchmark): no Python object per sphere, and
@@ -254,19 +266,20 @@ def random_arrays(n: int, packing: float, container: Container | float | None = 
         raise BuildError(str(e)) from None
     if not (0.0 < packing < 0.74):
         raise BuildError(f"packing fraction must be in (0, 0.74), got {packing}")
-    if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(
-            radius_ratio * mass_ratio):
+    if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
     volume = where.volume
     rel = _radii(rng, n, radius_ratio)
-    scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel ** 3))) ** (1.0 / 3.0)
+    scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel**3))) ** (1.0 / 3.0)
     radii = rel * scale
     rmax = float(radii.max()) if n else 0.0
     if where.periodic and n and 6.0 * rmax > 2.0 * where.half_width:
-        raise BuildError(f"a periodic box must be at least three largest diameters wide "
-                         f"({6.0 * rmax:.3g}), not {2.0 * where.half_width:g}: lower the "
-                         "packing or raise N")
+        raise BuildError(
+            f"a periodic box must be at least three largest diameters wide "
+            f"({6.0 * rmax:.3g}), not {2.0 * where.half_width:g}: lower the "
+            "packing or raise N"
+        )
     # contact spacing: nearest sites (a / sqrt 2) one largest diameter apart
     a_min = 2.0 * np.sqrt(2.0) * rmax * (1.0 + 1e-9)
     sites, k, edge = None, 0, 0.0
@@ -275,7 +288,7 @@ def random_arrays(n: int, packing: float, container: Container | float | None = 
         count = 0
     elif where.periodic:
         k, edge = _box_lattice(n, 2.0 * where.half_width, a_min)
-        count = 4 * k ** 3 if k >= 1 else 0
+        count = 4 * k**3 if k >= 1 else 0
     else:
         sites = _sphere_lattice(n, where, rmax, a_min)
         count = len(sites)
@@ -283,11 +296,12 @@ def random_arrays(n: int, packing: float, container: Container | float | None = 
     if count < n and n <= INSERTION_MAX:
         positions = _insert(rng, radii, where)
     if positions is None and count < n:
-        hint = (f" (about {packing * count / n:.3g} fits)" if count else "")
+        hint = f" (about {packing * count / n:.3g} fits)" if count else ""
         raise BuildError(
             f"only {count} lattice sites fit for {n} spheres at packing {packing}"
             + (" and random placement found no room" if n <= INSERTION_MAX else "")
-            + f"; lower the packing{hint} or the radius ratio, or raise N")
+            + f"; lower the packing{hint} or the radius ratio, or raise N"
+        )
     if positions is None:
         chosen = np.sort(rng.choice(count, size=n, replace=False)) if n else np.zeros(0, int)
         positions = _fcc(k, edge, chosen) if sites is None else sites[chosen]

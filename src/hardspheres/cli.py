@@ -13,8 +13,7 @@ import sys
 
 from .messages import oserror_line, quote
 from .report import PROMPT
-from .scenario import (MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario,
-                       parse_scenario)
+from .scenario import MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario, parse_scenario
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 HELP = f"""{USAGE}
@@ -69,7 +68,7 @@ def parse_spheres_args(argv):
                 del argv[k]
             elif k + 1 < len(argv):
                 value = argv[k + 1]
-                del argv[k:k + 2]
+                del argv[k : k + 2]
             else:
                 raise UsageError("--format needs a value: text or jsonl")
             if value not in FORMATS:
@@ -78,12 +77,17 @@ def parse_spheres_args(argv):
             break
     for arg in argv:
         if arg.split("=", 1)[0] in ("--thermostat", "--andersen", "--rescale", "--compress"):
-            raise UsageError(f"{arg.split('=', 1)[0]}: the assignment's program runs NVE only "
-                             "(thermostats and compression: the hardspheres library)")
+            raise UsageError(
+                f"{arg.split('=', 1)[0]}: the assignment's program runs NVE only "
+                "(thermostats and compression: the hardspheres library)"
+            )
     if len(argv) != 2:
         raise UsageError(f"expected 2 arguments (RADIUS END_TIME), got {len(argv)}")
-    return (_positive_number(argv[0], "argument 1 (RADIUS)", False, MAX_MAGNITUDE),
-            _positive_number(argv[1], "argument 2 (END_TIME)", True), fmt)
+    return (
+        _positive_number(argv[0], "argument 1 (RADIUS)", False, MAX_MAGNITUDE),
+        _positive_number(argv[1], "argument 2 (END_TIME)", True),
+        fmt,
+    )
 
 
 def _help_or_version(argv, stdout):
@@ -92,6 +96,7 @@ def _help_or_version(argv, stdout):
         return False
     if argv[0] == "--version":
         from . import __version__
+
         stdout.write(f"spheres (hardspheres {__version__})\n")
     else:
         stdout.write(HELP)
@@ -119,6 +124,7 @@ def run_spheres(argv, stdin, stdout):
         print(f"spheres: {e}{hint}", file=sys.stderr)
         return 1
     from .assignment import write_report
+
     try:
         write_report(scn, container, end, stdout, fmt)
     except StuckError as e:
@@ -158,9 +164,13 @@ def _checked_stdout():
     out = sys.stdout
     raw = getattr(out, "buffer", None)
     if isinstance(raw, io.RawIOBase):
-        sys.stdout = io.TextIOWrapper(io.BufferedWriter(raw), encoding=out.encoding,
-                                      errors=out.errors, line_buffering=out.line_buffering,
-                                      write_through=True)
+        sys.stdout = io.TextIOWrapper(
+            io.BufferedWriter(raw),
+            encoding=out.encoding,
+            errors=out.errors,
+            line_buffering=out.line_buffering,
+            write_through=True,
+        )
 
 
 def _guarded(main, prog):
@@ -182,8 +192,11 @@ def _guarded(main, prog):
         _drop_stdout()
         status = 141
     except OSError as e:  # only stdout's reach here: the commands name their files
-        name = oserror_line(e) if e.filename is not None else (
-            f"cannot write to {_stdout_name()}: {oserror_line(e)}")
+        name = (
+            oserror_line(e)
+            if e.filename is not None
+            else (f"cannot write to {_stdout_name()}: {oserror_line(e)}")
+        )
         _drop_stdout()
         print(f"{prog}: {name}", file=sys.stderr)
         status = 1
@@ -200,6 +213,7 @@ def spheres_main(argv=None):
 def hardspheres_main(argv=None):
     """Entry point of the ``hardspheres`` console script (subcommands)."""
     from .commands import main
+
     argv = sys.argv[1:] if argv is None else argv
     _checked_stdout()
     status = _guarded(lambda: main(argv), "hardspheres")

@@ -67,18 +67,25 @@ class Engine:
         ([4.0], [1])
     """
 
-    def __init__(self, masses: ArrayLike, radii: ArrayLike, positions: ArrayLike,
-                 velocities: ArrayLike, container: Container | float | None = None,
-                 box: float | None = None, window: float = 0.0, time: float = 0.0,
-                 rebase: bool = True) -> None:
+    def __init__(
+        self,
+        masses: ArrayLike,
+        radii: ArrayLike,
+        positions: ArrayLike,
+        velocities: ArrayLike,
+        container: Container | float | None = None,
+        box: float | None = None,
+        window: float = 0.0,
+        time: float = 0.0,
+        rebase: bool = True,
+    ) -> None:
         self.container: Container = as_container(container, box)
         self.masses = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
         n = self.masses.shape[0]
         # one 64-byte row per sphere: x y z vx vy vz t_own radius
         self.spheres = np.zeros((n, core.SPHERE_COLS))
-        self.spheres[:, core.X:core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
-        self.spheres[:, core.VX:core.VZ + 1] = np.asarray(velocities,
-                                                          dtype=np.float64).reshape(n, 3)
+        self.spheres[:, core.X : core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
+        self.spheres[:, core.VX : core.VZ + 1] = np.asarray(velocities, dtype=np.float64).reshape(n, 3)
         self.spheres[:, core.RADIUS] = np.asarray(radii, dtype=np.float64).reshape(n)
         self.book = np.zeros((n, core.BOOK_COLS), np.int64)
         self.due = np.zeros((n, core.DUE_COLS))
@@ -111,7 +118,7 @@ class Engine:
     @property
     def velocities(self) -> np.ndarray:
         """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
-        return self.spheres[:, core.VX:core.VZ + 1]
+        return self.spheres[:, core.VX : core.VZ + 1]
 
     @property
     def radii(self) -> np.ndarray:
@@ -135,7 +142,7 @@ class Engine:
         # at least as wide as the largest contact distance; with a small
         # relative margin for rounding, and a few cells per sphere at most
         volume = self.container.volume
-        phi = float(np.sum(self.radii ** 3)) * (4.0 / 3.0) * np.pi / volume if n else 0.0
+        phi = float(np.sum(self.radii**3)) * (4.0 / 3.0) * np.pi / volume if n else 0.0
         shell = SHELL if phi >= LISTS_FROM else 0.0
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
@@ -146,21 +153,34 @@ class Engine:
             if sigma * 3.0 > box:
                 raise ValueError(
                     f"periodic box {box:g} is smaller than three largest diameters "
-                    f"({sigma:g}); use a larger box")
+                    f"({sigma:g}); use a larger box"
+                )
             nc = 3
         self.scalars[core.F_SHELL] = shell
         self.scalars[core.F_HEADROOM] = headroom
         self.counts[core.C_CELLS] = nc
         self.scalars[core.F_LO] = -0.5 * span
         self.scalars[core.F_W] = span / nc
-        self.cell_head = np.full(nc ** 3, -1, np.int64)
+        self.cell_head = np.full(nc**3, -1, np.int64)
 
     def _build(self):
         while True:
-            longest = core.build(self.spheres, self.book, self.due, self.shells,
-                                 self.neighbours, self.cell_head, self.cell_next,
-                                 self.cell_prev, self.heap, self.heap_t, self.heap_key,
-                                 self.images, self.scalars, self.counts)
+            longest = core.build(
+                self.spheres,
+                self.book,
+                self.due,
+                self.shells,
+                self.neighbours,
+                self.cell_head,
+                self.cell_next,
+                self.cell_prev,
+                self.heap,
+                self.heap_t,
+                self.heap_key,
+                self.images,
+                self.scalars,
+                self.counts,
+            )
             if longest <= self.neighbours.shape[1]:
                 break
             # room for the longest list and more: lists change as spheres move
@@ -171,7 +191,7 @@ class Engine:
     def _widen_lists(self):
         """Twice as many entries per neighbour list (the lists stay as they are)."""
         wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
-        wider[:, :self.neighbours.shape[1]] = self.neighbours
+        wider[:, : self.neighbours.shape[1]] = self.neighbours
         self.neighbours = wider
 
     # ---- time -------------------------------------------------------------
@@ -261,10 +281,10 @@ class Engine:
         self._rebase()
         f = self.scalars
         dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
-        f[core.F_KIN_INT:core.F_KIN_INT + 6] += f[core.F_KIN_T:core.F_KIN_T + 6] * dt
-        f[core.F_HEAT_INT:core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3] * dt
+        f[core.F_KIN_INT : core.F_KIN_INT + 6] += f[core.F_KIN_T : core.F_KIN_T + 6] * dt
+        f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
         f[core.F_T_KIN] = f[core.F_CLOCK]
-        self.spheres[:, core.VX:core.VZ + 1] *= factor
+        self.spheres[:, core.VX : core.VZ + 1] *= factor
         core.kinetic_sums(self.spheres, self.masses, f)
         self._build()
 
@@ -274,13 +294,35 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.spheres, self.masses, self.book, self.due, self.shells,
-                  self.neighbours, self.cell_head, self.cell_next, self.heap, self.heap_t,
-                  self.heap_key, self.scalars, self.counts, int(i), t, vx, vy, vz)
+        core.kick(
+            self.spheres,
+            self.masses,
+            self.book,
+            self.due,
+            self.shells,
+            self.neighbours,
+            self.cell_head,
+            self.cell_next,
+            self.heap,
+            self.heap_t,
+            self.heap_key,
+            self.scalars,
+            self.counts,
+            int(i),
+            t,
+            vx,
+            vy,
+            vz,
+        )
 
     # ---- running ----------------------------------------------------------
-    def advance(self, until: float = np.inf, events: int | None = None,
-                collisions: int | None = None, record: bool = True) -> np.ndarray:
+    def advance(
+        self,
+        until: float = np.inf,
+        events: int | None = None,
+        collisions: int | None = None,
+        record: bool = True,
+    ) -> np.ndarray:
         """Process events up to time ``until`` or a count limit.
 
         Args:
@@ -313,16 +355,31 @@ class Engine:
                 stop = limit
             else:
                 stop = until
-            rebase_due = (REBASE_EVERY * max(self.n, 16) if self._rebase_on
-                          else np.iinfo(np.int64).max)
+            rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(self.spheres, self.masses, self.book, self.due,
-                                    self.shells, self.neighbours,
-                                    self.cell_head, self.cell_next, self.cell_prev,
-                                    self.heap, self.heap_t, self.heap_key, self.scalars,
-                                    self.counts, self.scratch, self.images,
-                                    stop - self.offset, left_ev, left_coll, *rec)
+            done, reason = core.run(
+                self.spheres,
+                self.masses,
+                self.book,
+                self.due,
+                self.shells,
+                self.neighbours,
+                self.cell_head,
+                self.cell_next,
+                self.cell_prev,
+                self.heap,
+                self.heap_t,
+                self.heap_key,
+                self.scalars,
+                self.counts,
+                self.scratch,
+                self.images,
+                stop - self.offset,
+                left_ev,
+                left_coll,
+                *rec,
+            )
             done_total += done
             self._since_rebase += done
             if record and done:
@@ -335,8 +392,11 @@ class Engine:
             if reason == StopReason.FROZEN or reason == StopReason.SLIDING:
                 if done_total == 0:
                     self.last_reason, self.last_done = StopReason(reason), 0
-                    raise StuckError("frozen" if reason == StopReason.FROZEN else "sliding",
-                                     float(self.offset + self.heap_t[0]), int(self.heap[0]))
+                    raise StuckError(
+                        "frozen" if reason == StopReason.FROZEN else "sliding",
+                        float(self.offset + self.heap_t[0]),
+                        int(self.heap[0]),
+                    )
                 break  # the events before it first; the next call raises
             if reason == StopReason.UNTIL and stop < until:
                 # growing radii reached the cells' width: move the clock
@@ -347,8 +407,9 @@ class Engine:
                 nc = int(self.counts[core.C_CELLS])
                 self._regrid()
                 if int(self.counts[core.C_CELLS]) >= nc and self._grid_limit() <= limit:
-                    raise ValueError("the spheres have grown too large for the periodic box "
-                                     "(three diameters at least)")
+                    raise ValueError(
+                        "the spheres have grown too large for the periodic box (three diameters at least)"
+                    )
                 continue
             if reason == StopReason.UNTIL or reason == StopReason.MAX_COLLISIONS:
                 break
@@ -373,8 +434,23 @@ class Engine:
         return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = ("masses", "spheres", "book", "due", "cell_next", "cell_prev", "heap", "heap_t",
-              "heap_key", "scalars", "counts", "cell_head", "images", "shells", "neighbours")
+    _SAVED = (
+        "masses",
+        "spheres",
+        "book",
+        "due",
+        "cell_next",
+        "cell_prev",
+        "heap",
+        "heap_t",
+        "heap_key",
+        "scalars",
+        "counts",
+        "cell_head",
+        "images",
+        "shells",
+        "neighbours",
+    )
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays."""
@@ -382,9 +458,15 @@ class Engine:
         # the last two: the core's wall radius and box edge, NaN when absent
         # (files before the container record had only these)
         params = self.container.core_params()
-        out["meta"] = np.array([self.offset, float(self._since_rebase),
-                                float(self._rebase_on),
-                                params["wall_radius"] or np.nan, params["box"] or np.nan])
+        out["meta"] = np.array(
+            [
+                self.offset,
+                float(self._since_rebase),
+                float(self._rebase_on),
+                params["wall_radius"] or np.nan,
+                params["box"] or np.nan,
+            ]
+        )
         out["container"] = self.container.record()
         return out
 
@@ -406,15 +488,16 @@ class Engine:
             if k == "images" and k not in data:  # checkpoints from before image counts
                 data = dict(data, images=np.zeros((n, 3), np.int64))
             if k == "shells" and k not in data:  # from before the lists: cells alone
-                data = dict(data, shells=np.zeros((n, core.SHELL_COLS)),
-                            neighbours=np.zeros((n, 0), np.int32))
+                data = dict(
+                    data, shells=np.zeros((n, core.SHELL_COLS)), neighbours=np.zeros((n, 0), np.int32)
+                )
             setattr(eng, k, np.array(data[k]))
         if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
             eng.book = np.concatenate(
-                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1)
+                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1
+            )
         if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
-            eng.counts = np.concatenate(
-                [eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
+            eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
         offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -425,13 +508,13 @@ class Engine:
             except (ValueError, TypeError):
                 raise CheckpointError("damaged checkpoint: no valid container") from None
             params = eng.container.core_params()
-            if (params["wall_radius"] != eng.scalars[core.F_CONTAINER]
-                    or params["box"] != eng.scalars[core.F_BOX]):
-                raise CheckpointError("damaged checkpoint: the container disagrees with the "
-                                      "core's")
+            if (
+                params["wall_radius"] != eng.scalars[core.F_CONTAINER]
+                or params["box"] != eng.scalars[core.F_BOX]
+            ):
+                raise CheckpointError("damaged checkpoint: the container disagrees with the core's")
         else:
-            eng.container = as_container(None if np.isnan(radius) else radius,
-                                         None if np.isnan(box) else box)
+            eng.container = as_container(None if np.isnan(radius) else radius, None if np.isnan(box) else box)
         eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
         eng._rec = _events.empty_buffers(CHUNK)
         saved = eng.scalars.shape[0]
@@ -447,8 +530,7 @@ class Engine:
         return eng
 
     # ---- state ------------------------------------------------------------
-    def positions_at(self, t: float | None = None, out: np.ndarray | None = None,
-                     spheres=None) -> np.ndarray:
+    def positions_at(self, t: float | None = None, out: np.ndarray | None = None, spheres=None) -> np.ndarray:
         """Centres of all spheres at absolute time ``t`` (default: now) [length].
 
         In a periodic box the centres are wrapped into the box.  With
@@ -476,8 +558,7 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.unwrapped_at(self.spheres, self.images, t - self.offset, out,
-                          self.scalars[core.F_BOX])
+        core.unwrapped_at(self.spheres, self.images, t - self.offset, out, self.scalars[core.F_BOX])
         return out
 
     @property
@@ -491,9 +572,13 @@ class Engine:
         or, with neighbour lists, of a sphere's shell), stale (predictions
         dropped), refreshed (made afresh by the window rule)."""
         c = self.counts
-        return {"collisions": int(c[core.C_COLLISIONS]), "reflections": int(c[core.C_REFLECTIONS]),
-                "crossings": int(c[core.C_CROSSINGS]), "stale": int(c[core.C_STALE]),
-                "refreshed": int(c[core.C_REFRESHED])}
+        return {
+            "collisions": int(c[core.C_COLLISIONS]),
+            "reflections": int(c[core.C_REFLECTIONS]),
+            "crossings": int(c[core.C_CROSSINGS]),
+            "stale": int(c[core.C_STALE]),
+            "refreshed": int(c[core.C_REFRESHED]),
+        }
 
     def transport_tallies(self, t=None):
         """The transport tallies at absolute time ``t`` (default: now; periodic box).
@@ -507,12 +592,14 @@ class Engine:
         """
         f = self.scalars
         dt = (self.time if t is None else t) - self.offset - f[core.F_T_KIN]
-        return {"virial": f[core.F_VIR_T:core.F_VIR_T + 6].copy(),
-                "kinetic": (f[core.F_KIN_INT:core.F_KIN_INT + 6]
-                            + dt * f[core.F_KIN_T:core.F_KIN_T + 6]),
-                "heat_collisional": f[core.F_HEAT_COLL:core.F_HEAT_COLL + 3].copy(),
-                "heat_kinetic": (f[core.F_HEAT_INT:core.F_HEAT_INT + 3]
-                                 + dt * f[core.F_HEAT_KIN:core.F_HEAT_KIN + 3])}
+        return {
+            "virial": f[core.F_VIR_T : core.F_VIR_T + 6].copy(),
+            "kinetic": (f[core.F_KIN_INT : core.F_KIN_INT + 6] + dt * f[core.F_KIN_T : core.F_KIN_T + 6]),
+            "heat_collisional": f[core.F_HEAT_COLL : core.F_HEAT_COLL + 3].copy(),
+            "heat_kinetic": (
+                f[core.F_HEAT_INT : core.F_HEAT_INT + 3] + dt * f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3]
+            ),
+        }
 
     @property
     def wall_impulse(self) -> float:
@@ -531,9 +618,18 @@ class Engine:
         x = self.positions_at(t)  # pairs across the box compare by minimum image
         g = self.scalars[core.F_GROW]
         scale = 1.0 + g * (t - self.offset) if g else 1.0
-        return float(core.max_overlap(x, self.spheres, self.book, self.cell_head, self.cell_next,
-                                      int(self.counts[core.C_CELLS]),
-                                      0.0 if self.box is None else self.box, scale))
+        return float(
+            core.max_overlap(
+                x,
+                self.spheres,
+                self.book,
+                self.cell_head,
+                self.cell_next,
+                int(self.counts[core.C_CELLS]),
+                0.0 if self.box is None else self.box,
+                scale,
+            )
+        )
 
     def outside(self, t: float | None = None, tol: float = 1e-9) -> int:
         """Number of spheres poking out of the container by more than ``tol`` of its size."""
@@ -544,12 +640,22 @@ class Engine:
         return float(kinetic_energy(self.masses, self.velocities))
 
 
-
 # ---- checking a checkpoint ------------------------------------------------------
 #: The arrays' names in checkpoints written before they were named for what they hold.
-_OLD_NAMES = {"mass": "masses", "S": "spheres", "K": "book", "T": "due", "nxt": "cell_next",
-              "prv": "cell_prev", "HT": "heap_t", "HKEY": "heap_key", "f": "scalars",
-              "c": "counts", "head": "cell_head", "img": "images"}
+_OLD_NAMES = {
+    "mass": "masses",
+    "S": "spheres",
+    "K": "book",
+    "T": "due",
+    "nxt": "cell_next",
+    "prv": "cell_prev",
+    "HT": "heap_t",
+    "HKEY": "heap_key",
+    "f": "scalars",
+    "c": "counts",
+    "head": "cell_head",
+    "img": "images",
+}
 
 
 def _current_names(data):
@@ -557,6 +663,7 @@ def _current_names(data):
     if not any(k in data for k in _OLD_NAMES):
         return data
     return {_OLD_NAMES.get(k, k): v for k, v in data.items()}
+
 
 def _bad(what):
     raise CheckpointError(f"damaged checkpoint: {what}")
@@ -606,22 +713,24 @@ def check_arrays(data):
     heap_t = _array(data, "heap_t", np.float64, (n,))
     heap_key = _array(data, "heap_key", np.int64, (n,))
     scalars = np.asarray(data.get("scalars", np.zeros(0)))
-    if (scalars.dtype != np.float64 or scalars.ndim != 1
-            or not core.F_WINDOW < scalars.shape[0] <= core.N_SCALARS):
+    if (
+        scalars.dtype != np.float64
+        or scalars.ndim != 1
+        or not core.F_WINDOW < scalars.shape[0] <= core.N_SCALARS
+    ):
         _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
     if "images" in data:  # periodic image counts, where the core keeps them
         _array(data, "images", np.int64, (n, 3))
     if "counts" not in data:
         _bad("no array 'counts'")
     counts = np.asarray(data["counts"])
-    if (counts.dtype != np.int64 or counts.ndim != 1
-            or not core.C_SERIAL < counts.shape[0] <= core.N_COUNTS):
+    if counts.dtype != np.int64 or counts.ndim != 1 or not core.C_SERIAL < counts.shape[0] <= core.N_COUNTS:
         _bad(f"'counts' is {counts.dtype}{list(counts.shape)}, expected int64[{core.N_COUNTS}]")
     meta = _array(data, "meta", np.float64, (5,))
     nc = int(counts[core.C_CELLS])
     if not 1 <= nc <= 1 << 10:
         _bad(f"{nc} cells per axis")
-    cell_head = _array(data, "cell_head", np.int64, (nc ** 3,))
+    cell_head = _array(data, "cell_head", np.int64, (nc**3,))
     # the physical state
     if not np.all(np.isfinite(masses) & (masses > 0)):
         _bad("a masses is not a finite number > 0")
@@ -651,7 +760,7 @@ def check_arrays(data):
         return
     ids = np.arange(n)
     # cells: coordinates in the grid, and each cell's list holds exactly its spheres
-    cxyz = book[:, core.CELL_X:core.CELL_Z + 1]
+    cxyz = book[:, core.CELL_X : core.CELL_Z + 1]
     if np.any((cxyz < 0) | (cxyz >= nc)):
         _bad("a cell coordinate outside the grid")
     if np.any(book[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
@@ -679,9 +788,11 @@ def check_arrays(data):
     if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
         _bad("a collision partner outside the spheres")
     lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
-    key = np.where(coll, _key(core.COLLISION, lo, hi, n),
-                   np.where(kind == core.REFLECTION, _key(core.REFLECTION, ids, -1, n),
-                            _key(core.NONE, n, n - 1, n)))
+    key = np.where(
+        coll,
+        _key(core.COLLISION, lo, hi, n),
+        np.where(kind == core.REFLECTION, _key(core.REFLECTION, ids, -1, n), _key(core.NONE, n, n - 1, n)),
+    )
     if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
     shell = scalars[core.F_SHELL] if scalars.shape[0] > core.F_SHELL else 0.0
@@ -698,8 +809,9 @@ def check_arrays(data):
     cross_key = _key(core.CROSSING, ids, -1, n)
     ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
     first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
-    if (np.any(heap_t[book[:, core.HEAP_POS]] != np.where(first, cr_t, ev_t))
-            or np.any(heap_key[book[:, core.HEAP_POS]] != np.where(first, cross_key, key))):
+    if np.any(heap_t[book[:, core.HEAP_POS]] != np.where(first, cr_t, ev_t)) or np.any(
+        heap_key[book[:, core.HEAP_POS]] != np.where(first, cross_key, key)
+    ):
         _bad("the event calendar disagrees with the predictions")
     k = np.arange(1, n)
     p = (k - 1) >> 1

@@ -30,9 +30,19 @@ _HG_A = 8.0
 _HG_B = (-0.096495, 0.248245, 0.041212, -1.265575, -2.635232, 47.0 / 3.0, -19.0, 9.0)
 
 # Kolafa, Labik & Malijevsky (2004): Z = 1 + sum c_k x^k with x = phi/(1-phi).
-_KLM = ((1, 4.0), (2, 6.0), (3, 2.3647684), (4, -0.8698551), (5, 1.1062803),
-        (6, -1.1014221), (7, 0.66605866), (8, -0.03633431), (10, -0.20965164),
-        (14, 0.10555569), (22, -0.00872380))
+_KLM = (
+    (1, 4.0),
+    (2, 6.0),
+    (3, 2.3647684),
+    (4, -0.8698551),
+    (5, 1.1062803),
+    (6, -1.1014221),
+    (7, 0.66605866),
+    (8, -0.03633431),
+    (10, -0.20965164),
+    (14, 0.10555569),
+    (22, -0.00872380),
+)
 
 
 def _phi(phi):
@@ -58,7 +68,7 @@ def carnahan_starling(phi):
         3.9738
     """
     phi = _phi(phi)
-    return (1.0 + phi + phi * phi - phi ** 3) / (1.0 - phi) ** 3
+    return (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
 
 
 def hansen_goos(phi):
@@ -130,7 +140,7 @@ def kolafa(phi):
     x = phi / (1.0 - phi)
     z = np.ones_like(x)
     for k, c in _KLM:
-        z = z + c * x ** k
+        z = z + c * x**k
     return z
 
 
@@ -225,10 +235,12 @@ def hansen_goos_roth(phi, diameters, fractions):
     """
     n0, n1, n2, n3 = _measures(phi, diameters, fractions)
     g = 1.0 - n3
-    return (n0 / g + n1 * n2 * (1.0 + n3**2 / 3.0) / g**2
-            + n2**3 * (1.0 - 2.0 * n3 / 3.0 + n3**2 / 3.0) / (12.0 * np.pi * g**3)) / n0
+    return (
+        n0 / g
+        + n1 * n2 * (1.0 + n3**2 / 3.0) / g**2
+        + n2**3 * (1.0 - 2.0 * n3 / 3.0 + n3**2 / 3.0) / (12.0 * np.pi * g**3)
+    ) / n0
 
 
 #: Reference equations of state by name (as ``plot`` and ``validate`` use them).
-REFERENCES = {"Carnahan-Starling": carnahan_starling, "Hansen-Goos": hansen_goos,
-              "KLM": kolafa}
+REFERENCES = {"Carnahan-Starling": carnahan_starling, "Hansen-Goos": hansen_goos, "KLM": kolafa}

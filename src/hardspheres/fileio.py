@@ -76,8 +76,7 @@ class PathLock:
             try:
                 fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
             except OSError as e:
-                raise type(e)(e.errno, f"cannot write here ({e.strerror})",
-                              self.path) from None
+                raise type(e)(e.errno, f"cannot write here ({e.strerror})", self.path) from None
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError as e:
@@ -87,7 +86,8 @@ class PathLock:
                     who = f" (process {holder})" if holder else ""
                     raise FileInUseError(
                         f"{self.path} is being written by another writer{who}; "
-                        "wait for it to finish or choose another file") from None
+                        "wait for it to finish or choose another file"
+                    ) from None
                 raise type(e)(e.errno, e.strerror, self.path) from None
             # the holder before us may have removed the lock file as we opened
             # it: then we hold a lock on a file nobody else will open; retry
@@ -187,8 +187,7 @@ def atomic_path(path, lock=True):
         head, tail = os.path.split(path)
         ext = os.path.splitext(tail)[1]
         try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{tail}.", suffix=f".tmp{ext}",
-                                       dir=head or ".")
+            fd, tmp = tempfile.mkstemp(prefix=f".{tail}.", suffix=f".tmp{ext}", dir=head or ".")
             os.close(fd)
             os.chmod(tmp, _mode_for(path))
         except OSError as e:

@@ -49,10 +49,24 @@ class Frames:
         (SphericalContainer(radius=3.0), [3.0], None)
     """
 
-    def __init__(self, times, positions, velocities, radii, masses, names: Sequence[str],
-                 container: Container | float | None = None, box: float | None = None,
-                 events: np.ndarray | None = None, *, event_times=None, event_kinds=None,
-                 event_i=None, event_j=None, images: np.ndarray | None = None):
+    def __init__(
+        self,
+        times,
+        positions,
+        velocities,
+        radii,
+        masses,
+        names: Sequence[str],
+        container: Container | float | None = None,
+        box: float | None = None,
+        events: np.ndarray | None = None,
+        *,
+        event_times=None,
+        event_kinds=None,
+        event_i=None,
+        event_j=None,
+        images: np.ndarray | None = None,
+    ):
         self.times = np.asarray(times, dtype=np.float64)
         self.positions = np.asarray(positions, dtype=np.float64)
         self.velocities = np.asarray(velocities, dtype=np.float64)
@@ -60,9 +74,13 @@ class Frames:
         self.masses = np.asarray(masses, dtype=np.float64)
         self.names = list(names)
         self.container: Container | None = (
-            None if container is None and box is None else as_container(container, box))
-        columns = {k: v for k, v in (("time", event_times), ("kind", event_kinds),
-                                     ("i", event_i), ("j", event_j)) if v is not None}
+            None if container is None and box is None else as_container(container, box)
+        )
+        columns = {
+            k: v
+            for k, v in (("time", event_times), ("kind", event_kinds), ("i", event_i), ("j", event_j))
+            if v is not None
+        }
         if events is not None:
             self.events = as_events(events)
         elif columns:
@@ -76,8 +94,7 @@ class Frames:
         span = f", t={times[0]:.6g}..{times[-1]:.6g}" if len(times) else ""
         c = self.container
         where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
-        return (f"Frames(n={self.n}, frames={len(times)}{span}{where}, "
-                f"events={len(self.events)})")
+        return f"Frames(n={self.n}, frames={len(times)}{span}{where}, events={len(self.events)})"
 
     def replace(self, **changes) -> Frames:
         """A copy with some attributes replaced (as ``dataclasses.replace`` did).
@@ -89,9 +106,16 @@ class Frames:
             [0.0]
         """
         args: dict[str, Any] = dict(
-                    times=self.times, positions=self.positions, velocities=self.velocities,
-                    radii=self.radii, masses=self.masses, names=self.names,
-                    container=self.container, events=self.events, images=self.images)
+            times=self.times,
+            positions=self.positions,
+            velocities=self.velocities,
+            radii=self.radii,
+            masses=self.masses,
+            names=self.names,
+            container=self.container,
+            events=self.events,
+            images=self.images,
+        )
         unknown = set(changes) - set(args)
         if unknown:
             raise ValueError(f"Frames has no attribute {sorted(unknown)[0]!r} to replace")
@@ -121,7 +145,8 @@ class Frames:
         if box is None or self.images is None:
             raise PeriodicBoxRequired(
                 "unwrapped positions need image counts: a periodic-box run recorded "
-                "with GSDWriter or frames_from_simulation (XYZ files carry none)")
+                "with GSDWriter or frames_from_simulation (XYZ files carry none)"
+            )
         return self.positions + self.images * box
 
     # the events' columns by their older names

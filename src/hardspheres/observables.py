@@ -25,8 +25,8 @@ from .containers import require_periodic
 
 # columns of a tally sample (the transport tallies follow in a periodic box)
 _T, _COLL, _REFL, _WALL, _VIRIAL = range(5)
-_VIR_T = slice(5, 11)    # collisional virial tensor (xx yy zz xy xz yz)
-_KIN_T = slice(11, 17)   # time integral of the kinetic tensor
+_VIR_T = slice(5, 11)  # collisional virial tensor (xx yy zz xy xz yz)
+_KIN_T = slice(11, 17)  # time integral of the kinetic tensor
 _HEAT_C = slice(17, 20)  # heat Helfand moment: collisional part
 _HEAT_K = slice(20, 23)  # heat Helfand moment: free flight
 _TENSOR = ("xx", "yy", "zz", "xy", "xz", "yz")
@@ -68,12 +68,14 @@ class Observables:
         eng = self._sim.engine
         c = eng.counters
         t = float(self._sim.time)
-        now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse,
-               eng.virial)
+        now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse, eng.virial)
         if self._sim.container.periodic:  # the transport tallies
             tt = eng.transport_tallies(t)
-            now += tuple(np.concatenate([tt["virial"], tt["kinetic"], tt["heat_collisional"],
-                                         tt["heat_kinetic"]]).tolist())
+            now += tuple(
+                np.concatenate(
+                    [tt["virial"], tt["kinetic"], tt["heat_collisional"], tt["heat_kinetic"]]
+                ).tolist()
+            )
         return now
 
     def reset(self, every: float | None = None) -> Observables:
@@ -99,7 +101,7 @@ class Observables:
     def _auto_every(self):
         sim = self._sim
         n = sim.n
-        v2 = float(np.mean(np.sum(sim.engine.velocities ** 2, axis=1))) if n else 0.0
+        v2 = float(np.mean(np.sum(sim.engine.velocities**2, axis=1))) if n else 0.0
         if v2 <= 0.0:
             return math.inf
         return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
@@ -108,8 +110,11 @@ class Observables:
         """Record the tallies now (the simulation calls this at :attr:`next_sample`)."""
         now = self._now()
         last = self._samples[-1]
-        sparse = (self._auto and len(self._samples) > 2
-                  and now[_COLL] + now[_REFL] - last[_COLL] - last[_REFL] < self.MIN_EVENTS)
+        sparse = (
+            self._auto
+            and len(self._samples) > 2
+            and now[_COLL] + now[_REFL] - last[_COLL] - last[_REFL] < self.MIN_EVENTS
+        )
         self._samples.append(now)
         if len(self._samples) > self.MAX_SAMPLES or sparse:
             # merge neighbouring blocks: keep every other sample from the mark
@@ -167,8 +172,7 @@ class Observables:
             raise NoMeasurementError("no time has passed since reset(); run first")
         values = self._measured(d)
         if name not in values:
-            raise ValueError(f"no time average {name!r} here: choose one of "
-                             f"{', '.join(values)}")
+            raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
         return float(values[name])
 
     def blocks(self, name):
@@ -279,8 +283,11 @@ class Observables:
         """Mean distance a sphere travels between collisions [length]."""
         return self.mean_speed() * self.mean_free_time()
 
-    def speed_histogram(self, bins: int = 50, range: tuple[float, float] | None = None,
-                        ) -> tuple[np.ndarray, np.ndarray]:
+    def speed_histogram(
+        self,
+        bins: int = 50,
+        range: tuple[float, float] | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Histogram of the speeds now: ``(counts, edges)`` [edges: length/time]."""
         speeds = np.linalg.norm(self._sim.engine.velocities, axis=1)
         return np.histogram(speeds, bins=bins, range=range)
@@ -293,8 +300,12 @@ class Observables:
         ``x_converged``, whether the blocking reached a plateau (if not,
         the error is a lower bound: run longer).
         """
-        out = {"time": self._sim.time, "elapsed": self.elapsed,
-               "temperature": self.temperature(), "blocks": self.n_blocks}
+        out = {
+            "time": self._sim.time,
+            "elapsed": self.elapsed,
+            "temperature": self.temperature(),
+            "blocks": self.n_blocks,
+        }
         if self.elapsed > 0:
             for name in ("pressure", "compressibility", "collision_rate"):
                 est = self.estimate(name)
@@ -302,8 +313,7 @@ class Observables:
                 out[f"{name}_error"] = est.sem
                 out[f"{name}_converged"] = est.converged
             rate, rate_err = out["collision_rate"], out["collision_rate_error"]
-            out.update(mean_free_time=self.mean_free_time(),
-                       mean_free_path=self.mean_free_path())
+            out.update(mean_free_time=self.mean_free_time(), mean_free_path=self.mean_free_path())
             rel = rate_err / rate if rate > 0 else np.nan
             out["mean_free_time_error"] = out["mean_free_time"] * rel
             out["mean_free_path_error"] = out["mean_free_path"] * rel

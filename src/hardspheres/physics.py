@@ -63,14 +63,22 @@ def order_one(x, y, z, length, vx, vy, vz, speed):
     """
     er = math.frexp(max(abs(x), abs(y), abs(z), abs(length)))[1]
     ev = math.frexp(max(abs(vx), abs(vy), abs(vz), abs(speed)))[1]
-    return (math.ldexp(x, -er), math.ldexp(y, -er), math.ldexp(z, -er), math.ldexp(length, -er),
-            math.ldexp(vx, -ev), math.ldexp(vy, -ev), math.ldexp(vz, -ev), math.ldexp(speed, -ev),
-            er - ev)
+    return (
+        math.ldexp(x, -er),
+        math.ldexp(y, -er),
+        math.ldexp(z, -er),
+        math.ldexp(length, -er),
+        math.ldexp(vx, -ev),
+        math.ldexp(vy, -ev),
+        math.ldexp(vz, -ev),
+        math.ldexp(speed, -ev),
+        er - ev,
+    )
 
 
 #: The clock "does not advance" over events less than this fraction of its
 #: own value apart (see :func:`frozen_limit`).
-FROZEN_RELATIVE = 2.0 ** -30
+FROZEN_RELATIVE = 2.0**-30
 
 
 def frozen_limit(n):

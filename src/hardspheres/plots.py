@@ -44,11 +44,14 @@ FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 def _save(fig, path, dpi):
     """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
     from .fileio import atomic_write
+
     path = Path(path)
     fmt = FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise ValueError(f"{path.name}: plots are written as {', '.join(FORMATS)}, "
-                         f"not {path.suffix or 'a name without extension'}")
+        raise ValueError(
+            f"{path.name}: plots are written as {', '.join(FORMATS)}, "
+            f"not {path.suffix or 'a name without extension'}"
+        )
     with atomic_write(path, "wb") as fh:
         fig.savefig(fh, dpi=dpi, format=fmt)
     return path
@@ -151,8 +154,8 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
     vel = np.asarray(frames.velocities, float)[start:]
     if vel.shape[0] == 0 or vel.shape[1] == 0:
         raise ValueError("plot_speeds: no speeds to plot")
-    speeds = np.linalg.norm(vel, axis=2)                      # (F, N)
-    kinetic = 0.5 * masses[None, :] * speeds ** 2
+    speeds = np.linalg.norm(vel, axis=2)  # (F, N)
+    kinetic = 0.5 * masses[None, :] * speeds**2
     measured_kT = float(2.0 / 3.0 * kinetic.mean())
     if kT is None:
         kT = measured_kT
@@ -180,8 +183,16 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
         curve = reduced_density(grid)
         xlabel = "v sqrt(m / kT)"
         curve_label = f"Maxwell-Boltzmann, reduced (kT = {kT:.4g})"
-    ax.hist(sample, bins=bins, range=(0.0, top), density=True, color="C0", alpha=0.6,
-            edgecolor="C0", label=f"{count} speeds ({vel.shape[0]} frames x {vel.shape[1]} spheres)")
+    ax.hist(
+        sample,
+        bins=bins,
+        range=(0.0, top),
+        density=True,
+        color="C0",
+        alpha=0.6,
+        edgecolor="C0",
+        label=f"{count} speeds ({vel.shape[0]} frames x {vel.shape[1]} spheres)",
+    )
     ax.plot(grid, curve, color="C3", lw=2, label=curve_label)
     ax.set_xlim(0.0, top)
     ax.set_xlabel(xlabel)
@@ -235,8 +246,10 @@ def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
         raise ValueError(f"{csv_path}: no rows")
     missing = [c for c in need if c not in rows[0]]
     if missing:
-        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)} (write it with "
-                         "hardspheres validate --transport)")
+        raise ValueError(
+            f"{csv_path}: missing column(s) {', '.join(missing)} (write it with "
+            "hardspheres validate --transport)"
+        )
     try:
         num = {k: np.array([float(r[k]) for r in rows]) for k in need[1:-1]}
     except ValueError as e:
@@ -252,8 +265,7 @@ def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
     ax.axvline(0.0, color="0.5", lw=0.8)
     for k, src in enumerate(sources):
         sel = np.array([r["source"].split(",")[0] == src for r in rows])
-        ax.errorbar(dev[sel], y[sel], xerr=err[sel], fmt="o", color=f"C{k}", capsize=3,
-                    label=src)
+        ax.errorbar(dev[sel], y[sel], xerr=err[sel], fmt="o", color=f"C{k}", capsize=3, label=src)
     ax.set_yticks(y, labels)
     ax.set_ylim(-1, len(rows))
     ax.set_xlabel("measured / published - 1 [%] (error bar: combined standard error)")
@@ -294,13 +306,28 @@ def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
     ax.grid(alpha=0.3)
 
     dx.axhline(0.0, color="0.5", lw=0.8)
-    dx.errorbar(phi, 100.0 * (z / z_cs - 1.0), yerr=100.0 * z_err / z_cs, fmt="o", color="C0",
-                capsize=3, label="Z / Z_CS - 1")
+    dx.errorbar(
+        phi,
+        100.0 * (z / z_cs - 1.0),
+        yerr=100.0 * z_err / z_cs,
+        fmt="o",
+        color="C0",
+        capsize=3,
+        label="Z / Z_CS - 1",
+    )
     if "gamma" in d and "gamma_from_Z" in d:
         g, gz = d["gamma"], d["gamma_from_Z"]
         gerr = 100.0 * d["gamma_err"] / gz if "gamma_err" in d else None
-        dx.errorbar(phi + 0.004, 100.0 * (g / gz - 1.0), yerr=gerr, fmt="s", color="C2", ms=4,
-                    capsize=3, label="Gamma / Gamma(Z) - 1")
+        dx.errorbar(
+            phi + 0.004,
+            100.0 * (g / gz - 1.0),
+            yerr=gerr,
+            fmt="s",
+            color="C2",
+            ms=4,
+            capsize=3,
+            label="Gamma / Gamma(Z) - 1",
+        )
     dx.set_xlabel("packing fraction phi")
     dx.set_ylabel("relative deviation [%]")
     dx.legend(loc="best", fontsize="small")
@@ -312,6 +339,7 @@ def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
 def read_table(path):
     """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
     import pandas as pd
+
     path = str(path)
     try:
         if path.endswith(".csv"):
@@ -321,8 +349,7 @@ def read_table(path):
         if isinstance(e, FileNotFoundError):
             raise OSError(f"{path}: no such file") from None
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise ValueError(f"{path}: not a study's results table (.parquet or .csv): "
-                         f"{reason}") from None
+        raise ValueError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
 
 
 def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
@@ -349,21 +376,25 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
         ValueError: a column missing (the message lists those present).
     """
     from .studies import GRID, measured, summarize
+
     df = read_table(table) if not hasattr(table, "columns") else table
     if "seed" in df.columns:
         df = summarize(df)
     params = [c for c in GRID if c in df.columns and c != "seed"]
     if x not in params:
-        raise ValueError(f"--x {x!r} is not a parameter of {table} (parameters: "
-                         f"{', '.join(params)})")
+        raise ValueError(f"--x {x!r} is not a parameter of {table} (parameters: {', '.join(params)})")
     obs = measured(df)
     if y not in obs:
         raise ValueError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
     df = df.sort_values(x, kind="stable")
     others = [c for c in params if c != x and df[c].nunique() > 1]
     groups = list(df.groupby(others, sort=True)) if others else [((), df)]
-    reference = (y in ("Z", "compressibility") and x == "packing"
-                 and (df["container"] == "box").all() and (df["radius_ratio"] == 1).all())
+    reference = (
+        y in ("Z", "compressibility")
+        and x == "packing"
+        and (df["container"] == "box").all()
+        and (df["radius_ratio"] == 1).all()
+    )
 
     fig = _figure(size, dpi)
     if reference:
@@ -374,29 +405,43 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
         top = float(df[x].max())
         grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
         ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
-        ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--",
-                label="Carnahan-Starling")
+        ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--", label="Carnahan-Starling")
         dx.axhline(0.0, color="C3", lw=1)
-        dx.plot(grid[1:], 100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
-                color="0.4", lw=1, ls="--")
+        dx.plot(
+            grid[1:],
+            100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
+            color="0.4",
+            lw=1,
+            ls="--",
+        )
     colors = ["C0", "C1", "C2", "C4", "C5", "C6", "C7", "C8", "C9"]  # C3 is the reference
     for k, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)
         color = colors[k % len(colors)]
         label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
-        ax.errorbar(g[x], g[y], yerr=g[f"{y}_err"], fmt="o", ms=4, capsize=3,
-                    color=color, label=label)
+        ax.errorbar(g[x], g[y], yerr=g[f"{y}_err"], fmt="o", ms=4, capsize=3, color=color, label=label)
         if dx is not None:
             ref = hansen_goos(g[x].to_numpy(float))
-            dx.errorbar(g[x], 100.0 * (g[y] / ref - 1.0), yerr=100.0 * g[f"{y}_err"] / ref,
-                        fmt="o", ms=4, capsize=3, color=color)
+            dx.errorbar(
+                g[x],
+                100.0 * (g[y] / ref - 1.0),
+                yerr=100.0 * g[f"{y}_err"] / ref,
+                fmt="o",
+                ms=4,
+                capsize=3,
+                color=color,
+            )
     ax.set_ylabel(y)
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize="small")
     seeds = df["seeds"] if "seeds" in df.columns else None
-    note = (f", {int(seeds.min())}-{int(seeds.max())} seeds per point" if seeds is not None
-            and seeds.min() != seeds.max() else f", {int(seeds.iloc[0])} seeds per point"
-            if seeds is not None else "")
+    note = (
+        f", {int(seeds.min())}-{int(seeds.max())} seeds per point"
+        if seeds is not None and seeds.min() != seeds.max()
+        else f", {int(seeds.iloc[0])} seeds per point"
+        if seeds is not None
+        else ""
+    )
     ax.set_title(f"{y} against {x}: mean ± standard error{note}")
     last = dx if dx is not None else ax
     if dx is not None:
@@ -412,14 +457,19 @@ def plot_gr(frames, path, *, size=SIZE, dpi=100):
     Uses :class:`hardspheres.structure.RDF` (freud).  Returns ``path``.
     """
     from .structure import RDF
+
     rdf = RDF().compute(frames)
     fig = _figure(size, dpi)
     ax = rdf.plot(fig.add_subplot())
     try:
         g, err = rdf.contact_value()
         z, z_err = rdf.compressibility()
-        ax.plot([1.0], [g], "o", label=f"g(sigma+) = {g:.4g} +- {err:.2g}: "
-                f"Z = 1 + 4 phi g = {z:.4g} +- {z_err:.2g}")
+        ax.plot(
+            [1.0],
+            [g],
+            "o",
+            label=f"g(sigma+) = {g:.4g} +- {err:.2g}: Z = 1 + 4 phi g = {z:.4g} +- {z_err:.2g}",
+        )
         ax.legend()
     except ValueError:  # unequal spheres: no single contact value
         pass
@@ -433,6 +483,7 @@ def plot_msd(frames, path, *, size=SIZE, dpi=100):
     positions.  Returns ``path``.
     """
     from .transport import MSD
+
     msd = MSD().compute(frames)
     D, err = msd.diffusion()
     fig = _figure(size, dpi)

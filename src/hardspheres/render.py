@@ -37,7 +37,8 @@ def _writer(path, fps, dpi):
             raise RuntimeError(
                 f"render_movie: writing {suffix} needs the ffmpeg program, which was not found "
                 f"(looked for {shutil.which('ffmpeg') or 'ffmpeg'!r} on PATH); install ffmpeg "
-                "(e.g. apt-get install ffmpeg) or write a .gif, which needs only Pillow")
+                "(e.g. apt-get install ffmpeg) or write a .gif, which needs only Pillow"
+            )
         codec = "libvpx-vp9" if suffix == ".webm" else "libx264"
         extra = ["-pix_fmt", "yuv420p"] if codec == "libx264" else None
         return animation.FFMpegWriter(fps=fps, codec=codec, extra_args=extra)
@@ -135,8 +136,9 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     if cut is not None:
         caption += f"\ncut-away: z <= {cut:.4g}"
     header = f"{title}\n" if title else ""
-    label_t = fig.text(0.015, 0.975, "", va="top", ha="left", family="monospace",
-                       fontsize=max(9, round(height / 48)))
+    label_t = fig.text(
+        0.015, 0.975, "", va="top", ha="left", family="monospace", fontsize=max(9, round(height / 48))
+    )
 
     def show(f):
         p = pos[f]
@@ -175,8 +177,20 @@ def _check(size, color_by, what):
         raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
 
 
-def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_frames=None,
-                 color_by="speed", title=None, dpi=100, cut=None, on_estimate=None):
+def render_movie(
+    frames,
+    path,
+    fps=20,
+    size=(960, 540),
+    progress=True,
+    *,
+    max_frames=None,
+    color_by="speed",
+    title=None,
+    dpi=100,
+    cut=None,
+    on_estimate=None,
+):
     """Render ``frames`` to a movie file and return ``path``.
 
     Args:
@@ -223,6 +237,7 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
     first_done = None
     try:
         from .fileio import atomic_path
+
         with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):
             for f in range(len(keep)):
                 show(f)
@@ -239,21 +254,20 @@ def render_movie(frames, path, fps=20, size=(960, 540), progress=True, *, max_fr
                         on_estimate(len(keep), total)
                         bar.redraw()
                     elif bar.on:
-                        bar.note(f"rendering {len(keep)} frames to {path.name}, about "
-                                 f"{duration(total)}")
+                        bar.note(f"rendering {len(keep)} frames to {path.name}, about {duration(total)}")
                 bar.update(f + 1, f + 1, f"rendering {f + 1}/{len(keep)}")
     finally:
         bar.close()
     return path
 
 
-
 #: Still pictures' formats, by extension.
 STILLS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 
-def render_still(frames, path, time=None, size=(1280, 720), *, color_by="speed", title=None,
-                 dpi=100, cut=None):
+def render_still(
+    frames, path, time=None, size=(1280, 720), *, color_by="speed", title=None, dpi=100, cut=None
+):
     """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a picture.
 
     Args:
@@ -273,8 +287,7 @@ def render_still(frames, path, time=None, size=(1280, 720), *, color_by="speed",
     _check(size, color_by, "render_still")
     fmt = STILLS.get(path.suffix.lower())
     if fmt is None:
-        raise ValueError(f"render_still: writes .png, .pdf or .svg, not "
-                         f"{path.suffix or path.name!r}")
+        raise ValueError(f"render_still: writes .png, .pdf or .svg, not {path.suffix or path.name!r}")
     times = np.asarray(frames.times, float)
     if len(times) == 0:
         raise ValueError("render_still: no frames")
@@ -287,6 +300,7 @@ def render_still(frames, path, time=None, size=(1280, 720), *, color_by="speed",
     fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)
     show(0)
     from .fileio import atomic_write
+
     with atomic_write(path, "wb") as fh:
         fig.savefig(fh, dpi=dpi, format=fmt)
     return path

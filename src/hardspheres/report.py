@@ -9,9 +9,11 @@ from .events import KIND_LABELS, EventKind
 
 _REFLECTION = int(EventKind.REFLECTION)
 
-PROMPT = ("Please enter the mass, radius, x/y/z position, x/y/z velocity\n"
-          "and name of each sphere\n"
-          "When complete, use EOF / Ctrl-D to stop entering\n")
+PROMPT = (
+    "Please enter the mass, radius, x/y/z position, x/y/z velocity\n"
+    "and name of each sphere\n"
+    "When complete, use EOF / Ctrl-D to stop entering\n"
+)
 
 _VECS = "%g,%g,%g) v=(%g,%g,%g)\n"
 
@@ -44,8 +46,7 @@ class TextReport:
         self.names = list(names)
         self.masses = [float(m) for m in masses]
         self.out = out
-        self._prefix = [f"{nm} m={m:g} R={r:g} p=(" for nm, m, r in
-                        zip(self.names, self.masses, radii)]
+        self._prefix = [f"{nm} m={m:g} R={r:g} p=(" for nm, m, r in zip(self.names, self.masses, radii)]
         self._fmt = None
 
     def _block(self, positions, velocities):
@@ -71,6 +72,7 @@ class TextReport:
         totals are bit-identical to the list path's.
         """
         import numpy as np
+
         if self._fmt is None:
             self._fmt = "".join(pre.replace("%", "%%") + _VECS for pre in self._prefix)
             self._m = np.array(self.masses)
@@ -86,22 +88,23 @@ class TextReport:
         px = float(np.cumsum(m * vx)[-1])
         py = float(np.cumsum(m * vy)[-1])
         pz = float(np.cumsum(m * vz)[-1])
-        return (self._fmt % tuple(both.ravel().tolist())
-                + f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n")
+        return self._fmt % tuple(both.ravel().tolist()) + f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n"
 
     def initial(self, container, end, positions, velocities):
         """The initial conditions, through ``Here are the events.``"""
         self.out.write(
             f"\nHere are the initial conditions.\nuniverse radius {float(container)}\n"
-            f"end simulation {float(end)}\n" + self._block(positions, velocities)
-            + "\nHere are the events.\n")
+            f"end simulation {float(end)}\n" + self._block(positions, velocities) + "\nHere are the events.\n"
+        )
 
     def event(self, t, kind, i, j, positions, velocities):
         """One event: an :class:`~hardspheres.events.EventKind` of ``i`` (and ``j``)."""
-        what = (f"reflecting {self.names[i]}" if kind == _REFLECTION else
-                f"colliding {self.names[i]} {self.names[j]}")
-        self.out.write(f"\ntime of event: {t:g}\n{what}\n"
-                       + self._block(positions, velocities))
+        what = (
+            f"reflecting {self.names[i]}"
+            if kind == _REFLECTION
+            else f"colliding {self.names[i]} {self.names[j]}"
+        )
+        self.out.write(f"\ntime of event: {t:g}\n{what}\n" + self._block(positions, velocities))
 
 
 class JSONLReport:
@@ -123,6 +126,7 @@ class JSONLReport:
 
     def __init__(self, names, masses, radii, out):
         import json
+
         self._dumps = json.dumps
         self.names = list(names)
         self.masses = [float(m) for m in masses]
@@ -130,17 +134,28 @@ class JSONLReport:
         self.out = out
 
     def initial(self, container, end, positions, velocities):
-        spheres = [{"name": nm, "m": m, "R": r, "p": list(map(float, p)),
-                    "v": list(map(float, v))}
-                   for nm, m, r, p, v in zip(self.names, self.masses, self.radii,
-                                             positions, velocities)]
-        self.out.write(self._dumps({"kind": "initial", "radius": float(container),
-                                    "end": float(end), "spheres": spheres}) + "\n")
+        spheres = [
+            {"name": nm, "m": m, "R": r, "p": list(map(float, p)), "v": list(map(float, v))}
+            for nm, m, r, p, v in zip(self.names, self.masses, self.radii, positions, velocities)
+        ]
+        self.out.write(
+            self._dumps(
+                {"kind": "initial", "radius": float(container), "end": float(end), "spheres": spheres}
+            )
+            + "\n"
+        )
 
     def event(self, t, kind, i, j, positions, velocities):
         who = [i] if kind == _REFLECTION else [i, j]
-        self.out.write(self._dumps({
-            "time": float(t), "kind": KIND_LABELS[kind],
-            "spheres": [self.names[k] for k in who],
-            "p": [list(map(float, positions[k])) for k in who],
-            "v": [list(map(float, velocities[k])) for k in who]}) + "\n")
+        self.out.write(
+            self._dumps(
+                {
+                    "time": float(t),
+                    "kind": KIND_LABELS[kind],
+                    "spheres": [self.names[k] for k in who],
+                    "p": [list(map(float, positions[k])) for k in who],
+                    "v": [list(map(float, velocities[k])) for k in who],
+                }
+            )
+            + "\n"
+        )

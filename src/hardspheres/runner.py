@@ -106,8 +106,10 @@ def _check_args(args):
         if args.scenario:
             raise ValueError("give a scenario or --resume, not both")
         if args.container is not None or args.box is not None:
-            raise ValueError("--container/--box cannot change a resumed run: the checkpoint "
-                             "keeps its container (leave them out)")
+            raise ValueError(
+                "--container/--box cannot change a resumed run: the checkpoint "
+                "keeps its container (leave them out)"
+            )
     elif not args.scenario:
         raise ValueError("give a scenario file (or --resume CHECKPOINT)")
     elif args.container is None and args.box is None:
@@ -127,12 +129,12 @@ def _check_args(args):
 def _simulation(args):
     """The simulation to run; the core is compiled (and said so) after the input is read."""
     from .warmup import ensure_compiled
+
     if args.resume:
         sim = Simulation.load(args.resume)
         ensure_compiled()
         return sim
-    container = (SphericalContainer(args.container) if args.container is not None
-                 else PeriodicBox(args.box))
+    container = SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
     source = sys.stdin.buffer.read() if args.scenario == "-" else args.scenario
     if isinstance(source, bytes) and b"\n" not in source:
         source += b"\n"
@@ -140,23 +142,25 @@ def _simulation(args):
         with open(source, "rb") as fh:
             source = fh.read()
     from .scenario import check_scenario, parse_scenario
+
     scn = parse_scenario(source)  # bad input is refused before the compilation
     if len(scn) == 0:
         raise ValueError(f"{args.scenario}: no spheres in the scenario")
     check_scenario(scn, container)
     ensure_compiled()  # before any clock starts: no rate below includes compilation
     from .state import State
+
     return Simulation(State.from_scenario(scn), container)
 
 
 def _writer(args, sim, every):
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
     from .trajectory import GSDWriter, NotAContinuation, XYZWriter
+
     path = args.trajectory
     exists = os.path.exists(path) and os.path.getsize(path) > 0
     if exists and not args.overwrite and not args.resume:
-        raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, "
-                         "or another file name")
+        raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, or another file name")
     append = bool(args.resume) and not args.overwrite
     if path.lower().endswith(".gsd"):
         writer = GSDWriter(path, every, events=args.events, append=append)
@@ -232,13 +236,18 @@ def _warn_size(args, sim, frames, start_time, first_step_events, first_step_time
     except OSError:
         free = math.inf
     if size > free:
-        print(f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
-              f"but only {_bytes(free)} is free there; use a larger --every"
-              + (" or leave out --events" if args.events else ""), file=sys.stderr)
+        print(
+            f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+            f"but only {_bytes(free)} is free there; use a larger --every"
+            + (" or leave out --events" if args.events else ""),
+            file=sys.stderr,
+        )
     elif size > LARGE_TRAJECTORY:
-        print(f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
-              f"({frames} frames" + (", with events" if args.events else "") + ")",
-              file=sys.stderr)
+        print(
+            f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+            f"({frames} frames" + (", with events" if args.events else "") + ")",
+            file=sys.stderr,
+        )
 
 
 def _value(summary, key, fmt=".6g"):
@@ -260,17 +269,20 @@ def summary_lines(sim, summary, averaged_from, equilibrated):
     lines = []
     if "pressure" not in summary:
         return lines
-    since = (f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}"
-             + (f" (after equilibrating: {equilibrated})" if equilibrated else
-                " (from the start, which includes the melting of a lattice start; "
-                "see --equilibrate)"))
+    since = f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}" + (
+        f" (after equilibrating: {equilibrated})"
+        if equilibrated
+        else " (from the start, which includes the melting of a lattice start; see --equilibrate)"
+    )
     lines.append(since)
     kT = f"kT {summary['temperature']:.6g}"
     if sim.container.wall_area > 0:
         lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
-        lines.append(f"PV/NkT {_value(summary, 'compressibility')} (wall pressure of a finite "
-                     "sphere: it includes a surface term, so it is not the bulk Z; use --box "
-                     "for bulk)")
+        lines.append(
+            f"PV/NkT {_value(summary, 'compressibility')} (wall pressure of a finite "
+            "sphere: it includes a surface term, so it is not the bulk Z; use --box "
+            "for bulk)"
+        )
     else:
         lines.append(f"pressure {_value(summary, 'pressure')} (virial), {kT}")
         lines.append(f"Z = PV/NkT {_value(summary, 'compressibility')}")
@@ -287,17 +299,21 @@ def _equilibrate(sim, args, progress, start_time):
         target = sim.time + args.equilibrate_time
         what = f"{args.equilibrate_time:g} time units"
         if target >= args.until:
-            raise ValueError(f"--equilibrate-time {args.equilibrate_time:g} reaches past "
-                             f"--until {args.until:g}: nothing left to average")
+            raise ValueError(
+                f"--equilibrate-time {args.equilibrate_time:g} reaches past "
+                f"--until {args.until:g}: nothing left to average"
+            )
         sim.run(until=target)
     else:
         collisions = args.equilibrate * sim.n // 2  # each collision counts for two spheres
         what = f"{args.equilibrate} collisions per sphere"
         sim.run(until=args.until, collisions=collisions)
         if sim.time >= args.until:
-            raise ValueError(f"--equilibrate {args.equilibrate} did not finish before --until "
-                             f"{args.until:g} (at {sim.counters['collisions']} collisions): "
-                             "raise --until or lower --equilibrate")
+            raise ValueError(
+                f"--equilibrate {args.equilibrate} did not finish before --until "
+                f"{args.until:g} (at {sim.counters['collisions']} collisions): "
+                "raise --until or lower --equilibrate"
+            )
     progress.update(sim.time - start_time, _events_so_far(sim), "equilibrated")
     return f"{what}, to t = {sim.time:.6g}"
 
@@ -307,14 +323,17 @@ def run_command(args):
     _check_args(args)
     sim = _simulation(args)
     if args.until <= sim.time:
-        raise ValueError(f"--until {args.until:g} is not after the simulation's time "
-                         f"{sim.time:.9g}")
+        raise ValueError(f"--until {args.until:g} is not after the simulation's time {sim.time:.9g}")
     if args.every is not None and args.every > args.until - sim.time:
-        raise ValueError(f"--every {args.every:g} is longer than the run "
-                         f"({args.until - sim.time:.6g}): the trajectory would hold one frame")
+        raise ValueError(
+            f"--every {args.every:g} is longer than the run "
+            f"({args.until - sim.time:.6g}): the trajectory would hold one frame"
+        )
     if args.equilibrate_time is not None and sim.time + args.equilibrate_time >= args.until:
-        raise ValueError(f"--equilibrate-time {args.equilibrate_time:g} reaches past "
-                         f"--until {args.until:g}: nothing left to average")
+        raise ValueError(
+            f"--equilibrate-time {args.equilibrate_time:g} reaches past "
+            f"--until {args.until:g}: nothing left to average"
+        )
     # a resumed run keeps saving to its checkpoint unless told otherwise
     checkpoint = args.checkpoint or args.resume
     # every output is checked (and locked) before the run starts
@@ -356,8 +375,7 @@ def _run(args, sim, checkpoint):
             averaged_from = sim.time
             if stopper.signum is None:
                 sim.run(until=args.until)
-            if writer is not None and writer.last_time is not None and (
-                    writer.last_time < sim.time):
+            if writer is not None and writer.last_time is not None and (writer.last_time < sim.time):
                 writer.write(sim, sim.time)  # the file ends where the checkpoint starts
         except OSError as e:
             if writer is None or e.filename != writer.path:
@@ -383,7 +401,8 @@ def _run(args, sim, checkpoint):
     e1 = sim.state().kinetic_energy()
     summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
     lines = [
-        f"time {sim.time:.9g}" + (" (interrupted)" if signum is not None else "")
+        f"time {sim.time:.9g}"
+        + (" (interrupted)" if signum is not None else "")
         + (" (stopped: trajectory not written)" if failure is not None else ""),
         f"{sim.n} spheres, {_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
@@ -393,8 +412,9 @@ def _run(args, sim, checkpoint):
     lines += summary_lines(sim, summary, averaged_from, equilibrated)
     if e1 == 0:
         lines.append("all spheres at rest: no pressure or rates")
-    lines.append(f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s "
-                 "(compilation excluded)")
+    lines.append(
+        f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s (compilation excluded)"
+    )
     if checkpoint:
         lines.append(f"checkpoint {checkpoint}")
     if args.trajectory:

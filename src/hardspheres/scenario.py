@@ -62,15 +62,19 @@ class StuckError(ScenarioError):
         self.reason, self.time, self.sphere = reason, time, sphere
         who = quote(names[sphere]) if names is not None else f"#{sphere}"
         if reason == "sliding":
-            message = (f"at t = {time:.6g} sphere {who} touches the container wall and moves "
-                       "along it: it would slide along the wall, which point reflections "
-                       "cannot model (its reflection would change nothing and repeat "
-                       "forever); give it a velocity component off the wall")
+            message = (
+                f"at t = {time:.6g} sphere {who} touches the container wall and moves "
+                "along it: it would slide along the wall, which point reflections "
+                "cannot model (its reflection would change nothing and repeat "
+                "forever); give it a velocity component off the wall"
+            )
         else:
-            message = (f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
-                       "collisions and reflections at that instant do not end, as for a "
-                       "light sphere trapped between the wall and a far heavier sphere; "
-                       "outside what the model resolves")
+            message = (
+                f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
+                "collisions and reflections at that instant do not end, as for a "
+                "light sphere trapped between the wall and a far heavier sphere; "
+                "outside what the model resolves"
+            )
         super().__init__(message)
 
     def named(self, names):
@@ -113,9 +117,11 @@ def _number(token, what, lineno):
     if not math.isfinite(x):
         raise ScenarioError(f"{what} is not a finite number: {quote(token)}", lineno)
     if abs(x) > MAX_MAGNITUDE:
-        raise ScenarioError(f"{what} is too large: {quote(token)} (at most {MAX_MAGNITUDE:g} "
-                            "in magnitude, so that squares and energies stay finite)",
-                            lineno)
+        raise ScenarioError(
+            f"{what} is too large: {quote(token)} (at most {MAX_MAGNITUDE:g} "
+            "in magnitude, so that squares and energies stay finite)",
+            lineno,
+        )
     return x
 
 
@@ -127,8 +133,8 @@ def _decode(data):
     except UnicodeDecodeError as e:
         lineno = data.count(b"\n", 0, e.start) + 1
         raise ScenarioError(
-            f"input is not UTF-8 text (byte 0x{data[e.start]:02x}); "
-            "save the scenario as UTF-8", lineno) from None
+            f"input is not UTF-8 text (byte 0x{data[e.start]:02x}); save the scenario as UTF-8", lineno
+        ) from None
 
 
 def parse_scenario(data: str | bytes) -> Scenario:
@@ -154,10 +160,9 @@ def parse_scenario(data: str | bytes) -> Scenario:
             continue
         if len(tokens) != 9:
             raise ScenarioError(
-                f"expected 9 fields (mass radius x y z vx vy vz name), got {len(tokens)}",
-                lineno)
-        m, r, x, y, z, vx, vy, vz = (
-            _number(tok, what, lineno) for tok, what in zip(tokens[:8], FIELDS))
+                f"expected 9 fields (mass radius x y z vx vy vz name), got {len(tokens)}", lineno
+            )
+        m, r, x, y, z, vx, vy, vz = (_number(tok, what, lineno) for tok, what in zip(tokens[:8], FIELDS))
         name = tokens[8]
         if m <= 0.0:
             raise ScenarioError(f"mass must be > 0, got {quote(tokens[0])}", lineno)
@@ -165,8 +170,8 @@ def parse_scenario(data: str | bytes) -> Scenario:
             raise ScenarioError(f"radius must be >= 0, got {quote(tokens[1])}", lineno)
         if name in seen:
             raise ScenarioError(
-                f"name {quote(name)} is already used on line {seen[name]}; names are IDs",
-                lineno)
+                f"name {quote(name)} is already used on line {seen[name]}; names are IDs", lineno
+            )
         seen[name] = lineno
         scn.masses.append(m)
         scn.radii.append(r)
@@ -192,6 +197,7 @@ def check_scenario(scn: Scenario, container) -> None:
             :class:`StuckError`).
     """
     from .containers import as_container
+
     container = as_container(container)
     for i, (p, r, v) in enumerate(zip(scn.positions, scn.radii, scn.velocities)):
         problem = container.check_sphere(p, r, v)
@@ -202,7 +208,9 @@ def check_scenario(scn: Scenario, container) -> None:
         i, j = pair
         raise ScenarioError(
             f"sphere {quote(scn.names[j])} overlaps sphere {quote(scn.names[i])} "
-            f"(line {scn.lines[i]}); move them apart", scn.lines[j])
+            f"(line {scn.lines[i]}); move them apart",
+            scn.lines[j],
+        )
 
 
 def find_overlap(positions, radii):
@@ -220,8 +228,7 @@ def find_overlap(positions, radii):
     grid = {}
     for j in range(n):
         pj, rj = positions[j], radii[j]
-        cx, cy, cz = (math.floor(pj[0] / cell), math.floor(pj[1] / cell),
-                      math.floor(pj[2] / cell))
+        cx, cy, cz = (math.floor(pj[0] / cell), math.floor(pj[1] / cell), math.floor(pj[2] / cell))
         first = None
         for ox in (-1, 0, 1):
             for oy in (-1, 0, 1):
@@ -230,8 +237,7 @@ def find_overlap(positions, radii):
                         pi = positions[i]
                         sigma = (radii[i] + rj) * (1.0 - TOUCH_TOL)
                         dx, dy, dz = pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]
-                        if dx * dx + dy * dy + dz * dz < sigma * sigma and (
-                                first is None or i < first):
+                        if dx * dx + dy * dy + dz * dz < sigma * sigma and (first is None or i < first):
                             first = i
         if first is not None:
             return first, j

@@ -12,15 +12,26 @@ from pathlib import Path
 
 # Headless Chromium as Debian ships it (software WebGL through SwiftShader);
 # playwright drives it, its own browser downloads are never used.
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                 "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--use-gl=angle",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+]
 
 
 def find_chromium():
     """Path of a Chromium executable (``/usr/bin/chromium`` or on PATH), or ``None``."""
     import os
     import shutil
+
     if os.access("/usr/bin/chromium", os.X_OK):
         return "/usr/bin/chromium"
     return shutil.which("chromium") or shutil.which("chromium-browser")
@@ -50,14 +61,18 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
         raise ValueError(f"screenshot: bad size {size}")
     chromium = find_chromium()
     if chromium is None:
-        raise ValueError("screenshot: needs Chromium, which was not found (/usr/bin/chromium "
-                         "or chromium on PATH; e.g. apt-get install chromium)")
+        raise ValueError(
+            "screenshot: needs Chromium, which was not found (/usr/bin/chromium "
+            "or chromium on PATH; e.g. apt-get install chromium)"
+        )
     try:
         from playwright.sync_api import Error as PlaywrightError
         from playwright.sync_api import sync_playwright
     except ImportError:
-        raise ValueError("screenshot: needs the Python package playwright "
-                         "(pip install playwright; its browser download is not needed)") from None
+        raise ValueError(
+            "screenshot: needs the Python package playwright "
+            "(pip install playwright; its browser download is not needed)"
+        ) from None
     errors = []
     try:
         with sync_playwright() as pw:
@@ -67,9 +82,12 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
                 page.on("pageerror", lambda exc: errors.append(str(exc)))
                 page.set_default_timeout(timeout * 1000)
                 page.goto(html_path.as_uri())
-                page.wait_for_function("window.viewerReady === true || "
-                                       "getComputedStyle(document.getElementById('message'))"
-                                       ".display !== 'none'", timeout=timeout * 1000)
+                page.wait_for_function(
+                    "window.viewerReady === true || "
+                    "getComputedStyle(document.getElementById('message'))"
+                    ".display !== 'none'",
+                    timeout=timeout * 1000,
+                )
                 if page.locator("#message").is_visible():
                     raise ValueError(f"screenshot: {page.locator('#message').inner_text()}")
                 # through the page's own controls, not clicks: a click waits
@@ -87,6 +105,7 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
                     page.evaluate("window.viewerControl.setPlaying(false)")
                 page.wait_for_timeout(100)
                 from .fileio import atomic_path
+
                 with atomic_path(png_path) as tmp:
                     page.screenshot(path=tmp, type="png", timeout=timeout * 1000)
             finally:

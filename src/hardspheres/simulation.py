@@ -120,32 +120,48 @@ class Simulation:
         images = container.image_counts(state.positions)
         if state.images is not None:
             images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
-        self._engine = Engine(state.masses, state.radii, container.wrap(state.positions),
-                              state.velocities, container, window=window, time=state.time)
+        self._engine = Engine(
+            state.masses,
+            state.radii,
+            container.wrap(state.positions),
+            state.velocities,
+            container,
+            window=window,
+            time=state.time,
+        )
         self._engine.images[:] = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
                 raise ScenarioError(
-                    f"spheres overlap by up to {worst:.3g} of their contact distance; "
-                    "move them apart")
+                    f"spheres overlap by up to {worst:.3g} of their contact distance; move them apart"
+                )
         self._clock = float(state.time)
         self.observables = Observables(self)
 
     # ---- construction ------------------------------------------------------
     @classmethod
-    def from_arrays(cls, masses: ArrayLike, radii: ArrayLike, positions: ArrayLike,
-                    velocities: ArrayLike, container: Container | float,
-                    names: Sequence[str] | None = None,
-                    time: float = 0.0, window: float = 0.0) -> Simulation:
+    def from_arrays(
+        cls,
+        masses: ArrayLike,
+        radii: ArrayLike,
+        positions: ArrayLike,
+        velocities: ArrayLike,
+        container: Container | float,
+        names: Sequence[str] | None = None,
+        time: float = 0.0,
+        window: float = 0.0,
+    ) -> Simulation:
         """Build from arrays: ``masses (N,)`` [mass], ``radii (N,)`` [length],
         ``positions (N, 3)`` [length], ``velocities (N, 3)`` [length/time]."""
-        return cls(State.from_arrays(masses, radii, positions, velocities, names, time),
-                   container, window=window)
+        return cls(
+            State.from_arrays(masses, radii, positions, velocities, names, time), container, window=window
+        )
 
     @classmethod
-    def from_scenario(cls, source: str | bytes | os.PathLike, container: Container | float,
-                      window: float = 0.0) -> Simulation:
+    def from_scenario(
+        cls, source: str | bytes | os.PathLike, container: Container | float, window: float = 0.0
+    ) -> Simulation:
         """Build from a scenario in the assignment's input format.
 
         Args:
@@ -153,8 +169,7 @@ class Simulation:
                 newline, or ``bytes``).
             container: the container.
         """
-        if isinstance(source, (bytes, str)) and (
-                isinstance(source, bytes) or "\n" in source):
+        if isinstance(source, (bytes, str)) and (isinstance(source, bytes) or "\n" in source):
             data = source
         else:
             with open(source, "rb") as fh:
@@ -192,8 +207,9 @@ class Simulation:
         """Events processed so far: collisions, reflections, crossings, stale."""
         return self._engine.counters
 
-    def run(self, until: float | None = None, collisions: int | None = None,
-            events: int | None = None) -> Simulation:
+    def run(
+        self, until: float | None = None, collisions: int | None = None, events: int | None = None
+    ) -> Simulation:
         """Run until time ``until`` or until so many collisions or events, whichever first.
 
         Writers in :attr:`writers` (:class:`hardspheres.writers.Writer`)
@@ -211,13 +227,19 @@ class Simulation:
             pass
         return self
 
-    def iter_events(self, until: float | None = None, collisions: int | None = None,
-                    events: int | None = None) -> Iterator[Event]:
+    def iter_events(
+        self, until: float | None = None, collisions: int | None = None, events: int | None = None
+    ) -> Iterator[Event]:
         """Run as :meth:`run` does, yielding each :class:`Event` in order."""
         for ev in self._chunks(until, collisions, events, record=True):
-            for t, k, i, j, imp, dp in zip(ev["time"].tolist(), ev["kind"].tolist(),
-                                           ev["i"].tolist(), ev["j"].tolist(),
-                                           ev["impulse"].tolist(), ev["dp"].tolist()):
+            for t, k, i, j, imp, dp in zip(
+                ev["time"].tolist(),
+                ev["kind"].tolist(),
+                ev["i"].tolist(),
+                ev["j"].tolist(),
+                ev["impulse"].tolist(),
+                ev["dp"].tolist(),
+            ):
                 yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
     def _chunks(self, until, collisions, events, record):
@@ -228,8 +250,9 @@ class Simulation:
         else:
             until = _number(until, "until", f"a finite time >= the clock ({self.time!r})")
             if until < self.time:
-                raise ValueError(f"until={until!r} is before the simulation's clock "
-                                 f"({self.time!r}); give a later time")
+                raise ValueError(
+                    f"until={until!r} is before the simulation's clock ({self.time!r}); give a later time"
+                )
         coll_left = np.inf if collisions is None else _count(collisions, "collisions")
         ev_left = np.inf if events is None else _count(events, "events")
         eng = self._engine
@@ -254,9 +277,9 @@ class Simulation:
             budget = coll_left
             for w in by_count:
                 budget = min(budget, max(w.next_collisions - c0, 0))
-            ev = eng.advance(until=stop, events=step,
-                             collisions=None if budget == np.inf else int(budget),
-                             record=record)
+            ev = eng.advance(
+                until=stop, events=step, collisions=None if budget == np.inf else int(budget), record=record
+            )
             c1 = eng.counters["collisions"]
             coll_left -= c1 - c0
             ev_left -= eng.last_done
@@ -286,8 +309,7 @@ class Simulation:
         self.stop_requested = True
 
     # ---- dense matter ----------------------------------------------------------
-    def compress(self, packing=None, rate=1e-3, pressure=1e3, collisions=None,
-                 progress=None):
+    def compress(self, packing=None, rate=1e-3, pressure=1e3, collisions=None, progress=None):
         """Compress by growing every radius in proportion (Lubachevsky-Stillinger).
 
         Radii grow linearly in time; colliding spheres part faster than
@@ -324,13 +346,16 @@ class Simulation:
             ('packing', 0.45)
         """
         from .dense import compress
-        return compress(self, packing=packing, rate=rate, pressure=pressure,
-                        collisions=collisions, progress=progress)
+
+        return compress(
+            self, packing=packing, rate=rate, pressure=pressure, collisions=collisions, progress=progress
+        )
 
     @property
     def packing(self):
         """Packing fraction now: volume of the spheres over the container's."""
         from .dense import packing_fraction
+
         return packing_fraction(self._engine.radii_at(), self.container)
 
     def set_thermostat(self, thermostat):
@@ -370,11 +395,14 @@ class Simulation:
             require_periodic(self.container, "unwrapped positions")
         t = self.time if time is None else _number(time, "time", "a finite time [time]")
         if t > self.time:
-            raise ValueError(f"time {t} is after the simulation's clock ({self.time}); "
-                             f"run(until={t!r}) first")
+            raise ValueError(
+                f"time {t} is after the simulation's clock ({self.time}); run(until={t!r}) first"
+            )
         if t < self.time:
-            raise ValueError(f"time {t} is before the simulation's clock ({self.time}); "
-                             "the past is not kept: ask for states as you run")
+            raise ValueError(
+                f"time {t} is before the simulation's clock ({self.time}); "
+                "the past is not kept: ask for states as you run"
+            )
         eng = self._engine
         periodic = self.container.periodic
         if periodic:
@@ -386,8 +414,9 @@ class Simulation:
                 pos = raw
         else:
             pos, images = eng.positions_at(t), None
-        return State(eng.masses.copy(), eng.radii_at(t), pos, eng.velocities.copy(),
-                     list(self.names), t, images)
+        return State(
+            eng.masses.copy(), eng.radii_at(t), pos, eng.velocities.copy(), list(self.names), t, images
+        )
 
     # ---- checkpoints ---------------------------------------------------------
     def save(self, path: str | os.PathLike) -> None:
@@ -410,15 +439,18 @@ class Simulation:
         extra = {} if th is None else {"thermostat": np.array(th.state())}
         with atomic_write(path, "wb", lock=lock) as fh:
             # the container's record is the engine's (Engine.checkpoint)
-            np.savez(fh, format=np.array(CHECKPOINT_FORMAT),
-                     version=np.array(CHECKPOINT_VERSION),
-                     names=np.array(self.names, dtype=str).reshape(-1),
-                     obs=np.array(self.observables._mark, dtype=np.float64),
-                     obs_samples=np.array(self.observables._samples, dtype=np.float64),
-                     obs_every=np.array([self.observables.every,
-                                         self.observables.next_sample]),
-                     clock=np.array(self._clock), **extra,
-                     **self._engine.checkpoint())
+            np.savez(
+                fh,
+                format=np.array(CHECKPOINT_FORMAT),
+                version=np.array(CHECKPOINT_VERSION),
+                names=np.array(self.names, dtype=str).reshape(-1),
+                obs=np.array(self.observables._mark, dtype=np.float64),
+                obs_samples=np.array(self.observables._samples, dtype=np.float64),
+                obs_every=np.array([self.observables.every, self.observables.next_sample]),
+                clock=np.array(self._clock),
+                **extra,
+                **self._engine.checkpoint(),
+            )
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Simulation:
@@ -447,11 +479,9 @@ class Simulation:
             raise CheckpointError(f"{path}: {e}") from None
         sim.container = sim._engine.container
         n = sim._engine.n
-        if (names is None or names.dtype.kind != "U" or names.shape != (n,)
-                or len(set(names.tolist())) != n):
+        if names is None or names.dtype.kind != "U" or names.shape != (n,) or len(set(names.tolist())) != n:
             raise CheckpointError(f"{path}: damaged checkpoint: not {n} distinct names")
-        if (mark is None or mark.dtype != np.float64 or mark.ndim != 1
-                or not np.all(np.isfinite(mark))):
+        if mark is None or mark.dtype != np.float64 or mark.ndim != 1 or not np.all(np.isfinite(mark)):
             raise CheckpointError(f"{path}: damaged checkpoint: bad observables mark")
         if clock is None or clock.shape != () or not np.isfinite(clock):
             raise CheckpointError(f"{path}: damaged checkpoint: bad clock")
@@ -466,25 +496,30 @@ class Simulation:
             obs = sim.observables
             obs._mark = tuple(mark.tolist())
             obs._samples = [obs._mark]
-            if (samples is not None and every is not None and samples.ndim == 2
-                    and samples.shape[1] == len(mark) and samples.shape[0] >= 1
-                    and np.all(np.isfinite(samples)) and every.shape == (2,)
-                    and every[0] > 0):
+            if (
+                samples is not None
+                and every is not None
+                and samples.ndim == 2
+                and samples.shape[1] == len(mark)
+                and samples.shape[0] >= 1
+                and np.all(np.isfinite(samples))
+                and every.shape == (2,)
+                and every[0] > 0
+            ):
                 obs._samples = [tuple(r) for r in samples.tolist()]
                 obs.every, obs.next_sample = every.tolist()
         if n:
             worst = eng.max_overlap()
             if not worst <= 1e-6 or eng.outside(tol=1e-6):
-                raise CheckpointError(f"{path}: damaged checkpoint: spheres overlap or "
-                                      "leave the container")
+                raise CheckpointError(f"{path}: damaged checkpoint: spheres overlap or leave the container")
         sim.thermostat = None
         if th is not None:
             from .dense import thermostat_from_state
+
             try:
                 sim.set_thermostat(thermostat_from_state(str(th)))
             except (ValueError, KeyError, TypeError) as e:
-                raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") \
-                    from None
+                raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") from None
         return sim
 
 
@@ -500,18 +535,25 @@ def _read_checkpoint(path):
             raise
         raise CheckpointError(f"{path}: not a readable checkpoint ({_why(e)})") from None
     except (ValueError, EOFError, zipfile.BadZipFile, KeyError, RuntimeError) as e:
-        raise CheckpointError(f"{path}: not a checkpoint, or truncated or damaged "
-                              f"({_why(e)})") from None
+        raise CheckpointError(f"{path}: not a checkpoint, or truncated or damaged ({_why(e)})") from None
     fmt = data.pop("format", None)
     version = data.pop("version", None)
     if fmt is None or fmt.shape != () or str(fmt) != CHECKPOINT_FORMAT:
-        raise CheckpointError(f"{path}: not a hardspheres checkpoint (no format "
-                              f"{CHECKPOINT_FORMAT!r}); give a file written by "
-                              "--checkpoint or Simulation.save")
-    if version is None or version.shape != () or version.dtype.kind not in "iu" or (
-            int(version) != CHECKPOINT_VERSION):
-        raise CheckpointError(f"{path}: checkpoint version {version} is not "
-                              f"{CHECKPOINT_VERSION}, the one this hardspheres reads")
+        raise CheckpointError(
+            f"{path}: not a hardspheres checkpoint (no format "
+            f"{CHECKPOINT_FORMAT!r}); give a file written by "
+            "--checkpoint or Simulation.save"
+        )
+    if (
+        version is None
+        or version.shape != ()
+        or version.dtype.kind not in "iu"
+        or (int(version) != CHECKPOINT_VERSION)
+    ):
+        raise CheckpointError(
+            f"{path}: checkpoint version {version} is not "
+            f"{CHECKPOINT_VERSION}, the one this hardspheres reads"
+        )
     return data
 
 
@@ -548,6 +590,8 @@ def _check_inside(state, container):
     bad = np.nonzero(container.outside(state.positions, state.radii, TOUCH_TOL))[0]
     if len(bad):
         i = int(bad[0])
-        problem = container.check_sphere(state.positions[i].tolist(), float(state.radii[i]),
-                                         [0.0, 0.0, 0.0]) or "is not wholly inside the container"
+        problem = (
+            container.check_sphere(state.positions[i].tolist(), float(state.radii[i]), [0.0, 0.0, 0.0])
+            or "is not wholly inside the container"
+        )
         raise ScenarioError(f"sphere {quote(state.names[i])} {problem}")

@@ -55,8 +55,9 @@ class State:
     images: np.ndarray | None = None
 
     @classmethod
-    def from_arrays(cls, masses, radii, positions, velocities,
-                    names: Sequence[str] | None = None, time: float = 0.0) -> State:
+    def from_arrays(
+        cls, masses, radii, positions, velocities, names: Sequence[str] | None = None, time: float = 0.0
+    ) -> State:
         """Build a state from array-likes, naming spheres ``s0, s1, ...`` if unnamed.
 
         Raises:
@@ -64,24 +65,33 @@ class State:
                 :meth:`check` refuses.
         """
         from .scenario import ScenarioError
+
         try:
             masses = np.asarray(masses, dtype=np.float64).reshape(-1)
             n = masses.shape[0]
-            arrays = [np.asarray(radii, dtype=np.float64), np.asarray(positions, np.float64),
-                      np.asarray(velocities, dtype=np.float64)]
+            arrays = [
+                np.asarray(radii, dtype=np.float64),
+                np.asarray(positions, np.float64),
+                np.asarray(velocities, dtype=np.float64),
+            ]
         except (TypeError, ValueError) as e:
-            raise ScenarioError(f"masses, radii, positions and velocities must be "
-                                f"numbers ({_first_line(e)})") from None
-        for what, a, shape in zip(("radii", "positions", "velocities"), arrays,
-                                  ((n,), (n, 3), (n, 3))):
+            raise ScenarioError(
+                f"masses, radii, positions and velocities must be numbers ({_first_line(e)})"
+            ) from None
+        for what, a, shape in zip(("radii", "positions", "velocities"), arrays, ((n,), (n, 3), (n, 3))):
             if a.size != int(np.prod(shape)):
-                raise ScenarioError(f"{what} has shape {list(a.shape)} for {n} masses; "
-                                    f"give {list(shape)}")
+                raise ScenarioError(f"{what} has shape {list(a.shape)} for {n} masses; give {list(shape)}")
         names = [f"s{i}" for i in range(n)] if names is None else [str(x) for x in names]
         if len(names) != n:
             raise ScenarioError(f"{len(names)} names for {n} spheres; give one per sphere")
-        state = cls(masses, arrays[0].reshape(n), arrays[1].reshape(n, 3).copy(),
-                    arrays[2].reshape(n, 3).copy(), names, time)
+        state = cls(
+            masses,
+            arrays[0].reshape(n),
+            arrays[1].reshape(n, 3).copy(),
+            arrays[2].reshape(n, 3).copy(),
+            names,
+            time,
+        )
         state.check()
         state.time = float(state.time)
         return state
@@ -98,13 +108,16 @@ class State:
         """
         from .messages import quote
         from .scenario import ScenarioError
+
         n = len(self.masses)
-        for what, a, shape in (("masses", self.masses, (n,)), ("radii", self.radii, (n,)),
-                               ("positions", self.positions, (n, 3)),
-                               ("velocities", self.velocities, (n, 3))):
+        for what, a, shape in (
+            ("masses", self.masses, (n,)),
+            ("radii", self.radii, (n,)),
+            ("positions", self.positions, (n, 3)),
+            ("velocities", self.velocities, (n, 3)),
+        ):
             if np.shape(a) != shape:
-                raise ScenarioError(f"{what} has shape {list(np.shape(a))}, expected "
-                                    f"{list(shape)}")
+                raise ScenarioError(f"{what} has shape {list(np.shape(a))}, expected {list(shape)}")
         if len(self.names) != n:
             raise ScenarioError(f"{len(self.names)} names for {n} spheres; give one per sphere")
 
@@ -112,21 +125,21 @@ class State:
             bad = np.nonzero(~ok)[0]
             if len(bad):
                 i = int(bad[0])
-                raise ScenarioError(f"sphere {i} ({quote(self.names[i])}): {what}, got "
-                                    f"{np.asarray(values)[i].tolist()!r}")
+                raise ScenarioError(
+                    f"sphere {i} ({quote(self.names[i])}): {what}, got {np.asarray(values)[i].tolist()!r}"
+                )
 
         m, r = self.masses, self.radii
         refuse(m, np.isfinite(m) & (m > 0), "mass must be a finite number > 0")
         refuse(r, np.isfinite(r) & (r >= 0), "radius must be a finite number >= 0")
-        refuse(self.positions, np.all(np.isfinite(self.positions), axis=1),
-               "position must be finite")
-        refuse(self.velocities, np.all(np.isfinite(self.velocities), axis=1),
-               "velocity must be finite")
+        refuse(self.positions, np.all(np.isfinite(self.positions), axis=1), "position must be finite")
+        refuse(self.velocities, np.all(np.isfinite(self.velocities), axis=1), "velocity must be finite")
         seen = {}
         for i, name in enumerate(self.names):
             if name in seen:
-                raise ScenarioError(f"sphere {i}: name {quote(name)} is already sphere "
-                                    f"{seen[name]}'s; names are IDs")
+                raise ScenarioError(
+                    f"sphere {i}: name {quote(name)} is already sphere {seen[name]}'s; names are IDs"
+                )
             seen[name] = i
         try:
             ok = np.isfinite(float(self.time))
@@ -138,8 +151,13 @@ class State:
     @classmethod
     def from_scenario(cls, scn):
         """From a parsed :class:`hardspheres.scenario.Scenario`."""
-        return cls.from_arrays(scn.masses, scn.radii, scn.positions or np.zeros((0, 3)),
-                               scn.velocities or np.zeros((0, 3)), scn.names)
+        return cls.from_arrays(
+            scn.masses,
+            scn.radii,
+            scn.positions or np.zeros((0, 3)),
+            scn.velocities or np.zeros((0, 3)),
+            scn.names,
+        )
 
     @property
     def n(self) -> int:
@@ -160,10 +178,16 @@ class State:
 
     def to_text(self) -> str:
         """The assignment's input format, with every digit kept (``%.17g``)."""
-        rows = [f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} {nm}\n"
-                for m, r, p, v, nm in zip(self.masses.tolist(), self.radii.tolist(),
-                                          self.positions.tolist(), self.velocities.tolist(),
-                                          self.names)]
+        rows = [
+            f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} {nm}\n"
+            for m, r, p, v, nm in zip(
+                self.masses.tolist(),
+                self.radii.tolist(),
+                self.positions.tolist(),
+                self.velocities.tolist(),
+                self.names,
+            )
+        ]
         return "".join(rows)
 
 

@@ -55,9 +55,9 @@ def configurations(source, box=None):
     from .frames import Frames
     from .simulation import Simulation
     from .state import State
+
     if isinstance(source, Frames):
-        L = require_periodic(PeriodicBox(source.box) if source.box else None,
-                             "g(r), S(k) and bond order")
+        L = require_periodic(PeriodicBox(source.box) if source.box else None, "g(r), S(k) and bond order")
         return L, np.asarray(source.positions, float), np.asarray(source.radii, float)
     if isinstance(source, Simulation):
         L = require_periodic(source.container, "g(r), S(k) and bond order")
@@ -81,11 +81,15 @@ def _local_configurations(source, box=None):
     """
     from .frames import Frames
     from .simulation import Simulation
+
     container = getattr(source, "container", None)
     if isinstance(source, (Frames, Simulation)) and container is not None and not container.periodic:
         if isinstance(source, Frames):
-            return (4.0 * container.bounding_radius, np.asarray(source.positions, float),
-                    np.asarray(source.radii, float))
+            return (
+                4.0 * container.bounding_radius,
+                np.asarray(source.positions, float),
+                np.asarray(source.radii, float),
+            )
         st = source.state()
         return 4.0 * container.bounding_radius, st.positions[None], st.radii
     return configurations(source, box)
@@ -100,8 +104,9 @@ def _contact_distance(radii):
         raise ValueError("sphere radii unknown: pass sigma (the contact distance)")
     d = 2.0 * np.asarray(radii)
     if np.ptp(d) > 1e-12 * d.max():
-        raise ValueError("spheres of different sizes have one contact value per pair of "
-                         "sizes; pass sigma to choose one")
+        raise ValueError(
+            "spheres of different sizes have one contact value per pair of sizes; pass sigma to choose one"
+        )
     return float(d[0])
 
 
@@ -163,7 +168,7 @@ class RDF(_Computed):
         self.edges = np.asarray(rdf.bin_edges, float).copy()
         self.g = np.asarray(rdf.rdf, float).copy()
         self.sigma, self.frames, self.n = sig, len(pos), pos.shape[1]
-        self.packing = self.n * np.pi * sig ** 3 / (6.0 * L ** 3)
+        self.packing = self.n * np.pi * sig**3 / (6.0 * L**3)
         self._computed = True
         return self
 
@@ -178,8 +183,7 @@ class RDF(_Computed):
         lo, hi = self.sigma * (1 - 1e-9), self.sigma * (1.0 + width)
         sel = (self.edges[:-1] >= lo) & (self.edges[1:] <= hi * (1 + 1e-9))
         if sel.sum() < 4:
-            raise ValueError("fewer than 4 bins to fit the contact value: use a smaller dr "
-                             "or a larger width")
+            raise ValueError("fewer than 4 bins to fit the contact value: use a smaller dr or a larger width")
         x = self.r[sel] / self.sigma - 1.0
         coef, cov = np.polyfit(x, self.g[sel], 2, cov=True)
         return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
@@ -193,6 +197,7 @@ class RDF(_Computed):
         """g(r) against r / sigma; returns the Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         ax.plot(self.r / self.sigma, self.g)
         ax.axhline(1.0, color="grey", lw=0.5)
@@ -242,6 +247,7 @@ class StructureFactor(_Computed):
         """S(k) against k sigma; returns the Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         ax.plot(self.k * self.sigma, self.S)
         ax.axhline(1.0, color="grey", lw=0.5)
@@ -280,17 +286,22 @@ class BondOrder(_Computed):
             order.mean_q, order.crystal_fraction
     """
 
-    _results = ("q", "mean_q", "crystal_like", "crystal_fraction", "crystal_fractions",
-                "qs", "mean_qs")
+    _results = ("q", "mean_q", "crystal_like", "crystal_fraction", "crystal_fractions", "qs", "mean_qs")
 
-    def __init__(self, l=6, r_max=None, q_threshold=0.7, solid_threshold=7,  # noqa: E741
-                 num_neighbors=None):
+    def __init__(
+        self,
+        l=6,  # noqa: E741 (freud's name for the order)
+        r_max=None,
+        q_threshold=0.7,
+        solid_threshold=7,
+        num_neighbors=None,
+    ):
         if r_max is not None and num_neighbors is not None:
             raise ValueError("BondOrder: give r_max or num_neighbors, not both")
-        if num_neighbors is not None and not (isinstance(num_neighbors, (int, np.integer))
-                                              and num_neighbors > 0):
-            raise ValueError(f"BondOrder: num_neighbors must be a whole number > 0, "
-                             f"got {num_neighbors!r}")
+        if num_neighbors is not None and not (
+            isinstance(num_neighbors, (int, np.integer)) and num_neighbors > 0
+        ):
+            raise ValueError(f"BondOrder: num_neighbors must be a whole number > 0, got {num_neighbors!r}")
         self.l, self.r_max, self.num_neighbors = l, r_max, num_neighbors
         self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
 
@@ -305,8 +316,9 @@ class BondOrder(_Computed):
             neighbors = {"r_max": self.r_max or 1.4 * sig}
         fbox = freud.box.Box.cube(L)
         st = freud.order.Steinhardt(self.l)
-        sl = freud.order.SolidLiquid(self.l, q_threshold=self.q_threshold,
-                                     solid_threshold=self.solid_threshold)
+        sl = freud.order.SolidLiquid(
+            self.l, q_threshold=self.q_threshold, solid_threshold=self.solid_threshold
+        )
         fractions, qs, crystal = [], [], None
         for x in pos:
             system = (fbox, _wrap(x, L))
@@ -329,6 +341,7 @@ class BondOrder(_Computed):
         """Histogram of q_l per sphere; returns the Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         ax.hist(self.q, bins=50, range=(0, 1))
         ax.set_xlabel(f"q{self.l}")

@@ -89,6 +89,7 @@ def _ks(sim, obs):
     import numpy as np
 
     from .validate import ks_distance
+
     st = sim.state()
     kT = obs.temperature()
     x = np.linalg.norm(st.velocities, axis=1) * np.sqrt(st.masses / kT)
@@ -155,10 +156,10 @@ def _list_of(raw, key, check, what, source):
 def observable_names():
     """Names a study's ``measure`` accepts (the registry and ``Observables``' methods)."""
     from .observables import Observables
+
     names = set(OBSERVABLES)
     for name in dir(Observables):
-        if not name.startswith("_") and name not in _NOT_OBSERVABLES and callable(
-                getattr(Observables, name)):
+        if not name.startswith("_") and name not in _NOT_OBSERVABLES and callable(getattr(Observables, name)):
             names.add(name)
     return sorted(names)
 
@@ -191,8 +192,7 @@ def parse_study(data, source=None, base=None):
         raise StudyError(f"{_where(source)}a study is a table of keys, not {type(data).__name__}")
     for key in data:
         if key not in _KEYS:
-            raise StudyError(f"{_where(source)}unknown key {key!r} (allowed: "
-                             f"{', '.join(sorted(_KEYS))})")
+            raise StudyError(f"{_where(source)}unknown key {key!r} (allowed: {', '.join(sorted(_KEYS))})")
     for key in ("packing", "n"):
         if key not in data:
             raise StudyError(f"{_where(source)}missing key {key!r}: {_KEYS[key]}")
@@ -205,37 +205,56 @@ def parse_study(data, source=None, base=None):
     s["output"] = str((Path(base or ".") / out).resolve())
     container = data.get("container", "box")
     if container not in ("box", "sphere"):
-        raise StudyError(f"{_where(source)}container = {container!r} is not allowed: "
-                         'give "box" or "sphere"')
+        raise StudyError(f'{_where(source)}container = {container!r} is not allowed: give "box" or "sphere"')
     s["container"] = container
-    s["packing"] = [float(v) for v in _list_of(
-        data["packing"], "packing", lambda v: _is_number(v) and 0.0 < v < MAX_PACKING,
-        _KEYS["packing"], source)]
-    s["n"] = _list_of(data["n"], "n", lambda v: isinstance(v, int) and not isinstance(v, bool)
-                      and v >= 2, _KEYS["n"], source)
+    s["packing"] = [
+        float(v)
+        for v in _list_of(
+            data["packing"],
+            "packing",
+            lambda v: _is_number(v) and 0.0 < v < MAX_PACKING,
+            _KEYS["packing"],
+            source,
+        )
+    ]
+    s["n"] = _list_of(
+        data["n"],
+        "n",
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
+        _KEYS["n"],
+        source,
+    )
     seeds = data.get("seeds", 1)
     if isinstance(seeds, int) and not isinstance(seeds, bool):
         if seeds < 1:
-            raise StudyError(f"{_where(source)}seeds = {seeds} is not allowed: give "
-                             f"{_KEYS['seeds']}")
+            raise StudyError(f"{_where(source)}seeds = {seeds} is not allowed: give {_KEYS['seeds']}")
         seeds = list(range(seeds))
     else:
-        seeds = _list_of(seeds, "seeds", lambda v: isinstance(v, int)
-                         and not isinstance(v, bool) and v >= 0,
-                         "a count (integer >= 1) or a list of integer seeds >= 0", source)
+        seeds = _list_of(
+            seeds,
+            "seeds",
+            lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0,
+            "a count (integer >= 1) or a list of integer seeds >= 0",
+            source,
+        )
         if len(set(seeds)) != len(seeds):
             raise StudyError(f"{_where(source)}seeds lists a seed twice: {seeds}")
     s["seeds"] = seeds
     for key in ("radius_ratio", "mass_ratio"):
-        s[key] = [float(v) for v in _list_of(data.get(key, 1.0), key,
-                                             lambda v: _is_number(v) and v >= 1.0,
-                                             _KEYS[key], source)]
+        s[key] = [
+            float(v)
+            for v in _list_of(
+                data.get(key, 1.0), key, lambda v: _is_number(v) and v >= 1.0, _KEYS[key], source
+            )
+        ]
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
-    for key, default, ok in (("equilibrate", 50, lambda v: v >= 0),
-                             ("collisions", None, lambda v: v > 0),
-                             ("time", None, lambda v: v > 0),
-                             ("checkpoint_seconds", 120, lambda v: v >= 0)):
+    for key, default, ok in (
+        ("equilibrate", 50, lambda v: v >= 0),
+        ("collisions", None, lambda v: v > 0),
+        ("time", None, lambda v: v > 0),
+        ("checkpoint_seconds", 120, lambda v: v >= 0),
+    ):
         v = data.get(key, default)
         if v is not None and not (_is_number(v) and ok(v)):
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
@@ -250,15 +269,12 @@ def parse_study(data, source=None, base=None):
     measure = data.get("measure", ["Z"])
     if isinstance(measure, str):
         measure = [measure]
-    if not isinstance(measure, list) or not measure or not all(
-            isinstance(m, str) for m in measure):
-        raise StudyError(f"{_where(source)}measure = {measure!r} is not allowed: give "
-                         f"{_KEYS['measure']}")
+    if not isinstance(measure, list) or not measure or not all(isinstance(m, str) for m in measure):
+        raise StudyError(f"{_where(source)}measure = {measure!r} is not allowed: give {_KEYS['measure']}")
     known = observable_names()
     for m in measure:
         if m not in known:
-            raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: "
-                             f"{', '.join(known)})")
+            raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
     s["measure"] = list(dict.fromkeys(measure))
     return s
 
@@ -289,10 +305,17 @@ def tasks(study):
     out = []
     run = {k: study[k] for k in ("equilibrate", "collisions", "time", "blocks", "measure")}
     for packing, n, rr, mr, seed in itertools.product(
-            study["packing"], study["n"], study["radius_ratio"], study["mass_ratio"],
-            study["seeds"]):
-        t = {"container": study["container"], "packing": packing, "n": n,
-             "radius_ratio": rr, "mass_ratio": mr, "seed": seed, **run}
+        study["packing"], study["n"], study["radius_ratio"], study["mass_ratio"], study["seeds"]
+    ):
+        t = {
+            "container": study["container"],
+            "packing": packing,
+            "n": n,
+            "radius_ratio": rr,
+            "mass_ratio": mr,
+            "seed": seed,
+            **run,
+        }
         t["key"] = hashlib.sha256(json.dumps(t, sort_keys=True).encode()).hexdigest()[:16]
         t["folder"] = study["output"]
         t["checkpoint_seconds"] = study["checkpoint_seconds"]
@@ -311,6 +334,7 @@ def _atomic(path, write):
         OSError: naming ``path``.
     """
     from .fileio import atomic_path
+
     with atomic_path(path, lock=False) as tmp:
         write(tmp)
 
@@ -319,6 +343,7 @@ def _write_json(path, obj):
     def w(tmp):
         with open(tmp, "w", encoding="utf-8") as fh:
             json.dump(obj, fh)
+
     _atomic(path, w)
 
 
@@ -337,15 +362,28 @@ def _build(task):
     from .builders import random_spheres
     from .containers import PeriodicBox, SphericalContainer
     from .simulation import Simulation
+
     n, phi = task["n"], task["packing"]
     if task["container"] == "box":
         size = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-        state = random_spheres(n, phi, box=size, seed=task["seed"],
-                               radius_ratio=task["radius_ratio"], mass_ratio=task["mass_ratio"])
+        state = random_spheres(
+            n,
+            phi,
+            box=size,
+            seed=task["seed"],
+            radius_ratio=task["radius_ratio"],
+            mass_ratio=task["mass_ratio"],
+        )
         return Simulation(state, PeriodicBox(size))
     size = (n / (8.0 * phi)) ** (1.0 / 3.0)
-    state = random_spheres(n, phi, container=size, seed=task["seed"],
-                           radius_ratio=task["radius_ratio"], mass_ratio=task["mass_ratio"])
+    state = random_spheres(
+        n,
+        phi,
+        container=size,
+        seed=task["seed"],
+        radius_ratio=task["radius_ratio"],
+        mass_ratio=task["mass_ratio"],
+    )
     return Simulation(state, SphericalContainer(size))
 
 
@@ -361,8 +399,9 @@ def _measure_one(name, sim, obs):
     try:
         return float(value)
     except (TypeError, ValueError):
-        raise StudyError(f"observable {name!r} is not a number (got {type(value).__name__}); "
-                         "a study measures numbers") from None
+        raise StudyError(
+            f"observable {name!r} is not a number (got {type(value).__name__}); a study measures numbers"
+        ) from None
 
 
 def run_task(task):
@@ -385,6 +424,7 @@ def run_task(task):
     import pandas as pd
 
     from .simulation import Simulation
+
     row_path = _row_path(task)
     if row_path.exists():
         return pd.read_parquet(row_path).iloc[0].to_dict()
@@ -398,14 +438,27 @@ def run_task(task):
             prog = json.load(fh)
         sim = Simulation.load(tdir / prog["checkpoint"])
     else:
-        prog = {"chunk": 0, "step": 0, "values": {m: [] for m in task["measure"]},
-                "t0": None, "checkpoint": None}
+        prog = {
+            "chunk": 0,
+            "step": 0,
+            "values": {m: [] for m in task["measure"]},
+            "t0": None,
+            "checkpoint": None,
+        }
         sim = _build(task)
     with open(tdir / "attempts.jsonl", "a", encoding="utf-8") as fh:
-        fh.write(json.dumps({"pid": os.getpid(), "chunk": prog["chunk"],
-                             "step": prog.get("step", 0), "started": time.time()}) + "\n")
-    per_block = (_split(task["collisions"] * n / 2, blocks) if task["collisions"] is not None
-                 else None)
+        fh.write(
+            json.dumps(
+                {
+                    "pid": os.getpid(),
+                    "chunk": prog["chunk"],
+                    "step": prog.get("step", 0),
+                    "started": time.time(),
+                }
+            )
+            + "\n"
+        )
+    per_block = _split(task["collisions"] * n / 2, blocks) if task["collisions"] is not None else None
     last_save = time.monotonic()
     total = 2 * blocks
 
@@ -449,10 +502,12 @@ def run_task(task):
         if c < total:
             checkpoint(c, 0)
     row = {k: task[k] for k in GRID}
-    row.update(equilibrate=float(task["equilibrate"]),
-               collisions=float(task["collisions"]) if task["collisions"] is not None
-               else float("nan"),
-               time=float(sim.time - prog["t0"]), blocks=blocks)
+    row.update(
+        equilibrate=float(task["equilibrate"]),
+        collisions=float(task["collisions"]) if task["collisions"] is not None else float("nan"),
+        time=float(sim.time - prog["t0"]),
+        blocks=blocks,
+    )
     for m in task["measure"]:
         v = np.asarray(prog["values"][m], dtype=float)
         row[m] = float(v.mean())
@@ -488,6 +543,7 @@ def summarize(df):
     """
     import numpy as np
     import pandas as pd
+
     params = [c for c in GRID if c != "seed" and c in df.columns]
     obs = measured(df)
     rows = []
@@ -509,6 +565,7 @@ def summarize(df):
 
 def _collect(all_tasks):
     import pandas as pd
+
     frames = [pd.read_parquet(_row_path(t)) for t in all_tasks if _row_path(t).exists()]
     if not frames:
         return pd.DataFrame()
@@ -525,12 +582,14 @@ def connect(address, timeout=10.0):
             seconds (the message names the address).
     """
     from distributed import Client
+
     try:
         return Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError) as e:
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise StudyError(f"cannot reach the Dask scheduler at {address} "
-                         f"(within {timeout:g} s): {reason}") from None
+        raise StudyError(
+            f"cannot reach the Dask scheduler at {address} (within {timeout:g} s): {reason}"
+        ) from None
 
 
 def local_client(workers=None):
@@ -539,16 +598,24 @@ def local_client(workers=None):
     import logging
 
     from distributed import Client, LocalCluster
-    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                           processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
+
+    cluster = LocalCluster(
+        n_workers=workers or os.cpu_count() or 1,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    )
     return Client(cluster)
 
 
 def _describe(task):
-    return (f"{task['container']} packing={task['packing']:g} n={task['n']} "
-            f"seed={task['seed']}" + (f" radius_ratio={task['radius_ratio']:g}"
-                                      if task["radius_ratio"] != 1 else "")
-            + (f" mass_ratio={task['mass_ratio']:g}" if task["mass_ratio"] != 1 else ""))
+    return (
+        f"{task['container']} packing={task['packing']:g} n={task['n']} "
+        f"seed={task['seed']}"
+        + (f" radius_ratio={task['radius_ratio']:g}" if task["radius_ratio"] != 1 else "")
+        + (f" mass_ratio={task['mass_ratio']:g}" if task["mass_ratio"] != 1 else "")
+    )
 
 
 def sweep(spec, client=None, *, serial=False, workers=None, out=None):
@@ -583,11 +650,13 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
     except OSError as e:
         raise OSError(f"cannot create {folder}: {e.strerror or e}") from None
     todo = [t for t in all_tasks if not _row_path(t).exists()]
-    say = (lambda text: print(text, file=out, flush=True)) if out is not None else (
-        lambda text: None)
-    say(f"{len(all_tasks)} tasks: {len(all_tasks) - len(todo)} already done, "
-        f"{len(todo)} to run; results in {folder}")
+    say = (lambda text: print(text, file=out, flush=True)) if out is not None else (lambda text: None)
+    say(
+        f"{len(all_tasks)} tasks: {len(all_tasks) - len(todo)} already done, "
+        f"{len(todo)} to run; results in {folder}"
+    )
     from .runner import Progress
+
     bar = Progress(len(todo), stream=out) if out is not None else None
     done = 0
 
@@ -611,9 +680,13 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
                 client = local_client(workers)
             try:
                 import importlib.util
+
                 link = getattr(client, "dashboard_link", None)
-                hint = ("" if importlib.util.find_spec("bokeh") else
-                        " (its pages need bokeh: pip install 'hardspheres[sweep]')")
+                hint = (
+                    ""
+                    if importlib.util.find_spec("bokeh")
+                    else " (its pages need bokeh: pip install 'hardspheres[sweep]')"
+                )
                 say(f"dashboard: {link}{hint}" if link else "dashboard: none")
                 _run_on(client, todo, study["retries"], finished)
             finally:
@@ -645,8 +718,11 @@ def _run_here(task):
 
 def _run_on(client, todo, retries, finished):
     from distributed import as_completed
-    futures = {client.submit(run_task, t, key=f"hardspheres-task-{t['key']}", pure=False,
-                             retries=retries): t for t in todo}
+
+    futures = {
+        client.submit(run_task, t, key=f"hardspheres-task-{t['key']}", pure=False, retries=retries): t
+        for t in todo
+    }
     try:
         for fut in as_completed(list(futures)):
             task = futures[fut]
@@ -671,12 +747,14 @@ def main(args, stdout=sys.stdout):
         print(f"scheduler {args.scheduler}", file=stdout, flush=True)
     try:
         study = load_study(args.study)
-        df = sweep(args.study, client=client, serial=args.serial, workers=args.workers,
-                   out=stdout)
+        df = sweep(args.study, client=client, serial=args.serial, workers=args.workers, out=stdout)
     finally:
         if client is not None:
             client.close()
     folder = Path(study["output"])
-    print(f"{len(df)} rows: {folder / 'results.parquet'} (and .csv); "
-          f"summary: {folder / 'summary.parquet'} (and .csv)", file=stdout)
+    print(
+        f"{len(df)} rows: {folder / 'results.parquet'} (and .csv); "
+        f"summary: {folder / 'summary.parquet'} (and .csv)",
+        file=stdout,
+    )
     return 0

@@ -100,8 +100,9 @@ class _FrameWriter:
     #: (``hardspheres run``) sets its final end here.
     until: float | None = None
 
-    def __init__(self, every: float | None = None, events: bool = True, *,
-                 trigger: Trigger | None = None) -> None:
+    def __init__(
+        self, every: float | None = None, events: bool = True, *, trigger: Trigger | None = None
+    ) -> None:
         self.trigger = as_trigger(every, trigger)
         self.every = self.trigger.period if isinstance(self.trigger, Periodic) else None
         self.wants_events = bool(events)
@@ -139,8 +140,10 @@ class _FrameWriter:
 
     def _check_open(self):
         if self._closed:
-            raise ValueError(f"{type(self).__name__}({self.path or ''!r}) is closed; "
-                             "open a new writer to write more frames")
+            raise ValueError(
+                f"{type(self).__name__}({self.path or ''!r}) is closed; "
+                "open a new writer to write more frames"
+            )
 
     def attach(self, sim) -> None:
         """Start (once): open the file, start the trigger, write a frame if it is due now.
@@ -232,13 +235,18 @@ class _FrameWriter:
 
 def _continues(path, last, sim):
     """Raise unless the frame ``last`` of ``path`` is where ``sim`` is now."""
-    same = (last["time"] == sim.time and last["n"] == sim.n and last["names"] == sim.names
-            and last["container"] == sim.container)
+    same = (
+        last["time"] == sim.time
+        and last["n"] == sim.n
+        and last["names"] == sim.names
+        and last["container"] == sim.container
+    )
     if not same:
         raise NotAContinuation(
             f"{path} does not end where this simulation is (it ends at t={last['time']!r} "
             f"with {last['n']} spheres; the simulation is at t={sim.time!r} with {sim.n}): "
-            "it belongs to another run; write to another file")
+            "it belongs to another run; write to another file"
+        )
 
 
 class GSDWriter(_FrameWriter):
@@ -260,8 +268,15 @@ class GSDWriter(_FrameWriter):
         ImportError: ``gsd`` is not installed (``pip install hardspheres[io]``).
     """
 
-    def __init__(self, path: str | os.PathLike, every: float | None = None, events: bool = True,
-                 append: bool = False, *, trigger: Trigger | None = None) -> None:
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        every: float | None = None,
+        events: bool = True,
+        append: bool = False,
+        *,
+        trigger: Trigger | None = None,
+    ) -> None:
         super().__init__(every, events, trigger=trigger)
         import gsd.hoomd  # optional dependency: pip install hardspheres[io]
 
@@ -271,8 +286,7 @@ class GSDWriter(_FrameWriter):
 
     def _open_file(self):
         try:
-            fh = self._hoomd.open(self.path, mode="r+" if self._append else "w",
-                                  precision="double")
+            fh = self._hoomd.open(self.path, mode="r+" if self._append else "w", precision="double")
         except (OSError, RuntimeError) as e:
             if isinstance(e, OSError) and e.filename is not None:
                 raise
@@ -286,8 +300,9 @@ class GSDWriter(_FrameWriter):
         try:
             last = _gsd_last(self._file)
         except (KeyError, IndexError, ValueError) as e:
-            raise ValueError(f"{self.path}: not a hardspheres trajectory ({e}); "
-                             "write to another file") from None
+            raise ValueError(
+                f"{self.path}: not a hardspheres trajectory ({e}); write to another file"
+            ) from None
         _continues(self.path, last, sim)
         self.last_time = last["time"]
         return "continues"
@@ -311,8 +326,7 @@ class GSDWriter(_FrameWriter):
             f.particles.typeid = np.zeros(state.n, dtype=np.uint32)
             f.particles.mass = state.masses
             f.particles.diameter = 2.0 * state.radii
-            f.log["hardspheres/names"] = np.frombuffer(
-                "\n".join(state.names).encode("utf-8"), dtype=np.uint8)
+            f.log["hardspheres/names"] = np.frombuffer("\n".join(state.names).encode("utf-8"), dtype=np.uint8)
         f.log["hardspheres/time"] = np.array([state.time])
         f.log["hardspheres/run_end"] = np.array(self._run_end)
         if self.wants_events:
@@ -346,8 +360,14 @@ class XYZWriter(_FrameWriter):
     a simulation (:meth:`attach`), not when it is made.
     """
 
-    def __init__(self, path: str | os.PathLike, every: float | None = None, append: bool = False,
-                 *, trigger: Trigger | None = None) -> None:
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        every: float | None = None,
+        append: bool = False,
+        *,
+        trigger: Trigger | None = None,
+    ) -> None:
         super().__init__(every, events=False, trigger=trigger)
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
@@ -357,16 +377,21 @@ class XYZWriter(_FrameWriter):
 
     def _start(self, sim):
         from .messages import quote
+
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:
-            raise ValueError(f"sphere name {quote(bad[0])} cannot be written to XYZ "
-                             "(whitespace or quotes); use GSD")
+            raise ValueError(
+                f"sphere name {quote(bad[0])} cannot be written to XYZ (whitespace or quotes); use GSD"
+            )
         if not self._append or os.path.getsize(self.path) == 0:
             return None
         old = _read_xyz(self.path, check_end=False)
         self._count = len(old.times)
-        _continues(self.path, {"time": float(old.times[-1]), "n": old.n,
-                               "names": list(old.names), "container": old.container}, sim)
+        _continues(
+            self.path,
+            {"time": float(old.times[-1]), "n": old.n, "names": list(old.names), "container": old.container},
+            sim,
+        )
         self.last_time = float(old.times[-1])
         return "continues"
 
@@ -378,20 +403,20 @@ class XYZWriter(_FrameWriter):
         h = side / 2.0
         images = state.images
         props = _XYZ_PROPS + (_XYZ_IMAGE if images is not None else "")
-        header = (f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
-                  f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" Properties={props} '
-                  f"Time={state.time!r} {size} "
-                  f"run_end=\"{self._run_end[0]!r} {self._run_end[1]!r}\"\n")
+        header = (
+            f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
+            f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" Properties={props} '
+            f"Time={state.time!r} {size} "
+            f'run_end="{self._run_end[0]!r} {self._run_end[1]!r}"\n'
+        )
         fh = self._file
         fh.write(header)
         if state.n:
-            nums = np.column_stack([state.positions, state.velocities,
-                                    state.radii, state.masses])
+            nums = np.column_stack([state.positions, state.velocities, state.radii, state.masses])
             rows = ("%.17g " * 8).rstrip()
             lines = [f"{name} {rows % tuple(r)}" for name, r in zip(state.names, nums.tolist())]
             if images is not None:
-                lines = [f"{line} {a} {b} {c}"
-                         for line, (a, b, c) in zip(lines, np.asarray(images).tolist())]
+                lines = [f"{line} {a} {b} {c}" for line, (a, b, c) in zip(lines, np.asarray(images).tolist())]
             fh.write("\n".join(lines))
             fh.write("\n")
         fh.flush()
@@ -405,12 +430,16 @@ _XYZ_IMAGE = ":image:I:3"
 def _gsd_events(log):
     """A GSD frame's events, or ``None`` if it has none."""
     if f"{_GSD_EVENTS}/time" in log:
-        return from_columns(**{name: log[f"{_GSD_EVENTS}/{name}"] for name in EVENT_DTYPE.names
-                               if f"{_GSD_EVENTS}/{name}" in log})
+        return from_columns(
+            **{
+                name: log[f"{_GSD_EVENTS}/{name}"]
+                for name in EVENT_DTYPE.names
+                if f"{_GSD_EVENTS}/{name}" in log
+            }
+        )
     if _GSD_EVENTS in log:  # files before one array per field: (E, 5) float64
         old = np.asarray(log[_GSD_EVENTS], np.float64).reshape(-1, 5)
-        return from_columns(time=old[:, 0], kind=old[:, 1], i=old[:, 2], j=old[:, 3],
-                            impulse=old[:, 4])
+        return from_columns(time=old[:, 0], kind=old[:, 1], i=old[:, 2], j=old[:, 3], impulse=old[:, 4])
     return None
 
 
@@ -446,26 +475,33 @@ def _warn_if_cut(path, last_time, run_end):
     except (TypeError, ValueError):
         return  # not ours to judge
     if due <= until and last_time < until:
-        warnings.warn(f"{path} ends at t={last_time!r}, but the run writing it was to reach "
-                      f"t={until!r} (next frame due at t={due!r}): the file was cut short "
-                      "(disk full, run killed or interrupted)", TruncatedTrajectory,
-                      stacklevel=3)
+        warnings.warn(
+            f"{path} ends at t={last_time!r}, but the run writing it was to reach "
+            f"t={until!r} (next frame due at t={due!r}): the file was cut short "
+            "(disk full, run killed or interrupted)",
+            TruncatedTrajectory,
+            stacklevel=3,
+        )
 
 
 def _gsd_last(traj):
     """What :func:`_continues` compares, from the last frame of an open GSD file."""
     first, last = traj[0], traj[len(traj) - 1]
     n = int(first.particles.N)
-    raw = bytes(np.asarray(first.log.get("hardspheres/names", np.zeros(0, np.uint8)),
-                           dtype=np.uint8))
+    raw = bytes(np.asarray(first.log.get("hardspheres/names", np.zeros(0, np.uint8)), dtype=np.uint8))
     names = raw.decode("utf-8").split("\n") if n else []
     log = last.log
-    return {"time": float(log["hardspheres/time"][0]), "n": int(last.particles.N),
-            "names": names, "container": from_fields(log)}
+    return {
+        "time": float(log["hardspheres/time"][0]),
+        "n": int(last.particles.N),
+        "names": names,
+        "container": from_fields(log),
+    }
 
 
 def _read_gsd(path):
     import gsd.hoomd
+
     try:
         traj = gsd.hoomd.open(path, mode="r")
     except (OSError, RuntimeError) as e:
@@ -478,8 +514,7 @@ def _read_gsd(path):
         if "hardspheres/time" not in log:
             raise ValueError(f"{path}: not written by hardspheres (no log/hardspheres/time)")
         n = int(first.particles.N)
-        raw = bytes(np.asarray(log.get("hardspheres/names", np.zeros(0, np.uint8)),
-                               dtype=np.uint8))
+        raw = bytes(np.asarray(log.get("hardspheres/names", np.zeros(0, np.uint8)), dtype=np.uint8))
         names = raw.decode("utf-8").split("\n") if n else []
         if len(names) != n:
             names = [f"s{i}" for i in range(n)]
@@ -496,17 +531,26 @@ def _read_gsd(path):
             run_end = f.log.get("hardspheres/run_end")
         if run_end is not None and len(run_end) == 2:
             _warn_if_cut(path, times[-1], run_end)
-        return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
-                      np.array(vel).reshape(-1, n, 3),
-                      np.asarray(first.particles.diameter, np.float64) / 2.0,
-                      np.asarray(first.particles.mass, np.float64).copy(), names,
-                      container=container, events=_concat(events),
-                      images=(np.array(images).reshape(-1, n, 3)
-                              if container.periodic and "hardspheres/images" in log else None))
+        return Frames(
+            np.array(times),
+            np.array(pos).reshape(-1, n, 3),
+            np.array(vel).reshape(-1, n, 3),
+            np.asarray(first.particles.diameter, np.float64) / 2.0,
+            np.asarray(first.particles.mass, np.float64).copy(),
+            names,
+            container=container,
+            events=_concat(events),
+            images=(
+                np.array(images).reshape(-1, n, 3)
+                if container.periodic and "hardspheres/images" in log
+                else None
+            ),
+        )
 
 
 def _xyz_keys(comment):
     import shlex
+
     out = {}
     for tok in shlex.split(comment):
         if "=" in tok:
@@ -533,40 +577,46 @@ def _read_xyz(path, check_end=True):
             if props not in (_XYZ_PROPS, _XYZ_PROPS + _XYZ_IMAGE):
                 raise ValueError(f"unknown columns Properties={props}")
             cols = 12 if props.endswith(_XYZ_IMAGE) else 9
-            rows = [ln.split() for ln in lines[k + 2:k + 2 + n]]
+            rows = [ln.split() for ln in lines[k + 2 : k + 2 + n]]
             if len(rows) != n or any(len(r) != cols for r in rows):
-                raise ValueError(f"frame shorter than its atom count, or a line without "
-                                 f"its {cols} columns")
+                raise ValueError(f"frame shorter than its atom count, or a line without its {cols} columns")
             nums = np.array([r[1:9] for r in rows], dtype=np.float64).reshape(n, 8)
             pos.append(nums[:, 0:3])
             vel.append(nums[:, 3:6])
-            images.append(np.array([r[9:] for r in rows], dtype=np.int64).reshape(n, 3)
-                          if cols == 12 else None)
+            images.append(
+                np.array([r[9:] for r in rows], dtype=np.int64).reshape(n, 3) if cols == 12 else None
+            )
             if names is None:
                 names = [r[0] for r in rows]
                 radii, masses = nums[:, 6].copy(), nums[:, 7].copy()
             k += 2 + n
     except (ValueError, KeyError, IndexError) as e:
-        raise ValueError(f"{path}: not an XYZ trajectory of hardspheres "
-                         f"(near line {k + 1}: {e})") from None
+        raise ValueError(f"{path}: not an XYZ trajectory of hardspheres (near line {k + 1}: {e})") from None
     if not times:
         raise ValueError(f"{path}: no frames")
     if check_end and run_end is not None and len(run_end) == 2:
         _warn_if_cut(path, times[-1], run_end)
     n = len(names)
     has_images = container.periodic and all(im is not None for im in images)
-    return Frames(np.array(times), np.array(pos).reshape(-1, n, 3),
-                  np.array(vel).reshape(-1, n, 3), radii, masses, names,
-                  container=container,
-                  images=np.array(images).reshape(-1, n, 3) if has_images else None)
+    return Frames(
+        np.array(times),
+        np.array(pos).reshape(-1, n, 3),
+        np.array(vel).reshape(-1, n, 3),
+        radii,
+        masses,
+        names,
+        container=container,
+        images=np.array(images).reshape(-1, n, 3) if has_images else None,
+    )
 
 
 # ---- in memory -------------------------------------------------------------------
 class FrameRecorder(_FrameWriter):
     """Keeps frames in memory; :meth:`frames` returns them as :class:`Frames`."""
 
-    def __init__(self, every: float | None = None, events: bool = True, *,
-                 trigger: Trigger | None = None) -> None:
+    def __init__(
+        self, every: float | None = None, events: bool = True, *, trigger: Trigger | None = None
+    ) -> None:
         super().__init__(every, events, trigger=trigger)
         self._times: list[float] = []
         self._pos: list[np.ndarray] = []
@@ -589,12 +639,17 @@ class FrameRecorder(_FrameWriter):
         """The frames recorded so far."""
         sim, st = self._sim, self._state
         n = st.n
-        return Frames(np.array(self._times), np.array(self._pos).reshape(-1, n, 3),
-                      np.array(self._vel).reshape(-1, n, 3), st.radii.copy(),
-                      st.masses.copy(), list(st.names), container=sim.container,
-                      events=_concat(self._ev),
-                      images=(np.array(self._img).reshape(-1, n, 3)
-                              if sim.container.periodic else None))
+        return Frames(
+            np.array(self._times),
+            np.array(self._pos).reshape(-1, n, 3),
+            np.array(self._vel).reshape(-1, n, 3),
+            st.radii.copy(),
+            st.masses.copy(),
+            list(st.names),
+            container=sim.container,
+            events=_concat(self._ev),
+            images=(np.array(self._img).reshape(-1, n, 3) if sim.container.periodic else None),
+        )
 
 
 def frames_from_simulation(sim, until: float, every: float) -> Frames:

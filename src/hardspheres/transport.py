@@ -95,16 +95,18 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
         >>> round(e["g"], 4), round(e["D"], 4)
         (2.4781, 0.149)
     """
-    rho = 6.0 * packing / (math.pi * sigma ** 3)
+    rho = 6.0 * packing / (math.pi * sigma**3)
     g = (1.0 - 0.5 * packing) / (1.0 - packing) ** 3
     brho = 4.0 * packing
-    D0 = 3.0 / (8.0 * rho * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
-    eta0 = 5.0 / (16.0 * sigma ** 2) * math.sqrt(mass * kT / math.pi)
-    lam0 = 75.0 / (64.0 * sigma ** 2) * math.sqrt(kT / (math.pi * mass))
-    return {"D": D0 / g, "g": g,
-            "eta": eta0 * (1.0 / g + 0.8 * brho + 0.16 * (1.0 + 12.0 / math.pi) * brho ** 2 * g),
-            "lambda": lam0 * (1.0 / g + 1.2 * brho
-                              + 0.36 * (1.0 + 32.0 / (9.0 * math.pi)) * brho ** 2 * g)}
+    D0 = 3.0 / (8.0 * rho * sigma**2) * math.sqrt(kT / (math.pi * mass))
+    eta0 = 5.0 / (16.0 * sigma**2) * math.sqrt(mass * kT / math.pi)
+    lam0 = 75.0 / (64.0 * sigma**2) * math.sqrt(kT / (math.pi * mass))
+    return {
+        "D": D0 / g,
+        "g": g,
+        "eta": eta0 * (1.0 / g + 0.8 * brho + 0.16 * (1.0 + 12.0 / math.pi) * brho**2 * g),
+        "lambda": lam0 * (1.0 / g + 1.2 * brho + 0.36 * (1.0 + 32.0 / (9.0 * math.pi)) * brho**2 * g),
+    }
 
 
 def _trajectory(source, what, positions=True):
@@ -114,9 +116,9 @@ def _trajectory(source, what, positions=True):
     velocity autocorrelation needs only the velocities.
     """
     from .frames import Frames
+
     if not isinstance(source, Frames):
-        raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or "
-                        "frames_from_simulation)")
+        raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or frames_from_simulation)")
     require_periodic(PeriodicBox(source.box) if source.box else None, what)
     t = np.asarray(source.times, float)
     if len(t) < 3:
@@ -141,7 +143,7 @@ def _autocorrelation(x):
     # 16 * size * N * 3 bytes (1.6 GB for 20000 frames of 500 spheres)
     step = max(1, (1 << 23) // (size * x.shape[2]))
     for k in range(0, n, step):
-        spec = np.fft.rfft(x[:, k:k + step], n=size, axis=0)
+        spec = np.fft.rfft(x[:, k : k + step], n=size, axis=0)
         acf += np.fft.irfft(spec * np.conj(spec), n=size, axis=0)[:f].sum(axis=(1, 2))
     return acf / n / (f - np.arange(f))
 
@@ -180,6 +182,7 @@ class MSD(_Computed):
     @staticmethod
     def _msd(x):
         import freud
+
         return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
 
     def _window(self, t, t_min, t_max):
@@ -187,8 +190,9 @@ class MSD(_Computed):
         t_min = 0.2 * t[-1] if t_min is None else t_min
         sel = (t >= t_min) & (t <= t_max)
         if sel.sum() < 2:
-            raise ValueError(f"fewer than two lags in [{t_min:g}, {t_max:g}]: record more "
-                             "frames or widen the fit window")
+            raise ValueError(
+                f"fewer than two lags in [{t_min:g}, {t_max:g}]: record more frames or widen the fit window"
+            )
         return sel
 
     def diffusion(self, t_min=None, t_max=None):
@@ -221,6 +225,7 @@ class MSD(_Computed):
         """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         ax.loglog(self.t[1:], self.msd[1:], label="MSD")
         D, _ = self.diffusion()
@@ -288,13 +293,15 @@ class VACF(_Computed):
             raise ValueError(
                 f"the VACF falls to {self.c[1] / self.c[0]:.2f} of C(0) in one frame: the "
                 "integral would be biased high; record frames at most a tenth of a mean free "
-                "time apart (or use MSD().diffusion())")
+                "time apart (or use MSD().diffusion())"
+            )
         segs = _segments(len(self.t), self.blocks)
         tseg = self.t[: segs[0].stop - segs[0].start]
         t_max = 0.5 * tseg[-1] if t_max is None else t_max
         if t_max > tseg[-1]:
-            raise ValueError(f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): "
-                             "use fewer blocks or a longer run")
+            raise ValueError(
+                f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): use fewer blocks or a longer run"
+            )
         k = int(np.searchsorted(self.t, t_max, side="right"))
         D = np.trapezoid(self.c[:k], self.t[:k]) / 3.0
         per = [np.trapezoid(_autocorrelation(self._v[s])[:k], tseg[:k]) / 3.0 for s in segs]
@@ -314,6 +321,7 @@ class VACF(_Computed):
         """C(t) / C(0) against t; returns Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         ax.plot(self.t, self.c / self.c[0])
         ax.axhline(0.0, color="grey", lw=0.5)
@@ -361,9 +369,11 @@ class _EinsteinHelfand(_Computed):
         obs = sim.observables
         t, g = obs.helfand_moments(self._kind)
         if len(t) < 32:
-            raise ValueError(f"{len(t)} samples of the Helfand moments (32 at least, a few "
-                             "hundred for an error bar): run longer, or start with "
-                             "observables.reset(every=T), T about a mean free time")
+            raise ValueError(
+                f"{len(t)} samples of the Helfand moments (32 at least, a few "
+                "hundred for an error bar): run longer, or start with "
+                "observables.reset(every=T), T about a mean free time"
+            )
         self._check(sim)
         self._g, self.t = g, t - t[0]
         self.msd = _msd_fft(g)
@@ -392,11 +402,11 @@ class _EinsteinHelfand(_Computed):
         sel = (self.t >= t_lo) & (self.t <= t_hi)
         sel_s = (tseg >= t_lo) & (tseg <= t_hi)
         if sel_s.sum() < 2:
-            raise ValueError(f"fewer than two lags in [{t_lo:g}, {t_hi:g}] per segment: "
-                             "run longer or use fewer blocks")
+            raise ValueError(
+                f"fewer than two lags in [{t_lo:g}, {t_hi:g}] per segment: run longer or use fewer blocks"
+            )
         val = np.polyfit(self.t[sel], self.msd[sel], 1)[0] * self._scale
-        per = [np.polyfit(tseg[sel_s], _msd_fft(self._g[s])[sel_s], 1)[0] * self._scale
-               for s in segs]
+        per = [np.polyfit(tseg[sel_s], _msd_fft(self._g[s])[sel_s], 1)[0] * self._scale for s in segs]
         err = float(np.std(per, ddof=1) / math.sqrt(len(per)))
         return float(val), err
 
@@ -404,6 +414,7 @@ class _EinsteinHelfand(_Computed):
         """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
         self._need()
         import matplotlib.pyplot as plt
+
         ax = plt.figure().add_subplot() if ax is None else ax
         t = self.t[1:]
         ax.plot(t, self.msd[1:] * self._scale / t)
@@ -453,8 +464,7 @@ class ThermalConductivity(_EinsteinHelfand):
     def _check(self, sim):
         m = sim.engine.masses
         if np.ptp(m) > 1e-12 * m.max():
-            raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal "
-                             "masses only")
+            raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal masses only")
 
     @staticmethod
     def _prefactor(sim):
@@ -462,5 +472,13 @@ class ThermalConductivity(_EinsteinHelfand):
         return 1.0 / (2.0 * sim.container.volume * kT * kT)
 
 
-__all__ = ["MSD", "VACF", "XI_CUBIC", "NotComputedError", "ShearViscosity",
-           "ThermalConductivity", "enskog", "yeh_hummer"]
+__all__ = [
+    "MSD",
+    "VACF",
+    "XI_CUBIC",
+    "NotComputedError",
+    "ShearViscosity",
+    "ThermalConductivity",
+    "enskog",
+    "yeh_hummer",
+]

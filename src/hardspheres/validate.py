@@ -70,13 +70,22 @@ class Row:
 
 
 def _study(packings, n, equilibrate, collisions, blocks, seeds, folder):
-    return {"output": folder, "container": "box", "packing": [float(p) for p in packings],
-            "n": int(n), "seeds": list(seeds), "equilibrate": equilibrate,
-            "collisions": collisions, "blocks": blocks, "measure": MEASURE}
+    return {
+        "output": folder,
+        "container": "box",
+        "packing": [float(p) for p in packings],
+        "n": int(n),
+        "seeds": list(seeds),
+        "equilibrate": equilibrate,
+        "collisions": collisions,
+        "blocks": blocks,
+        "measure": MEASURE,
+    }
 
 
 def _rows(df, n, collisions):
     from .studies import summarize
+
     rows = []
     for r in summarize(df).to_dict("records"):
         # blocks of all seeds pooled: many more degrees of freedom than the
@@ -85,13 +94,28 @@ def _rows(df, n, collisions):
         hg, klm = float(hansen_goos(phi)), float(kolafa(phi))
         zcs = float(carnahan_starling(phi))
         g_z = 6.0 * (z - 1.0) * math.sqrt(r["temperature"] / math.pi)
-        rows.append(Row(
-            phi=phi, Z=z, Z_err=z_err, Z_HG=hg, z_HG=(z - hg) / z_err, Z_KLM=klm,
-            z_KLM=(z - klm) / z_err, Z_CS=zcs, rel_diff=z / zcs - 1.0,
-            gamma=r["collision_rate"], gamma_err=r["collision_rate_err_blocks"], gamma_from_Z=g_z,
-            gamma_rel_diff=r["collision_rate"] / g_z - 1.0, ks_D=r["speeds_ks"],
-            ks_D_expected=KS_MEAN / math.sqrt(n), n=n,
-            collisions=int(collisions * n / 2), seeds=int(r["seeds"])))
+        rows.append(
+            Row(
+                phi=phi,
+                Z=z,
+                Z_err=z_err,
+                Z_HG=hg,
+                z_HG=(z - hg) / z_err,
+                Z_KLM=klm,
+                z_KLM=(z - klm) / z_err,
+                Z_CS=zcs,
+                rel_diff=z / zcs - 1.0,
+                gamma=r["collision_rate"],
+                gamma_err=r["collision_rate_err_blocks"],
+                gamma_from_Z=g_z,
+                gamma_rel_diff=r["collision_rate"] / g_z - 1.0,
+                ks_D=r["speeds_ks"],
+                ks_D_expected=KS_MEAN / math.sqrt(n),
+                n=n,
+                collisions=int(collisions * n / 2),
+                seeds=int(r["seeds"]),
+            )
+        )
     return rows
 
 
@@ -113,15 +137,28 @@ def measure(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
         A :class:`Row`.
     """
     from .studies import sweep
+
     with tempfile.TemporaryDirectory() as folder:
-        df = sweep(_study([phi], n, equilibrate, collisions, blocks, [seed], folder),
-                   serial=True)
+        df = sweep(_study([phi], n, equilibrate, collisions, blocks, [seed], folder), serial=True)
     return _rows(df, n, collisions)[0]
 
 
-def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200,
-             collisions=500, blocks=20, seed=0, seeds=1, client=None, serial=False,
-             workers=None, folder=None, progress=None):
+def validate(
+    packings=PACKINGS,
+    csv_path=None,
+    out=None,
+    n=4000,
+    equilibrate=200,
+    collisions=500,
+    blocks=20,
+    seed=0,
+    seeds=1,
+    client=None,
+    serial=False,
+    workers=None,
+    folder=None,
+    progress=None,
+):
     """Measure every packing fraction as a study, print the table, write the CSV.
 
     Args:
@@ -141,27 +178,44 @@ def validate(packings=PACKINGS, csv_path=None, out=None, n=4000, equilibrate=200
         The list of :class:`Row`.
     """
     from .studies import sweep
+
     seed_list = range(seed, seed + seeds)
     if folder is None:
         with tempfile.TemporaryDirectory() as tmp:
-            df = sweep(_study(packings, n, equilibrate, collisions, blocks, seed_list, tmp),
-                       client=client, serial=serial, workers=workers, out=progress)
+            df = sweep(
+                _study(packings, n, equilibrate, collisions, blocks, seed_list, tmp),
+                client=client,
+                serial=serial,
+                workers=workers,
+                out=progress,
+            )
     else:
-        df = sweep(_study(packings, n, equilibrate, collisions, blocks, seed_list,
-                          os.path.abspath(folder)),
-                   client=client, serial=serial, workers=workers, out=progress)
+        df = sweep(
+            _study(packings, n, equilibrate, collisions, blocks, seed_list, os.path.abspath(folder)),
+            client=client,
+            serial=serial,
+            workers=workers,
+            out=progress,
+        )
     rows = _rows(df, n, collisions)
     if out is not None:
-        print(f"{'phi':>5} {'Z':>9} {'+-':>7} {'Z_HG':>9} {'z_HG':>6} {'Z_KLM':>9} "
-              f"{'z_KLM':>6} {'Gamma':>9} {'Gamma(Z)':>9} {'G/G(Z)-1':>9} {'KS D':>7} "
-              f"{'(exp.)':>7}", file=out)
+        print(
+            f"{'phi':>5} {'Z':>9} {'+-':>7} {'Z_HG':>9} {'z_HG':>6} {'Z_KLM':>9} "
+            f"{'z_KLM':>6} {'Gamma':>9} {'Gamma(Z)':>9} {'G/G(Z)-1':>9} {'KS D':>7} "
+            f"{'(exp.)':>7}",
+            file=out,
+        )
         for r in rows:
-            print(f"{r.phi:5.2f} {r.Z:9.4f} {r.Z_err:7.4f} {r.Z_HG:9.4f} {r.z_HG:+6.2f} "
-                  f"{r.Z_KLM:9.4f} {r.z_KLM:+6.2f} {r.gamma:9.4f} {r.gamma_from_Z:9.4f} "
-                  f"{r.gamma_rel_diff:+9.4%} {r.ks_D:7.4f} {r.ks_D_expected:7.4f}", file=out,
-                  flush=True)
+            print(
+                f"{r.phi:5.2f} {r.Z:9.4f} {r.Z_err:7.4f} {r.Z_HG:9.4f} {r.z_HG:+6.2f} "
+                f"{r.Z_KLM:9.4f} {r.z_KLM:+6.2f} {r.gamma:9.4f} {r.gamma_from_Z:9.4f} "
+                f"{r.gamma_rel_diff:+9.4%} {r.ks_D:7.4f} {r.ks_D_expected:7.4f}",
+                file=out,
+                flush=True,
+            )
     if csv_path is not None:
         from .fileio import atomic_write
+
         with atomic_write(csv_path, "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(asdict(rows[0])))
             w.writeheader()
@@ -180,13 +234,18 @@ def verdict(rows, bar=3.0):
     worst_rel = max(r.Z_err / r.Z for r in rows)
     worst_g = max(abs(r.gamma_rel_diff) for r in rows)
     bad = [r.phi for r in rows if max(abs(r.z_HG), abs(r.z_KLM)) > bar]
-    return [(f"largest |z| of Z: {abs(worst.z_HG):.2f} against Hansen-Goos, "
-             f"{abs(worst.z_KLM):.2f} against KLM (packing {worst.phi:g}); "
-             f"largest relative standard error of Z {worst_rel:.3%}; "
-             f"largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}"),
-            f"Z within {bar:g} standard errors of both at every packing" if not bad else
-            f"Z more than {bar:g} standard errors from Hansen-Goos or KLM at packing "
-            f"{', '.join(f'{p:g}' for p in bad)}"]
+    return [
+        (
+            f"largest |z| of Z: {abs(worst.z_HG):.2f} against Hansen-Goos, "
+            f"{abs(worst.z_KLM):.2f} against KLM (packing {worst.phi:g}); "
+            f"largest relative standard error of Z {worst_rel:.3%}; "
+            f"largest |Gamma/Gamma(Z) - 1| = {worst_g:.3%}"
+        ),
+        f"Z within {bar:g} standard errors of both at every packing"
+        if not bad
+        else f"Z more than {bar:g} standard errors from Hansen-Goos or KLM at packing "
+        f"{', '.join(f'{p:g}' for p in bad)}",
+    ]
 
 
 # ---- transport: D, eta, lambda against published molecular dynamics --------------
@@ -203,13 +262,39 @@ def verdict(rows, bar=3.0):
 #: Yeh-Hummer correction with DynamO's eta gives 0.2655, against 0.2650 here.
 #: No error bars were transcribed.
 PIEPRZYK_2019_D = (
-    (0.10, 1.94786), (0.15, 1.24636), (0.20, 0.89989), (0.25, 0.69308), (0.30, 0.55523),
-    (0.35, 0.45527), (0.40, 0.37845), (0.45, 0.31663), (0.50, 0.265009), (0.55, 0.221105),
-    (0.60, 0.183259), (0.65, 0.150317), (0.70, 0.121081), (0.75, 0.095425), (0.80, 0.072934),
-    (0.85, 0.053298), (0.86, 0.049608), (0.87, 0.046203), (0.88, 0.042720), (0.89, 0.039478),
-    (0.90, 0.036254), (0.91, 0.033286), (0.92, 0.030326), (0.93, 0.027419), (0.94, 0.024746),
-    (0.95, 0.022134), (0.96, 0.019695), (0.97, 0.017357), (0.98, 0.015082), (0.99, 0.013013),
-    (1.00, 0.011053), (1.01, 0.009222))
+    (0.10, 1.94786),
+    (0.15, 1.24636),
+    (0.20, 0.89989),
+    (0.25, 0.69308),
+    (0.30, 0.55523),
+    (0.35, 0.45527),
+    (0.40, 0.37845),
+    (0.45, 0.31663),
+    (0.50, 0.265009),
+    (0.55, 0.221105),
+    (0.60, 0.183259),
+    (0.65, 0.150317),
+    (0.70, 0.121081),
+    (0.75, 0.095425),
+    (0.80, 0.072934),
+    (0.85, 0.053298),
+    (0.86, 0.049608),
+    (0.87, 0.046203),
+    (0.88, 0.042720),
+    (0.89, 0.039478),
+    (0.90, 0.036254),
+    (0.91, 0.033286),
+    (0.92, 0.030326),
+    (0.93, 0.027419),
+    (0.94, 0.024746),
+    (0.95, 0.022134),
+    (0.96, 0.019695),
+    (0.97, 0.017357),
+    (0.98, 0.015082),
+    (0.99, 0.013013),
+    (1.00, 0.011053),
+    (1.01, 0.009222),
+)
 
 #: Self-diffusion against the packing fraction from D. M. Heyes and M. J.
 #: Cass, "Self-Diffusion Coefficient of the Hard-Sphere Fluid: System Size
@@ -218,11 +303,28 @@ PIEPRZYK_2019_D = (
 #: transcribed in the same file (4 digits, no error bars); an independent
 #: set, 0.5% (0.3) to 2.7% (0.45) below Pieprzyk et al.'s.
 HEYES_CASS_D = (
-    (0.05, 2.039), (0.10, 0.936), (0.15, 0.5785), (0.20, 0.402), (0.25, 0.287),
-    (0.275, 0.24), (0.30, 0.2021), (0.325, 0.168), (0.35, 0.1396), (0.375, 0.1136),
-    (0.40, 0.0877), (0.41, 0.0790), (0.42, 0.0699), (0.43, 0.0620), (0.44, 0.0549),
-    (0.45, 0.0485), (0.46, 0.0413), (0.47, 0.0351), (0.48, 0.0301), (0.49, 0.0249),
-    (0.50, 0.0201))
+    (0.05, 2.039),
+    (0.10, 0.936),
+    (0.15, 0.5785),
+    (0.20, 0.402),
+    (0.25, 0.287),
+    (0.275, 0.24),
+    (0.30, 0.2021),
+    (0.325, 0.168),
+    (0.35, 0.1396),
+    (0.375, 0.1136),
+    (0.40, 0.0877),
+    (0.41, 0.0790),
+    (0.42, 0.0699),
+    (0.43, 0.0620),
+    (0.44, 0.0549),
+    (0.45, 0.0485),
+    (0.46, 0.0413),
+    (0.47, 0.0351),
+    (0.48, 0.0301),
+    (0.49, 0.0249),
+    (0.50, 0.0201),
+)
 
 #: DynamO's own test expectations for its 1372 spheres (FCC 7x7x7) at
 #: ``rho sigma^3 = 0.5`` (packing 0.2618), sigma = m = kT = 1
@@ -233,9 +335,14 @@ HEYES_CASS_D = (
 #: mean free time 0.13031 and D = 0.247, "Taken from Lue 2005"
 #: (doi:10.1063/1.1834498, as DynamO cites it).  Lue's values
 #: have no error bar there: half a unit of the last digit is used.
-DYNAMO_RHO05 = {"n": 1372, "rho": 0.5,
-                "eta": (0.58, 0.06), "lambda": (2.3, 0.2),
-                "mean_free_time": (0.13031, 0.000005), "D": (0.247, 0.0005)}
+DYNAMO_RHO05 = {
+    "n": 1372,
+    "rho": 0.5,
+    "eta": (0.58, 0.06),
+    "lambda": (2.3, 0.2),
+    "mean_free_time": (0.13031, 0.000005),
+    "D": (0.247, 0.0005),
+}
 
 _PIEPRZYK = "Pieprzyk et al., PCCP 21, 6886 (2019) (transcribed; N -> inf)"
 _HEYES = "Heyes & Cass, Self-Diffusion Coefficient of the Hard-Sphere Fluid (transcribed)"
@@ -280,14 +387,13 @@ def published_diffusion(phi):
     """
     out = []
     rho = 6.0 * phi / math.pi
-    for table, x, source, digits in ((PIEPRZYK_2019_D, rho, _PIEPRZYK, 6),
-                                     (HEYES_CASS_D, phi, _HEYES, 4)):
+    for table, x, source, digits in ((PIEPRZYK_2019_D, rho, _PIEPRZYK, 6), (HEYES_CASS_D, phi, _HEYES, 4)):
         try:
             d, err = _interpolate(table, x)
         except ValueError:
             continue
         # no error bars were transcribed: the rounding of the last printed digit
-        out.append((d, math.hypot(err, 0.5 * 10.0 ** -digits), source))
+        out.append((d, math.hypot(err, 0.5 * 10.0**-digits), source))
     return out
 
 
@@ -341,6 +447,7 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     from .simulation import Simulation
     from .trajectory import FrameRecorder
     from .transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
+
     t0 = _time.perf_counter()
     L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
     sim = Simulation(random_spheres(n, phi, box=L, seed=seed), PeriodicBox(L))
@@ -366,13 +473,25 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     d_inf = yeh_hummer(D, L, eta, kT)
     corr = XI_CUBIC * kT / (6.0 * math.pi * eta * L)
     return TransportRow(
-        phi=phi, n=n, L=L, Z=z.mean, Z_err=z.sem,
-        mean_free_time=1.0 / rate.mean, mean_free_time_err=rate.sem / rate.mean ** 2,
-        D=D, D_err=D_err, D_inf=d_inf, D_inf_err=math.hypot(D_err, corr * eta_err / eta),
-        eta=eta, eta_err=eta_err, lam=lam, lam_err=lam_err, time=duration,
+        phi=phi,
+        n=n,
+        L=L,
+        Z=z.mean,
+        Z_err=z.sem,
+        mean_free_time=1.0 / rate.mean,
+        mean_free_time_err=rate.sem / rate.mean**2,
+        D=D,
+        D_err=D_err,
+        D_inf=d_inf,
+        D_inf_err=math.hypot(D_err, corr * eta_err / eta),
+        eta=eta,
+        eta_err=eta_err,
+        lam=lam,
+        lam_err=lam_err,
+        time=duration,
         collisions=int(sim.counters["collisions"] - c0),
-        seconds=_time.perf_counter() - t0)
-
+        seconds=_time.perf_counter() - t0,
+    )
 
 
 @dataclass
@@ -396,8 +515,19 @@ def _score(quantity, row, value, error, ref, ref_err, source, rel_bar, z_bar):
     comb = math.hypot(error, ref_err)
     z = (value - ref) / comb if comb > 0 else math.inf
     rel = value / ref - 1.0
-    return TransportScore(quantity, row.phi, row.n, value, error, ref, ref_err, z, rel,
-                          bool(abs(rel) <= rel_bar or abs(z) <= z_bar), source)
+    return TransportScore(
+        quantity,
+        row.phi,
+        row.n,
+        value,
+        error,
+        ref,
+        ref_err,
+        z,
+        rel,
+        bool(abs(rel) <= rel_bar or abs(z) <= z_bar),
+        source,
+    )
 
 
 def score_transport(rows, rel_bar=0.02, z_bar=2.0):
@@ -429,14 +559,15 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
     for r in rows:
         if r is biggest[r.phi]:
             for d, err, source in published_diffusion(r.phi):
-                out.append(_score("D_inf", r, r.D_inf, r.D_inf_err, d, err, source,
-                                  rel_bar, z_bar))
+                out.append(_score("D_inf", r, r.D_inf, r.D_inf_err, d, err, source, rel_bar, z_bar))
         ref = DYNAMO_RHO05
         if r.n == ref["n"] and abs(6.0 * r.phi / math.pi - ref["rho"]) < 1e-9:
             for q, value, err, source in (
-                    ("D", r.D, r.D_err, _LUE),
-                    ("mean_free_time", r.mean_free_time, r.mean_free_time_err, _LUE),
-                    ("eta", r.eta, r.eta_err, _DYNAMO), ("lambda", r.lam, r.lam_err, _DYNAMO)):
+                ("D", r.D, r.D_err, _LUE),
+                ("mean_free_time", r.mean_free_time, r.mean_free_time_err, _LUE),
+                ("eta", r.eta, r.eta_err, _DYNAMO),
+                ("lambda", r.lam, r.lam_err, _DYNAMO),
+            ):
                 out.append(_score(q, r, value, err, *ref[q], source, rel_bar, z_bar))
     return out
 
@@ -444,33 +575,46 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
 def transport_table(rows, out):
     """Print the measurements, with the Enskog ratios, as a markdown table."""
     from .transport import enskog
-    print("| phi | N | time | Z | mean free time | D | D_inf (Yeh-Hummer) | D_inf/D_E "
-          "| eta | eta/eta_E | lambda | lambda/lambda_E |", file=out)
+
+    print(
+        "| phi | N | time | Z | mean free time | D | D_inf (Yeh-Hummer) | D_inf/D_E "
+        "| eta | eta/eta_E | lambda | lambda/lambda_E |",
+        file=out,
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|", file=out)
     for r in rows:
         e = enskog(r.phi)
-        print(f"| {r.phi:.4f} | {r.n} | {r.time:g} | {r.Z:.4f} +- {r.Z_err:.4f} "
-              f"| {r.mean_free_time:.5f} +- {r.mean_free_time_err:.5f} "
-              f"| {r.D:.4f} +- {r.D_err:.4f} | {r.D_inf:.4f} +- {r.D_inf_err:.4f} "
-              f"| {r.D_inf / e['D']:.3f} | {r.eta:.3f} +- {r.eta_err:.3f} "
-              f"| {r.eta / e['eta']:.3f} | {r.lam:.3f} +- {r.lam_err:.3f} "
-              f"| {r.lam / e['lambda']:.3f} |", file=out, flush=True)
+        print(
+            f"| {r.phi:.4f} | {r.n} | {r.time:g} | {r.Z:.4f} +- {r.Z_err:.4f} "
+            f"| {r.mean_free_time:.5f} +- {r.mean_free_time_err:.5f} "
+            f"| {r.D:.4f} +- {r.D_err:.4f} | {r.D_inf:.4f} +- {r.D_inf_err:.4f} "
+            f"| {r.D_inf / e['D']:.3f} | {r.eta:.3f} +- {r.eta_err:.3f} "
+            f"| {r.eta / e['eta']:.3f} | {r.lam:.3f} +- {r.lam_err:.3f} "
+            f"| {r.lam / e['lambda']:.3f} |",
+            file=out,
+            flush=True,
+        )
 
 
 def score_table(scores, out):
     """Print the scores as a markdown table and return the verdict line."""
-    print("| quantity | phi | N | measured | published | z | rel. diff. | pass | source |",
-          file=out)
+    print("| quantity | phi | N | measured | published | z | rel. diff. | pass | source |", file=out)
     print("|---|---|---|---|---|---|---|---|---|", file=out)
     for s in scores:
-        print(f"| {s.quantity} | {s.phi:.4f} | {s.n} | {s.value:.5g} +- {s.error:.2g} "
-              f"| {s.reference:.5g} +- {s.reference_error:.2g} | {s.z:+.2f} "
-              f"| {s.rel_diff:+.2%} | {'yes' if s.passed else 'NO'} | {s.source} |", file=out)
+        print(
+            f"| {s.quantity} | {s.phi:.4f} | {s.n} | {s.value:.5g} +- {s.error:.2g} "
+            f"| {s.reference:.5g} +- {s.reference_error:.2g} | {s.z:+.2f} "
+            f"| {s.rel_diff:+.2%} | {'yes' if s.passed else 'NO'} | {s.source} |",
+            file=out,
+        )
     bad = [s for s in scores if not s.passed]
     worst = max(scores, key=lambda s: abs(s.z)) if scores else None
-    line = (f"{len(scores) - len(bad)} of {len(scores)} within 2% or 2 combined standard "
-            "errors" + (f"; largest |z| {abs(worst.z):.2f} ({worst.quantity} at packing "
-                        f"{worst.phi:.4f} against {worst.source.split(',')[0]})" if worst else ""))
+    line = f"{len(scores) - len(bad)} of {len(scores)} within 2% or 2 combined standard errors" + (
+        f"; largest |z| {abs(worst.z):.2f} ({worst.quantity} at packing "
+        f"{worst.phi:.4f} against {worst.source.split(',')[0]})"
+        if worst
+        else ""
+    )
     print(line, file=out)
     return line
 
@@ -483,6 +627,7 @@ def line_extrapolations(rows):
     (docs/validation.md).
     """
     from .transport import XI_CUBIC
+
     out = []
     for phi in dict.fromkeys(r.phi for r in rows):
         rs = [r for r in rows if r.phi == phi]
@@ -493,15 +638,18 @@ def line_extrapolations(rows):
         w = 1.0 / np.array([r.D_err for r in rs])
         (slope, d_inf), cov = np.polyfit(x, y, 1, w=w, cov="unscaled")
         eta = float(np.mean([r.eta for r in rs]))
-        out.append(f"phi {phi:.4f}: a line in 1/L through N = "
-                   f"{', '.join(str(r.n) for r in rs)} gives D_inf = {d_inf:.4f} +- "
-                   f"{math.sqrt(cov[1, 1]):.4f}, slope {slope:.3f} +- {math.sqrt(cov[0, 0]):.3f} "
-                   f"(Yeh-Hummer's {-XI_CUBIC / (6.0 * math.pi * eta):.3f})")
+        out.append(
+            f"phi {phi:.4f}: a line in 1/L through N = "
+            f"{', '.join(str(r.n) for r in rs)} gives D_inf = {d_inf:.4f} +- "
+            f"{math.sqrt(cov[1, 1]):.4f}, slope {slope:.3f} +- {math.sqrt(cov[0, 0]):.3f} "
+            f"(Yeh-Hummer's {-XI_CUBIC / (6.0 * math.pi * eta):.3f})"
+        )
     return out
 
 
-def validate_transport(packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=None,
-                       seed=1, out=None, csv_path=None, workers=1):
+def validate_transport(
+    packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=None, seed=1, out=None, csv_path=None, workers=1
+):
     """Measure transport at each packing and size, score against the literature, write CSV.
 
     Args:
@@ -519,6 +667,7 @@ def validate_transport(packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=
         ``(rows, scores)``: :class:`TransportRow` s and :class:`TransportScore` s.
     """
     from .eos import kolafa
+
     jobs = []
     for phi in packings:
         if isinstance(duration, dict):
@@ -530,6 +679,7 @@ def validate_transport(packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=
         jobs.extend((phi, n, t, seed) for n in sizes)
     if workers > 1:
         from concurrent.futures import ProcessPoolExecutor
+
         with ProcessPoolExecutor(workers) as pool:
             rows = list(pool.map(_run_transport_job, jobs))
     else:
@@ -543,6 +693,7 @@ def validate_transport(packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=
         score_table(scores, out)
     if csv_path is not None:
         from .fileio import atomic_write
+
         with atomic_write(csv_path, "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(asdict(scores[0])))
             w.writeheader()

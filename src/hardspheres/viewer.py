@@ -49,7 +49,9 @@ _CORE_SPECIFIER = '"./three.core.min.js"'
 
 def _b64(array, dtype):
     """Base64 of ``array`` as contiguous little-endian ``dtype``."""
-    return base64.b64encode(np.ascontiguousarray(array, dtype=np.dtype(dtype).newbyteorder("<")).tobytes()).decode("ascii")
+    return base64.b64encode(
+        np.ascontiguousarray(array, dtype=np.dtype(dtype).newbyteorder("<")).tobytes()
+    ).decode("ascii")
 
 
 def _script_json(obj):
@@ -93,6 +95,7 @@ def _q6(frames, positions):
     that none sees an image (:class:`hardspheres.structure.BondOrder`).
     """
     from .structure import BondOrder
+
     c = frames.container
     if c is not None and c.periodic:
         width = float(c.size)
@@ -115,11 +118,12 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
     if n_frames == 0:
         raise ValueError("write_viewer: no frames")
     if pos.shape != (n_frames, n, 3) or vel.shape != (n_frames, n, 3) or masses.shape != (n,):
-        raise ValueError(f"write_viewer: inconsistent shapes: times {times.shape}, positions {pos.shape}, "
-                         f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}")
+        raise ValueError(
+            f"write_viewer: inconsistent shapes: times {times.shape}, positions {pos.shape}, "
+            f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}"
+        )
     if color_by not in COLOR_BY:
-        raise ValueError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, "
-                         f"got {color_by!r}")
+        raise ValueError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
     if color_by == "q6" and n < 2:
         raise ValueError("write_viewer: color_by='q6' needs at least 2 spheres")
 
@@ -145,8 +149,10 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
     order = np.argsort(et, kind="stable")
     et, ek, ei, ej = et[order], ek[order], ei[order], ej[order]
     events_total = int(len(et))
-    counts = {"collisions": int(np.sum(ek == EventKind.COLLISION)),
-              "reflections": int(np.sum(ek == EventKind.REFLECTION))}
+    counts = {
+        "collisions": int(np.sum(ek == EventKind.COLLISION)),
+        "reflections": int(np.sum(ek == EventKind.REFLECTION)),
+    }
     if len(et) > max_events:
         pick = np.unique(np.round(np.linspace(0, len(et) - 1, max_events)).astype(np.int64))
         et, ek, ei, ej = et[pick], ek[pick], ei[pick], ej[pick]
@@ -159,10 +165,18 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
 
     scalar = None
     if color_by == "q6":
-        scalar = {"name": "q6", "label": "bond order q6", "values": _b64(_q6(frames, p), np.float32),
-                  "range": list(Q6_RANGE)}
+        scalar = {
+            "name": "q6",
+            "label": "bond order q6",
+            "values": _b64(_q6(frames, p), np.float32),
+            "range": list(Q6_RANGE),
+        }
 
-    names = [str(x) for x in frames.names] if (frames.names is not None and len(frames.names) == n and n <= 20000) else None
+    names = (
+        [str(x) for x in frames.names]
+        if (frames.names is not None and len(frames.names) == n and n <= 20000)
+        else None
+    )
     return {
         "title": title or f"{n} hard spheres",
         "n": n,
@@ -194,8 +208,17 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
     }
 
 
-def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
-                 max_values=12_000_000, max_events=200_000, cut=None):
+def write_viewer(
+    frames,
+    path,
+    title=None,
+    max_frames=600,
+    *,
+    color_by="speed",
+    max_values=12_000_000,
+    max_events=200_000,
+    cut=None,
+):
     """Write an interactive, self-contained HTML viewer of ``frames``.
 
     Args:
@@ -227,11 +250,14 @@ def write_viewer(frames, path, title=None, max_frames=600, *, color_by="speed",
     if cut is not None and not np.isfinite(cut):
         raise ValueError(f"write_viewer: cut must be a finite number, got {cut!r}")
     data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
-    page = (_static("viewer.html")
-            .replace("__TITLE__", html.escape(data["title"]))
-            .replace("__JS__", _script_json(_vendored_js()))
-            .replace("__DATA__", _script_json(data)))
+    page = (
+        _static("viewer.html")
+        .replace("__TITLE__", html.escape(data["title"]))
+        .replace("__JS__", _script_json(_vendored_js()))
+        .replace("__DATA__", _script_json(data))
+    )
     from .fileio import atomic_write
+
     with atomic_write(path, "w", encoding="utf-8") as fh:
         fh.write(page)
     return path

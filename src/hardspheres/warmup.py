@@ -27,6 +27,7 @@ _ENTRY_POINTS = ("build", "run", "positions_at", "rebase", "max_overlap")
 def _index_paths():
     """numba's cache index file of each entry point of the core (those it can name)."""
     from . import _core
+
     paths = []
     for name in _ENTRY_POINTS:
         dispatcher = getattr(_core, name, None)
@@ -55,8 +56,14 @@ def _compile():
     """Run every entry point of the core once, on two spheres (compiles them)."""
     from .containers import SphericalContainer
     from .simulation import Simulation
-    sim = Simulation.from_arrays([1.0, 1.0], [1.0, 1.0], [[-3.0, 0, 0], [3.0, 0, 0]],
-                                 [[1.0, 0, 0], [-1.0, 0, 0]], SphericalContainer(10.0))
+
+    sim = Simulation.from_arrays(
+        [1.0, 1.0],
+        [1.0, 1.0],
+        [[-3.0, 0, 0], [3.0, 0, 0]],
+        [[1.0, 0, 0], [-1.0, 0, 0]],
+        SphericalContainer(10.0),
+    )
     sim.run(events=2000)  # past the first rebase of the time origin
     sim.state()
 
@@ -76,8 +83,9 @@ def ensure_compiled(quiet=False, stream=None):
         return 0.0
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
-        stream.write(f"compiling the event core (once, about {TYPICAL_SECONDS} s; "
-                     "later runs start at once) ...")
+        stream.write(
+            f"compiling the event core (once, about {TYPICAL_SECONDS} s; later runs start at once) ..."
+        )
         stream.flush()
     t0 = time.perf_counter()
     _compile()
