@@ -96,6 +96,7 @@ class Engine:
         self.heap = np.zeros(n, np.int64)
         self.heap_t = np.zeros(n)
         self.heap_key = np.zeros(n, np.int64)
+        self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, np.int64)
         self.images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.scalars = np.zeros(core.N_SCALARS)
@@ -177,6 +178,7 @@ class Engine:
                 self.heap,
                 self.heap_t,
                 self.heap_key,
+                self.calendar,
                 self.images,
                 self.scalars,
                 self.counts,
@@ -202,7 +204,13 @@ class Engine:
 
     def _rebase(self):
         self.offset += core.rebase(self.spheres, self.due, self.heap_t, self.scalars)
+        self._requeue()
         self._since_rebase = 0
+
+    def _requeue(self):
+        """The event calendar made anew (its buckets from the predictions now)."""
+        heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
+        core.requeue(*heap, self.due, self.book, self.scalars, self.counts)
 
     @property
     def window(self):
@@ -306,6 +314,7 @@ class Engine:
             self.heap,
             self.heap_t,
             self.heap_key,
+            self.calendar,
             self.scalars,
             self.counts,
             int(i),
@@ -371,6 +380,7 @@ class Engine:
                 self.heap,
                 self.heap_t,
                 self.heap_key,
+                self.calendar,
                 self.scalars,
                 self.counts,
                 self.scratch,
@@ -453,8 +463,21 @@ class Engine:
     )
 
     def checkpoint(self) -> dict[str, Any]:
-        """Everything needed to resume bit for bit, as a dict of arrays."""
+        """Everything needed to resume bit for bit, as a dict of arrays.
+
+        The event calendar is saved as one heap over all spheres (sorted by
+        time and tie key) and made anew on :meth:`restore`: the order of
+        events does not depend on how the calendar is laid out.
+        """
         out = {k: getattr(self, k) for k in self._SAVED}
+        n = self.n
+        t, key = _entries(self.due, self.book, n)
+        order = np.lexsort((key, t))
+        book = self.book[:, : core.CAL_NEXT].copy()
+        book[order, core.HEAP_POS] = np.arange(n)
+        out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
+        out["counts"] = self.counts[: core.C_HEAP_SIZE].copy()
+        out["scalars"] = self.scalars[: core.F_BUCKET_RATE].copy()
         # the last two: the core's wall radius and box edge, NaN when absent
         # (files before the container record had only these)
         params = self.container.core_params()
@@ -526,6 +549,8 @@ class Engine:
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
+        eng.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        eng._requeue()
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -703,9 +728,9 @@ def check_arrays(data):
     book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
     if "book" not in data:
         _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
-        # (12 columns: from before the neighbour lists)
-        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
+    if book.dtype != np.int64 or book.shape not in ((n, core.CAL_NEXT), (n, core.NEIGHBOURS)):
+        # (12 columns: from before the neighbour lists; the calendar's are not saved)
+        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.CAL_NEXT]}")
     due = _array(data, "due", np.float64, (n, core.DUE_COLS))
     cell_next = _array(data, "cell_next", np.int64, (n,))
     cell_prev = _array(data, "cell_prev", np.int64, (n,))
@@ -806,17 +831,24 @@ def check_arrays(data):
         code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
             _bad("an unknown cell crossing")
-    cross_key = _key(core.CROSSING, ids, -1, n)
-    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
-    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
-    if np.any(heap_t[book[:, core.HEAP_POS]] != np.where(first, cr_t, ev_t)) or np.any(
-        heap_key[book[:, core.HEAP_POS]] != np.where(first, cross_key, key)
-    ):
+    entry_t, entry_key = _entries(due, book, n)
+    pos = book[:, core.HEAP_POS]
+    if np.any(heap_t[pos] != entry_t) or np.any(heap_key[pos] != entry_key):
         _bad("the event calendar disagrees with the predictions")
     k = np.arange(1, n)
     p = (k - 1) >> 1
     if np.any((heap_t[k] < heap_t[p]) | ((heap_t[k] == heap_t[p]) & (heap_key[k] < heap_key[p]))):
         _bad("the event calendar is out of order")
+
+
+def _entries(due, book, n):
+    """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
+    ids = np.arange(n)
+    cross_key = _key(core.CROSSING, ids, -1, n)
+    key = book[:, core.EVENT_KEY]
+    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
+    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
+    return np.where(first, cr_t, ev_t), np.where(first, cross_key, key)
 
 
 def _check_lists(data, book, n):
