@@ -258,7 +258,6 @@ STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engi
 CAL_OVERFLOW = 1 << 62  # CAL_BUCKET of an entry in the overflow list
 CAL_HEAP = -1  # CAL_BUCKET of an entry in the heap (the current bucket)
 CAL_ALL = 4 * 10**18  # a current bucket past every finite time: one plain heap
-CAL_PER_BUCKET = 2.0  # entries per bucket the width is chosen for (requeue)
 CAL_BUCKETS_PER_SPHERE = 2  # buckets in a year per sphere (rounded up to a power of two)
 
 
@@ -471,12 +470,13 @@ def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
 
 
 @_jit
-def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
-    """The calendar made anew from the predictions (``due``, ``book``), its bucket width from them.
+def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, rate):
+    """The calendar made anew from the predictions (``due``, ``book``).
 
-    The width is such that about ``CAL_PER_BUCKET`` entries fall in a
-    bucket, from the mean time of the finite entries ahead of the clock;
-    ``calendar`` has a power of two plus one entries.
+    Buckets ``1 / rate`` wide if ``rate > 0``, else so wide that about
+    ``per_bucket`` entries come due in one (from the mean time of the finite
+    entries ahead of the clock).  ``calendar`` has a power of two plus one
+    entries (:func:`calendar_size`).
     """
     n = book.shape[0]
     nb = calendar.shape[0] - 1
@@ -488,11 +488,13 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
         if t < np.inf and t > clock:
             total += t - clock
             finite += 1
-    if finite > 0 and total > 0.0:
-        rate = finite * finite / (CAL_PER_BUCKET * total)
+    if rate > 0.0:
+        pass
+    elif finite > 0 and total > 0.0:
+        rate = finite * finite / (per_bucket * total)
     else:
         rate = 1.0
-    if not rate < 1e300:
+    if not (rate > 0.0 and rate < 1e300):
         rate = 1.0
     scalars[F_BUCKET_RATE] = rate
     fc = np.floor(clock * rate)
@@ -1085,8 +1087,11 @@ def build(
     images,
     scalars,
     counts,
+    per_bucket,
 ):
     """Cells (and shells and neighbour lists) from the clock, every prediction, the calendar.
+
+    ``per_bucket``: see :func:`requeue`.
 
     Returns the longest neighbour list (0 without lists); if it is longer
     than ``neighbours.shape[1]``, nothing was predicted: call again with
@@ -1121,7 +1126,7 @@ def build(
             return longest
     for i in range(n):
         predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
+    requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, 0.0)
     return longest
 
 

@@ -24,6 +24,9 @@ CHUNK = 1 << 14
 
 #: The time origin moves to the clock after this many events per sphere.
 REBASE_EVERY = 64
+#: The event calendar's buckets are made so wide that about this many
+#: entries come due in one (benchmarks/README.md: how it was chosen).
+CAL_PER_BUCKET = 2.0
 
 #: Neighbour distance over the sum of two reaches (``_core.F_SHELL``): a sphere
 #: may move half a reach from its shell centre before its list is made anew.
@@ -182,6 +185,7 @@ class Engine:
                 self.images,
                 self.scalars,
                 self.counts,
+                CAL_PER_BUCKET,
             )
             if longest <= self.neighbours.shape[1]:
                 break
@@ -210,7 +214,7 @@ class Engine:
     def _requeue(self):
         """The event calendar made anew (its buckets from the predictions now)."""
         heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
-        core.requeue(*heap, self.due, self.book, self.scalars, self.counts)
+        core.requeue(*heap, self.due, self.book, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
 
     @property
     def window(self):
