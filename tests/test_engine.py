@@ -154,7 +154,7 @@ def test_lists_checkpoint_and_growth(lists):
 
 def _recalendar(eng, buckets, rate):
     """``eng``'s event calendar made anew with ``buckets`` buckets ``1 / rate`` wide."""
-    eng.calendar = np.full(buckets + 1, -1, np.int64)
+    eng.calendar = np.full(buckets + 1 + 3 * eng.n, -1, np.int64)
     core.requeue(
         eng.heap,
         eng.heap_t,
@@ -192,7 +192,8 @@ def test_calendar_extremes_match_brute_force(monkeypatch, buckets, rate, lists_o
     assert np.array_equal(eng.velocities, ref.velocities)
     # every sphere in exactly one place: the heap, a bucket or the overflow
     size = int(eng.counts[core.C_HEAP_SIZE])
-    where = eng.book[:, core.CAL_BUCKET]
+    nb = len(eng.calendar) - 1 - 3 * eng.n
+    where = eng.calendar[nb + 1 + core.CAL_BUCKET :: 3]
     assert np.sum(where == core.CAL_HEAP) == size and size > 0
     assert np.array_equal(np.sort(eng.heap[:size]), np.nonzero(where == core.CAL_HEAP)[0])
     queued = (where != core.CAL_HEAP) & (where != core.CAL_OVERFLOW)

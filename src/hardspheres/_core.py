@@ -158,8 +158,9 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   cell_head  int64   (nc^3,)           first sphere of each cell (-1: empty)
 #   heap       int64   (N,)              the calendar's current bucket: spheres by heap
 #   heap_t, heap_key                     position, with the entry's time and tie key beside
-#   calendar   int64   (NB + 1,)         the calendar's later buckets: first sphere of each
-#                                        bucket's list, then of the overflow list (-1: empty)
+#   calendar   int64   (NB + 1 + 3N,)    the calendar's later buckets: first sphere of each
+#                                        bucket's list, then of the overflow list (-1: empty),
+#                                        then per sphere its links (CAL_NEXT, CAL_PREV, CAL_BUCKET)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
@@ -189,9 +190,7 @@ CROSS_FACE = 9  # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 
 FRESH = 10  # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11  # position of the sphere's entry in the heap
 NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its row)
-CAL_NEXT, CAL_PREV = 13, 14  # the calendar: next and previous sphere in its bucket's list
-CAL_BUCKET = 15  # its bucket (CAL_HEAP: in the heap, CAL_OVERFLOW: the overflow list)
-BOOK_COLS = 16
+BOOK_COLS = 13
 
 # indices into `scalars`
 F_CLOCK = 0  # time of the last processed event (relative to the origin)
@@ -245,8 +244,7 @@ STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engi
 # its event and its crossing) sits in the bucket of its time.  Only the current
 # bucket (C_BUCKET) is ordered, in an indexed binary heap (heap, heap_t,
 # heap_key by heap position, C_HEAP_SIZE entries); the later buckets are
-# unordered doubly linked lists (book's CAL_NEXT, CAL_PREV) whose heads are
-# `calendar`'s first NB entries (bucket b in slot b mod NB, NB a power of two:
+# unordered doubly linked lists whose heads are `calendar`'s first NB entries (bucket b in slot b mod NB, NB a power of two:
 # a year of NB buckets); entries a year or more ahead (and those that never
 # happen) wait in the overflow list (`calendar`'s last entry) and come into the
 # year as it moves on.  Every entry outside the heap is later than every
@@ -255,10 +253,19 @@ STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engi
 # one heap over all spheres: the order of events does not depend on the
 # calendar.  The heap is never empty while there are spheres (_refill).
 
+# per sphere i, after the heads: calendar[NB + 1 + 3 i + CAL_NEXT, CAL_PREV, CAL_BUCKET]
+CAL_NEXT, CAL_PREV = 0, 1  # next and previous sphere in its bucket's list
+CAL_BUCKET = 2  # its bucket (CAL_HEAP: in the heap, CAL_OVERFLOW: the overflow list)
 CAL_OVERFLOW = 1 << 62  # CAL_BUCKET of an entry in the overflow list
 CAL_HEAP = -1  # CAL_BUCKET of an entry in the heap (the current bucket)
 CAL_ALL = 4 * 10**18  # a current bucket past every finite time: one plain heap
 CAL_BUCKETS_PER_SPHERE = 2  # buckets in a year per sphere (rounded up to a power of two)
+
+
+@_inline
+def _year(calendar, book):
+    """Buckets in the calendar's year (NB)."""
+    return calendar.shape[0] - 1 - 3 * book.shape[0]
 
 
 @_inline
@@ -326,14 +333,14 @@ def _resift(heap, heap_t, heap_key, book, k, size):
 @_inline
 def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
     """File sphere ``i`` (in neither heap nor list) under time ``t``."""
-    nb = calendar.shape[0] - 1
+    nb = _year(calendar, book)
     cur = counts[C_BUCKET]
     fb = np.floor(t * scalars[F_BUCKET_RATE])
     if fb <= cur:
         k = counts[C_HEAP_SIZE]
         counts[C_HEAP_SIZE] = k + 1
         heap[k], heap_t[k], heap_key[k] = i, t, key
-        book[i, CAL_BUCKET] = CAL_HEAP
+        calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
         _sift_up(heap, heap_t, heap_key, book, k)
         return
     if fb < cur + nb:  # (NaN: overflow)
@@ -343,44 +350,44 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
     else:
         b = CAL_OVERFLOW
         slot = nb
-    book[i, CAL_BUCKET] = b
+    calendar[nb + 1 + 3 * i + CAL_BUCKET] = b
     h = calendar[slot]
-    book[i, CAL_NEXT] = h
-    book[i, CAL_PREV] = -1
+    calendar[nb + 1 + 3 * i + CAL_NEXT] = h
+    calendar[nb + 1 + 3 * i + CAL_PREV] = -1
     if h >= 0:
-        book[h, CAL_PREV] = i
+        calendar[nb + 1 + 3 * h + CAL_PREV] = i
     calendar[slot] = i
 
 
 @_inline
 def _unlink(calendar, book, counts, i):
     """Take sphere ``i`` out of its bucket's (or the overflow) list."""
-    nb = calendar.shape[0] - 1
-    b = book[i, CAL_BUCKET]
+    nb = _year(calendar, book)
+    b = calendar[nb + 1 + 3 * i + CAL_BUCKET]
     if b == CAL_OVERFLOW:
         slot = nb
     else:
         slot = b & (nb - 1)
         counts[C_QUEUED] -= 1
-    p, q = book[i, CAL_PREV], book[i, CAL_NEXT]
+    p, q = calendar[nb + 1 + 3 * i + CAL_PREV], calendar[nb + 1 + 3 * i + CAL_NEXT]
     if p >= 0:
-        book[p, CAL_NEXT] = q
+        calendar[nb + 1 + 3 * p + CAL_NEXT] = q
     else:
         calendar[slot] = q
     if q >= 0:
-        book[q, CAL_PREV] = p
+        calendar[nb + 1 + 3 * q + CAL_PREV] = p
 
 
 @_inline
 def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, everything):
     """Move the overflow entries within a year of the current bucket (or all) into the calendar."""
-    nb = calendar.shape[0] - 1
+    nb = _year(calendar, book)
     n = book.shape[0]
     limit = counts[C_BUCKET] + nb
     rate = scalars[F_BUCKET_RATE]
     i = calendar[nb]
     while i >= 0:
-        nxt = book[i, CAL_NEXT]
+        nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
         t, key = _entry(due, book, i, n)
         if everything or np.floor(t * rate) < limit:
             _unlink(calendar, book, counts, i)
@@ -388,7 +395,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts,
                 k = counts[C_HEAP_SIZE]
                 counts[C_HEAP_SIZE] = k + 1
                 heap[k], heap_t[k], heap_key[k] = i, t, key
-                book[i, CAL_BUCKET] = CAL_HEAP
+                calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
                 _sift_up(heap, heap_t, heap_key, book, k)
             else:
                 _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
@@ -398,7 +405,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts,
 @_inline
 def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
     """While the heap is empty: on to the next bucket, its list into the heap."""
-    nb = calendar.shape[0] - 1
+    nb = _year(calendar, book)
     n = book.shape[0]
     while counts[C_HEAP_SIZE] == 0 and n > 0:
         if counts[C_QUEUED] == 0:
@@ -412,7 +419,7 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
                 fb = np.floor(t * rate)
                 if fb < first:
                     first = fb
-                i = book[i, CAL_NEXT]
+                i = calendar[nb + 1 + 3 * i + CAL_NEXT]
             if first < CAL_ALL:
                 counts[C_BUCKET] = np.int64(first)
                 _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
@@ -431,13 +438,13 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
         i = calendar[slot]
         calendar[slot] = -1
         while i >= 0:
-            nxt = book[i, CAL_NEXT]
+            nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
             counts[C_QUEUED] -= 1
             t, key = _entry(due, book, i, n)
             k = counts[C_HEAP_SIZE]
             counts[C_HEAP_SIZE] = k + 1
             heap[k], heap_t[k], heap_key[k] = i, t, key
-            book[i, CAL_BUCKET] = CAL_HEAP
+            calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
             _sift_up(heap, heap_t, heap_key, book, k)
             i = nxt
 
@@ -446,8 +453,9 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
 def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
     """Sphere ``i``'s calendar entry becomes the earlier of its event and its crossing."""
     n = book.shape[0]
+    nb = _year(calendar, book)
     t, key = _entry(due, book, i, n)
-    if book[i, CAL_BUCKET] == CAL_HEAP:
+    if calendar[nb + 1 + 3 * i + CAL_BUCKET] == CAL_HEAP:
         k = book[i, HEAP_POS]
         if np.floor(t * scalars[F_BUCKET_RATE]) <= counts[C_BUCKET]:
             # still in the current bucket: moved within the heap
@@ -475,11 +483,10 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bu
 
     Buckets ``1 / rate`` wide if ``rate > 0``, else so wide that about
     ``per_bucket`` entries come due in one (from the mean time of the finite
-    entries ahead of the clock).  ``calendar`` has a power of two plus one
-    entries (:func:`calendar_size`).
+    entries ahead of the clock).  ``calendar``: :func:`calendar_size`.
     """
     n = book.shape[0]
-    nb = calendar.shape[0] - 1
+    nb = _year(calendar, book)
     clock = scalars[F_CLOCK]
     total = 0.0
     finite = 0
@@ -510,11 +517,16 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bu
 
 
 def calendar_size(n):
-    """Entries of the ``calendar`` array for ``n`` spheres: a power of two buckets, plus the overflow."""
+    """Entries of the ``calendar`` array for ``n`` spheres.
+
+    A power of two buckets and the overflow list (their heads), then three
+    links per sphere (kept here, 24 bytes apart, rather than in ``book``'s
+    wide rows: fewer cache misses where N is large).
+    """
     nb = 1
     while nb < CAL_BUCKETS_PER_SPHERE * n:
         nb *= 2
-    return nb + 1
+    return nb + 1 + 3 * n
 
 
 @_inline
@@ -1247,7 +1259,7 @@ def refresh_window(
                 scratch[top] = child
                 top += 1
     # the window past the current bucket (rare: a bucket is much wider)
-    nb = calendar.shape[0] - 1
+    nb = _year(calendar, book)
     cur = counts[C_BUCKET]
     last = np.floor(limit * scalars[F_BUCKET_RATE])
     if last > cur:
@@ -1263,7 +1275,7 @@ def refresh_window(
                 if tj < limit:
                     scratch[n + found] = j
                     found += 1
-                j = book[j, CAL_NEXT]
+                j = calendar[nb + 1 + 3 * j + CAL_NEXT]
     for q in range(found):
         i = scratch[n + q]
         if book[i, FRESH] != serial:

@@ -477,7 +477,7 @@ class Engine:
         n = self.n
         t, key = _entries(self.due, self.book, n)
         order = np.lexsort((key, t))
-        book = self.book[:, : core.CAL_NEXT].copy()
+        book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
         out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
         out["counts"] = self.counts[: core.C_HEAP_SIZE].copy()
@@ -732,9 +732,9 @@ def check_arrays(data):
     book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
     if "book" not in data:
         _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in ((n, core.CAL_NEXT), (n, core.NEIGHBOURS)):
-        # (12 columns: from before the neighbour lists; the calendar's are not saved)
-        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.CAL_NEXT]}")
+    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
+        # (12 columns: from before the neighbour lists)
+        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
     due = _array(data, "due", np.float64, (n, core.DUE_COLS))
     cell_next = _array(data, "cell_next", np.int64, (n,))
     cell_prev = _array(data, "cell_prev", np.int64, (n,))
