@@ -193,6 +193,21 @@ class Engine:
             self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
         self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
         core.kinetic_sums(self.spheres, self.masses, self.scalars)
+        self._queue_anew(first=True)
+
+    def _queue_anew(self, first=False):
+        """When the calendar is next made anew: N events after a build, then 2N, 4N, ...
+
+        Its bucket width comes from the predictions; right after a build
+        (a lattice, say) they can be far from those of the fluid it turns
+        into, so it is made anew as the run goes on (O(N) each time).
+        """
+        if first:
+            self._queue_every = max(self.n, 16)
+        else:
+            self._requeue()
+            self._queue_every *= 2
+        self._since_queue = 0
 
     def _widen_lists(self):
         """Twice as many entries per neighbour list (the lists stay as they are)."""
@@ -396,6 +411,9 @@ class Engine:
             )
             done_total += done
             self._since_rebase += done
+            self._since_queue += done
+            if self._since_queue >= self._queue_every:
+                self._queue_anew()
             if record and done:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
@@ -555,6 +573,7 @@ class Engine:
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
         eng.calendar = np.full(core.calendar_size(n), -1, np.int64)
         eng._requeue()
+        eng._queue_anew(first=True)
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
