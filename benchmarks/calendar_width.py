@@ -36,4 +36,7 @@ for r in range(rounds):
         per[w].append((time.process_time() - c0) / coll * 1e6)
 for w in widths:
     v = per[w]
-    print(f"per bucket {w:g}: median {statistics.median(v):.4f} us CPU/collision, spread {min(v):.4f}-{max(v):.4f}")
+    print(
+        f"per bucket {w:g}: median {statistics.median(v):.4f} us CPU/collision, "
+        f"spread {min(v):.4f}-{max(v):.4f}"
+    )
