@@ -49,6 +49,7 @@ Lubachevsky, as in the fastest public codes):
 
 import hashlib
 import os
+from typing import NamedTuple
 
 import numba
 import numba.core.cpu
@@ -160,6 +161,33 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
+
+
+class Arrays(NamedTuple):
+    """The engine's arrays as one argument of :func:`build`, :func:`run` and :func:`kick`.
+
+    The fields are the arrays above, under the same names.  (One argument
+    rather than 16: numba unpacks it at no cost per event; what a call costs
+    is measured in benchmarks/README.md, "the core's arguments".)
+    """
+
+    spheres: np.ndarray
+    masses: np.ndarray
+    book: np.ndarray
+    due: np.ndarray
+    shells: np.ndarray
+    neighbours: np.ndarray
+    cell_head: np.ndarray
+    cell_next: np.ndarray
+    cell_prev: np.ndarray
+    heap: np.ndarray
+    heap_t: np.ndarray
+    heap_key: np.ndarray
+    scalars: np.ndarray
+    counts: np.ndarray
+    scratch: np.ndarray
+    images: np.ndarray
+
 
 # columns of `spheres`
 X, Y, Z, VX, VY, VZ = 0, 1, 2, 3, 4, 5  # centre and velocity at T_OWN
@@ -850,28 +878,31 @@ def _relist(
 
 
 @_jit
-def build(
-    spheres,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    cell_prev,
-    heap,
-    heap_t,
-    heap_key,
-    images,
-    scalars,
-    counts,
-):
+def build(arrays):
     """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
 
     Returns the longest neighbour list (0 without lists); if it is longer
     than ``neighbours.shape[1]``, nothing was predicted: call again with
     wider lists.
     """
+    (
+        spheres,
+        masses,
+        book,
+        due,
+        shells,
+        neighbours,
+        cell_head,
+        cell_next,
+        cell_prev,
+        heap,
+        heap_t,
+        heap_key,
+        scalars,
+        counts,
+        scratch,
+        images,
+    ) = arrays
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -1110,38 +1141,12 @@ def kinetic_sums(spheres, masses, scalars):
 
 
 @_jit
-def run(
-    spheres,
-    masses,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    cell_prev,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    scratch,
-    images,
-    until,
-    max_events,
-    max_collisions,
-    rec_t,
-    rec_kind,
-    rec_i,
-    rec_j,
-    rec_imp,
-    rec_dp,
-):
+def run(arrays, until, max_events, max_collisions, record):
     """Process events in order until one of the limits.
 
-    The arrays come one by one (see "the arrays" at the top of this module),
-    as the engine, their one caller, holds them; a grouping (a tuple) was
-    not measured, so none was made.
+    ``arrays`` is the engine's :class:`Arrays`; ``record`` the tuple of
+    :func:`hardspheres.events.empty_buffers` (``rec_t, rec_kind, rec_i,
+    rec_j, rec_imp, rec_dp``, one row per event).
 
     ``images`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
     box (the image it is in: unwrapped centre = stored centre + images * box).
@@ -1175,6 +1180,25 @@ def run(
     prediction as valid as it was, and only the spheres it touched are
     predicted again.
     """
+    (
+        spheres,
+        masses,
+        book,
+        due,
+        shells,
+        neighbours,
+        cell_head,
+        cell_next,
+        cell_prev,
+        heap,
+        heap_t,
+        heap_key,
+        scalars,
+        counts,
+        scratch,
+        images,
+    ) = arrays
+    rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
         return 0, STOP_UNTIL
@@ -1412,31 +1436,30 @@ def run(
 
 
 @_jit
-def kick(
-    spheres,
-    masses,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    i,
-    t,
-    vx,
-    vy,
-    vz,
-):
+def kick(arrays, i, t, vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
     event count moves on) and ``i`` is predicted afresh.  For thermostats.
     """
+    (
+        spheres,
+        masses,
+        book,
+        due,
+        shells,
+        neighbours,
+        cell_head,
+        cell_next,
+        cell_prev,
+        heap,
+        heap_t,
+        heap_key,
+        scalars,
+        counts,
+        scratch,
+        images,
+    ) = arrays
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
