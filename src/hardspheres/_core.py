@@ -345,6 +345,23 @@ def cell_of(x, lo, w, nc):
 
 
 @_inline
+def _cell_step(k, o, nc, box):
+    """Cell coordinate ``k + o`` along one axis (``o`` in -1..1).
+
+    Returns ``(coordinate, shift, exists)``: in a periodic box the
+    coordinate wraps, and ``shift`` (-box, 0 or box) moves a centre in the
+    wrapped cell next to cell ``k``; in a container a cell past the grid
+    does not exist.
+    """
+    m = k + o
+    if m < 0:
+        return m + nc, -box, box != 0.0
+    if m >= nc:
+        return m - nc, box, box != 0.0
+    return m, 0.0, True
+
+
+@_inline
 def _cell_insert(cell_head, cell_next, cell_prev, book, i, cell):
     book[i, CELL] = cell
     h = cell_head[cell]
@@ -569,45 +586,18 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
         oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
-        nz = cz0 + oz
-        sz = 0.0
-        if nz < 0:
-            if box == 0.0:
-                continue
-            nz += nc
-            sz = -box
-        elif nz >= nc:
-            if box == 0.0:
-                continue
-            nz -= nc
-            sz = box
+        nz, sz, there = _cell_step(cz0, oz, nc, box)
+        if not there:
+            continue
         for qy in range(yhi - ylo + 1):
             oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
-            ny = cy0 + oy
-            sy = 0.0
-            if ny < 0:
-                if box == 0.0:
-                    continue
-                ny += nc
-                sy = -box
-            elif ny >= nc:
-                if box == 0.0:
-                    continue
-                ny -= nc
-                sy = box
+            ny, sy, there = _cell_step(cy0, oy, nc, box)
+            if not there:
+                continue
             for ox in range(xlo, xhi + 1):
-                nx = cx0 + ox
-                sx = 0.0
-                if nx < 0:
-                    if box == 0.0:
-                        continue
-                    nx += nc
-                    sx = -box
-                elif nx >= nc:
-                    if box == 0.0:
-                        continue
-                    nx -= nc
-                    sx = box
+                nx, sx, there = _cell_step(cx0, ox, nc, box)
+                if not there:
+                    continue
                 j = cell_head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
@@ -822,23 +812,17 @@ def _relist(
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
     for oz in range(-1, 2):
-        nz = kz + oz
-        if nz < 0 or nz >= nc:
-            if box == 0.0:
-                continue
-            nz = (nz + nc) % nc
+        nz, _, there = _cell_step(kz, oz, nc, box)
+        if not there:
+            continue
         for oy in range(-1, 2):
-            ny = ky + oy
-            if ny < 0 or ny >= nc:
-                if box == 0.0:
-                    continue
-                ny = (ny + nc) % nc
+            ny, _, there = _cell_step(ky, oy, nc, box)
+            if not there:
+                continue
             for ox in range(-1, 2):
-                nx = kx + ox
-                if nx < 0 or nx >= nc:
-                    if box == 0.0:
-                        continue
-                    nx = (nx + nc) % nc
+                nx, _, there = _cell_step(kx, ox, nc, box)
+                if not there:
+                    continue
                 j = cell_head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
@@ -885,24 +869,8 @@ def build(arrays):
     than ``neighbours.shape[1]``, nothing was predicted: call again with
     wider lists.
     """
-    (
-        spheres,
-        masses,
-        book,
-        due,
-        shells,
-        neighbours,
-        cell_head,
-        cell_next,
-        cell_prev,
-        heap,
-        heap_t,
-        heap_key,
-        scalars,
-        counts,
-        scratch,
-        images,
-    ) = arrays
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -983,23 +951,17 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
         for oz in range(-1, 2):
-            nz = kz + oz
-            if nz < 0 or nz >= nc:
-                if box == 0.0:
-                    continue
-                nz = (nz + nc) % nc
+            nz, _, there = _cell_step(kz, oz, nc, box)
+            if not there:
+                continue
             for oy in range(-1, 2):
-                ny = ky + oy
-                if ny < 0 or ny >= nc:
-                    if box == 0.0:
-                        continue
-                    ny = (ny + nc) % nc
+                ny, _, there = _cell_step(ky, oy, nc, box)
+                if not there:
+                    continue
                 for ox in range(-1, 2):
-                    nx = kx + ox
-                    if nx < 0 or nx >= nc:
-                        if box == 0.0:
-                            continue
-                        nx = (nx + nc) % nc
+                    nx, _, there = _cell_step(kx, ox, nc, box)
+                    if not there:
+                        continue
                     j = cell_head[(nz * nc + ny) * nc + nx]
                     while j >= 0:
                         if j > i:
@@ -1017,21 +979,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
 
 
 @_jit
-def refresh_window(
-    spheres,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    scratch,
-):
+def refresh_window(arrays):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -1040,6 +988,8 @@ def refresh_window(
     The heap is walked from the root, pruning subtrees that start past the
     window, so the cost is proportional to the number refreshed.
     """
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     n = heap.shape[0]
     if n == 0:
         return
@@ -1180,24 +1130,8 @@ def run(arrays, until, max_events, max_collisions, record):
     prediction as valid as it was, and only the spheres it touched are
     predicted again.
     """
-    (
-        spheres,
-        masses,
-        book,
-        due,
-        shells,
-        neighbours,
-        cell_head,
-        cell_next,
-        cell_prev,
-        heap,
-        heap_t,
-        heap_key,
-        scalars,
-        counts,
-        scratch,
-        images,
-    ) = arrays
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
@@ -1418,21 +1352,7 @@ def run(arrays, until, max_events, max_collisions, record):
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(
-                spheres,
-                book,
-                due,
-                shells,
-                neighbours,
-                cell_head,
-                cell_next,
-                heap,
-                heap_t,
-                heap_key,
-                scalars,
-                counts,
-                scratch,
-            )
+            refresh_window(arrays)
 
 
 @_jit
@@ -1442,24 +1362,8 @@ def kick(arrays, i, t, vx, vy, vz):
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
     event count moves on) and ``i`` is predicted afresh.  For thermostats.
     """
-    (
-        spheres,
-        masses,
-        book,
-        due,
-        shells,
-        neighbours,
-        cell_head,
-        cell_next,
-        cell_prev,
-        heap,
-        heap_t,
-        heap_key,
-        scalars,
-        counts,
-        scratch,
-        images,
-    ) = arrays
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
