@@ -49,7 +49,6 @@ Lubachevsky, as in the fastest public codes):
 
 import hashlib
 import os
-from typing import NamedTuple
 
 import numba
 import numba.core.cpu
@@ -163,30 +162,30 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
 
 
-class Arrays(NamedTuple):
-    """The engine's arrays as one argument of :func:`build`, :func:`run` and :func:`kick`.
-
-    The fields are the arrays above, under the same names.  (One argument
-    rather than 16: numba unpacks it at no cost per event; what a call costs
-    is measured in benchmarks/README.md, "the core's arguments".)
-    """
-
-    spheres: np.ndarray
-    masses: np.ndarray
-    book: np.ndarray
-    due: np.ndarray
-    shells: np.ndarray
-    neighbours: np.ndarray
-    cell_head: np.ndarray
-    cell_next: np.ndarray
-    cell_prev: np.ndarray
-    heap: np.ndarray
-    heap_t: np.ndarray
-    heap_key: np.ndarray
-    scalars: np.ndarray
-    counts: np.ndarray
-    scratch: np.ndarray
-    images: np.ndarray
+#: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
+#: :func:`kick` take the arrays above, as one plain tuple (the engine's
+#: ``Engine.arrays``).  One argument rather than 16; a plain tuple, as numba
+#: types it about as fast as 16 arrays and unpacks it at no cost per event,
+#: where a named tuple cost 2-3 us more per call (benchmarks/core_call.py,
+#: benchmarks/README.md "the core's arguments").
+ARRAYS = (
+    "spheres",
+    "masses",
+    "book",
+    "due",
+    "shells",
+    "neighbours",
+    "cell_head",
+    "cell_next",
+    "cell_prev",
+    "heap",
+    "heap_t",
+    "heap_key",
+    "scalars",
+    "counts",
+    "scratch",
+    "images",
+)
 
 
 # columns of `spheres`
@@ -362,7 +361,20 @@ def _cell_step(k, o, nc, box):
 
 
 @_inline
-def _cell_insert(cell_head, cell_next, cell_prev, book, i, cell):
+def _block_cell(kx, ky, kz, q, nc, box):
+    """Cell ``q`` (0..26, z slowest) of the 3x3x3 block around cell ``(kx, ky, kz)``; -1: none."""
+    nz, _, zthere = _cell_step(kz, q // 9 - 1, nc, box)
+    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, nc, box)
+    nx, _, xthere = _cell_step(kx, q % 3 - 1, nc, box)
+    if zthere and ythere and xthere:
+        return (nz * nc + ny) * nc + nx
+    return -1
+
+
+@_inline
+def _cell_insert(cell_head, cell_next, cell_prev, book, i, nc):
+    """Sphere ``i`` into the cell its book names (``CELL_X``, ``CELL_Y``, ``CELL_Z``)."""
+    cell = (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X]
     book[i, CELL] = cell
     h = cell_head[cell]
     cell_next[i] = h
@@ -532,18 +544,32 @@ def _store(due, book, i, best_t, best_key, best_p):
 
 
 @_inline
+def _scan_start(spheres, book, due, scalars, i):
+    """What a scan of sphere ``i``'s pairs starts from.
+
+    Returns ``(now, soon, clock, grow, best_t, best_key, t_i)``: the anchor,
+    the end of its window, the clock, the growth rate, the sphere's event so
+    far (time and tie key) and its own time.
+    """
+    now = scalars[F_ANCHOR]
+    return (
+        now,
+        now + scalars[F_WINDOW],
+        scalars[F_CLOCK],
+        scalars[F_GROW],
+        due[i, EVENT_T],
+        book[i, EVENT_KEY],
+        spheres[i, T_OWN],
+    )
+
+
+@_inline
 def _scan_list(spheres, book, due, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     box = scalars[F_BOX]
-    now = scalars[F_ANCHOR]
-    soon = now + scalars[F_WINDOW]
-    clock = scalars[F_CLOCK]
-    grow = scalars[F_GROW]
-    best_t = due[i, EVENT_T]
-    best_key = book[i, EVENT_KEY]
+    now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
-    ti = spheres[i, T_OWN]
     # exactly 1.0, but not to the compiler: it would otherwise see that the
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
@@ -572,14 +598,8 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     box = scalars[F_BOX]
-    now = scalars[F_ANCHOR]
-    soon = now + scalars[F_WINDOW]
-    clock = scalars[F_CLOCK]
-    grow = scalars[F_GROW]
-    best_t = due[i, EVENT_T]
-    best_key = book[i, EVENT_KEY]
+    now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
-    ti = spheres[i, T_OWN]
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
     # the sphere's own layer and row first: the earliest event is mostly
@@ -641,28 +661,18 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
     book[i, PARTNER] = -1
     if scalars[F_BOX] == 0.0:
         # the wall, from the sphere's own time
+        # (wall_time is wall_time_grow at growth 0: the same bits without growth)
         grow = scalars[F_GROW]
-        if grow != 0.0:
-            dt = wall_time_grow(
-                spheres[i, X],
-                spheres[i, Y],
-                spheres[i, Z],
-                spheres[i, VX],
-                spheres[i, VY],
-                spheres[i, VZ],
-                scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
-                spheres[i, RADIUS] * grow,
-            )
-        else:
-            dt = wall_time(
-                spheres[i, X],
-                spheres[i, Y],
-                spheres[i, Z],
-                spheres[i, VX],
-                spheres[i, VY],
-                spheres[i, VZ],
-                scalars[F_CONTAINER] - spheres[i, RADIUS],
-            )
+        dt = wall_time_grow(
+            spheres[i, X],
+            spheres[i, Y],
+            spheres[i, Z],
+            spheres[i, VX],
+            spheres[i, VY],
+            spheres[i, VZ],
+            scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
+            spheres[i, RADIUS] * grow,
+        )
         if dt < np.inf:
             te = spheres[i, T_OWN] + dt
             if te < scalars[F_ANCHOR] + scalars[F_WINDOW]:
@@ -754,14 +764,7 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
         book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
     if not insert:
         _cell_remove(cell_head, cell_next, cell_prev, book, i)
-    _cell_insert(
-        cell_head,
-        cell_next,
-        cell_prev,
-        book,
-        i,
-        (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-    )
+    _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
 
 
 @_inline
@@ -811,33 +814,25 @@ def _relist(
     kz = cell_of(cz, lo, w, nc)
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
-    for oz in range(-1, 2):
-        nz, _, there = _cell_step(kz, oz, nc, box)
-        if not there:
+    for q in range(27):
+        cell = _block_cell(kx, ky, kz, q, nc, box)
+        if cell < 0:
             continue
-        for oy in range(-1, 2):
-            ny, _, there = _cell_step(ky, oy, nc, box)
-            if not there:
-                continue
-            for ox in range(-1, 2):
-                nx, _, there = _cell_step(kx, ox, nc, box)
-                if not there:
-                    continue
-                j = cell_head[(nz * nc + ny) * nc + nx]
-                while j >= 0:
-                    if j != i:
-                        ddx = _nearest(cx - shells[j, SHELL_X], box)
-                        ddy = _nearest(cy - shells[j, SHELL_Y], box)
-                        ddz = _nearest(cz - shells[j, SHELL_Z], box)
-                        r2 = ddx * ddx + ddy * ddy + ddz * ddz
-                        cut = cut0 * (shells[i, REACH] + shells[j, REACH])
-                        if r2 < cut * cut:
-                            if found >= cap or book[j, NEIGHBOURS] >= cap:
-                                # j's list may already hold i: only a guess, on the safe side
-                                return False
-                            scratch[found] = j
-                            found += 1
-                    j = cell_next[j]
+        j = cell_head[cell]
+        while j >= 0:
+            if j != i:
+                ddx = _nearest(cx - shells[j, SHELL_X], box)
+                ddy = _nearest(cy - shells[j, SHELL_Y], box)
+                ddz = _nearest(cz - shells[j, SHELL_Z], box)
+                r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                cut = cut0 * (shells[i, REACH] + shells[j, REACH])
+                if r2 < cut * cut:
+                    if found >= cap or book[j, NEIGHBOURS] >= cap:
+                        # j's list may already hold i: only a guess, on the safe side
+                        return False
+                    scratch[found] = j
+                    found += 1
+            j = cell_next[j]
     # nc < 3 in a periodic box would visit a cell twice: guarded by the engine (nc >= 3)
     # i leaves its old neighbours' lists
     for q in range(book[i, NEIGHBOURS]):
@@ -884,14 +879,7 @@ def build(arrays):
             book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
             book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
             book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
-            _cell_insert(
-                cell_head,
-                cell_next,
-                cell_prev,
-                book,
-                i,
-                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-            )
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
     else:
         longest = _build_lists(
             spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts
@@ -950,31 +938,23 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         book[i, NEIGHBOURS] = 0
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
-        for oz in range(-1, 2):
-            nz, _, there = _cell_step(kz, oz, nc, box)
-            if not there:
+        for q in range(27):
+            cell = _block_cell(kx, ky, kz, q, nc, box)
+            if cell < 0:
                 continue
-            for oy in range(-1, 2):
-                ny, _, there = _cell_step(ky, oy, nc, box)
-                if not there:
-                    continue
-                for ox in range(-1, 2):
-                    nx, _, there = _cell_step(kx, ox, nc, box)
-                    if not there:
-                        continue
-                    j = cell_head[(nz * nc + ny) * nc + nx]
-                    while j >= 0:
-                        if j > i:
-                            code, near = _pair_code(scalars, shells, i, j)
-                            if near:
-                                a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
-                                if a < cap and b < cap:
-                                    neighbours[i, a] = (j << 5) | code
-                                    neighbours[j, b] = (i << 5) | (26 - code)
-                                book[i, NEIGHBOURS] = a + 1
-                                book[j, NEIGHBOURS] = b + 1
-                                longest = max(longest, a + 1, b + 1)
-                        j = cell_next[j]
+            j = cell_head[cell]
+            while j >= 0:
+                if j > i:
+                    code, near = _pair_code(scalars, shells, i, j)
+                    if near:
+                        a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
+                        if a < cap and b < cap:
+                            neighbours[i, a] = (j << 5) | code
+                            neighbours[j, b] = (i << 5) | (26 - code)
+                        book[i, NEIGHBOURS] = a + 1
+                        book[j, NEIGHBOURS] = b + 1
+                        longest = max(longest, a + 1, b + 1)
+                j = cell_next[j]
     return longest
 
 
@@ -1094,7 +1074,7 @@ def kinetic_sums(spheres, masses, scalars):
 def run(arrays, until, max_events, max_collisions, record):
     """Process events in order until one of the limits.
 
-    ``arrays`` is the engine's :class:`Arrays`; ``record`` the tuple of
+    ``arrays`` is the tuple of the engine's arrays in :data:`ARRAYS`'s order; ``record`` the tuple of
     :func:`hardspheres.events.empty_buffers` (``rec_t, rec_kind, rec_i,
     rec_j, rec_imp, rec_dp``, one row per event).
 
@@ -1173,14 +1153,7 @@ def run(arrays, until, max_events, max_collisions, record):
                 images[i, ax] += step
             book[i, CELL_X + ax] = k
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
-            _cell_insert(
-                cell_head,
-                cell_next,
-                cell_prev,
-                book,
-                i,
-                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-            )
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
             counts[C_CROSSINGS] += 1
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
@@ -1251,29 +1224,14 @@ def run(arrays, until, max_events, max_collisions, record):
                 dx -= box * np.round(dx / box)
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
+            dvx = spheres[a, VX] - spheres[b, VX]
+            dvy = spheres[a, VY] - spheres[b, VY]
+            dvz = spheres[a, VZ] - spheres[b, VZ]
             if scalars[F_GROW] != 0.0:
-                k1, k2 = collide_grow(
-                    masses[a],
-                    masses[b],
-                    dx,
-                    dy,
-                    dz,
-                    spheres[a, VX] - spheres[b, VX],
-                    spheres[a, VY] - spheres[b, VY],
-                    spheres[a, VZ] - spheres[b, VZ],
-                    (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW],
-                )
+                u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
+                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u)
             else:
-                k1, k2 = collide(
-                    masses[a],
-                    masses[b],
-                    dx,
-                    dy,
-                    dz,
-                    spheres[a, VX] - spheres[b, VX],
-                    spheres[a, VY] - spheres[b, VY],
-                    spheres[a, VZ] - spheres[b, VZ],
-                )
+                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz)
             if box != 0.0:
                 _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2)
             spheres[a, VX] -= k1 * dx

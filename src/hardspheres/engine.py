@@ -180,9 +180,9 @@ class Engine:
         self.neighbours = wider
 
     @property
-    def arrays(self) -> "core.Arrays":
-        """The core's arrays as one argument (they may be replaced: made anew per call)."""
-        return core.Arrays(
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The core's arrays as one argument, in ``core.ARRAYS``' order (made anew per call)."""
+        return (
             self.spheres,
             self.masses,
             self.book,
