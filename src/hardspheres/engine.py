@@ -165,22 +165,7 @@ class Engine:
 
     def _build(self):
         while True:
-            longest = core.build(
-                self.spheres,
-                self.book,
-                self.due,
-                self.shells,
-                self.neighbours,
-                self.cell_head,
-                self.cell_next,
-                self.cell_prev,
-                self.heap,
-                self.heap_t,
-                self.heap_key,
-                self.images,
-                self.scalars,
-                self.counts,
-            )
+            longest = core.build(self.arrays)
             if longest <= self.neighbours.shape[1]:
                 break
             # room for the longest list and more: lists change as spheres move
@@ -193,6 +178,28 @@ class Engine:
         wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
         wider[:, : self.neighbours.shape[1]] = self.neighbours
         self.neighbours = wider
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The core's arrays as one argument, in ``core.ARRAYS``' order (made anew per call)."""
+        return (
+            self.spheres,
+            self.masses,
+            self.book,
+            self.due,
+            self.shells,
+            self.neighbours,
+            self.cell_head,
+            self.cell_next,
+            self.cell_prev,
+            self.heap,
+            self.heap_t,
+            self.heap_key,
+            self.scalars,
+            self.counts,
+            self.scratch,
+            self.images,
+        )
 
     # ---- time -------------------------------------------------------------
     @property
@@ -294,26 +301,7 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(
-            self.spheres,
-            self.masses,
-            self.book,
-            self.due,
-            self.shells,
-            self.neighbours,
-            self.cell_head,
-            self.cell_next,
-            self.heap,
-            self.heap_t,
-            self.heap_key,
-            self.scalars,
-            self.counts,
-            int(i),
-            t,
-            vx,
-            vy,
-            vz,
-        )
+        core.kick(self.arrays, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(
@@ -358,28 +346,7 @@ class Engine:
             rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(
-                self.spheres,
-                self.masses,
-                self.book,
-                self.due,
-                self.shells,
-                self.neighbours,
-                self.cell_head,
-                self.cell_next,
-                self.cell_prev,
-                self.heap,
-                self.heap_t,
-                self.heap_key,
-                self.scalars,
-                self.counts,
-                self.scratch,
-                self.images,
-                stop - self.offset,
-                left_ev,
-                left_coll,
-                *rec,
-            )
+            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
             done_total += done
             self._since_rebase += done
             if record and done:
