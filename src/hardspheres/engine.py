@@ -36,6 +36,13 @@ SHELL = 1.5
 LISTS_FROM = 0.35
 
 
+#: Room to grow while growing: the cells and lists are made for radii this
+#: much larger (reach over radius), then made anew.  More room, rarer
+#: rebuilds but more pairs per prediction; :meth:`Engine._headroom` balances
+#: the two within these bounds.
+HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
+
+
 class CheckpointError(ValueError):
     """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
 
@@ -239,9 +246,35 @@ class Engine:
 
     def _regrid(self):
         """Cells for the radii now (with room to grow), everything predicted afresh."""
-        headroom = 1.05 if self.scalars[core.F_GROW] else 1.0
-        self._grid(self.n, headroom)
+        self._grid(self.n, self._headroom())
         self._build()
+
+    def _headroom(self):
+        """Room to grow for the cells and lists made now (reach over radius; 1 without growth).
+
+        A rebuild (about as dear as a few events per sphere) against the
+        extra pairs (a fraction ``1.5 (h - 1)`` on average over the radii's
+        way through the room, for lists of volume ``h^3``): the sum is least
+        near ``h - 1 = sqrt(8 g / nu)``, ``g`` the growth rate and ``nu``
+        the collision rate per sphere, taken from the Enskog estimate
+        ``nu = 6 (Z - 1) sqrt(kT / (pi m)) / sigma`` with Carnahan-Starling's
+        ``Z`` at the packing now, the mean mass and diameter, and kT from
+        the velocities.  A function of the state alone, so a resumed run
+        makes its rebuilds at the same times as the run it continues.
+        """
+        g = float(self.scalars[core.F_GROW])
+        if not g or self.n == 0:
+            return 1.0
+        r = self.radii_at()
+        phi = float(np.sum(r**3)) * (4.0 / 3.0 * np.pi) / self.container.volume
+        phi = min(phi, 0.74)
+        z = (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
+        m = float(np.mean(self.masses))
+        kt = float(np.sum(self.masses * np.sum(self.velocities**2, axis=1))) / (3.0 * self.n)
+        sigma = 2.0 * float(np.mean(r))
+        nu = 6.0 * (z - 1.0) * np.sqrt(kt / (np.pi * m)) / sigma if sigma > 0.0 and m > 0.0 else 0.0
+        room = np.sqrt(8.0 * g / nu) if nu > 0.0 else np.inf
+        return 1.0 + min(max(room, HEADROOM_MIN - 1.0), HEADROOM_MAX - 1.0)
 
     def _grid_limit(self):
         """Absolute time the growing radii outgrow the cells or their neighbour lists' reach.
