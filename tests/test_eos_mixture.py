@@ -245,3 +245,33 @@ def test_syh_closed_form_property(diameters, weights, eta):
     z = float(eos.santos_yuste_haro(eta, diameters, x))
     assert z == pytest.approx(_virial_route(eta, diameters, x, linear), rel=1e-12)
     assert z > 1.0
+
+
+@pytest.mark.parametrize("d, x", MIXTURES)
+@pytest.mark.parametrize("pure", [eos.kolafa, eos.hansen_goos, eos.carnahan_starling])
+def test_syh_is_the_2005_virial_coefficient_form(d, x, pure):
+    """Santos and co-workers' later form, as thermopack writes it (saftvrmie_hardsphere.f90):
+
+    Z - 1 = (b3 B2 - b2 B3)/(b3 - b2) phi/(1 - phi) + (B3 - B2)/(b3 - b2) (Z_s - 1),
+    b2, b3 = 4, 10, with the mixture's reduced B2, B3 read off BMCSL's series
+    (exact through B3): B2 = 1 + 3A, B3 = 1 + 6A + 3B.
+    """
+    dd, xx = np.asarray(d, float), np.asarray(x, float)
+    m1, m2, m3 = (float(np.sum(xx * dd**k)) for k in (1, 2, 3))
+    a, b = m1 * m2 / m3, m2**3 / m3**2
+    # B2, B3 from BMCSL's own low-density slope and curvature (not from a, b):
+    h = 1e-4
+    z1, z2 = float(eos.bmcsl(h, d, x)), float(eos.bmcsl(2 * h, d, x))
+    b2_mix = (4 * z1 - z2 - 3) / (2 * h)  # Richardson: error O(h^2)
+    assert b2_mix == pytest.approx(1 + 3 * a, rel=1e-6)
+    b2_mix = 1 + 3 * a
+    f1, f2 = (z1 - 1 - b2_mix * h) / h**2, (z2 - 1 - 2 * b2_mix * h) / (2 * h) ** 2
+    assert 2 * f1 - f2 == pytest.approx(1 + 6 * a + 3 * b, rel=1e-5)  # Richardson
+    b3_mix = 1 + 6 * a + 3 * b
+    for eta in (0.1, 0.3, 0.5):
+        z_2005 = (
+            1
+            + (10 * b2_mix - 4 * b3_mix) / 6 * eta / (1 - eta)
+            + (b3_mix - b2_mix) / 6 * (float(pure(eta)) - 1)
+        )
+        assert float(eos.santos_yuste_haro(eta, d, x, pure=pure)) == pytest.approx(z_2005, rel=1e-13)

@@ -268,9 +268,18 @@ def santos_yuste_haro(phi, diameters, fractions, pure=kolafa):
         Z = 1 + phi/(1 - phi) (1 + A - 2 B) + (Z_s - 1) (A + B)/2,
         A = M1 M2 / M3,  B = M2^3 / M3^2.
 
-    The paper's own equations were not reachable here (stored copies of its
-    abstract only); this closed form is derived from the recipe above and
-    checked in tests/test_eos_mixture.py: it is ``Z_s`` for one component
+    The 1999 paper's own equations were not reachable here (stored copies of
+    its abstract only); this closed form is derived from the recipe above.
+    It is the same equation as the later form of Santos and co-workers
+    (2005, for nonadditive mixtures) that thermopack implements
+    (thermotools/thermopack, ``src/saftvrmie_hardsphere.f90``,
+    ``calc_hardsphere_helmholtzenergy_santos``: excess free energy
+    ``F12 (-ln(1 - phi)) + F22 a_s(phi)`` with ``F12 = (b3 B2 - b2 B3)/(b3 -
+    b2)``, ``F22 = (B3 - B2)/(b3 - b2)``, ``b2, b3 = 4, 10`` the
+    one-component and ``B2, B3`` the mixture's reduced virial
+    coefficients): for additive spheres ``B2 = 1 + 3A`` and ``B3 = 1 + 6A +
+    3B`` (exact, BMCSL's), so ``F12 = 1 + A - 2B`` and ``F22 = (A + B)/2``.
+    Checked in tests/test_eos_mixture.py: it is ``Z_s`` for one component
     and for equal sizes, it has the exact second virial coefficient for any
     ``Z_s`` with ``B2`` right and BMCSL's exact third for any ``Z_s`` with
     ``B3`` right (``Z_s = 1 + 4 phi + 10 phi^2 + ...``), and with the
