@@ -251,7 +251,7 @@ def santos_yuste_haro(phi, diameters, fractions, pure=kolafa):
 
     A. Santos, S. B. Yuste and M. Lopez de Haro, "Equation of state of a
     multicomponent d-dimensional hard-sphere fluid", Mol. Phys. 96, 1 (1999)
-    (the "e1" recipe; arXiv cond-mat/0204246).  The recipe, as its abstract
+    (the "e1" recipe; listed as arXiv cond-mat/0204246 on tomesphere.com).  The recipe, as its abstract
     states it: the contact values ``g_ij`` of the mixture's pair
     distributions depend on the sizes only through ``z_ij = (sigma_i
     sigma_j / sigma_ij) M2 / M3`` (``M_n = <sigma^n>`` over mole fractions,
