@@ -231,10 +231,13 @@ def test_syh_bad_input(d, x):
 @given(
     st.lists(st.floats(0.05, 20.0), min_size=1, max_size=5),
     st.lists(st.floats(0.01, 1.0), min_size=5, max_size=5),
-    st.floats(1e-3, 0.6),
+    st.floats(1e-3, 0.55),
 )
 def test_syh_closed_form_property(diameters, weights, eta):
-    """Any mixture of up to 5 components: the closed form equals the double sum, Z > 1."""
+    """Any mixture of up to 5 components: the closed form equals the double sum, Z > 1.
+
+    Up to packing 0.55, KLM's range (it turns over at 0.57 and is negative by 0.6).
+    """
     x = np.array(weights[: len(diameters)])
     x = x / x.sum()
     g_s = (float(eos.kolafa(eta)) - 1) / (4 * eta)

@@ -123,7 +123,10 @@ def kolafa(phi):
 
     (the same coefficients as DynamO's hard-sphere pair-correlation
     closure).  The first terms are Carnahan-Starling's ``1 + 4x + 6x^2 +
-    2x^3``; the rest make the virial coefficients B4 to B6 exact.
+    2x^3``; the rest make the virial coefficients B4 to B6 exact.  It is a
+    fit to the stable and metastable fluid: use it up to packing about
+    0.55; beyond, the high powers take over (it peaks near 0.57, 20.3, and
+    is negative at 0.6), where :func:`hansen_goos` still rises.
 
     Args:
         phi: packing fraction(s), dimensionless, in [0, 1).
@@ -293,8 +296,8 @@ def santos_yuste_haro(phi, diameters, fractions, pure=kolafa):
         phi: total packing fraction(s) in [0, 1).
         diameters: ``(K,)`` diameters of the K components.
         fractions: ``(K,)`` their mole fractions, summing to 1.
-        pure: the one-component ``Z_s(phi)`` (:func:`kolafa`,
-            :func:`hansen_goos` or :func:`carnahan_starling`).
+        pure: the one-component ``Z_s(phi)`` (:func:`kolafa`, up to packing
+            about 0.55, :func:`hansen_goos` or :func:`carnahan_starling`).
 
     Returns:
         Z = PV/(NkT), dimensionless.
