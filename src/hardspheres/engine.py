@@ -7,6 +7,7 @@ benchmark all go through it.
 
 from __future__ import annotations
 
+import operator
 from typing import Any
 
 import numpy as np
@@ -41,6 +42,10 @@ LISTS_FROM = 0.35
 #: rebuilds but more pairs per prediction; :meth:`Engine._headroom` balances
 #: the two within these bounds.
 HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
+
+
+# the engine's arrays, by name, as the core takes them (one C call)
+_core_arrays = operator.attrgetter(*core.ARRAYS)
 
 
 class CheckpointError(ValueError):
@@ -189,24 +194,7 @@ class Engine:
     @property
     def arrays(self) -> tuple[np.ndarray, ...]:
         """The core's arrays as one argument, in ``core.ARRAYS``' order (made anew per call)."""
-        return (
-            self.spheres,
-            self.masses,
-            self.book,
-            self.due,
-            self.shells,
-            self.neighbours,
-            self.cell_head,
-            self.cell_next,
-            self.cell_prev,
-            self.heap,
-            self.heap_t,
-            self.heap_key,
-            self.scalars,
-            self.counts,
-            self.scratch,
-            self.images,
-        )
+        return _core_arrays(self)
 
     # ---- time -------------------------------------------------------------
     @property
