@@ -482,6 +482,7 @@ class Engine:
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
         out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
+        # the calendar's own counters and width (the last of each) are made anew on restore
         out["counts"] = self.counts[: core.C_HEAP_SIZE].copy()
         out["scalars"] = self.scalars[: core.F_BUCKET_RATE].copy()
         # the last two: the core's wall radius and box edge, NaN when absent
