@@ -176,6 +176,7 @@ def _recalendar(eng, buckets, rate):
         (64, 3e8),  # buckets narrower than the window: it reaches into later ones
         (2, 1e12),  # the window reaches past the year: into the overflow list
         (1024, 1e-6),  # one bucket: a plain heap
+        (2, 1e17),  # bucket numbers past 2^52 (not exact as doubles): one heap (this hung)
     ],
 )
 @pytest.mark.parametrize("lists_on", [False, True])

@@ -286,7 +286,10 @@ CAL_NEXT, CAL_PREV = 0, 1  # next and previous sphere in its bucket's list
 CAL_BUCKET = 2  # its bucket (CAL_HEAP: in the heap, CAL_OVERFLOW: the overflow list)
 CAL_OVERFLOW = 1 << 62  # CAL_BUCKET of an entry in the overflow list
 CAL_HEAP = -1  # CAL_BUCKET of an entry in the heap (the current bucket)
-CAL_ALL = 4 * 10**18  # a current bucket past every finite time: one plain heap
+# a current bucket past every finite time: one plain heap.  2^52: bucket
+# numbers (and a year past them) stay exact as doubles, so comparing them with
+# floor(t * rate) is exact (at 4e18 a year of 2 buckets rounded away)
+CAL_ALL = 1 << 52
 CAL_BUCKETS_PER_SPHERE = 2  # buckets in a year per sphere (rounded up to a power of two)
 
 
