@@ -367,7 +367,7 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
     nb = _year(calendar, book)
     cur = counts[C_BUCKET]
     fb = np.floor(t * scalars[F_BUCKET_RATE])
-    if fb <= cur:
+    if fb <= cur or cur == CAL_ALL:  # (CAL_ALL: every entry, even later ones, in the heap)
         k = counts[C_HEAP_SIZE]
         counts[C_HEAP_SIZE] = k + 1
         heap[k], heap_t[k], heap_key[k] = i, t, key
