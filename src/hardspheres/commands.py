@@ -178,20 +178,12 @@ def cmd_generate(args):
             )
         finally:
             bar.close()
-    elif args.box is not None:
-        state = random_spheres(
-            args.n,
-            args.packing,
-            box=args.box,
-            seed=args.seed,
-            radius_ratio=args.radius_ratio,
-            mass_ratio=args.mass_ratio,
-        )
     else:
-        state = random_spheres(
+        state = random_spheres(  # exactly one of container and box (argparse's group)
             args.n,
             args.packing,
             container=args.container,
+            box=args.box,
             seed=args.seed,
             radius_ratio=args.radius_ratio,
             mass_ratio=args.mass_ratio,
@@ -457,13 +449,24 @@ def cmd_plot(args):
 def _picture_args(q, output_default, output_help):
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
     q.add_argument("-o", "--output", default=output_default, help=output_help)
-    where = q.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="scenario: container radius [m]")
-    where.add_argument("--box", type=_positive, help="scenario: periodic box edge [m]")
+    _where_args(q, "scenario: container radius [m]", "scenario: periodic box edge [m]")
     q.add_argument("--until", type=_positive, help="scenario: end time [s]")
     q.add_argument(
         "--every", type=_positive, help="scenario: time between frames [s] (default: --until / 200)"
     )
+
+
+def _where_args(q, container_help, box_help, required=False):
+    """``--container R`` or ``--box L`` (at most one; exactly one if ``required``)."""
+    where = q.add_mutually_exclusive_group(required=required)
+    where.add_argument("--container", type=_positive, help=container_help)
+    where.add_argument("--box", type=_positive, help=box_help)
+
+
+def _size_slice_args(q, size_help, slice_help):
+    """``--size WIDTHxHEIGHT`` (:func:`_size`) and ``--slice Z`` (cut-away plane) of a picture."""
+    q.add_argument("--size", type=_size, help=size_help)
+    q.add_argument("--slice", type=_time, metavar="Z", help=slice_help)
 
 
 def cmd_run(args):
@@ -491,9 +494,7 @@ def build_parser():
 
     g = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
     g.add_argument("--n", type=_whole(1), required=True, help="number of spheres (>= 1)")
-    where = g.add_mutually_exclusive_group(required=True)
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(g, "spherical container radius [m]", "periodic cubic box edge [m]", required=True)
     g.add_argument(
         "--packing", type=_packing, required=True, help="volume fraction filled by the spheres (< 0.74)"
     )
@@ -526,9 +527,7 @@ def build_parser():
         "(Lubachevsky-Stillinger); writes a scenario",
     )
     k.add_argument("scenario", nargs="?", help="scenario file ('-' for stdin)")
-    where = k.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(k, "spherical container radius [m]", "periodic cubic box edge [m]")
     k.add_argument(
         "--packing", type=_positive, help="target packing fraction (below 0.7405 for equal spheres)"
     )
@@ -579,9 +578,7 @@ def build_parser():
 
     r = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
     r.add_argument("scenario", nargs="?", help="scenario file in the assignment's format ('-' for stdin)")
-    where = r.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(r, "spherical container radius [m]", "periodic cubic box edge [m]")
     r.add_argument("--until", type=_positive, required=True, help="end time [s]")
     eq = r.add_mutually_exclusive_group()
     eq.add_argument(
@@ -702,13 +699,10 @@ def build_parser():
     w.add_argument(
         "--screenshot", metavar="PNG", help="also open the page in headless Chromium, play it 1 s, save a PNG"
     )
-    w.add_argument("--size", type=_size, help="screenshot size WIDTHxHEIGHT (default 960x640)")
-    w.add_argument(
-        "--slice",
-        type=_time,
-        metavar="Z",
-        help="start with the cut-away plane at z = Z (spheres above it hidden; "
-        "the page's cut slider moves it)",
+    _size_slice_args(
+        w,
+        "screenshot size WIDTHxHEIGHT (default 960x640)",
+        "start with the cut-away plane at z = Z (spheres above it hidden; the page's cut slider moves it)",
     )
     w.add_argument(
         "--color",
@@ -728,14 +722,10 @@ def build_parser():
         "--fps", type=_whole(1, 100), default=20, help="movie frames per second (1 to 100, default 20)"
     )
     m.add_argument("--time", type=_time, help="still: draw the frame nearest this time (default: the last)")
-    m.add_argument(
-        "--size", type=_size, help="WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)"
-    )
-    m.add_argument(
-        "--slice",
-        type=_time,
-        metavar="Z",
-        help="cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
+    _size_slice_args(
+        m,
+        "WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)",
+        "cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
     )
     m.set_defaults(func=cmd_render)
 
