@@ -6,11 +6,9 @@ formats, progress, pictures of many spheres, and the small things.
 """
 
 import io
-import os
 import re
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,20 +16,7 @@ import pytest
 import hardspheres as hs
 from hardspheres import commands, runner
 from hardspheres.progress import Progress
-
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def hs_cmd(*args, cwd, env=None, timeout=300):
-    """``python -m hardspheres ARGS``: the completed process (text)."""
-    return subprocess.run(
-        [sys.executable, "-m", "hardspheres", *map(str, args)],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        env=None if env is None else {**os.environ, **env},
-    )
+from helpers import ROOT, hs_cmd
 
 
 def assert_one_line(res, *words):

@@ -1,14 +1,12 @@
 """Trajectories: GSD (double precision) and extended XYZ, read back against the run."""
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 import hardspheres as hs
 from hardspheres.events import EVENT_DTYPE
 from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
+from helpers import hs_cmd
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")
 
@@ -138,24 +136,8 @@ def test_run_command_writes_a_trajectory(tmp_path):
     scn = tmp_path / "scn.txt"
     scn.write_text(hs.random_spheres(40, 0.2, container=5.0, seed=2).to_text())
     out = tmp_path / "out.gsd"
-    r = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "hardspheres",
-            "run",
-            str(scn),
-            "--container",
-            "5",
-            "--until",
-            "2",
-            "--trajectory",
-            str(out),
-            "--every",
-            "0.5",
-        ],
-        capture_output=True,
-        text=True,
+    r = hs_cmd(
+        "run", str(scn), "--container", "5", "--until", "2", "--trajectory", str(out), "--every", "0.5"
     )
     assert r.returncode == 0, r.stderr
     assert f"trajectory {out}" in r.stdout
