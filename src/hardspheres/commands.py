@@ -160,34 +160,23 @@ def _compile_first():
 def cmd_generate(args):
     from .builders import random_spheres
 
+    common = dict(  # container or box: exactly one is given (argparse's group)
+        container=args.container,
+        box=args.box,
+        seed=args.seed,
+        radius_ratio=args.radius_ratio,
+        mass_ratio=args.mass_ratio,
+    )
     if args.method == "compress":
         from .dense import compression_progress, generate_compressed, start_packing
 
         bar, show = compression_progress(start_packing(args.packing), args.packing)
         try:
-            state = generate_compressed(
-                args.n,
-                args.packing,
-                container=args.container,
-                box=args.box,
-                seed=args.seed,
-                rate=args.rate,
-                radius_ratio=args.radius_ratio,
-                mass_ratio=args.mass_ratio,
-                progress=show,
-            )
+            state = generate_compressed(args.n, args.packing, rate=args.rate, progress=show, **common)
         finally:
             bar.close()
     else:
-        state = random_spheres(  # exactly one of container and box (argparse's group)
-            args.n,
-            args.packing,
-            container=args.container,
-            box=args.box,
-            seed=args.seed,
-            radius_ratio=args.radius_ratio,
-            mass_ratio=args.mass_ratio,
-        )
+        state = random_spheres(args.n, args.packing, **common)
     sys.stdout.write(state.to_text())
     return 0
 
