@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+import hardspheres as hs
 from hardspheres.frames import Frames
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -66,6 +67,13 @@ def hs_popen(*args, cwd=ROOT, env=None):
         text=True,
         env=ENV if env is None else {**ENV, **env},
     )
+
+
+def periodic_gas(n, phi, seed, **kw):
+    """A :class:`~hardspheres.Simulation` of ``n`` spheres of diameter 1 filling the
+    fraction ``phi`` of the periodic box (:func:`hardspheres.random_spheres`, ``kw`` to it)."""
+    box = hs.PeriodicBox.for_packing(n, phi)
+    return hs.Simulation(hs.random_spheres(n, phi, box, seed=seed, **kw), box)
 
 
 def synthetic_frames(
