@@ -458,6 +458,16 @@ def _size_slice_args(q, size_help, slice_help):
     q.add_argument("--slice", type=_time, metavar="Z", help=slice_help)
 
 
+def _dask_args(q, scheduler_help, serial_help):
+    """Where a study runs: ``--scheduler``, ``--workers``, ``--serial``, ``--timeout``."""
+    q.add_argument("--scheduler", metavar="tcp://HOST:PORT", help=scheduler_help)
+    q.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    q.add_argument("--serial", action="store_true", help=serial_help)
+    q.add_argument(
+        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
+    )
+
+
 def cmd_run(args):
     from .runner import run_command
 
@@ -606,15 +616,10 @@ def build_parser():
         "sweep", help="run a study (a parameter grid in a TOML file) on Dask; reruns skip finished tasks"
     )
     s.add_argument("study", help="study file (TOML)")
-    s.add_argument(
-        "--scheduler",
-        metavar="tcp://HOST:PORT",
-        help="an existing Dask scheduler (default: a LocalCluster, one worker per core)",
-    )
-    s.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
-    s.add_argument("--serial", action="store_true", help="run the tasks here, one by one, no Dask")
-    s.add_argument(
-        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
+    _dask_args(
+        s,
+        "an existing Dask scheduler (default: a LocalCluster, one worker per core)",
+        "run the tasks here, one by one, no Dask",
     )
     s.set_defaults(func=cmd_sweep)
 
@@ -674,12 +679,7 @@ def build_parser():
         metavar="DIR",
         help="keep the study here (a rerun skips finished runs); default: temporary",
     )
-    v.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler")
-    v.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
-    v.add_argument("--serial", action="store_true", help="run here, one packing after another")
-    v.add_argument(
-        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
-    )
+    _dask_args(v, "an existing Dask scheduler", "run here, one packing after another")
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
