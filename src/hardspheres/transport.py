@@ -223,10 +223,7 @@ class MSD(_Computed):
 
     def plot(self, ax=None):
         """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.loglog(self.t[1:], self.msd[1:], label="MSD")
         D, _ = self.diffusion()
         ax.loglog(self.t[1:], 6.0 * D * self.t[1:], "--", label=f"6 D t, D = {D:.4g}")
@@ -319,10 +316,7 @@ class VACF(_Computed):
 
     def plot(self, ax=None):
         """C(t) / C(0) against t; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.plot(self.t, self.c / self.c[0])
         ax.axhline(0.0, color="grey", lw=0.5)
         ax.set_xlabel("t")
@@ -412,10 +406,7 @@ class _EinsteinHelfand(_Computed):
 
     def plot(self, ax=None):
         """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         t = self.t[1:]
         ax.plot(t, self.msd[1:] * self._scale / t)
         ax.set_xlabel("t")
