@@ -23,16 +23,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _number(text):
-    """``float(text)`` for a plain decimal number (no ``1_0``, no non-ASCII digits)."""
+    """``float(text)`` for a plain decimal number (:func:`~hardspheres.scenario.plain_float`), else NaN."""
     import math
 
-    try:
-        x = float(text)
-    except ValueError:
-        x = math.nan
-    if "_" in text or not text.isascii():
-        x = math.nan
-    return x
+    from .scenario import plain_float
+
+    x = plain_float(text)
+    return math.nan if x is None else x
 
 
 def _positive(text):
