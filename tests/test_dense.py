@@ -57,6 +57,56 @@ def test_pair_time_grow_without_growth_is_pair_time():
         assert (t0 == t1 == math.inf) or abs(t0 - t1) <= 1e-12 * max(1.0, t0)
 
 
+@settings(max_examples=400, deadline=None)
+@given(
+    st.lists(st.floats(-4, 4), min_size=6, max_size=6),
+    st.floats(0.05, 1.0),
+    st.floats(0.0, 1.0),
+    st.integers(-30, 30),
+)
+def test_pair_time_grow_rejects_only_exact_misses(v, s, u, e):
+    """The kernel's sure-miss test (before its discriminant) fires only where the exact one is < 0.
+
+    Near-grazing pairs at scales 2^-30..2^30: a pair it calls a miss has a
+    negative discriminant in exact rationals; a pair with a positive one
+    that closes within the horizon gets a finite time.
+    """
+    from fractions import Fraction as F
+
+    k = 2.0**e
+    dr = [(x + (2.0 if x >= 0 else -2.0)) * k for x in v[:3]]  # at least 2 apart (times k)
+    dv = list(v[3:])
+    s, u = s * k, u
+    t = physics.pair_time_grow(*dr, *dv, s, u, math.inf)
+    R = [F(x) for x in dr]
+    V = [F(x) for x in dv]
+    a = sum(x * x for x in V) - F(u) ** 2
+    b = sum(x * y for x, y in zip(R, V)) - F(s) * F(u)
+    c = sum(x * x for x in R) - F(s) ** 2
+    disc = b * b - a * c
+    bound = (sum(x * x for x in V) + F(u) ** 2) * (sum(x * x for x in R) + F(s) ** 2)
+    if a >= 0 and b < 0 and disc > F(1e-12) * bound:
+        assert t < math.inf  # they meet: not rejected
+    if t == math.inf and a >= 0 and b < 0:
+        assert disc <= F(1e-12) * bound
+
+
+def test_growth_headroom_follows_the_rate():
+    """Room to grow: 1 without growth, small for slow growth, at most HEADROOM_MAX for fast."""
+    import hardspheres.engine as engine_mod
+
+    state = hs.random_spheres(200, 0.3, box=12.0, seed=1)
+    eng = Engine(state.masses, state.radii, state.positions, state.velocities, box=12.0)
+    assert eng._headroom() == 1.0
+    rooms = []
+    for rate in (1e-9, 1e-5, 1e-4, 10.0):
+        eng.set_growth(rate)
+        rooms.append(eng._headroom())
+        assert eng.scalars[core.F_HEADROOM] == rooms[-1]
+    assert rooms[0] == engine_mod.HEADROOM_MIN and rooms[-1] == engine_mod.HEADROOM_MAX
+    assert rooms == sorted(rooms) and rooms[1] < rooms[2] < engine_mod.HEADROOM_MAX
+
+
 def test_wall_time_grow():
     # at rest at the centre: reach 10 closes at 2 -> 5
     assert physics.wall_time_grow(0, 0, 0, 0, 0, 0, 10.0, 2.0) == 5.0

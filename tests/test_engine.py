@@ -277,3 +277,14 @@ def test_assignment_report_same_from_both_engines():
             outs.append(buf.getvalue())
         assert outs[0].count("time of event") > 20
         assert outs[0] == outs[1]
+
+
+def test_arrays_follow_the_core_order():
+    """Engine.arrays hands the core its arrays in _core.ARRAYS' order (the core unpacks by position)."""
+    eng = Engine(
+        [1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]], [[1.0, 0, 0], [-1.0, 0, 0]], container=20.0
+    )
+    arrays = eng.arrays
+    assert len(arrays) == len(_core.ARRAYS)
+    for name, array in zip(_core.ARRAYS, arrays):
+        assert array is getattr(eng, name), name

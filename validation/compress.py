@@ -3,7 +3,7 @@
     python validation/compress.py jam N RATE [RATE ...]   # LS jamming density per rate
     python validation/compress.py fluid N PHI [PHI ...]   # metastable fluid Z vs CS/Kolafa
     python validation/compress.py fcc K PHI [PHI ...]     # FCC crystal (4 K^3 spheres) vs Speedy
-    python validation/compress.py mix N PHI [PHI ...]     # 50:50 mixture, ratio 1.4, vs BMCSL, HGR
+    python validation/compress.py mix N PHI [PHI ...]     # 50:50 mixture, ratio 1.4, vs BMCSL, HGR, SYH
     python validation/compress.py mixlong N PHI SEED [SEED ...]  # the same, longer, per seed
 
 Everything is in a periodic box with equal masses and kT = 1; results
@@ -50,6 +50,11 @@ def z_bmcsl(eta, diameters, fractions):
 def z_hgr(eta, diameters, fractions):
     """Hansen-Goos & Roth, J. Chem. Phys. 124, 154506 (2006)."""
     return float(eos.hansen_goos_roth(eta, diameters, fractions))
+
+
+def z_syh(eta, diameters, fractions, pure=eos.kolafa):
+    """Santos, Yuste & Lopez de Haro, Mol. Phys. 96, 1 (1999), on KLM by default."""
+    return float(eos.santos_yuste_haro(eta, diameters, fractions, pure=pure))
 
 
 # ---- helpers ----------------------------------------------------------------------
@@ -148,8 +153,8 @@ def fcc_eos(k, phis, per_sphere=500, seed=1):
 
 def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1, equil=EQUIL):
     print("| N | phi | seed | Z measured | BMCSL | (Z - BMCSL)/sigma | Hansen-Goos-Roth |"
-          " (Z - HGR)/sigma |")
-    print("|---|---|---|---|---|---|---|---|")
+          " (Z - HGR)/sigma | SYH on KLM | (Z - SYH)/sigma |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for phi in phis:
         phi0 = 0.2
         L = box_for(n, phi0)
@@ -163,8 +168,9 @@ def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1, equil=EQUIL):
         sim.run(collisions=equil * n)
         z, s = measure_z(sim, per_sphere * n)
         zb, zh = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5]), z_hgr(phi, [ratio, 1.0], [0.5, 0.5])
+        zy = z_syh(phi, [ratio, 1.0], [0.5, 0.5])
         print(f"| {n} | {phi} | {seed} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} | "
-              f"{zh:.4f} | {(z - zh) / s:+.1f} |", flush=True)
+              f"{zh:.4f} | {(z - zh) / s:+.1f} | {zy:.4f} | {(z - zy) / s:+.1f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -161,6 +161,33 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
 
+
+#: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
+#: :func:`kick` take the arrays above, as one plain tuple (the engine's
+#: ``Engine.arrays``).  One argument rather than 16; a plain tuple, as numba
+#: types it about as fast as 16 arrays and unpacks it at no cost per event,
+#: where a named tuple cost 2-3 us more per call (benchmarks/core_call.py,
+#: benchmarks/README.md "the core's arguments").
+ARRAYS = (
+    "spheres",
+    "masses",
+    "book",
+    "due",
+    "shells",
+    "neighbours",
+    "cell_head",
+    "cell_next",
+    "cell_prev",
+    "heap",
+    "heap_t",
+    "heap_key",
+    "scalars",
+    "counts",
+    "scratch",
+    "images",
+)
+
+
 # columns of `spheres`
 X, Y, Z, VX, VY, VZ = 0, 1, 2, 3, 4, 5  # centre and velocity at T_OWN
 T_OWN = 6  # the sphere's own time: of its last collision or reflection (or rebase)
@@ -317,7 +344,37 @@ def cell_of(x, lo, w, nc):
 
 
 @_inline
-def _cell_insert(cell_head, cell_next, cell_prev, book, i, cell):
+def _cell_step(k, o, nc, box):
+    """Cell coordinate ``k + o`` along one axis (``o`` in -1..1).
+
+    Returns ``(coordinate, shift, exists)``: in a periodic box the
+    coordinate wraps, and ``shift`` (-box, 0 or box) moves a centre in the
+    wrapped cell next to cell ``k``; in a container a cell past the grid
+    does not exist.
+    """
+    m = k + o
+    if m < 0:
+        return m + nc, -box, box != 0.0
+    if m >= nc:
+        return m - nc, box, box != 0.0
+    return m, 0.0, True
+
+
+@_inline
+def _block_cell(kx, ky, kz, q, nc, box):
+    """Cell ``q`` (0..26, z slowest) of the 3x3x3 block around cell ``(kx, ky, kz)``; -1: none."""
+    nz, _, zthere = _cell_step(kz, q // 9 - 1, nc, box)
+    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, nc, box)
+    nx, _, xthere = _cell_step(kx, q % 3 - 1, nc, box)
+    if zthere and ythere and xthere:
+        return (nz * nc + ny) * nc + nx
+    return -1
+
+
+@_inline
+def _cell_insert(cell_head, cell_next, cell_prev, book, i, nc):
+    """Sphere ``i`` into the cell its book names (``CELL_X``, ``CELL_Y``, ``CELL_Z``)."""
+    cell = (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X]
     book[i, CELL] = cell
     h = cell_head[cell]
     cell_next[i] = h
@@ -487,18 +544,32 @@ def _store(due, book, i, best_t, best_key, best_p):
 
 
 @_inline
+def _scan_start(spheres, book, due, scalars, i):
+    """What a scan of sphere ``i``'s pairs starts from.
+
+    Returns ``(now, soon, clock, grow, best_t, best_key, t_i)``: the anchor,
+    the end of its window, the clock, the growth rate, the sphere's event so
+    far (time and tie key) and its own time.
+    """
+    now = scalars[F_ANCHOR]
+    return (
+        now,
+        now + scalars[F_WINDOW],
+        scalars[F_CLOCK],
+        scalars[F_GROW],
+        due[i, EVENT_T],
+        book[i, EVENT_KEY],
+        spheres[i, T_OWN],
+    )
+
+
+@_inline
 def _scan_list(spheres, book, due, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     box = scalars[F_BOX]
-    now = scalars[F_ANCHOR]
-    soon = now + scalars[F_WINDOW]
-    clock = scalars[F_CLOCK]
-    grow = scalars[F_GROW]
-    best_t = due[i, EVENT_T]
-    best_key = book[i, EVENT_KEY]
+    now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
-    ti = spheres[i, T_OWN]
     # exactly 1.0, but not to the compiler: it would otherwise see that the
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
@@ -527,59 +598,26 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     box = scalars[F_BOX]
-    now = scalars[F_ANCHOR]
-    soon = now + scalars[F_WINDOW]
-    clock = scalars[F_CLOCK]
-    grow = scalars[F_GROW]
-    best_t = due[i, EVENT_T]
-    best_key = book[i, EVENT_KEY]
+    now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
-    ti = spheres[i, T_OWN]
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
         oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
-        nz = cz0 + oz
-        sz = 0.0
-        if nz < 0:
-            if box == 0.0:
-                continue
-            nz += nc
-            sz = -box
-        elif nz >= nc:
-            if box == 0.0:
-                continue
-            nz -= nc
-            sz = box
+        nz, sz, there = _cell_step(cz0, oz, nc, box)
+        if not there:
+            continue
         for qy in range(yhi - ylo + 1):
             oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
-            ny = cy0 + oy
-            sy = 0.0
-            if ny < 0:
-                if box == 0.0:
-                    continue
-                ny += nc
-                sy = -box
-            elif ny >= nc:
-                if box == 0.0:
-                    continue
-                ny -= nc
-                sy = box
+            ny, sy, there = _cell_step(cy0, oy, nc, box)
+            if not there:
+                continue
             for ox in range(xlo, xhi + 1):
-                nx = cx0 + ox
-                sx = 0.0
-                if nx < 0:
-                    if box == 0.0:
-                        continue
-                    nx += nc
-                    sx = -box
-                elif nx >= nc:
-                    if box == 0.0:
-                        continue
-                    nx -= nc
-                    sx = box
+                nx, sx, there = _cell_step(cx0, ox, nc, box)
+                if not there:
+                    continue
                 j = cell_head[(nz * nc + ny) * nc + nx]
                 while j >= 0:
                     if j != i:
@@ -623,28 +661,18 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
     book[i, PARTNER] = -1
     if scalars[F_BOX] == 0.0:
         # the wall, from the sphere's own time
+        # (wall_time is wall_time_grow at growth 0: the same bits without growth)
         grow = scalars[F_GROW]
-        if grow != 0.0:
-            dt = wall_time_grow(
-                spheres[i, X],
-                spheres[i, Y],
-                spheres[i, Z],
-                spheres[i, VX],
-                spheres[i, VY],
-                spheres[i, VZ],
-                scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
-                spheres[i, RADIUS] * grow,
-            )
-        else:
-            dt = wall_time(
-                spheres[i, X],
-                spheres[i, Y],
-                spheres[i, Z],
-                spheres[i, VX],
-                spheres[i, VY],
-                spheres[i, VZ],
-                scalars[F_CONTAINER] - spheres[i, RADIUS],
-            )
+        dt = wall_time_grow(
+            spheres[i, X],
+            spheres[i, Y],
+            spheres[i, Z],
+            spheres[i, VX],
+            spheres[i, VY],
+            spheres[i, VZ],
+            scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
+            spheres[i, RADIUS] * grow,
+        )
         if dt < np.inf:
             te = spheres[i, T_OWN] + dt
             if te < scalars[F_ANCHOR] + scalars[F_WINDOW]:
@@ -736,14 +764,7 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
         book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
     if not insert:
         _cell_remove(cell_head, cell_next, cell_prev, book, i)
-    _cell_insert(
-        cell_head,
-        cell_next,
-        cell_prev,
-        book,
-        i,
-        (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-    )
+    _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
 
 
 @_inline
@@ -793,39 +814,25 @@ def _relist(
     kz = cell_of(cz, lo, w, nc)
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
-    for oz in range(-1, 2):
-        nz = kz + oz
-        if nz < 0 or nz >= nc:
-            if box == 0.0:
-                continue
-            nz = (nz + nc) % nc
-        for oy in range(-1, 2):
-            ny = ky + oy
-            if ny < 0 or ny >= nc:
-                if box == 0.0:
-                    continue
-                ny = (ny + nc) % nc
-            for ox in range(-1, 2):
-                nx = kx + ox
-                if nx < 0 or nx >= nc:
-                    if box == 0.0:
-                        continue
-                    nx = (nx + nc) % nc
-                j = cell_head[(nz * nc + ny) * nc + nx]
-                while j >= 0:
-                    if j != i:
-                        ddx = _nearest(cx - shells[j, SHELL_X], box)
-                        ddy = _nearest(cy - shells[j, SHELL_Y], box)
-                        ddz = _nearest(cz - shells[j, SHELL_Z], box)
-                        r2 = ddx * ddx + ddy * ddy + ddz * ddz
-                        cut = cut0 * (shells[i, REACH] + shells[j, REACH])
-                        if r2 < cut * cut:
-                            if found >= cap or book[j, NEIGHBOURS] >= cap:
-                                # j's list may already hold i: only a guess, on the safe side
-                                return False
-                            scratch[found] = j
-                            found += 1
-                    j = cell_next[j]
+    for q in range(27):
+        cell = _block_cell(kx, ky, kz, q, nc, box)
+        if cell < 0:
+            continue
+        j = cell_head[cell]
+        while j >= 0:
+            if j != i:
+                ddx = _nearest(cx - shells[j, SHELL_X], box)
+                ddy = _nearest(cy - shells[j, SHELL_Y], box)
+                ddz = _nearest(cz - shells[j, SHELL_Z], box)
+                r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                cut = cut0 * (shells[i, REACH] + shells[j, REACH])
+                if r2 < cut * cut:
+                    if found >= cap or book[j, NEIGHBOURS] >= cap:
+                        # j's list may already hold i: only a guess, on the safe side
+                        return False
+                    scratch[found] = j
+                    found += 1
+            j = cell_next[j]
     # nc < 3 in a periodic box would visit a cell twice: guarded by the engine (nc >= 3)
     # i leaves its old neighbours' lists
     for q in range(book[i, NEIGHBOURS]):
@@ -850,28 +857,15 @@ def _relist(
 
 
 @_jit
-def build(
-    spheres,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    cell_prev,
-    heap,
-    heap_t,
-    heap_key,
-    images,
-    scalars,
-    counts,
-):
+def build(arrays):
     """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
 
     Returns the longest neighbour list (0 without lists); if it is longer
     than ``neighbours.shape[1]``, nothing was predicted: call again with
     wider lists.
     """
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -885,14 +879,7 @@ def build(
             book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
             book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
             book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
-            _cell_insert(
-                cell_head,
-                cell_next,
-                cell_prev,
-                book,
-                i,
-                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-            )
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
     else:
         longest = _build_lists(
             spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts
@@ -951,56 +938,28 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         book[i, NEIGHBOURS] = 0
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
-        for oz in range(-1, 2):
-            nz = kz + oz
-            if nz < 0 or nz >= nc:
-                if box == 0.0:
-                    continue
-                nz = (nz + nc) % nc
-            for oy in range(-1, 2):
-                ny = ky + oy
-                if ny < 0 or ny >= nc:
-                    if box == 0.0:
-                        continue
-                    ny = (ny + nc) % nc
-                for ox in range(-1, 2):
-                    nx = kx + ox
-                    if nx < 0 or nx >= nc:
-                        if box == 0.0:
-                            continue
-                        nx = (nx + nc) % nc
-                    j = cell_head[(nz * nc + ny) * nc + nx]
-                    while j >= 0:
-                        if j > i:
-                            code, near = _pair_code(scalars, shells, i, j)
-                            if near:
-                                a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
-                                if a < cap and b < cap:
-                                    neighbours[i, a] = (j << 5) | code
-                                    neighbours[j, b] = (i << 5) | (26 - code)
-                                book[i, NEIGHBOURS] = a + 1
-                                book[j, NEIGHBOURS] = b + 1
-                                longest = max(longest, a + 1, b + 1)
-                        j = cell_next[j]
+        for q in range(27):
+            cell = _block_cell(kx, ky, kz, q, nc, box)
+            if cell < 0:
+                continue
+            j = cell_head[cell]
+            while j >= 0:
+                if j > i:
+                    code, near = _pair_code(scalars, shells, i, j)
+                    if near:
+                        a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
+                        if a < cap and b < cap:
+                            neighbours[i, a] = (j << 5) | code
+                            neighbours[j, b] = (i << 5) | (26 - code)
+                        book[i, NEIGHBOURS] = a + 1
+                        book[j, NEIGHBOURS] = b + 1
+                        longest = max(longest, a + 1, b + 1)
+                j = cell_next[j]
     return longest
 
 
 @_jit
-def refresh_window(
-    spheres,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    scratch,
-):
+def refresh_window(arrays):
     """Predict afresh, at the clock, every sphere whose event is within the window.
 
     This is what makes the engine follow the assignment's rule exactly: of
@@ -1009,6 +968,8 @@ def refresh_window(
     The heap is walked from the root, pruning subtrees that start past the
     window, so the cost is proportional to the number refreshed.
     """
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     n = heap.shape[0]
     if n == 0:
         return
@@ -1110,38 +1071,12 @@ def kinetic_sums(spheres, masses, scalars):
 
 
 @_jit
-def run(
-    spheres,
-    masses,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    cell_prev,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    scratch,
-    images,
-    until,
-    max_events,
-    max_collisions,
-    rec_t,
-    rec_kind,
-    rec_i,
-    rec_j,
-    rec_imp,
-    rec_dp,
-):
+def run(arrays, until, max_events, max_collisions, record):
     """Process events in order until one of the limits.
 
-    The arrays come one by one (see "the arrays" at the top of this module),
-    as the engine, their one caller, holds them; a grouping (a tuple) was
-    not measured, so none was made.
+    ``arrays`` is the tuple of the engine's arrays in :data:`ARRAYS`'s order; ``record`` the tuple of
+    :func:`hardspheres.events.empty_buffers` (``rec_t, rec_kind, rec_i,
+    rec_j, rec_imp, rec_dp``, one row per event).
 
     ``images`` ``(N, 3)`` int64 counts each sphere's crossings of the periodic
     box (the image it is in: unwrapped centre = stored centre + images * box).
@@ -1175,6 +1110,9 @@ def run(
     prediction as valid as it was, and only the spheres it touched are
     predicted again.
     """
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
+    rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
         return 0, STOP_UNTIL
@@ -1215,14 +1153,7 @@ def run(
                 images[i, ax] += step
             book[i, CELL_X + ax] = k
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
-            _cell_insert(
-                cell_head,
-                cell_next,
-                cell_prev,
-                book,
-                i,
-                (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X],
-            )
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
             counts[C_CROSSINGS] += 1
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
@@ -1293,29 +1224,14 @@ def run(
                 dx -= box * np.round(dx / box)
                 dy -= box * np.round(dy / box)
                 dz -= box * np.round(dz / box)
+            dvx = spheres[a, VX] - spheres[b, VX]
+            dvy = spheres[a, VY] - spheres[b, VY]
+            dvz = spheres[a, VZ] - spheres[b, VZ]
             if scalars[F_GROW] != 0.0:
-                k1, k2 = collide_grow(
-                    masses[a],
-                    masses[b],
-                    dx,
-                    dy,
-                    dz,
-                    spheres[a, VX] - spheres[b, VX],
-                    spheres[a, VY] - spheres[b, VY],
-                    spheres[a, VZ] - spheres[b, VZ],
-                    (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW],
-                )
+                u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
+                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u)
             else:
-                k1, k2 = collide(
-                    masses[a],
-                    masses[b],
-                    dx,
-                    dy,
-                    dz,
-                    spheres[a, VX] - spheres[b, VX],
-                    spheres[a, VY] - spheres[b, VY],
-                    spheres[a, VZ] - spheres[b, VZ],
-                )
+                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz)
             if box != 0.0:
                 _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2)
             spheres[a, VX] -= k1 * dx
@@ -1394,49 +1310,18 @@ def run(
         if stale:
             continue
         if window > 0.0 and te != anchor:
-            refresh_window(
-                spheres,
-                book,
-                due,
-                shells,
-                neighbours,
-                cell_head,
-                cell_next,
-                heap,
-                heap_t,
-                heap_key,
-                scalars,
-                counts,
-                scratch,
-            )
+            refresh_window(arrays)
 
 
 @_jit
-def kick(
-    spheres,
-    masses,
-    book,
-    due,
-    shells,
-    neighbours,
-    cell_head,
-    cell_next,
-    heap,
-    heap_t,
-    heap_key,
-    scalars,
-    counts,
-    i,
-    t,
-    vx,
-    vy,
-    vz,
-):
+def kick(arrays, i, t, vx, vy, vz):
     """Give sphere ``i`` a new velocity at time ``t`` (not before the clock).
 
     The clock moves to ``t``; predictions that involve ``i`` go stale (its
     event count moves on) and ``i`` is predicted afresh.  For thermostats.
     """
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped

@@ -7,6 +7,7 @@ benchmark all go through it.
 
 from __future__ import annotations
 
+import operator
 from typing import Any
 
 import numpy as np
@@ -34,6 +35,17 @@ SHELL = 1.5
 #: dense fluids, where spheres rattle in their cages, and cost at low density,
 #: where spheres leave their shells more often than they collide).
 LISTS_FROM = 0.35
+
+
+#: Room to grow while growing: the cells and lists are made for radii this
+#: much larger (reach over radius), then made anew.  More room, rarer
+#: rebuilds but more pairs per prediction; :meth:`Engine._headroom` balances
+#: the two within these bounds.
+HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
+
+
+# the engine's arrays, by name, as the core takes them (one C call)
+_core_arrays = operator.attrgetter(*core.ARRAYS)
 
 
 class CheckpointError(ValueError):
@@ -165,22 +177,7 @@ class Engine:
 
     def _build(self):
         while True:
-            longest = core.build(
-                self.spheres,
-                self.book,
-                self.due,
-                self.shells,
-                self.neighbours,
-                self.cell_head,
-                self.cell_next,
-                self.cell_prev,
-                self.heap,
-                self.heap_t,
-                self.heap_key,
-                self.images,
-                self.scalars,
-                self.counts,
-            )
+            longest = core.build(self.arrays)
             if longest <= self.neighbours.shape[1]:
                 break
             # room for the longest list and more: lists change as spheres move
@@ -193,6 +190,11 @@ class Engine:
         wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
         wider[:, : self.neighbours.shape[1]] = self.neighbours
         self.neighbours = wider
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The core's arrays as one argument, in ``core.ARRAYS``' order (made anew per call)."""
+        return _core_arrays(self)
 
     # ---- time -------------------------------------------------------------
     @property
@@ -232,9 +234,35 @@ class Engine:
 
     def _regrid(self):
         """Cells for the radii now (with room to grow), everything predicted afresh."""
-        headroom = 1.05 if self.scalars[core.F_GROW] else 1.0
-        self._grid(self.n, headroom)
+        self._grid(self.n, self._headroom())
         self._build()
+
+    def _headroom(self):
+        """Room to grow for the cells and lists made now (reach over radius; 1 without growth).
+
+        A rebuild (about as dear as a few events per sphere) against the
+        extra pairs (a fraction ``1.5 (h - 1)`` on average over the radii's
+        way through the room, for lists of volume ``h^3``): the sum is least
+        near ``h - 1 = sqrt(8 g / nu)``, ``g`` the growth rate and ``nu``
+        the collision rate per sphere, taken from the Enskog estimate
+        ``nu = 6 (Z - 1) sqrt(kT / (pi m)) / sigma`` with Carnahan-Starling's
+        ``Z`` at the packing now, the mean mass and diameter, and kT from
+        the velocities.  A function of the state alone, so a resumed run
+        makes its rebuilds at the same times as the run it continues.
+        """
+        g = float(self.scalars[core.F_GROW])
+        if not g or self.n == 0:
+            return 1.0
+        r = self.radii_at()
+        phi = float(np.sum(r**3)) * (4.0 / 3.0 * np.pi) / self.container.volume
+        phi = min(phi, 0.74)
+        z = (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
+        m = float(np.mean(self.masses))
+        kt = float(np.sum(self.masses * np.sum(self.velocities**2, axis=1))) / (3.0 * self.n)
+        sigma = 2.0 * float(np.mean(r))
+        nu = 6.0 * (z - 1.0) * np.sqrt(kt / (np.pi * m)) / sigma if sigma > 0.0 and m > 0.0 else 0.0
+        room = np.sqrt(8.0 * g / nu) if nu > 0.0 else np.inf
+        return 1.0 + min(max(room, HEADROOM_MIN - 1.0), HEADROOM_MAX - 1.0)
 
     def _grid_limit(self):
         """Absolute time the growing radii outgrow the cells or their neighbour lists' reach.
@@ -294,26 +322,7 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(
-            self.spheres,
-            self.masses,
-            self.book,
-            self.due,
-            self.shells,
-            self.neighbours,
-            self.cell_head,
-            self.cell_next,
-            self.heap,
-            self.heap_t,
-            self.heap_key,
-            self.scalars,
-            self.counts,
-            int(i),
-            t,
-            vx,
-            vy,
-            vz,
-        )
+        core.kick(self.arrays, int(i), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(
@@ -358,28 +367,7 @@ class Engine:
             rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(
-                self.spheres,
-                self.masses,
-                self.book,
-                self.due,
-                self.shells,
-                self.neighbours,
-                self.cell_head,
-                self.cell_next,
-                self.cell_prev,
-                self.heap,
-                self.heap_t,
-                self.heap_key,
-                self.scalars,
-                self.counts,
-                self.scratch,
-                self.images,
-                stop - self.offset,
-                left_ev,
-                left_coll,
-                *rec,
-            )
+            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
             done_total += done
             self._since_rebase += done
             if record and done:

@@ -121,7 +121,7 @@ def empty_events(n: int = 0) -> np.ndarray:
     return np.zeros(n, _dtype())
 
 
-def empty_buffers(n: int) -> list[np.ndarray]:
+def empty_buffers(n: int) -> tuple[np.ndarray, ...]:
     """One contiguous array per field, ``n`` rows each, as the compiled core fills them.
 
     Example:
@@ -130,10 +130,10 @@ def empty_buffers(n: int) -> list[np.ndarray]:
     """
     import numpy as np
 
-    return [np.zeros((n, *shape), dt) for _, dt, shape in EVENT_FIELDS]
+    return tuple(np.zeros((n, *shape), dt) for _, dt, shape in EVENT_FIELDS)
 
 
-def from_buffers(buffers: list[np.ndarray], count: int, time_offset: float = 0.0) -> np.ndarray:
+def from_buffers(buffers: tuple[np.ndarray, ...], count: int, time_offset: float = 0.0) -> np.ndarray:
     """The first ``count`` rows of the core's per-field buffers as events.
 
     Args:

@@ -291,6 +291,12 @@ def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
         return INF
     if a >= 0.0 and c > -2.0 * b * horizon * (1.0 + 1e-12):
         return INF
+    if a >= 0.0 and b * b - a * c < -MISS_MARGIN * (a0 + u * u) * (r2 + s2):
+        # a sure miss (the core's reject test, see MISS_MARGIN): |b| and
+        # |a c| are at most (a0 + u^2)(r2 + s^2) (Cauchy-Schwarz), and so
+        # are either discriminant's terms, so their rounding is far below
+        # the margin and the discriminant below is negative too
+        return INF
     if r2 > LAGRANGE_RATIO * s2:
         ux = dy * dvz - dz * dvy
         uy = dz * dvx - dx * dvz
