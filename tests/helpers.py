@@ -69,6 +69,35 @@ def hs_popen(*args, cwd=ROOT, env=None):
     )
 
 
+def spheres_cmd(*argv, input=None, text=True, env=None, timeout=300, **kw):
+    """``python spheres.py ARGV`` (the assignment's program) in the project's root.
+
+    Args:
+        argv: the program's arguments (``str()`` of each).
+        input: what it reads on stdin (text, or bytes with ``text=False``);
+            without it and without ``stdin=``, an empty stdin.
+        env: variables to set on top of :data:`ENV`.
+        kw: as for :func:`subprocess.run` (``stdin=``, ``stdout=``, ``check=``);
+            stdout and stderr are captured unless given.
+
+    Returns:
+        The completed process.
+    """
+    kw.setdefault("stdout", subprocess.PIPE)
+    kw.setdefault("stderr", subprocess.PIPE)
+    if input is None:
+        kw.setdefault("stdin", subprocess.DEVNULL)
+    return subprocess.run(
+        [sys.executable, "spheres.py", *map(str, argv)],
+        input=input,
+        text=text,
+        cwd=ROOT,
+        env=ENV if env is None else {**ENV, **env},
+        timeout=timeout,
+        **kw,
+    )
+
+
 def periodic_gas(n, phi, seed, **kw):
     """A :class:`~hardspheres.Simulation` of ``n`` spheres of diameter 1 filling the
     fraction ``phi`` of the periodic box (:func:`hardspheres.random_spheres`, ``kw`` to it)."""

@@ -7,8 +7,6 @@ formats, progress, pictures of many spheres, and the small things.
 
 import io
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -16,7 +14,7 @@ import pytest
 import hardspheres as hs
 from hardspheres import commands, runner
 from hardspheres.progress import Progress
-from helpers import ROOT, hs_cmd
+from helpers import ROOT, hs_cmd, spheres_cmd
 
 
 def assert_one_line(res, *words):
@@ -426,34 +424,16 @@ def test_refused_or_kept_options_of_run(scn):
 
 def test_help_and_version_of_both_programs(tmp_path):
     for argv in (["--help"], ["-h"]):
-        res = subprocess.run(
-            [sys.executable, "spheres.py", *argv],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            stdin=subprocess.DEVNULL,
-        )
+        res = spheres_cmd(*argv)
         assert res.returncode == 0 and res.stdout.startswith("usage: spheres"), res
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "--version"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        stdin=subprocess.DEVNULL,
-    )
+    res = spheres_cmd("--version")
     assert res.returncode == 0 and res.stdout.strip() == f"spheres (hardspheres {hs.__version__})"
     res = hs_cmd("--version", cwd=tmp_path)
     assert res.returncode == 0 and res.stdout.strip() == f"hardspheres {hs.__version__}"
     res = hs_cmd("run", "--help", cwd=tmp_path)
     assert res.returncode == 0 and "--equilibrate" in res.stdout and "--events" in res.stdout
     # the assignment's arguments are untouched
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "120", "105"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        input=(ROOT / "examples" / "three.txt").read_text(),
-    )
+    res = spheres_cmd("120", "105", input=(ROOT / "examples" / "three.txt").read_text())
     assert res.returncode == 0 and "colliding one two" in res.stdout
 
 

@@ -12,6 +12,7 @@ from hardspheres import _core as core
 from hardspheres import physics
 from hardspheres.dense import Andersen, CompressionError, VelocityRescale
 from hardspheres.engine import Engine
+from helpers import spheres_cmd
 
 TOL = 1e-9
 
@@ -335,18 +336,7 @@ def test_no_thermostat_no_growth_is_nve():
 
 
 def test_assignment_program_refuses_thermostats():
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "10", "5", "--thermostat", "andersen"],
-        input="1 1 0 0 0 1 0 0 a\n",
-        capture_output=True,
-        text=True,
-        cwd=root,
-    )
+    res = spheres_cmd("10", "5", "--thermostat", "andersen", input="1 1 0 0 0 1 0 0 a\n")
     assert res.returncode == 1
     assert "--thermostat" in res.stderr and len(res.stderr.strip().splitlines()) == 1
 

@@ -23,7 +23,7 @@ import hardspheres as hs
 from hardspheres.engine import CheckpointError
 from hardspheres.fileio import FileInUseError, PathLock, atomic_write
 from hardspheres.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
-from helpers import ENV, ROOT, hs_cmd, hs_popen
+from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 
 def one_line(err, *words, warnings_too=True):
@@ -126,15 +126,8 @@ def test_generate_to_a_full_disk(tmp_path):
 
 def test_spheres_to_a_full_disk(tmp_path):
     with open("/dev/full", "w") as full:
-        r = subprocess.run(
-            [sys.executable, "spheres.py", "120", "105"],
-            cwd=ROOT,
-            stdin=open(ROOT / "examples" / "three.txt"),
-            stdout=full,
-            stderr=subprocess.PIPE,
-            text=True,
-            timeout=60,
-        )
+        with open(ROOT / "examples" / "three.txt") as fh:
+            r = spheres_cmd("120", "105", stdin=fh, stdout=full)
     assert r.returncode == 1
     one_line(r.stderr, "spheres:", "/dev/full", "No space left on device")
 
@@ -516,23 +509,9 @@ def test_closed_writer(tmp_path):
 # ---- 12. messages ---------------------------------------------------------------------------
 def test_long_tokens_and_control_bytes_are_not_echoed(tmp_path):
     big = b"1" * 10_000_000
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "10", "1"],
-        cwd=ROOT,
-        input=b"1 1 0 0 0 " + big + b" 0 0 a\n",
-        capture_output=True,
-        timeout=120,
-    )
+    r = spheres_cmd("10", "1", input=b"1 1 0 0 0 " + big + b" 0 0 a\n", text=False)
     assert r.returncode == 1 and len(r.stderr) < 300, r.stderr[:300]
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "10", "1"],
-        cwd=ROOT,
-        input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n",
-        capture_output=True,
-        timeout=60,
-    )
+    r = spheres_cmd("10", "1", input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n", text=False)
     assert r.returncode == 1 and b"\x1b" not in r.stderr and b"\\x1b" in r.stderr
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "1" * 100_000, "1"], cwd=ROOT, capture_output=True, timeout=60
-    )
+    r = spheres_cmd("1" * 100_000, "1", text=False)
     assert r.returncode == 1 and len(r.stderr) < 400

@@ -3,8 +3,6 @@
 import json
 import math
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -13,7 +11,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.validate import carnahan_starling, ks_distance, measure
-from helpers import hs_cmd, hs_popen
+from helpers import hs_cmd, hs_popen, spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -171,24 +169,12 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
 
 
 def test_spheres_jsonl():
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "--format", "jsonl", "120", "200"],
-        input=(ROOT / "examples" / "three.txt").read_text(),
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
+    res = spheres_cmd("--format", "jsonl", "120", "200", input=(ROOT / "examples" / "three.txt").read_text())
     assert res.returncode == 0
     rows = [json.loads(x) for x in res.stdout.splitlines()]
     assert rows[0]["kind"] == "initial" and len(rows[0]["spheres"]) == 3
     assert rows[1]["kind"] == "collision" and rows[1]["spheres"] == ["one", "two"]
     assert f"{rows[1]['time']:g}" == "94.0839"
-    text = subprocess.run(
-        [sys.executable, "spheres.py", "120", "200"],
-        input=(ROOT / "examples" / "three.txt").read_text(),
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    ).stdout
+    text = spheres_cmd("120", "200", input=(ROOT / "examples" / "three.txt").read_text()).stdout
     kinds = [ln.split()[0] for ln in text.splitlines() if ln.startswith(("colliding", "reflecting"))]
     assert [r["kind"][:4] for r in rows[1:]] == [k[:4] for k in kinds]
