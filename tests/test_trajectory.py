@@ -49,12 +49,7 @@ def test_gsd_frames_match_the_run(tmp_path, box):
     assert frames.event_j.tolist() == [e.j for e in events]
     np.testing.assert_allclose(frames.event_times, [e.time for e in events], rtol=1e-12)
 
-    again = _sim(box)
-    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.run(until=t).state()
-        # every digit kept: single precision would miss by ~1e-7
-        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+    _assert_replayed(frames, _sim(box))
 
 
 def test_gsd_is_double_precision_hoomd_schema(tmp_path):
@@ -75,6 +70,14 @@ def test_gsd_is_double_precision_hoomd_schema(tmp_path):
         np.testing.assert_array_equal(f.particles.diameter, 2 * sim.state().radii)
 
 
+def _assert_replayed(frames, again):
+    """Every frame is ``again`` run to its time, to every digit (single precision would miss by ~1e-7)."""
+    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
+        st = again.run(until=t).state()
+        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("box", [False, True])
 def test_xyz_reads_back_exactly(tmp_path, box):
     sim = _sim(box)
@@ -85,10 +88,7 @@ def test_xyz_reads_back_exactly(tmp_path, box):
     again = _sim(box)
     assert frames.times.tolist() == [0.0, 0.5, 1.0, 1.5]
     assert frames.names == again.names
-    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.run(until=t).state()
-        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+    _assert_replayed(frames, again)
     header = (tmp_path / "run.xyz").read_text().split("\n")[1]
     assert "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1" in header
     assert ('pbc="T T T"' if box else 'pbc="F F F"') in header

@@ -71,6 +71,17 @@ def _launch():
     return sync_api
 
 
+def _watched(page, errors):
+    """``page``, its console errors, page errors and failed requests appended to ``errors``."""
+    page.on(
+        "console",
+        lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
+    )
+    page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+    page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
+    return page
+
+
 def test_viewer_in_chromium(tmp_path):
     sync_api = _launch()
     from PIL import Image
@@ -81,13 +92,7 @@ def test_viewer_in_chromium(tmp_path):
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport={"width": 1000, "height": 700})
-            page.on(
-                "console",
-                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
-            )
-            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
-            page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
+            page = _watched(browser.new_page(viewport={"width": 1000, "height": 700}), errors)
             page.goto(path.as_uri())
             page.wait_for_function("window.viewerReady === true", timeout=30_000)
             page.wait_for_timeout(300)
@@ -134,12 +139,7 @@ def test_viewer_in_chromium(tmp_path):
             one = synthetic_frames(n=3, n_frames=1, container=None, box=6.0)
             one.masses = np.ones(3)
             one.events = empty_events()
-            page2 = browser.new_page(viewport={"width": 600, "height": 400})
-            page2.on(
-                "console",
-                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
-            )
-            page2.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page2 = _watched(browser.new_page(viewport={"width": 600, "height": 400}), errors)
             page2.goto(write_viewer(one, tmp_path / "one.html").as_uri())
             page2.wait_for_function("window.viewerReady === true", timeout=30_000)
             page2.click("#play")
@@ -223,8 +223,7 @@ def test_q6_page_in_chromium(tmp_path):
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport={"width": 800, "height": 500})
-            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page = _watched(browser.new_page(viewport={"width": 800, "height": 500}), errors)
             page.goto(path.as_uri())
             page.wait_for_function("window.viewerReady === true", timeout=30_000)
             assert "bond order q6" in page.locator("#legend").inner_text()
