@@ -1,14 +1,13 @@
 """``hardspheres bench``: it times a fluid, and says how it got there (no timed assertions)."""
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from hardspheres import bench as hb
 from hardspheres.commands import build_parser
+from helpers import hs_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -76,24 +75,17 @@ def test_warmup_option():
 
 def test_command_prints_settle_figures_and_json_last():
     """The last line is the JSON that ../shared/anchor/side_by_side.py reads."""
-    out = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "hardspheres",
-            "bench",
-            "--n",
-            "400",
-            "--packing",
-            "0.3",
-            "--collisions",
-            "2000",
-            "--seed",
-            "7",
-            "--box",
-        ],
-        capture_output=True,
-        text=True,
+    out = hs_cmd(
+        "bench",
+        "--n",
+        "400",
+        "--packing",
+        "0.3",
+        "--collisions",
+        "2000",
+        "--seed",
+        "7",
+        "--box",
         cwd=ROOT,
         check=True,
     ).stdout

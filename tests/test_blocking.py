@@ -9,6 +9,7 @@ from scipy.signal import lfilter
 import hardspheres as hs
 from hardspheres.blocking import blocking
 from hardspheres.observables import NoMeasurementError
+from helpers import periodic_gas
 
 
 def ar1(phi, n, seed):
@@ -50,8 +51,7 @@ def test_too_few_samples():
 
 
 def gas(n=200, phi=0.3, seed=2):
-    box = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    return hs.Simulation(hs.random_spheres(n, phi, box=box, seed=seed), hs.PeriodicBox(box))
+    return periodic_gas(n, phi, seed)
 
 
 def test_summary_has_error_bars():

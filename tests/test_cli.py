@@ -20,6 +20,7 @@ import pytest
 
 from hardspheres.cli import run_spheres
 from hardspheres.report import PROMPT
+from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 OK = b"1 1 0 0 0 1 0 0 a\n"  # a valid first line
@@ -35,14 +36,7 @@ def run(argv, data=b"", capsys=None):
 
 def program(argv, data=b"", env=None, timeout=60):
     """``python spheres.py ARGV < data``: the completed process (bytes)."""
-    return subprocess.run(
-        [sys.executable, "spheres.py", *map(str, argv)],
-        input=data,
-        capture_output=True,
-        cwd=ROOT,
-        timeout=timeout,
-        env=None if env is None else {**os.environ, **env},
-    )
+    return spheres_cmd(*argv, input=data, text=False, env=env, timeout=timeout)
 
 
 def assert_refused(status, out, err, *words):

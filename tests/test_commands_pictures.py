@@ -10,11 +10,8 @@ Chromium and playwright are present.
 """
 
 import base64
-import json
 import re
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,24 +22,15 @@ from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres.trajectory import read_trajectory  # noqa: E402
 from hardspheres.screenshot import find_chromium  # noqa: E402
+from helpers import ROOT, embedded_data, hs_cmd  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 N, R, UNTIL, EVERY = 60, 6.0, 2.0, 0.1
 N_FRAMES = 21
 
 
 def hs(*args, cwd, check=True):
-    res = subprocess.run(
-        [sys.executable, "-m", "hardspheres", *map(str, args)],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    if check:
-        assert res.returncode == 0, (args, res.stderr)
-        assert "Traceback" not in res.stderr, res.stderr
-    return res
+    """The command in ``cwd``; exit 0 and no traceback asserted unless ``check`` is false."""
+    return hs_cmd(*args, cwd=cwd, check=check)
 
 
 def assert_picture(path, size, min_colours=20):
@@ -71,40 +59,10 @@ def run(tmp_path_factory):
     d = tmp_path_factory.mktemp("pictures")
     scn = hs("generate", "--n", N, "--container", R, "--packing", 0.2, "--seed", 2, cwd=d).stdout
     (d / "scn.txt").write_text(scn)
-    hs(
-        "run",
-        "scn.txt",
-        "--container",
-        R,
-        "--until",
-        UNTIL,
-        "--trajectory",
-        "run.gsd",
-        "--every",
-        EVERY,
-        "--events",
-        cwd=d,
-    )
-    hs(
-        "run",
-        "scn.txt",
-        "--container",
-        R,
-        "--until",
-        UNTIL,
-        "--trajectory",
-        "run.xyz",
-        "--every",
-        EVERY,
-        cwd=d,
-    )
+    common = ["--container", R, "--until", UNTIL, "--every", EVERY]
+    for traj, extra in (("run.gsd", ["--events"]), ("run.xyz", [])):
+        hs("run", "scn.txt", *common, "--trajectory", traj, *extra, cwd=d)
     return d
-
-
-def embedded(html):
-    m = re.search(r'<script id="hs-data" type="application/json">(.*?)</script>', html, re.S)
-    assert m, "no frame data in the page"
-    return json.loads(m.group(1))
 
 
 @pytest.mark.parametrize("traj", ["run.gsd", "run.xyz"])
@@ -115,7 +73,7 @@ def test_view_trajectory(run, traj):
     # Self-contained: every script inline, no URL to fetch anything from.
     assert not re.search(r"<script[^>]*\bsrc\s*=", html)
     assert not re.search(r'(src|href)\s*=\s*["\']?(https?:)?//', html)
-    data = embedded(html)
+    data = embedded_data(html)
     assert data["n"] == N and data["nframes"] == N_FRAMES and data["container"] == R
     frames = read_trajectory(run / traj)
     assert np.allclose(data["times"], frames.times)
@@ -162,7 +120,7 @@ def test_plot_eos(tmp_path):
 def test_pictures_straight_from_a_scenario(run):
     out = hs("view", "scn.txt", "--container", R, "--until", 1, "-o", "scn.html", cwd=run).stdout
     assert out.strip() == f"wrote scn.html ({N} spheres, 201 frames)"
-    data = embedded((run / "scn.html").read_text(encoding="utf-8"))
+    data = embedded_data((run / "scn.html").read_text(encoding="utf-8"))
     assert data["times"][0] == 0.0 and data["times"][-1] == pytest.approx(1.0)
     hs(
         "plot",

@@ -6,11 +6,7 @@ formats, progress, pictures of many spheres, and the small things.
 """
 
 import io
-import os
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,20 +14,7 @@ import pytest
 import hardspheres as hs
 from hardspheres import commands, runner
 from hardspheres.progress import Progress
-
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def hs_cmd(*args, cwd, env=None, timeout=300):
-    """``python -m hardspheres ARGS``: the completed process (text)."""
-    return subprocess.run(
-        [sys.executable, "-m", "hardspheres", *map(str, args)],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        env=None if env is None else {**os.environ, **env},
-    )
+from helpers import ROOT, hs_cmd, spheres_cmd
 
 
 def assert_one_line(res, *words):
@@ -441,34 +424,16 @@ def test_refused_or_kept_options_of_run(scn):
 
 def test_help_and_version_of_both_programs(tmp_path):
     for argv in (["--help"], ["-h"]):
-        res = subprocess.run(
-            [sys.executable, "spheres.py", *argv],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            stdin=subprocess.DEVNULL,
-        )
+        res = spheres_cmd(*argv)
         assert res.returncode == 0 and res.stdout.startswith("usage: spheres"), res
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "--version"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        stdin=subprocess.DEVNULL,
-    )
+    res = spheres_cmd("--version")
     assert res.returncode == 0 and res.stdout.strip() == f"spheres (hardspheres {hs.__version__})"
     res = hs_cmd("--version", cwd=tmp_path)
     assert res.returncode == 0 and res.stdout.strip() == f"hardspheres {hs.__version__}"
     res = hs_cmd("run", "--help", cwd=tmp_path)
     assert res.returncode == 0 and "--equilibrate" in res.stdout and "--events" in res.stdout
     # the assignment's arguments are untouched
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "120", "105"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        input=(ROOT / "examples" / "three.txt").read_text(),
-    )
+    res = spheres_cmd("120", "105", input=(ROOT / "examples" / "three.txt").read_text())
     assert res.returncode == 0 and "colliding one two" in res.stdout
 
 

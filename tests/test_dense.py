@@ -12,6 +12,7 @@ from hardspheres import _core as core
 from hardspheres import physics
 from hardspheres.dense import Andersen, CompressionError, VelocityRescale
 from hardspheres.engine import Engine
+from helpers import spheres_cmd
 
 TOL = 1e-9
 
@@ -335,18 +336,7 @@ def test_no_thermostat_no_growth_is_nve():
 
 
 def test_assignment_program_refuses_thermostats():
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "10", "5", "--thermostat", "andersen"],
-        input="1 1 0 0 0 1 0 0 a\n",
-        capture_output=True,
-        text=True,
-        cwd=root,
-    )
+    res = spheres_cmd("10", "5", "--thermostat", "andersen", input="1 1 0 0 0 1 0 0 a\n")
     assert res.returncode == 1
     assert "--thermostat" in res.stderr and len(res.stderr.strip().splitlines()) == 1
 
@@ -358,57 +348,20 @@ def test_compress_command(tmp_path):
     state = hs.random_spheres(150, 0.3, box=10.0, seed=2)
     scn.write_text(state.to_text())
     out = tmp_path / "d.txt"
-    assert (
-        main(
-            [
-                "compress",
-                str(scn),
-                "--box",
-                "10",
-                "--packing",
-                "0.45",
-                "--rate",
-                "0.02",
-                "-o",
-                str(out),
-                "--checkpoint",
-                str(tmp_path / "c.npz"),
-            ]
-        )
-        == 0
-    )
+
+    def compress(*args):
+        return main(["compress", str(scn), "--box", "10", *map(str, args)])
+
+    assert compress("--packing", 0.45, "--rate", 0.02, "-o", out, "--checkpoint", tmp_path / "c.npz") == 0
     sim = hs.Simulation.from_scenario(str(out), hs.PeriodicBox(10.0))
     assert sim.packing == pytest.approx(0.45, rel=1e-9)
     assert [s.split()[-1] for s in out.read_text().splitlines()] == state.names
     assert hs.Simulation.load(tmp_path / "c.npz").packing == pytest.approx(0.45, rel=1e-9)
     # jammed: reported, not an error
-    assert (
-        main(
-            [
-                "compress",
-                str(scn),
-                "--box",
-                "10",
-                "--packing",
-                "0.7",
-                "--rate",
-                "0.3",
-                "--pressure",
-                "200",
-                "-o",
-                str(out),
-            ]
-        )
-        == 0
-    )
+    assert compress("--packing", 0.7, "--rate", 0.3, "--pressure", 200, "-o", out) == 0
     # bad input: one line naming the option, status 1
-    assert (
-        main(["compress", str(scn), "--box", "10", "--packing", "0.75", "--rate", "0.02", "-o", str(out)])
-        == 1
-    )
-    assert (
-        main(["compress", str(scn), "--box", "10", "--packing", "0.2", "--rate", "0.02", "-o", str(out)]) == 1
-    )
+    assert compress("--packing", 0.75, "--rate", 0.02, "-o", out) == 1
+    assert compress("--packing", 0.2, "--rate", 0.02, "-o", out) == 1
 
 
 def test_generate_method_compress(tmp_path, capsys):

@@ -15,7 +15,6 @@ import subprocess
 import sys
 import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,21 +23,7 @@ import hardspheres as hs
 from hardspheres.engine import CheckpointError
 from hardspheres.fileio import FileInUseError, PathLock, atomic_write
 from hardspheres.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
-
-ROOT = Path(__file__).resolve().parents[1]
-ENV = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-
-
-def hs_cmd(*args, cwd, stdout=subprocess.PIPE, timeout=120, env=ENV):
-    return subprocess.run(
-        [sys.executable, "-m", "hardspheres", *map(str, args)],
-        cwd=cwd,
-        stdout=stdout,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        timeout=timeout,
-    )
+from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 
 def one_line(err, *words, warnings_too=True):
@@ -61,16 +46,14 @@ def scenario(tmp_path_factory):
     return d / "scn.txt"
 
 
+def run_scenario(scn, until, *extra, cwd, **kw):
+    """``hardspheres run SCN --container 20 --until UNTIL EXTRA`` (the scenario fixture's container)."""
+    return hs_cmd("run", scn, "--container", "20", "--until", until, *extra, cwd=cwd, **kw)
+
+
 def start_run(scn, cwd, *extra):
     """A long ``hardspheres run`` in the background, once it is running (checkpoint locked)."""
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "hardspheres", "run", str(scn), "--container", "20", "--until", "1e9", *extra],
-        cwd=cwd,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=ENV,
-    )
+    proc = hs_popen("run", scn, "--container", "20", "--until", "1e9", *extra, cwd=cwd)
     deadline = time.time() + 90
     try:
         while not (cwd / ".c.npz.lock").exists():
@@ -93,18 +76,7 @@ def small_sim(n=50, seed=1):
 def test_second_run_on_one_checkpoint_is_refused_and_sigterm_saves(scenario, tmp_path):
     first = start_run(scenario, tmp_path, "--checkpoint", "c.npz")
     try:
-        second = hs_cmd(
-            "run",
-            scenario,
-            "--container",
-            "20",
-            "--until",
-            "1e9",
-            "--checkpoint",
-            "c.npz",
-            cwd=tmp_path,
-            timeout=60,
-        )
+        second = run_scenario(scenario, "1e9", "--checkpoint", "c.npz", cwd=tmp_path, timeout=60)
         assert second.returncode == 1
         one_line(second.stderr, "c.npz", "another writer", f"process {first.pid}")
     finally:
@@ -154,15 +126,8 @@ def test_generate_to_a_full_disk(tmp_path):
 
 def test_spheres_to_a_full_disk(tmp_path):
     with open("/dev/full", "w") as full:
-        r = subprocess.run(
-            [sys.executable, "spheres.py", "120", "105"],
-            cwd=ROOT,
-            stdin=open(ROOT / "examples" / "three.txt"),
-            stdout=full,
-            stderr=subprocess.PIPE,
-            text=True,
-            timeout=60,
-        )
+        with open(ROOT / "examples" / "three.txt") as fh:
+            r = spheres_cmd("120", "105", stdin=fh, stdout=full)
     assert r.returncode == 1
     one_line(r.stderr, "spheres:", "/dev/full", "No space left on device")
 
@@ -181,7 +146,7 @@ def test_generate_to_a_disk_that_fills_up(small_disk, tmp_path, unbuffered):
             "0.3",
             cwd=tmp_path,
             stdout=fh,
-            env={**ENV, "PYTHONUNBUFFERED": unbuffered},
+            env={"PYTHONUNBUFFERED": unbuffered},
         )
     assert r.returncode == 1
     one_line(r.stderr, str(small_disk / "scn.txt"), "No space left on device")
@@ -337,18 +302,7 @@ def test_two_ctrl_c_still_save(scenario, tmp_path):
 def test_checkpoint_path_checked_before_the_run(scenario, tmp_path, where):
     (tmp_path / "folder").mkdir()
     # --until 1e9: only a check before the run returns in time
-    r = hs_cmd(
-        "run",
-        scenario,
-        "--container",
-        "20",
-        "--until",
-        "1e9",
-        "--checkpoint",
-        where,
-        cwd=tmp_path,
-        timeout=60,
-    )
+    r = run_scenario(scenario, "1e9", "--checkpoint", where, cwd=tmp_path, timeout=60)
     assert r.returncode == 1 and r.stdout == ""
     one_line(r.stderr, where)
     assert os.listdir(tmp_path / "folder") == []
@@ -359,19 +313,7 @@ def test_checkpoint_path_checked_before_the_run(scenario, tmp_path, where):
 @pytest.mark.parametrize("ext", [".gsd", ".xyz"])
 def test_resume_continues_the_trajectory(scenario, tmp_path, ext):
     traj = f"seg{ext}"
-    r = hs_cmd(
-        "run",
-        scenario,
-        "--container",
-        "20",
-        "--until",
-        "1",
-        "--trajectory",
-        traj,
-        "--checkpoint",
-        "seg.npz",
-        cwd=tmp_path,
-    )
+    r = run_scenario(scenario, "1", "--trajectory", traj, "--checkpoint", "seg.npz", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     first = read_trajectory(tmp_path / traj)
     r = hs_cmd(
@@ -393,43 +335,19 @@ def test_resume_continues_the_trajectory(scenario, tmp_path, ext):
     assert np.array_equal(both.positions[:n1], first.positions)
     assert np.all(np.diff(both.times) > 0) and both.times[-1] == 2.0
     # the frames after the seam are the resumed run's: the same as one run to 2
-    r = hs_cmd(
-        "run",
-        scenario,
-        "--container",
-        "20",
-        "--until",
-        "2",
-        "--every",
-        "0.01",
-        "--trajectory",
-        f"whole{ext}",
-        cwd=tmp_path,
-    )
+    r = run_scenario(scenario, "2", "--every", "0.01", "--trajectory", f"whole{ext}", cwd=tmp_path)
     whole = read_trajectory(tmp_path / f"whole{ext}")
     assert np.allclose(whole.positions[-1], both.positions[-1], rtol=0, atol=1e-9)
 
 
 def test_trajectory_not_clobbered(scenario, tmp_path):
-    hs_cmd(
-        "run",
-        scenario,
-        "--container",
-        "20",
-        "--until",
-        "0.5",
-        "--trajectory",
-        "a.gsd",
-        "--checkpoint",
-        "a.npz",
-        cwd=tmp_path,
-    )
+    run_scenario(scenario, "0.5", "--trajectory", "a.gsd", "--checkpoint", "a.npz", cwd=tmp_path)
     before = (tmp_path / "a.gsd").read_bytes()
-    r = hs_cmd("run", scenario, "--container", "20", "--until", "0.5", "--trajectory", "a.gsd", cwd=tmp_path)
+    r = run_scenario(scenario, "0.5", "--trajectory", "a.gsd", cwd=tmp_path)
     assert r.returncode == 1
     one_line(r.stderr, "a.gsd", "--overwrite")
     # a checkpoint of another run (here: later) does not continue it
-    hs_cmd("run", scenario, "--container", "20", "--until", "0.7", "--checkpoint", "b.npz", cwd=tmp_path)
+    run_scenario(scenario, "0.7", "--checkpoint", "b.npz", cwd=tmp_path)
     r = hs_cmd("run", "--resume", "b.npz", "--until", "1", "--trajectory", "a.gsd", cwd=tmp_path)
     assert r.returncode == 1
     one_line(r.stderr, "a.gsd", "does not end where", "--overwrite")
@@ -591,23 +509,9 @@ def test_closed_writer(tmp_path):
 # ---- 12. messages ---------------------------------------------------------------------------
 def test_long_tokens_and_control_bytes_are_not_echoed(tmp_path):
     big = b"1" * 10_000_000
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "10", "1"],
-        cwd=ROOT,
-        input=b"1 1 0 0 0 " + big + b" 0 0 a\n",
-        capture_output=True,
-        timeout=120,
-    )
+    r = spheres_cmd("10", "1", input=b"1 1 0 0 0 " + big + b" 0 0 a\n", text=False)
     assert r.returncode == 1 and len(r.stderr) < 300, r.stderr[:300]
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "10", "1"],
-        cwd=ROOT,
-        input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n",
-        capture_output=True,
-        timeout=60,
-    )
+    r = spheres_cmd("10", "1", input=b"1 1 0 0 0 0 0 0 a\x1b[2J\n1 1 5 0 0 0 0 0 a\x1b[2J\n", text=False)
     assert r.returncode == 1 and b"\x1b" not in r.stderr and b"\\x1b" in r.stderr
-    r = subprocess.run(
-        [sys.executable, "spheres.py", "1" * 100_000, "1"], cwd=ROOT, capture_output=True, timeout=60
-    )
+    r = spheres_cmd("1" * 100_000, "1", text=False)
     assert r.returncode == 1 and len(r.stderr) < 400

@@ -1,19 +1,17 @@
 """Image counts and unwrapped positions in the periodic box."""
 
-import math
-
 import numpy as np
 import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
+from helpers import periodic_gas
 
 
 def gas(n=64, phi=0.2, seed=3, kT=4.0):
-    box = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    st = hs.random_spheres(n, phi, box=box, seed=seed, kT=kT)
-    return hs.Simulation(st, hs.PeriodicBox(box)), box
+    sim = periodic_gas(n, phi, seed, kT=kT)
+    return sim, sim.container.length
 
 
 def brute_unwrap(pos, box):

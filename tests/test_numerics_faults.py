@@ -33,6 +33,7 @@ from hardspheres.scenario import (
     check_scenario,
     parse_scenario,
 )
+from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -86,14 +87,7 @@ TANGENT = "100 10 0 0 100 1 0 0 tangent\n"
 
 def test_sphere_moving_along_the_wall_is_refused_in_one_line():
     """The hook's case: it printed ``reflecting tangent`` at t = 0 forever."""
-    done = subprocess.run(
-        [sys.executable, "spheres.py", "110", "50"],
-        input=TANGENT,
-        capture_output=True,
-        text=True,
-        timeout=60,
-        cwd=ROOT,
-    )
+    done = spheres_cmd("110", "50", input=TANGENT)
     assert done.returncode == 1
     err = done.stderr.strip().splitlines()
     assert len(err) == 1 and "line 1" in err[0] and "'tangent'" in err[0]

@@ -13,35 +13,8 @@ pytest.importorskip("matplotlib")
 from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres import maxwell, plots  # noqa: E402
-from hardspheres.frames import Frames  # noqa: E402
 from hardspheres.render import render_movie  # noqa: E402
-
-
-def synthetic_frames(n=40, n_frames=12, container=10.0, box=None, equal_masses=False, seed=5):
-    """Spheres on straight lines (velocities Maxwellian at kT = 1), a few fake events."""
-    rng = np.random.default_rng(seed)
-    radii = rng.uniform(0.4, 1.0, n)
-    masses = np.ones(n) if equal_masses else rng.choice([1.0, 3.0], n)
-    size = container if container else 0.5 * box
-    start = rng.uniform(-0.5, 0.5, (n, 3)) * size
-    velocities = rng.normal(size=(n, 3)) / np.sqrt(masses)[:, None]
-    times = np.linspace(0.0, 1.0, n_frames)
-    positions = start[None] + times[:, None, None] * velocities[None]
-    vel = np.broadcast_to(velocities, (n_frames, n, 3)).copy()
-    return Frames(
-        times=times,
-        positions=positions,
-        velocities=vel,
-        radii=radii,
-        masses=masses,
-        names=[f"s{i}" for i in range(n)],
-        container=container,
-        box=box,
-        event_times=np.array([0.2, 0.5]),
-        event_kinds=np.array([1, 0], np.int8),
-        event_i=np.array([0, 1]),
-        event_j=np.array([2, -1]),
-    )
+from helpers import synthetic_frames  # noqa: E402
 
 
 def assert_not_blank(img, min_colours=20):
@@ -169,7 +142,7 @@ def test_plot_conservation(tmp_path, where):
 
 @pytest.mark.parametrize("equal", [True, False])
 def test_plot_speeds(tmp_path, equal):
-    frames = synthetic_frames(n=400, n_frames=5, equal_masses=equal)
+    frames = synthetic_frames(n=400, n_frames=5, masses=None if equal else (1.0, 3.0))
     check_png(plots.plot_speeds(frames, tmp_path / "s.png"))
     check_png(
         plots.plot_speeds(frames, tmp_path / "s2.png", kT=1.0, start=1, size=(640, 480)), size=(640, 480)

@@ -1,20 +1,18 @@
 """Impulse vectors, the pressure tensor and the Einstein-Helfand transport tallies."""
 
-import math
-
 import numpy as np
 import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.transport import ShearViscosity, ThermalConductivity, enskog
+from helpers import periodic_gas
 
 PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
 
 def gas(n=108, phi=0.3, seed=3):
-    box = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    return hs.Simulation(hs.random_spheres(n, phi, box=box, seed=seed), hs.PeriodicBox(box))
+    return periodic_gas(n, phi, seed)
 
 
 def test_tallies_rebuilt_from_the_recorded_impulse_vectors():

@@ -2,8 +2,9 @@
 
 import re
 import subprocess
-import sys
 from pathlib import Path
+
+from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
@@ -18,14 +19,8 @@ def test_readme_python_example_runs(tmp_path, monkeypatch):
 
 def test_readme_first_command_output():
     """`spheres 120 105 < examples/three.txt` prints the assignment text's example events."""
-    out = subprocess.run(
-        [sys.executable, "spheres.py", "120", "105"],
-        stdin=open(ROOT / "examples" / "three.txt"),
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        check=True,
-    ).stdout
+    with open(ROOT / "examples" / "three.txt") as fh:
+        out = spheres_cmd("120", "105", stdin=fh, check=True).stdout
     assert "time of event: 94.0839\ncolliding one two\n" in out
     assert "time of event: 102.539\nreflecting two\n" in out
     assert out.rstrip().endswith("momentum: (0,-0.217836,12.8993)")

@@ -1,12 +1,11 @@
 """`hardspheres plot gr|msd` on a periodic-box trajectory."""
 
-import math
-
 import pytest
 
 import hardspheres as hs
 from hardspheres.commands import main
 from hardspheres.trajectory import GSDWriter
+from helpers import periodic_gas
 
 pytest.importorskip("freud")
 pytest.importorskip("gsd")
@@ -16,8 +15,7 @@ pytest.importorskip("gsd")
 def trajectory(tmp_path_factory):
     path = tmp_path_factory.mktemp("sci") / "t.gsd"
     n, phi = 108, 0.3
-    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=1), hs.PeriodicBox(L))
+    sim = periodic_gas(n, phi, seed=1)
     sim.run(until=2.0)
     with GSDWriter(path, every=0.1) as w:
         sim.writers.append(w)

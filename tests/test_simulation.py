@@ -3,8 +3,6 @@
 import json
 import math
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -13,6 +11,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.validate import carnahan_starling, ks_distance, measure
+from helpers import hs_cmd, hs_popen, spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -131,31 +130,25 @@ def test_ks_distance_detects_wrong_temperature():
     assert ks_distance(speeds, kT=1.5) > 0.05
 
 
-def cli(*args, **kw):
-    return subprocess.run(
-        [sys.executable, "-m", "hardspheres", *args], capture_output=True, text=True, cwd=ROOT, **kw
-    )
-
-
 def test_generate_and_run_commands(tmp_path):
-    out = cli("generate", "--n", "300", "--container", "8", "--packing", "0.3", "--seed", "2")
+    out = hs_cmd("generate", "--n", "300", "--container", "8", "--packing", "0.3", "--seed", "2")
     assert out.returncode == 0, out.stderr
     lines = out.stdout.splitlines()
     assert len(lines) == 300 and len(lines[0].split()) == 9
     scn = tmp_path / "s.txt"
     scn.write_text(out.stdout)
     ck = tmp_path / "ck.npz"
-    res = cli("run", str(scn), "--container", "8", "--until", "2", "--checkpoint", str(ck))
+    res = hs_cmd("run", str(scn), "--container", "8", "--until", "2", "--checkpoint", str(ck))
     assert res.returncode == 0, res.stderr
     assert "collisions" in res.stdout and "energy drift" in res.stdout
     assert "events/s" in res.stdout and ck.exists()
-    res2 = cli("run", "--resume", str(ck), "--until", "3")
+    res2 = hs_cmd("run", "--resume", str(ck), "--until", "3")
     assert res2.returncode == 0, res2.stderr
     assert res2.stdout.startswith("time 3")
 
 
 def test_generate_refuses_impossible_packing():
-    out = cli("generate", "--n", "5", "--container", "1", "--packing", "0.6")
+    out = hs_cmd("generate", "--n", "5", "--container", "1", "--packing", "0.6")
     assert out.returncode == 1
     assert out.stderr.count("\n") == 1 and "lower the packing" in out.stderr
 
@@ -164,25 +157,7 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
     scn = tmp_path / "s.txt"
     scn.write_text(hs.random_spheres(3000, 0.3, container=20.0, seed=1).to_text())
     ck = tmp_path / "ck.npz"
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "hardspheres",
-            "run",
-            str(scn),
-            "--container",
-            "20",
-            "--until",
-            "1e9",
-            "--checkpoint",
-            str(ck),
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-    )
+    proc = hs_popen("run", scn, "--container", "20", "--until", "1e9", "--checkpoint", ck)
     time.sleep(8.0)  # past the start-up (about 4 s of wall time on a loaded 2-core machine)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
@@ -194,24 +169,12 @@ def test_run_interrupted_leaves_checkpoint(tmp_path):
 
 
 def test_spheres_jsonl():
-    res = subprocess.run(
-        [sys.executable, "spheres.py", "--format", "jsonl", "120", "200"],
-        input=(ROOT / "examples" / "three.txt").read_text(),
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
+    res = spheres_cmd("--format", "jsonl", "120", "200", input=(ROOT / "examples" / "three.txt").read_text())
     assert res.returncode == 0
     rows = [json.loads(x) for x in res.stdout.splitlines()]
     assert rows[0]["kind"] == "initial" and len(rows[0]["spheres"]) == 3
     assert rows[1]["kind"] == "collision" and rows[1]["spheres"] == ["one", "two"]
     assert f"{rows[1]['time']:g}" == "94.0839"
-    text = subprocess.run(
-        [sys.executable, "spheres.py", "120", "200"],
-        input=(ROOT / "examples" / "three.txt").read_text(),
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    ).stdout
+    text = spheres_cmd("120", "200", input=(ROOT / "examples" / "three.txt").read_text()).stdout
     kinds = [ln.split()[0] for ln in text.splitlines() if ln.startswith(("colliding", "reflecting"))]
     assert [r["kind"][:4] for r in rows[1:]] == [k[:4] for k in kinds]

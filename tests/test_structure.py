@@ -9,6 +9,7 @@ import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.structure import RDF, BondOrder, NotComputedError, StructureFactor
 from hardspheres.trajectory import frames_from_simulation
+from helpers import periodic_gas
 
 pytest.importorskip("freud")
 
@@ -30,8 +31,7 @@ def test_ideal_gas_is_one():
 @pytest.fixture(scope="module")
 def fluid():
     n, phi = 500, 0.3
-    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=4), hs.PeriodicBox(L))
+    sim = periodic_gas(n, phi, seed=4)
     sim.run(collisions=20 * n)  # melt the lattice
     obs = sim.observables.reset()
     frames = frames_from_simulation(sim, until=sim.time + 8.0, every=0.1)

@@ -15,14 +15,8 @@ import pytest
 
 from hardspheres import studies
 from hardspheres.commands import main as hardspheres
+from helpers import ENV, ROOT, hs_cmd
 
-ROOT = Path(__file__).resolve().parents[1]
-ENV = {
-    **os.environ,
-    "PYTHONPATH": os.pathsep.join(
-        [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    ),
-}
 
 # `dask scheduler` and `dask worker`, by this Python whatever the PATH
 DASK = [sys.executable, "-m"]
@@ -56,18 +50,6 @@ def _free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def _cli(*args, cwd, timeout=240):
-    return subprocess.run(
-        [sys.executable, "-m", "hardspheres", *map(str, args)],
-        cwd=cwd,
-        env=ENV,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        check=False,
-    )
 
 
 def _stop(procs):
@@ -207,7 +189,7 @@ def test_two_workers_one_killed_same_bits_as_serial_and_rerun_computes_nothing(t
 
         # rerun: nothing recomputed
         rows = {p.name: p.stat().st_mtime_ns for p in (out / "rows").iterdir()}
-        again = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "30", cwd=cluster_dir)
+        again = hs_cmd("sweep", "study.toml", "--scheduler", address, "--timeout", "30", cwd=cluster_dir)
         assert again.returncode == 0, again.stderr
         assert "4 tasks: 4 already done, 0 to run" in again.stdout
         assert {p.name: p.stat().st_mtime_ns for p in (out / "rows").iterdir()} == rows
@@ -221,7 +203,7 @@ def test_local_cluster_same_bits_as_serial(tmp_path):
     for d in ("a", "b"):
         (tmp_path / d).mkdir()
         (tmp_path / d / "study.toml").write_text(TINY_STUDY)
-    res = _cli("sweep", "study.toml", "--workers", "2", cwd=tmp_path / "a")
+    res = hs_cmd("sweep", "study.toml", "--workers", "2", cwd=tmp_path / "a")
     assert res.returncode == 0, res.stderr
     assert "dashboard:" in res.stdout and "4 rows" in res.stdout
     studies.sweep(tmp_path / "b" / "study.toml", serial=True)
@@ -328,7 +310,7 @@ def test_bad_study_files_one_line_exit_1(tmp_path, capsys, text, words):
 def test_unreachable_scheduler_exits_1_naming_the_address(tmp_path):
     (tmp_path / "study.toml").write_text(TINY_STUDY)
     address = f"tcp://127.0.0.1:{_free_port()}"
-    res = _cli("sweep", "study.toml", "--scheduler", address, "--timeout", "1", cwd=tmp_path, timeout=60)
+    res = hs_cmd("sweep", "study.toml", "--scheduler", address, "--timeout", "1", cwd=tmp_path, timeout=60)
     assert res.returncode == 1
     assert res.stderr.count("\n") == 1 and address in res.stderr, res.stderr
     assert "Traceback" not in res.stderr
@@ -369,7 +351,7 @@ def test_plot_sweep_with_error_bars_and_reference(tmp_path, capsys):
 
 def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
     # serial: the LocalCluster path is test_local_cluster_same_bits_as_serial's
-    res = _cli("validate", "--quick", "--serial", "--csv", "v.csv", "--output", "study", cwd=tmp_path)
+    res = hs_cmd("validate", "--quick", "--serial", "--csv", "v.csv", "--output", "study", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     assert "z_HG" in res.stdout and "largest |z| of Z" in res.stdout
     rows = pd.read_csv(tmp_path / "v.csv")
@@ -377,7 +359,7 @@ def test_validate_quick_runs_as_a_study_and_plots(tmp_path):
     assert {"Z", "Z_err", "Z_HG", "z_HG", "Z_KLM", "z_KLM", "gamma"} <= set(rows.columns)
     assert (rows["z_HG"].abs() < 6).all()  # N = 500: loose, a smoke test
     assert len(pd.read_parquet(tmp_path / "study" / "results.parquet")) == 3
-    res = _cli("plot", "eos", "v.csv", "-o", "eos.png", cwd=tmp_path)
+    res = hs_cmd("plot", "eos", "v.csv", "-o", "eos.png", cwd=tmp_path)
     assert res.returncode == 0 and (tmp_path / "eos.png").exists(), res.stderr
 
 

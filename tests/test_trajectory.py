@@ -1,14 +1,12 @@
 """Trajectories: GSD (double precision) and extended XYZ, read back against the run."""
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 import hardspheres as hs
 from hardspheres.events import EVENT_DTYPE
 from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
+from helpers import hs_cmd
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")
 
@@ -51,12 +49,7 @@ def test_gsd_frames_match_the_run(tmp_path, box):
     assert frames.event_j.tolist() == [e.j for e in events]
     np.testing.assert_allclose(frames.event_times, [e.time for e in events], rtol=1e-12)
 
-    again = _sim(box)
-    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.run(until=t).state()
-        # every digit kept: single precision would miss by ~1e-7
-        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+    _assert_replayed(frames, _sim(box))
 
 
 def test_gsd_is_double_precision_hoomd_schema(tmp_path):
@@ -77,6 +70,14 @@ def test_gsd_is_double_precision_hoomd_schema(tmp_path):
         np.testing.assert_array_equal(f.particles.diameter, 2 * sim.state().radii)
 
 
+def _assert_replayed(frames, again):
+    """Every frame is ``again`` run to its time, to every digit (single precision would miss by ~1e-7)."""
+    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
+        st = again.run(until=t).state()
+        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("box", [False, True])
 def test_xyz_reads_back_exactly(tmp_path, box):
     sim = _sim(box)
@@ -87,10 +88,7 @@ def test_xyz_reads_back_exactly(tmp_path, box):
     again = _sim(box)
     assert frames.times.tolist() == [0.0, 0.5, 1.0, 1.5]
     assert frames.names == again.names
-    for t, pos, vel in zip(frames.times, frames.positions, frames.velocities):
-        st = again.run(until=t).state()
-        np.testing.assert_allclose(pos, st.positions, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(vel, st.velocities, rtol=0, atol=1e-12)
+    _assert_replayed(frames, again)
     header = (tmp_path / "run.xyz").read_text().split("\n")[1]
     assert "Properties=name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1" in header
     assert ('pbc="T T T"' if box else 'pbc="F F F"') in header
@@ -138,24 +136,8 @@ def test_run_command_writes_a_trajectory(tmp_path):
     scn = tmp_path / "scn.txt"
     scn.write_text(hs.random_spheres(40, 0.2, container=5.0, seed=2).to_text())
     out = tmp_path / "out.gsd"
-    r = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "hardspheres",
-            "run",
-            str(scn),
-            "--container",
-            "5",
-            "--until",
-            "2",
-            "--trajectory",
-            str(out),
-            "--every",
-            "0.5",
-        ],
-        capture_output=True,
-        text=True,
+    r = hs_cmd(
+        "run", str(scn), "--container", "5", "--until", "2", "--trajectory", str(out), "--every", "0.5"
     )
     assert r.returncode == 0, r.stderr
     assert f"trajectory {out}" in r.stdout

@@ -10,6 +10,7 @@ from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.structure import NotComputedError
 from hardspheres.trajectory import frames_from_simulation
 from hardspheres.transport import MSD, VACF, enskog, yeh_hummer
+from helpers import periodic_gas
 
 pytest.importorskip("freud")
 
@@ -37,11 +38,10 @@ def test_free_gas_is_ballistic_exactly():
 @pytest.fixture(scope="module")
 def fluid():
     n, phi = 256, 0.3
-    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=7), hs.PeriodicBox(L))
+    sim = periodic_gas(n, phi, seed=7)
     sim.run(collisions=20 * n)
     # frames a fifth of a mean free time apart (the VACF integral needs them close)
-    return frames_from_simulation(sim, until=sim.time + 60.0, every=0.02), phi, L
+    return frames_from_simulation(sim, until=sim.time + 60.0, every=0.02), phi, sim.container.length
 
 
 def test_diffusion_two_routes_agree(fluid):

@@ -2,8 +2,6 @@
 
 import csv
 import math
-import subprocess
-import sys
 
 import pytest
 
@@ -15,6 +13,7 @@ from hardspheres.validate import (
     published_diffusion,
     score_transport,
 )
+from helpers import hs_cmd
 
 RHO05 = 0.5 * math.pi / 6.0
 
@@ -102,12 +101,7 @@ def test_dynamo_system_is_scored_on_all_four():
 
 def test_validate_transport_quick_and_plot(tmp_path):
     out = tmp_path / "t.csv"
-    r = subprocess.run(
-        [sys.executable, "-m", "hardspheres", "validate", "--transport", "--quick", "--csv", str(out)],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
+    r = hs_cmd("validate", "--transport", "--quick", "--csv", str(out), cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert "| D_inf | 0.3000 | 256 |" in r.stdout and f"wrote {out}" in r.stdout
     with open(out, newline="") as fh:
@@ -116,30 +110,16 @@ def test_validate_transport_quick_and_plot(tmp_path):
     # 30 time units of 256 spheres: D_inf within 15% of the published value
     assert all(abs(float(x["rel_diff"])) < 0.15 for x in rows)
     png = tmp_path / "t.png"
-    r = subprocess.run(
-        [sys.executable, "-m", "hardspheres", "plot", "transport", str(out), "-o", str(png)],
-        capture_output=True,
-        text=True,
-    )
+    r = hs_cmd("plot", "transport", str(out), "-o", str(png))
     assert r.returncode == 0, r.stderr
     assert png.stat().st_size > 10000
 
 
 def test_transport_refuses_options_it_does_not_take(tmp_path):
-    r = subprocess.run(
-        [sys.executable, "-m", "hardspheres", "validate", "--transport", "--seeds", "3"],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
+    r = hs_cmd("validate", "--transport", "--seeds", "3", cwd=tmp_path)
     assert r.returncode == 1 and "--seeds does not apply to --transport" in r.stderr
     assert "Traceback" not in r.stderr and not list(tmp_path.iterdir())
-    r = subprocess.run(
-        [sys.executable, "-m", "hardspheres", "validate", "--time", "5"],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
+    r = hs_cmd("validate", "--time", "5", cwd=tmp_path)
     assert r.returncode == 1 and "--time applies to --transport only" in r.stderr
     assert len(r.stderr.strip().splitlines()) <= 2 and not list(tmp_path.iterdir())
 
@@ -185,11 +165,7 @@ def test_line_extrapolation_recovers_an_exact_yeh_hummer_series():
 def test_plot_transport_refuses_another_csv(tmp_path):
     bad = tmp_path / "eos.csv"
     bad.write_text("phi,Z,Z_err\n0.3,3.98,0.01\n")
-    r = subprocess.run(
-        [sys.executable, "-m", "hardspheres", "plot", "transport", str(bad), "-o", str(tmp_path / "t.png")],
-        capture_output=True,
-        text=True,
-    )
+    r = hs_cmd("plot", "transport", str(bad), "-o", str(tmp_path / "t.png"))
     assert r.returncode == 1 and "missing column(s) quantity" in r.stderr
     assert "validate --transport" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "t.png").exists()

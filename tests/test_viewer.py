@@ -20,48 +20,19 @@ from hardspheres.frames import Frames
 from hardspheres.frames import frame_indices
 from hardspheres.screenshot import CHROMIUM_ARGS
 from hardspheres.viewer import write_viewer
+from helpers import embedded_data
+
+import helpers  # its synthetic_frames, with this module's defaults below
 
 CHROMIUM = "/usr/bin/chromium"
 ARTIFACTS = Path(__file__).resolve().parent.parent / "test-artifacts"
 
 
 def synthetic_frames(n=80, n_frames=40, container=10.0, box=None, seed=3):
-    """Spheres on straight lines inside a container (or box), with fake events."""
-    rng = np.random.default_rng(seed)
-    radii = rng.uniform(0.4, 1.0, n)
-    masses = rng.choice([1.0, 2.0, 4.0], n)
-    size = container if container else 0.5 * box
-    direction = rng.normal(size=(n, 3))
-    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    start = direction * (rng.uniform(0, 1, (n, 1)) ** (1 / 3) * 0.6 * size)
-    velocities = rng.normal(size=(n, 3)) / np.sqrt(masses)[:, None]
-    times = np.linspace(0.0, 2.0, n_frames)
-    positions = start[None] + times[:, None, None] * velocities[None]
-    vel = np.broadcast_to(velocities, (n_frames, n, 3)).copy()
-    e = 300
-    event_times = np.sort(rng.uniform(0.0, 2.0, e))
-    kinds = rng.integers(0, 2, e).astype(np.int8)
-    ei = rng.integers(0, n, e)
-    ej = np.where(kinds == 1, (ei + 1 + rng.integers(0, n - 1, e)) % n, -1)
-    return Frames(
-        times=times,
-        positions=positions,
-        velocities=vel,
-        radii=radii,
-        masses=masses,
-        names=[f"s{i}" for i in range(n)],
-        container=container,
-        box=box,
-        event_times=event_times,
-        event_kinds=kinds,
-        event_i=ei,
-        event_j=ej,
+    """Spheres on straight lines inside a container (or box), with 300 fake events."""
+    return helpers.synthetic_frames(
+        n, n_frames, container, box, seed, masses=(1.0, 2.0, 4.0), duration=2.0, ball=True, events=300
     )
-
-
-def embedded_data(html):
-    m = re.search(r'<script id="hs-data" type="application/json">(.*?)</script>', html, re.S)
-    return json.loads(m.group(1))
 
 
 def test_frame_indices_subsample():
@@ -100,6 +71,17 @@ def _launch():
     return sync_api
 
 
+def _watched(page, errors):
+    """``page``, its console errors, page errors and failed requests appended to ``errors``."""
+    page.on(
+        "console",
+        lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
+    )
+    page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+    page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
+    return page
+
+
 def test_viewer_in_chromium(tmp_path):
     sync_api = _launch()
     from PIL import Image
@@ -110,13 +92,7 @@ def test_viewer_in_chromium(tmp_path):
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport={"width": 1000, "height": 700})
-            page.on(
-                "console",
-                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
-            )
-            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
-            page.on("requestfailed", lambda req: errors.append(f"request failed: {req.url}"))
+            page = _watched(browser.new_page(viewport={"width": 1000, "height": 700}), errors)
             page.goto(path.as_uri())
             page.wait_for_function("window.viewerReady === true", timeout=30_000)
             page.wait_for_timeout(300)
@@ -163,12 +139,7 @@ def test_viewer_in_chromium(tmp_path):
             one = synthetic_frames(n=3, n_frames=1, container=None, box=6.0)
             one.masses = np.ones(3)
             one.events = empty_events()
-            page2 = browser.new_page(viewport={"width": 600, "height": 400})
-            page2.on(
-                "console",
-                lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None,
-            )
-            page2.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page2 = _watched(browser.new_page(viewport={"width": 600, "height": 400}), errors)
             page2.goto(write_viewer(one, tmp_path / "one.html").as_uri())
             page2.wait_for_function("window.viewerReady === true", timeout=30_000)
             page2.click("#play")
@@ -252,8 +223,7 @@ def test_q6_page_in_chromium(tmp_path):
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport={"width": 800, "height": 500})
-            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page = _watched(browser.new_page(viewport={"width": 800, "height": 500}), errors)
             page.goto(path.as_uri())
             page.wait_for_function("window.viewerReady === true", timeout=30_000)
             assert "bond order q6" in page.locator("#legend").inner_text()

@@ -13,7 +13,14 @@ import sys
 
 from .messages import oserror_line, quote
 from .report import PROMPT
-from .scenario import MAX_MAGNITUDE, ScenarioError, StuckError, check_scenario, parse_scenario
+from .scenario import (
+    MAX_MAGNITUDE,
+    ScenarioError,
+    StuckError,
+    check_scenario,
+    parse_scenario,
+    plain_float,
+)
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 HELP = f"""{USAGE}
@@ -39,13 +46,8 @@ class UsageError(ValueError):
 
 
 def _positive_number(token, what, allow_zero, limit=math.inf):
-    try:
-        x = float(token)
-    except ValueError:
-        x = math.nan
-    if "_" in token or not token.isascii():  # float() takes 1_0 and non-ASCII digits
-        x = math.nan
-    if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
+    x = plain_float(token)
+    if x is None or not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
         raise UsageError(f"{what} must be a finite number {bound}, got {quote(token)}")
     if x > limit:

@@ -23,16 +23,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _number(text):
-    """``float(text)`` for a plain decimal number (no ``1_0``, no non-ASCII digits)."""
+    """``float(text)`` for a plain decimal number (:func:`~hardspheres.scenario.plain_float`), else NaN."""
     import math
 
-    try:
-        x = float(text)
-    except ValueError:
-        x = math.nan
-    if "_" in text or not text.isascii():
-        x = math.nan
-    return x
+    from .scenario import plain_float
+
+    x = plain_float(text)
+    return math.nan if x is None else x
 
 
 def _positive(text):
@@ -160,42 +157,23 @@ def _compile_first():
 def cmd_generate(args):
     from .builders import random_spheres
 
+    common = dict(  # container or box: exactly one is given (argparse's group)
+        container=args.container,
+        box=args.box,
+        seed=args.seed,
+        radius_ratio=args.radius_ratio,
+        mass_ratio=args.mass_ratio,
+    )
     if args.method == "compress":
         from .dense import compression_progress, generate_compressed, start_packing
 
         bar, show = compression_progress(start_packing(args.packing), args.packing)
         try:
-            state = generate_compressed(
-                args.n,
-                args.packing,
-                container=args.container,
-                box=args.box,
-                seed=args.seed,
-                rate=args.rate,
-                radius_ratio=args.radius_ratio,
-                mass_ratio=args.mass_ratio,
-                progress=show,
-            )
+            state = generate_compressed(args.n, args.packing, rate=args.rate, progress=show, **common)
         finally:
             bar.close()
-    elif args.box is not None:
-        state = random_spheres(
-            args.n,
-            args.packing,
-            box=args.box,
-            seed=args.seed,
-            radius_ratio=args.radius_ratio,
-            mass_ratio=args.mass_ratio,
-        )
     else:
-        state = random_spheres(
-            args.n,
-            args.packing,
-            container=args.container,
-            seed=args.seed,
-            radius_ratio=args.radius_ratio,
-            mass_ratio=args.mass_ratio,
-        )
+        state = random_spheres(args.n, args.packing, **common)
     sys.stdout.write(state.to_text())
     return 0
 
@@ -457,12 +435,33 @@ def cmd_plot(args):
 def _picture_args(q, output_default, output_help):
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
     q.add_argument("-o", "--output", default=output_default, help=output_help)
-    where = q.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="scenario: container radius [m]")
-    where.add_argument("--box", type=_positive, help="scenario: periodic box edge [m]")
+    _where_args(q, "scenario: container radius [m]", "scenario: periodic box edge [m]")
     q.add_argument("--until", type=_positive, help="scenario: end time [s]")
     q.add_argument(
         "--every", type=_positive, help="scenario: time between frames [s] (default: --until / 200)"
+    )
+
+
+def _where_args(q, container_help, box_help, required=False):
+    """``--container R`` or ``--box L`` (at most one; exactly one if ``required``)."""
+    where = q.add_mutually_exclusive_group(required=required)
+    where.add_argument("--container", type=_positive, help=container_help)
+    where.add_argument("--box", type=_positive, help=box_help)
+
+
+def _size_slice_args(q, size_help, slice_help):
+    """``--size WIDTHxHEIGHT`` (:func:`_size`) and ``--slice Z`` (cut-away plane) of a picture."""
+    q.add_argument("--size", type=_size, help=size_help)
+    q.add_argument("--slice", type=_time, metavar="Z", help=slice_help)
+
+
+def _dask_args(q, scheduler_help, serial_help):
+    """Where a study runs: ``--scheduler``, ``--workers``, ``--serial``, ``--timeout``."""
+    q.add_argument("--scheduler", metavar="tcp://HOST:PORT", help=scheduler_help)
+    q.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
+    q.add_argument("--serial", action="store_true", help=serial_help)
+    q.add_argument(
+        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
     )
 
 
@@ -491,9 +490,7 @@ def build_parser():
 
     g = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
     g.add_argument("--n", type=_whole(1), required=True, help="number of spheres (>= 1)")
-    where = g.add_mutually_exclusive_group(required=True)
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(g, "spherical container radius [m]", "periodic cubic box edge [m]", required=True)
     g.add_argument(
         "--packing", type=_packing, required=True, help="volume fraction filled by the spheres (< 0.74)"
     )
@@ -526,9 +523,7 @@ def build_parser():
         "(Lubachevsky-Stillinger); writes a scenario",
     )
     k.add_argument("scenario", nargs="?", help="scenario file ('-' for stdin)")
-    where = k.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(k, "spherical container radius [m]", "periodic cubic box edge [m]")
     k.add_argument(
         "--packing", type=_positive, help="target packing fraction (below 0.7405 for equal spheres)"
     )
@@ -579,9 +574,7 @@ def build_parser():
 
     r = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
     r.add_argument("scenario", nargs="?", help="scenario file in the assignment's format ('-' for stdin)")
-    where = r.add_mutually_exclusive_group()
-    where.add_argument("--container", type=_positive, help="spherical container radius [m]")
-    where.add_argument("--box", type=_positive, help="periodic cubic box edge [m]")
+    _where_args(r, "spherical container radius [m]", "periodic cubic box edge [m]")
     r.add_argument("--until", type=_positive, required=True, help="end time [s]")
     eq = r.add_mutually_exclusive_group()
     eq.add_argument(
@@ -620,15 +613,10 @@ def build_parser():
         "sweep", help="run a study (a parameter grid in a TOML file) on Dask; reruns skip finished tasks"
     )
     s.add_argument("study", help="study file (TOML)")
-    s.add_argument(
-        "--scheduler",
-        metavar="tcp://HOST:PORT",
-        help="an existing Dask scheduler (default: a LocalCluster, one worker per core)",
-    )
-    s.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
-    s.add_argument("--serial", action="store_true", help="run the tasks here, one by one, no Dask")
-    s.add_argument(
-        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
+    _dask_args(
+        s,
+        "an existing Dask scheduler (default: a LocalCluster, one worker per core)",
+        "run the tasks here, one by one, no Dask",
     )
     s.set_defaults(func=cmd_sweep)
 
@@ -688,12 +676,7 @@ def build_parser():
         metavar="DIR",
         help="keep the study here (a rerun skips finished runs); default: temporary",
     )
-    v.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler")
-    v.add_argument("--workers", type=_count, help="worker processes of the LocalCluster")
-    v.add_argument("--serial", action="store_true", help="run here, one packing after another")
-    v.add_argument(
-        "--timeout", type=_positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
-    )
+    _dask_args(v, "an existing Dask scheduler", "run here, one packing after another")
     v.set_defaults(func=cmd_validate)
 
     w = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
@@ -702,13 +685,10 @@ def build_parser():
     w.add_argument(
         "--screenshot", metavar="PNG", help="also open the page in headless Chromium, play it 1 s, save a PNG"
     )
-    w.add_argument("--size", type=_size, help="screenshot size WIDTHxHEIGHT (default 960x640)")
-    w.add_argument(
-        "--slice",
-        type=_time,
-        metavar="Z",
-        help="start with the cut-away plane at z = Z (spheres above it hidden; "
-        "the page's cut slider moves it)",
+    _size_slice_args(
+        w,
+        "screenshot size WIDTHxHEIGHT (default 960x640)",
+        "start with the cut-away plane at z = Z (spheres above it hidden; the page's cut slider moves it)",
     )
     w.add_argument(
         "--color",
@@ -728,14 +708,10 @@ def build_parser():
         "--fps", type=_whole(1, 100), default=20, help="movie frames per second (1 to 100, default 20)"
     )
     m.add_argument("--time", type=_time, help="still: draw the frame nearest this time (default: the last)")
-    m.add_argument(
-        "--size", type=_size, help="WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)"
-    )
-    m.add_argument(
-        "--slice",
-        type=_time,
-        metavar="Z",
-        help="cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
+    _size_slice_args(
+        m,
+        "WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)",
+        "cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
     )
     m.set_defaults(func=cmd_render)
 

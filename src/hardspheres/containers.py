@@ -157,6 +157,16 @@ class SphericalContainer:
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", _positive(self.radius, "container radius"))
 
+    @classmethod
+    def for_packing(cls, n: int, packing: float) -> SphericalContainer:
+        """The container ``n`` spheres of diameter 1 fill to the fraction ``packing``.
+
+        Example:
+            >>> round(SphericalContainer.for_packing(1000, 0.125).radius, 6)
+            10.0
+        """
+        return cls((n / (8.0 * packing)) ** (1.0 / 3.0))
+
     @property
     def size(self) -> float:
         """The one number that sets the container: its radius [length]."""
@@ -306,6 +316,16 @@ class PeriodicBox:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "length", _positive(self.length, "box length"))
+
+    @classmethod
+    def for_packing(cls, n: int, packing: float) -> PeriodicBox:
+        """The box ``n`` spheres of diameter 1 fill to the fraction ``packing``.
+
+        Example:
+            >>> round(PeriodicBox.for_packing(500, 0.3).length, 6)
+            9.556139
+        """
+        return cls((n * math.pi / (6.0 * packing)) ** (1.0 / 3.0))
 
     @property
     def size(self) -> float:

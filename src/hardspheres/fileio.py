@@ -194,11 +194,7 @@ def atomic_path(path, lock=True):
             raise _named(e, path) from None
         try:
             yield tmp
-            fd = os.open(tmp, os.O_RDONLY)
-            try:
-                os.fsync(fd)
-            finally:
-                os.close(fd)
+            _fsync(tmp)
             os.replace(tmp, path)
         except BaseException as e:
             with contextlib.suppress(OSError):
@@ -234,14 +230,19 @@ def atomic_write(path, mode="wb", lock=True, **open_args):
             fh.flush()
 
 
+def _fsync(path):
+    """Flush ``path`` (a file or a folder) to the disk; raises :class:`OSError`."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
 def _sync_folder(folder):
     """Make a rename in ``folder`` durable (best effort)."""
     with contextlib.suppress(OSError):
-        fd = os.open(folder, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
+        _fsync(folder)
 
 
 __all__ = ["FileInUseError", "PathLock", "atomic_path", "atomic_write", "oserror_line"]

@@ -3,7 +3,8 @@
 Trajectory readers (:mod:`hardspheres.trajectory`) produce :class:`Frames`;
 the viewer, renderer and plots (:mod:`hardspheres.viewer`,
 :mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them, picking
-the frames they draw with :func:`frame_indices`.
+the frames they draw with :func:`frame_indices` (and the viewer the events
+it embeds with :func:`even_indices`).
 """
 
 from __future__ import annotations
@@ -220,7 +221,16 @@ def frame_indices(n_frames, n_spheres, max_frames=600, max_values=12_000_000):
     if n_frames <= 0:
         return np.zeros(0, np.int64)
     cap = min(int(max_frames), int(max_values) // max(1, 4 * n_spheres))
-    cap = max(cap, min(2, n_frames))
-    if n_frames <= cap:
-        return np.arange(n_frames)
-    return np.unique(np.round(np.linspace(0, n_frames - 1, cap)).astype(np.int64))
+    return even_indices(n_frames, max(cap, min(2, n_frames)))
+
+
+def even_indices(n, most):
+    """Indices of at most ``most`` of ``n`` items, evenly spaced: all of them if
+    ``n <= most``, else the first, the last and evenly between (rounded).
+
+    >>> even_indices(3, 5).tolist(), even_indices(11, 3).tolist()
+    ([0, 1, 2], [0, 5, 10])
+    """
+    if n <= most:
+        return np.arange(n)
+    return np.unique(np.round(np.linspace(0, n - 1, most)).astype(np.int64))

@@ -204,8 +204,13 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
     return _save(fig, path, dpi)
 
 
-def read_eos_csv(csv_path):
-    """Columns of an equation-of-state CSV as float arrays, keyed by header."""
+def _csv_rows(csv_path, need, hint=""):
+    """The rows of a CSV table (dicts keyed by its header).
+
+    Raises:
+        ValueError: one line naming the file: not UTF-8 text, no rows, or
+            a column of ``need`` missing (then ``hint`` follows).
+    """
     try:
         with open(csv_path, newline="", encoding="utf-8") as fh:
             rows = list(csv.DictReader(fh))
@@ -213,9 +218,15 @@ def read_eos_csv(csv_path):
         raise ValueError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
     if not rows:
         raise ValueError(f"{csv_path}: no rows")
-    missing = [c for c in ("phi", "Z", "Z_err") if c not in rows[0]]
+    missing = [c for c in need if c not in rows[0]]
     if missing:
-        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)}")
+        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)}{hint}")
+    return rows
+
+
+def read_eos_csv(csv_path):
+    """Columns of an equation-of-state CSV as float arrays, keyed by header."""
+    rows = _csv_rows(csv_path, ("phi", "Z", "Z_err"))
     out = {}
     for key in rows[0]:
         try:
@@ -236,20 +247,8 @@ def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
     Returns:
         ``path`` as a :class:`pathlib.Path`.
     """
-    try:
-        with open(csv_path, newline="", encoding="utf-8") as fh:
-            rows = list(csv.DictReader(fh))
-    except UnicodeDecodeError:
-        raise ValueError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
     need = ("quantity", "phi", "value", "error", "reference", "reference_error", "source")
-    if not rows:
-        raise ValueError(f"{csv_path}: no rows")
-    missing = [c for c in need if c not in rows[0]]
-    if missing:
-        raise ValueError(
-            f"{csv_path}: missing column(s) {', '.join(missing)} (write it with "
-            "hardspheres validate --transport)"
-        )
+    rows = _csv_rows(csv_path, need, hint=" (write it with hardspheres validate --transport)")
     try:
         num = {k: np.array([float(r[k]) for r in rows]) for k in need[1:-1]}
     except ValueError as e:

@@ -106,13 +106,26 @@ class Scenario:
         return len(self.masses)
 
 
-def _number(token, what, lineno):
+def plain_float(token):
+    """``float(token)`` if ``token`` is a plain decimal number, else ``None``.
+
+    ``float()`` also takes digit-group underscores (``1_0``) and non-ASCII
+    digits, which neither scenarios nor the commands' arguments accept.
+
+    Example:
+        >>> plain_float("1e5"), plain_float("1_0"), plain_float("x")
+        (100000.0, None, None)
+    """
     try:
         x = float(token)
     except ValueError:
-        x = None
-    # float() also takes digit-group underscores and non-ASCII digits
-    if x is None or "_" in token or not token.isascii():
+        return None
+    return None if "_" in token or not token.isascii() else x
+
+
+def _number(token, what, lineno):
+    x = plain_float(token)
+    if x is None:
         raise ScenarioError(f"{what} is not a number: {quote(token)}", lineno)
     if not math.isfinite(x):
         raise ScenarioError(f"{what} is not a finite number: {quote(token)}", lineno)

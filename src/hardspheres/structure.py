@@ -120,6 +120,13 @@ class _Computed:
         if not self._computed:
             raise NotComputedError(f"{type(self).__name__}: call compute() first")
 
+    def _axes(self, ax):
+        """Where :meth:`plot` draws: ``ax``, or a new figure's axes (results computed first)."""
+        self._need()
+        import matplotlib.pyplot as plt
+
+        return plt.figure().add_subplot() if ax is None else ax
+
     def __getattr__(self, name):  # only called for attributes not (yet) set
         if name in type(self)._results:
             self._need()
@@ -195,10 +202,7 @@ class RDF(_Computed):
 
     def plot(self, ax=None):
         """g(r) against r / sigma; returns the Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.plot(self.r / self.sigma, self.g)
         ax.axhline(1.0, color="grey", lw=0.5)
         ax.set_xlabel("r / sigma")
@@ -245,10 +249,7 @@ class StructureFactor(_Computed):
 
     def plot(self, ax=None):
         """S(k) against k sigma; returns the Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.plot(self.k * self.sigma, self.S)
         ax.axhline(1.0, color="grey", lw=0.5)
         ax.set_xlabel("k sigma")
@@ -339,10 +340,7 @@ class BondOrder(_Computed):
 
     def plot(self, ax=None):
         """Histogram of q_l per sphere; returns the Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.hist(self.q, bins=50, range=(0, 1))
         ax.set_xlabel(f"q{self.l}")
         ax.set_ylabel("spheres")

@@ -364,27 +364,17 @@ def _build(task):
     from .simulation import Simulation
 
     n, phi = task["n"], task["packing"]
-    if task["container"] == "box":
-        size = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-        state = random_spheres(
-            n,
-            phi,
-            box=size,
-            seed=task["seed"],
-            radius_ratio=task["radius_ratio"],
-            mass_ratio=task["mass_ratio"],
-        )
-        return Simulation(state, PeriodicBox(size))
-    size = (n / (8.0 * phi)) ** (1.0 / 3.0)
+    kind = PeriodicBox if task["container"] == "box" else SphericalContainer
+    container = kind.for_packing(n, phi)  # spheres of diameter 1 (equal spheres)
     state = random_spheres(
         n,
         phi,
-        container=size,
+        container,
         seed=task["seed"],
         radius_ratio=task["radius_ratio"],
         mass_ratio=task["mass_ratio"],
     )
-    return Simulation(state, SphericalContainer(size))
+    return Simulation(state, container)
 
 
 def _split(total, parts):

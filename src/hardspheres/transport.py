@@ -153,7 +153,19 @@ def _segments(f, blocks):
     return [slice(k * size, (k + 1) * size) for k in range(blocks)]
 
 
-class MSD(_Computed):
+class _Blocked(_Computed):
+    """A compute object whose error bar is the spread over ``blocks`` segments of the run."""
+
+    def __init__(self, blocks=5):
+        self.blocks = blocks
+
+    def _blocks(self):
+        """``(segments, tseg)``: the ``blocks`` slices of the lags ``t``, and one segment's lags."""
+        segs = _segments(len(self.t), self.blocks)
+        return segs, self.t[: segs[0].stop - segs[0].start]
+
+
+class MSD(_Blocked):
     """Mean squared displacement over all time origins (freud, FFT) and D from its slope.
 
     Args:
@@ -163,9 +175,6 @@ class MSD(_Computed):
     """
 
     _results = ("t", "msd")
-
-    def __init__(self, blocks=5):
-        self.blocks = blocks
 
     def compute(self, frames):
         """MSD of a periodic-box trajectory (equally spaced frames); returns self.
@@ -207,8 +216,7 @@ class MSD(_Computed):
             error from the segments' spread.
         """
         self._need()
-        segs = _segments(len(self.t), self.blocks)
-        tseg = self.t[: segs[0].stop - segs[0].start]
+        segs, tseg = self._blocks()
         t_lo = 0.2 * tseg[-1] if t_min is None else t_min
         t_hi = 0.5 * tseg[-1] if t_max is None else t_max
         sel = self._window(self.t, t_lo, t_hi)
@@ -223,10 +231,7 @@ class MSD(_Computed):
 
     def plot(self, ax=None):
         """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.loglog(self.t[1:], self.msd[1:], label="MSD")
         D, _ = self.diffusion()
         ax.loglog(self.t[1:], 6.0 * D * self.t[1:], "--", label=f"6 D t, D = {D:.4g}")
@@ -236,7 +241,7 @@ class MSD(_Computed):
         return ax
 
 
-class VACF(_Computed):
+class VACF(_Blocked):
     """Velocity autocorrelation ``C(t) = <v(0) . v(t)>`` over all origins, and D by Green-Kubo.
 
     Args:
@@ -246,9 +251,6 @@ class VACF(_Computed):
     """
 
     _results = ("t", "c")
-
-    def __init__(self, blocks=5):
-        self.blocks = blocks
 
     def compute(self, frames):
         """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
@@ -295,8 +297,7 @@ class VACF(_Computed):
                 "integral would be biased high; record frames at most a tenth of a mean free "
                 "time apart (or use MSD().diffusion())"
             )
-        segs = _segments(len(self.t), self.blocks)
-        tseg = self.t[: segs[0].stop - segs[0].start]
+        segs, tseg = self._blocks()
         t_max = 0.5 * tseg[-1] if t_max is None else t_max
         if t_max > tseg[-1]:
             raise ValueError(
@@ -319,10 +320,7 @@ class VACF(_Computed):
 
     def plot(self, ax=None):
         """C(t) / C(0) against t; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         ax.plot(self.t, self.c / self.c[0])
         ax.axhline(0.0, color="grey", lw=0.5)
         ax.set_xlabel("t")
@@ -349,14 +347,11 @@ def _msd_fft(x):
     return (s1 - 2.0 * s2) / x.shape[2]
 
 
-class _EinsteinHelfand(_Computed):
+class _EinsteinHelfand(_Blocked):
     """Transport coefficient from the growth of a Helfand moment sampled by the Observables."""
 
     _results = ("t", "msd")
     _kind = ""
-
-    def __init__(self, blocks=5):
-        self.blocks = blocks
 
     def compute(self, sim):
         """Use the Helfand moments ``sim.observables`` sampled since its reset; returns self.
@@ -395,8 +390,7 @@ class _EinsteinHelfand(_Computed):
         ``blocks`` segments of the run.
         """
         self._need()
-        segs = _segments(len(self.t), self.blocks)
-        tseg = self.t[: segs[0].stop - segs[0].start]
+        segs, tseg = self._blocks()
         t_lo = 5.0 * self.mean_free_time if t_min is None else t_min
         t_hi = 25.0 * self.mean_free_time if t_max is None else t_max
         sel = (self.t >= t_lo) & (self.t <= t_hi)
@@ -412,10 +406,7 @@ class _EinsteinHelfand(_Computed):
 
     def plot(self, ax=None):
         """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure().add_subplot() if ax is None else ax
+        ax = self._axes(ax)
         t = self.t[1:]
         ax.plot(t, self.msd[1:] * self._scale / t)
         ax.set_xlabel("t")

@@ -17,6 +17,7 @@ Standard errors come from block averages (20 blocks per run), pooled over
 the runs when there are several seeds.
 """
 
+import contextlib
 import csv
 import math
 import os
@@ -180,18 +181,14 @@ def validate(
     from .studies import sweep
 
     seed_list = range(seed, seed + seeds)
+    # the study's folder: the one given (kept), else a temporary one (removed after)
     if folder is None:
-        with tempfile.TemporaryDirectory() as tmp:
-            df = sweep(
-                _study(packings, n, equilibrate, collisions, blocks, seed_list, tmp),
-                client=client,
-                serial=serial,
-                workers=workers,
-                out=progress,
-            )
+        place = tempfile.TemporaryDirectory()
     else:
+        place = contextlib.nullcontext(os.path.abspath(folder))
+    with place as where:
         df = sweep(
-            _study(packings, n, equilibrate, collisions, blocks, seed_list, os.path.abspath(folder)),
+            _study(packings, n, equilibrate, collisions, blocks, seed_list, where),
             client=client,
             serial=serial,
             workers=workers,
@@ -214,14 +211,19 @@ def validate(
                 flush=True,
             )
     if csv_path is not None:
-        from .fileio import atomic_write
-
-        with atomic_write(csv_path, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(asdict(rows[0])))
-            w.writeheader()
-            for r in rows:
-                w.writerow(asdict(r))
+        _write_csv(csv_path, rows)
     return rows
+
+
+def _write_csv(path, records):
+    """Dataclass records as a CSV table (a header of their fields), written atomically."""
+    from .fileio import atomic_write
+
+    with atomic_write(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
+        w.writeheader()
+        for r in records:
+            w.writerow(asdict(r))
 
 
 def verdict(rows, bar=3.0):
@@ -449,8 +451,9 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     from .transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
 
     t0 = _time.perf_counter()
-    L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
-    sim = Simulation(random_spheres(n, phi, box=L, seed=seed), PeriodicBox(L))
+    box = PeriodicBox.for_packing(n, phi)
+    L = box.length
+    sim = Simulation(random_spheres(n, phi, box, seed=seed), box)
     obs = sim.observables
     sim.run(collisions=equilibrate * n)
     obs.reset()
@@ -692,13 +695,7 @@ def validate_transport(
         print(file=out)
         score_table(scores, out)
     if csv_path is not None:
-        from .fileio import atomic_write
-
-        with atomic_write(csv_path, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(asdict(scores[0])))
-            w.writeheader()
-            for s in scores:
-                w.writerow(asdict(s))
+        _write_csv(csv_path, scores)
     return rows, scores
 
 

@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from .events import EventKind
-from .frames import frame_indices
+from .frames import even_indices, frame_indices
 
 _STATIC = ("three.core.min.js", "three.module.min.js", "OrbitControls.js")
 _CORE_SPECIFIER = '"./three.core.min.js"'
@@ -154,7 +154,7 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
         "reflections": int(np.sum(ek == EventKind.REFLECTION)),
     }
     if len(et) > max_events:
-        pick = np.unique(np.round(np.linspace(0, len(et) - 1, max_events)).astype(np.int64))
+        pick = even_indices(len(et), max_events)
         et, ek, ei, ej = et[pick], ek[pick], ei[pick], ej[pick]
 
     finite_speeds = speeds[np.isfinite(speeds)]
