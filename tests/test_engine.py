@@ -152,6 +152,64 @@ def test_lists_checkpoint_and_growth(lists):
     assert a.max_overlap() < 1e-9
 
 
+def _recalendar(eng, buckets, rate):
+    """``eng``'s event calendar made anew with ``buckets`` buckets ``1 / rate`` wide."""
+    eng.calendar = np.full(buckets + 1 + 3 * eng.n, -1, np.int64)
+    core.requeue(
+        eng.heap,
+        eng.heap_t,
+        eng.heap_key,
+        eng.calendar,
+        eng.due,
+        eng.book,
+        eng.scalars,
+        eng.counts,
+        2.0,
+        rate,
+    )
+
+
+@pytest.mark.parametrize(
+    "buckets,rate",
+    [
+        (2, 0.0),  # a year of two buckets: most entries wait in the overflow list
+        (64, 3e8),  # buckets narrower than the window: it reaches into later ones
+        (2, 1e12),  # the window reaches past the year: into the overflow list
+        (1024, 1e-6),  # one bucket: a plain heap
+        (2, 1e17),  # bucket numbers past 2^52 (not exact as doubles): one heap (this hung)
+    ],
+)
+@pytest.mark.parametrize("lists_on", [False, True])
+def test_calendar_extremes_match_brute_force(monkeypatch, buckets, rate, lists_on):
+    """However the calendar is cut into buckets, the same events as the reference, bit for bit."""
+    if lists_on:
+        monkeypatch.setattr(engine_module, "LISTS_FROM", 0.0)
+    m, r, p, v, R = mixed_scenario(5, 100)
+    ref_ev, ref = run(CompiledReference, m, r, p, v, R, 1500, 1e-8)
+    eng = Engine(m, r, p, v, container=R, window=1e-8, rebase=False)
+    _recalendar(eng, buckets, rate)
+    eng_ev = eng.advance(events=1500)
+    assert same_events(eng_ev, ref_ev)
+    assert np.array_equal(eng.velocities, ref.velocities)
+    # every sphere in exactly one place: the heap, a bucket or the overflow
+    size = int(eng.counts[core.C_HEAP_SIZE])
+    nb = len(eng.calendar) - 1 - 3 * eng.n
+    where = eng.calendar[nb + 1 + core.CAL_BUCKET :: 3]
+    assert np.sum(where == core.CAL_HEAP) == size and size > 0
+    assert np.array_equal(np.sort(eng.heap[:size]), np.nonzero(where == core.CAL_HEAP)[0])
+    queued = (where != core.CAL_HEAP) & (where != core.CAL_OVERFLOW)
+    assert np.sum(queued) == eng.counts[core.C_QUEUED]
+
+
+def test_calendar_when_nothing_will_happen():
+    """Spheres at rest: no event ever, the calendar says so (and a kick wakes it)."""
+    eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]], np.zeros((2, 3)), box=30.0)
+    assert eng.idle and len(eng.advance(until=100.0)) == 0
+    eng.kick(1, 100.0, (-1.0, 0.0, 0.0))
+    ev = eng.advance(until=200.0)  # (and again and again, across the box)
+    assert ev["time"].tolist()[:2] == [108.0, 134.0] and not eng.idle
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_brute_force_is_the_reference(seed):
     """The compiled steps used above give the pure-Python reference's events, bit for bit."""

@@ -24,8 +24,9 @@ Lubachevsky, as in the fastest public codes):
   are symmetric), and the sphere predicted afresh.
 * **Calendar.**  Each sphere keeps its earliest collision or reflection
   (time, kind, partner, the partner's event count) and the time it leaves
-  its shell; an indexed binary heap orders the spheres by the earlier of
-  the two.  A prediction whose partner has had an event since is stale: it
+  its shell; an event calendar orders the spheres by the earlier of the
+  two: buckets of time, the current one an indexed binary heap (O(1) per
+  event on average, see "the calendar" below).  A prediction whose partner has had an event since is stale: it
   is dropped, and the sphere predicted afresh, when it reaches the top.
 * **Predictions that do not depend on when they are made.**  A pair is
   predicted from the later of its two spheres' own times, a wall from the
@@ -155,8 +156,11 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 # and for the whole system:
 #
 #   cell_head  int64   (nc^3,)           first sphere of each cell (-1: empty)
-#   heap       int64   (N,)              the calendar: spheres by heap position,
-#   heap_t, heap_key                     with the entry's time and tie key beside
+#   heap       int64   (N,)              the calendar's current bucket: spheres by heap
+#   heap_t, heap_key                     position, with the entry's time and tie key beside
+#   calendar   int64   (NB + 1 + 3N,)    the calendar's later buckets: first sphere of each
+#                                        bucket's list, then of the overflow list (-1: empty),
+#                                        then per sphere its links (CAL_NEXT, CAL_PREV, CAL_BUCKET)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
@@ -185,6 +189,7 @@ ARRAYS = (
     "counts",
     "scratch",
     "images",
+    "calendar",
 )
 
 
@@ -238,7 +243,8 @@ F_STREAK = 38  # time of the first event of the current C_FROZEN streak
 F_GROW = 39  # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: off)
 F_SHELL = 40  # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
 F_HEADROOM = 41  # reach over radius at a build (> 1 while growing: room to grow)
-N_SCALARS = 42
+F_BUCKET_RATE = 42  # the calendar: buckets per unit time (one over a bucket's width)
+N_SCALARS = 43
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -249,7 +255,10 @@ C_STALE = 4  # stale predictions discarded
 C_SERIAL = 5  # collisions and reflections processed (freshness stamps)
 C_FROZEN = 6  # collisions and reflections in a row with the clock not advancing
 C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
-N_COUNTS = 8
+C_HEAP_SIZE = 8  # the calendar: entries in the heap (the current bucket)
+C_BUCKET = 9  # the current bucket (floor of time * F_BUCKET_RATE)
+C_QUEUED = 10  # entries in the buckets' lists (not the heap, not the overflow)
+N_COUNTS = 11
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
@@ -257,9 +266,37 @@ STOP_SLIDING = int(events.StopReason.SLIDING)
 STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engine widens them)
 
 
-# ---- the calendar: an indexed binary heap over spheres -------------------------
-# The heap keeps each entry's time and tie key beside the sphere's index
-# (arrays heap_t, heap_key, heap by heap position), so sifting reads contiguous memory.
+# ---- the calendar: buckets of time and a binary heap of the current one ----------
+# An O(1) event calendar (Paul, J. Comput. Phys. 221, 615 (2007)): time is cut
+# into buckets of width 1 / F_BUCKET_RATE; each sphere's entry (the earlier of
+# its event and its crossing) sits in the bucket of its time.  Only the current
+# bucket (C_BUCKET) is ordered, in an indexed binary heap (heap, heap_t,
+# heap_key by heap position, C_HEAP_SIZE entries); the later buckets are
+# unordered doubly linked lists whose heads are `calendar`'s first NB entries (bucket b in slot b mod NB, NB a power of two:
+# a year of NB buckets); entries a year or more ahead (and those that never
+# happen) wait in the overflow list (`calendar`'s last entry) and come into the
+# year as it moves on.  Every entry outside the heap is later than every
+# entry in it (the bucket of a time never decreases with the time), so
+# heap[0] is the earliest entry overall, in the same (time, tie key) order as
+# one heap over all spheres: the order of events does not depend on the
+# calendar.  The heap is never empty while there are spheres (_refill).
+
+# per sphere i, after the heads: calendar[NB + 1 + 3 i + CAL_NEXT, CAL_PREV, CAL_BUCKET]
+CAL_NEXT, CAL_PREV = 0, 1  # next and previous sphere in its bucket's list
+CAL_BUCKET = 2  # its bucket (CAL_HEAP: in the heap, CAL_OVERFLOW: the overflow list)
+CAL_OVERFLOW = 1 << 62  # CAL_BUCKET of an entry in the overflow list
+CAL_HEAP = -1  # CAL_BUCKET of an entry in the heap (the current bucket)
+# a current bucket past every finite time: one plain heap.  2^52: bucket
+# numbers (and a year past them) stay exact as doubles, so comparing them with
+# floor(t * rate) is exact (at 4e18 a year of 2 buckets rounded away)
+CAL_ALL = 1 << 52
+CAL_BUCKETS_PER_SPHERE = 2  # buckets in a year per sphere (rounded up to a power of two)
+
+
+@_inline
+def _year(calendar, book):
+    """Buckets in the calendar's year (NB)."""
+    return calendar.shape[0] - 1 - 3 * book.shape[0]
 
 
 @_inline
@@ -304,23 +341,223 @@ def _sift_down(heap, heap_t, heap_key, book, k, n):
 
 
 @_inline
-def _schedule(heap, heap_t, heap_key, due, book, i):
-    """Sphere ``i``'s heap entry becomes the earlier of its event and its crossing."""
-    n = heap.shape[0]
+def _entry(due, book, i, n):
+    """Sphere ``i``'s calendar entry: the earlier of its event and its crossing, ``(t, key)``."""
     cross_key = _key(CROSSING, i, -1, n)
     if due[i, CROSS_T] < due[i, EVENT_T] or (
         due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
     ):
-        t, key = due[i, CROSS_T], cross_key
-    else:
-        t, key = due[i, EVENT_T], book[i, EVENT_KEY]
-    k = book[i, HEAP_POS]
-    heap_t[k] = t
-    heap_key[k] = key
+        return due[i, CROSS_T], cross_key
+    return due[i, EVENT_T], book[i, EVENT_KEY]
+
+
+@_inline
+def _resift(heap, heap_t, heap_key, book, k, size):
+    """Restore the heap order around position ``k`` after its entry changed."""
+    t, key = heap_t[k], heap_key[k]
     if k > 0 and (t < heap_t[(k - 1) >> 1] or (t == heap_t[(k - 1) >> 1] and key < heap_key[(k - 1) >> 1])):
         _sift_up(heap, heap_t, heap_key, book, k)
     else:
-        _sift_down(heap, heap_t, heap_key, book, k, n)
+        _sift_down(heap, heap_t, heap_key, book, k, size)
+
+
+@_inline
+def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
+    """File sphere ``i`` (in neither heap nor list) under time ``t``."""
+    nb = _year(calendar, book)
+    cur = counts[C_BUCKET]
+    fb = np.floor(t * scalars[F_BUCKET_RATE])
+    if fb <= cur or cur == CAL_ALL:  # (CAL_ALL: every entry, even later ones, in the heap)
+        k = counts[C_HEAP_SIZE]
+        counts[C_HEAP_SIZE] = k + 1
+        heap[k], heap_t[k], heap_key[k] = i, t, key
+        calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
+        _sift_up(heap, heap_t, heap_key, book, k)
+        return
+    if fb < cur + nb:  # (NaN: overflow)
+        b = np.int64(fb)
+        slot = b & (nb - 1)
+        counts[C_QUEUED] += 1
+    else:
+        b = CAL_OVERFLOW
+        slot = nb
+    calendar[nb + 1 + 3 * i + CAL_BUCKET] = b
+    h = calendar[slot]
+    calendar[nb + 1 + 3 * i + CAL_NEXT] = h
+    calendar[nb + 1 + 3 * i + CAL_PREV] = -1
+    if h >= 0:
+        calendar[nb + 1 + 3 * h + CAL_PREV] = i
+    calendar[slot] = i
+
+
+@_inline
+def _unlink(calendar, book, counts, i):
+    """Take sphere ``i`` out of its bucket's (or the overflow) list."""
+    nb = _year(calendar, book)
+    b = calendar[nb + 1 + 3 * i + CAL_BUCKET]
+    if b == CAL_OVERFLOW:
+        slot = nb
+    else:
+        slot = b & (nb - 1)
+        counts[C_QUEUED] -= 1
+    p, q = calendar[nb + 1 + 3 * i + CAL_PREV], calendar[nb + 1 + 3 * i + CAL_NEXT]
+    if p >= 0:
+        calendar[nb + 1 + 3 * p + CAL_NEXT] = q
+    else:
+        calendar[slot] = q
+    if q >= 0:
+        calendar[nb + 1 + 3 * q + CAL_PREV] = p
+
+
+@_inline
+def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, everything):
+    """Move the overflow entries within a year of the current bucket (or all) into the calendar."""
+    nb = _year(calendar, book)
+    n = book.shape[0]
+    limit = counts[C_BUCKET] + nb
+    rate = scalars[F_BUCKET_RATE]
+    i = calendar[nb]
+    while i >= 0:
+        nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
+        t, key = _entry(due, book, i, n)
+        if everything or np.floor(t * rate) < limit:
+            _unlink(calendar, book, counts, i)
+            if everything:
+                k = counts[C_HEAP_SIZE]
+                counts[C_HEAP_SIZE] = k + 1
+                heap[k], heap_t[k], heap_key[k] = i, t, key
+                calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
+                _sift_up(heap, heap_t, heap_key, book, k)
+            else:
+                _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
+        i = nxt
+
+
+@_inline
+def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
+    """While the heap is empty: on to the next bucket, its list into the heap."""
+    nb = _year(calendar, book)
+    n = book.shape[0]
+    while counts[C_HEAP_SIZE] == 0 and n > 0:
+        if counts[C_QUEUED] == 0:
+            # the year is empty: on to the overflow's earliest bucket (or,
+            # if nothing will ever happen, everything into the heap)
+            rate = scalars[F_BUCKET_RATE]
+            first = np.inf
+            i = calendar[nb]
+            while i >= 0:
+                t, key = _entry(due, book, i, n)
+                fb = np.floor(t * rate)
+                if fb < first:
+                    first = fb
+                i = calendar[nb + 1 + 3 * i + CAL_NEXT]
+            if first < CAL_ALL:
+                counts[C_BUCKET] = np.int64(first)
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
+            else:
+                # (and from now on every entry into the heap: one plain heap
+                # until the next requeue)
+                counts[C_BUCKET] = CAL_ALL
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, True)
+            continue
+        cur = counts[C_BUCKET] + 1
+        counts[C_BUCKET] = cur
+        if (cur & (nb - 1)) == 0:
+            # a new year: the overflow entries that fall in it come in
+            _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
+        slot = cur & (nb - 1)
+        i = calendar[slot]
+        calendar[slot] = -1
+        while i >= 0:
+            nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
+            counts[C_QUEUED] -= 1
+            t, key = _entry(due, book, i, n)
+            k = counts[C_HEAP_SIZE]
+            counts[C_HEAP_SIZE] = k + 1
+            heap[k], heap_t[k], heap_key[k] = i, t, key
+            calendar[nb + 1 + 3 * i + CAL_BUCKET] = CAL_HEAP
+            _sift_up(heap, heap_t, heap_key, book, k)
+            i = nxt
+
+
+@_inline
+def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
+    """Sphere ``i``'s calendar entry becomes the earlier of its event and its crossing."""
+    n = book.shape[0]
+    nb = _year(calendar, book)
+    t, key = _entry(due, book, i, n)
+    if calendar[nb + 1 + 3 * i + CAL_BUCKET] == CAL_HEAP:
+        k = book[i, HEAP_POS]
+        if np.floor(t * scalars[F_BUCKET_RATE]) <= counts[C_BUCKET]:
+            # still in the current bucket: moved within the heap
+            heap_t[k] = t
+            heap_key[k] = key
+            _resift(heap, heap_t, heap_key, book, k, counts[C_HEAP_SIZE])
+            return
+        # out of the heap: its last entry takes the place
+        last = counts[C_HEAP_SIZE] - 1
+        counts[C_HEAP_SIZE] = last
+        if k != last:
+            j = heap[last]
+            heap[k], heap_t[k], heap_key[k] = j, heap_t[last], heap_key[last]
+            book[j, HEAP_POS] = k
+            _resift(heap, heap_t, heap_key, book, k, last)
+    else:
+        _unlink(calendar, book, counts, i)
+    _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
+    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
+
+
+@_jit
+def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, rate):
+    """The calendar made anew from the predictions (``due``, ``book``).
+
+    Buckets ``1 / rate`` wide if ``rate > 0``, else so wide that about
+    ``per_bucket`` entries come due in one (from the mean time of the finite
+    entries ahead of the clock).  ``calendar``: :func:`calendar_size`.
+    """
+    n = book.shape[0]
+    nb = _year(calendar, book)
+    clock = scalars[F_CLOCK]
+    total = 0.0
+    finite = 0
+    for i in range(n):
+        t, key = _entry(due, book, i, n)
+        if t < np.inf and t > clock:
+            total += t - clock
+            finite += 1
+    if rate > 0.0:
+        pass
+    elif finite > 0 and total > 0.0:
+        rate = finite * finite / (per_bucket * total)
+    else:
+        rate = 1.0
+    if not (rate > 0.0 and rate < 1e300):
+        rate = 1.0
+    scalars[F_BUCKET_RATE] = rate
+    fc = np.floor(clock * rate)
+    counts[C_BUCKET] = np.int64(fc) if abs(fc) < CAL_ALL else CAL_ALL
+    counts[C_HEAP_SIZE] = 0
+    counts[C_QUEUED] = 0
+    for s in range(nb + 1):
+        calendar[s] = -1
+    for i in range(n):
+        t, key = _entry(due, book, i, n)
+        _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
+    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
+
+
+def calendar_size(n):
+    """Entries of the ``calendar`` array for ``n`` spheres.
+
+    A power of two buckets and the overflow list (their heads), then three
+    links per sphere (kept here, 24 bytes apart, rather than in ``book``'s
+    wide rows: fewer cache misses where N is large).
+    """
+    nb = 1
+    while nb < CAL_BUCKETS_PER_SPHERE * n:
+        nb *= 2
+    return nb + 1 + 3 * n
 
 
 @_inline
@@ -857,15 +1094,18 @@ def _relist(
 
 
 @_jit
-def build(arrays):
-    """Cells (and shells and neighbour lists) from the clock, every prediction, the heap.
+def build(arrays, per_bucket):
+    """Cells (and shells and neighbour lists) from the clock, every prediction, the calendar.
+
+    ``per_bucket``: the calendar's entries per bucket (see :func:`requeue`).
 
     Returns the longest neighbour list (0 without lists); if it is longer
     than ``neighbours.shape[1]``, nothing was predicted: call again with
     wider lists.
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
-    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
+    calendar = arrays[16]
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -888,18 +1128,7 @@ def build(arrays):
             return longest
     for i in range(n):
         predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    for i in range(n):
-        heap[i] = i
-        book[i, HEAP_POS] = i
-        cross_key = _key(CROSSING, i, -1, n)
-        if due[i, CROSS_T] < due[i, EVENT_T] or (
-            due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
-        ):
-            heap_t[i], heap_key[i] = due[i, CROSS_T], cross_key
-        else:
-            heap_t[i], heap_key[i] = due[i, EVENT_T], book[i, EVENT_KEY]
-    for k in range(n // 2 - 1, -1, -1):
-        _sift_down(heap, heap_t, heap_key, book, k, n)
+    requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, 0.0)
     return longest
 
 
@@ -966,13 +1195,16 @@ def refresh_window(arrays):
     the events less than ``window`` after the clock, the first in tie order
     happens now, whatever order their earlier predictions put them in.
     The heap is walked from the root, pruning subtrees that start past the
-    window, so the cost is proportional to the number refreshed.
+    window, so the cost is proportional to the number refreshed; the
+    calendar's later buckets are looked at only if the window reaches them.
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
-    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
+    calendar = arrays[16]
     n = heap.shape[0]
     if n == 0:
         return
+    size = counts[C_HEAP_SIZE]
     t = scalars[F_CLOCK]
     limit = t + scalars[F_WINDOW]
     serial = counts[C_SERIAL]
@@ -987,16 +1219,34 @@ def refresh_window(arrays):
         scratch[n + found] = heap[k]
         found += 1
         for child in (2 * k + 1, 2 * k + 2):
-            if child < n and heap_t[child] < limit:
+            if child < size and heap_t[child] < limit:
                 scratch[top] = child
                 top += 1
+    # the window past the current bucket (rare: a bucket is much wider)
+    nb = _year(calendar, book)
+    cur = counts[C_BUCKET]
+    last = np.floor(limit * scalars[F_BUCKET_RATE])
+    if last > cur:
+        whole = last >= cur + nb  # (then the overflow too)
+        span = nb - 1 if whole else np.int64(last - cur)
+        for q in range(span + 1):
+            if q < span:
+                j = calendar[(cur + 1 + q) & (nb - 1)]
+            else:
+                j = calendar[nb] if whole else -1
+            while j >= 0:
+                tj, kj = _entry(due, book, j, n)
+                if tj < limit:
+                    scratch[n + found] = j
+                    found += 1
+                j = calendar[nb + 1 + 3 * j + CAL_NEXT]
     for q in range(found):
         i = scratch[n + q]
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
             predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-            _schedule(heap, heap_t, heap_key, due, book, i)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
 # ---- transport tallies -----------------------------------------------------------
@@ -1111,7 +1361,8 @@ def run(arrays, until, max_events, max_collisions, record):
     predicted again.
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
-    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
+    calendar = arrays[16]
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
@@ -1164,7 +1415,7 @@ def run(arrays, until, max_events, max_collisions, record):
             xh = step if ax == 0 else 1
             _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
             _crossing(spheres, book, due, scalars, nc, i, te)
-            _schedule(heap, heap_t, heap_key, due, book, i)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
             # leaving its shell: not an event of the physics (the clock
@@ -1306,7 +1557,7 @@ def run(arrays, until, max_events, max_collisions, record):
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
             predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
-            _schedule(heap, heap_t, heap_key, due, book, x)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
@@ -1321,7 +1572,8 @@ def kick(arrays, i, t, vx, vy, vz):
     event count moves on) and ``i`` is predicted afresh.  For thermostats.
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
-    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:]
+    cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
+    calendar = arrays[16]
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
@@ -1340,7 +1592,7 @@ def kick(arrays, i, t, vx, vy, vz):
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
     predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    _schedule(heap, heap_t, heap_key, due, book, i)
+    _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
 # ---- state and checks ------------------------------------------------------------

@@ -25,6 +25,9 @@ CHUNK = 1 << 14
 
 #: The time origin moves to the clock after this many events per sphere.
 REBASE_EVERY = 64
+#: The event calendar's buckets are made so wide that about this many
+#: entries come due in one (benchmarks/README.md: how it was chosen).
+CAL_PER_BUCKET = 2.0
 
 #: Neighbour distance over the sum of two reaches (``_core.F_SHELL``): a sphere
 #: may move half a reach from its shell centre before its list is made anew.
@@ -108,6 +111,7 @@ class Engine:
         self.heap = np.zeros(n, np.int64)
         self.heap_t = np.zeros(n)
         self.heap_key = np.zeros(n, np.int64)
+        self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, np.int64)
         self.images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         self.scalars = np.zeros(core.N_SCALARS)
@@ -177,13 +181,28 @@ class Engine:
 
     def _build(self):
         while True:
-            longest = core.build(self.arrays)
+            longest = core.build(self.arrays, CAL_PER_BUCKET)
             if longest <= self.neighbours.shape[1]:
                 break
             # room for the longest list and more: lists change as spheres move
             self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
         self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
         core.kinetic_sums(self.spheres, self.masses, self.scalars)
+        self._queue_anew(first=True)
+
+    def _queue_anew(self, first=False):
+        """When the calendar is next made anew: N events after a build, then 2N, 4N, ...
+
+        Its bucket width comes from the predictions; right after a build
+        (a lattice, say) they can be far from those of the fluid it turns
+        into, so it is made anew as the run goes on (O(N) each time).
+        """
+        if first:
+            self._queue_every = max(self.n, 16)
+        else:
+            self._requeue()
+            self._queue_every *= 2
+        self._since_queue = 0
 
     def _widen_lists(self):
         """Twice as many entries per neighbour list (the lists stay as they are)."""
@@ -204,7 +223,13 @@ class Engine:
 
     def _rebase(self):
         self.offset += core.rebase(self.spheres, self.due, self.heap_t, self.scalars)
+        self._requeue()
         self._since_rebase = 0
+
+    def _requeue(self):
+        """The event calendar made anew (its buckets from the predictions now)."""
+        heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
+        core.requeue(*heap, self.due, self.book, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
 
     @property
     def window(self):
@@ -370,6 +395,9 @@ class Engine:
             done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
             done_total += done
             self._since_rebase += done
+            self._since_queue += done
+            if self._since_queue >= self._queue_every:
+                self._queue_anew()
             if record and done:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
@@ -441,8 +469,22 @@ class Engine:
     )
 
     def checkpoint(self) -> dict[str, Any]:
-        """Everything needed to resume bit for bit, as a dict of arrays."""
+        """Everything needed to resume bit for bit, as a dict of arrays.
+
+        The event calendar is saved as one heap over all spheres (sorted by
+        time and tie key) and made anew on :meth:`restore`: the order of
+        events does not depend on how the calendar is laid out.
+        """
         out = {k: getattr(self, k) for k in self._SAVED}
+        n = self.n
+        t, key = _entries(self.due, self.book, n)
+        order = np.lexsort((key, t))
+        book = self.book.copy()
+        book[order, core.HEAP_POS] = np.arange(n)
+        out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
+        # the calendar's own counters and width (the last of each) are made anew on restore
+        out["counts"] = self.counts[: core.C_HEAP_SIZE].copy()
+        out["scalars"] = self.scalars[: core.F_BUCKET_RATE].copy()
         # the last two: the core's wall radius and box edge, NaN when absent
         # (files before the container record had only these)
         params = self.container.core_params()
@@ -514,6 +556,9 @@ class Engine:
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
+        eng.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        eng._requeue()
+        eng._queue_anew(first=True)
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
         return eng
 
@@ -794,17 +839,24 @@ def check_arrays(data):
         code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
             _bad("an unknown cell crossing")
-    cross_key = _key(core.CROSSING, ids, -1, n)
-    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
-    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
-    if np.any(heap_t[book[:, core.HEAP_POS]] != np.where(first, cr_t, ev_t)) or np.any(
-        heap_key[book[:, core.HEAP_POS]] != np.where(first, cross_key, key)
-    ):
+    entry_t, entry_key = _entries(due, book, n)
+    pos = book[:, core.HEAP_POS]
+    if np.any(heap_t[pos] != entry_t) or np.any(heap_key[pos] != entry_key):
         _bad("the event calendar disagrees with the predictions")
     k = np.arange(1, n)
     p = (k - 1) >> 1
     if np.any((heap_t[k] < heap_t[p]) | ((heap_t[k] == heap_t[p]) & (heap_key[k] < heap_key[p]))):
         _bad("the event calendar is out of order")
+
+
+def _entries(due, book, n):
+    """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
+    ids = np.arange(n)
+    cross_key = _key(core.CROSSING, ids, -1, n)
+    key = book[:, core.EVENT_KEY]
+    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
+    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
+    return np.where(first, cr_t, ev_t), np.where(first, cross_key, key)
 
 
 def _check_lists(data, book, n):
