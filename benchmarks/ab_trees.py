@@ -5,7 +5,12 @@ Per-collision CPU time = (CPU(C2) - CPU(C1)) / (C2 - C1) of whole processes
 usage: ab.py ROUNDS N PHI C1 C2 [--sphere] TREE...
 """
 
-import json, os, resource, statistics, subprocess, sys
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
 
 
 def cpu_run(tree, n, phi, coll, box):

@@ -450,23 +450,8 @@ class Engine:
         return float(ev["time"][0]), int(ev["kind"][0]), int(ev["i"][0]), int(ev["j"][0])
 
     # ---- checkpoints -------------------------------------------------------
-    _SAVED = (
-        "masses",
-        "spheres",
-        "book",
-        "due",
-        "cell_next",
-        "cell_prev",
-        "heap",
-        "heap_t",
-        "heap_key",
-        "scalars",
-        "counts",
-        "cell_head",
-        "images",
-        "shells",
-        "neighbours",
-    )
+    # the core's arrays but its work space and the calendar (made anew on restore)
+    _SAVED = tuple(name for name in core.ARRAYS if name not in ("scratch", "calendar"))
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays.
