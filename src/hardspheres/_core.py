@@ -170,7 +170,7 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #: :func:`kick` take the arrays above, as one plain tuple (the engine's
 #: ``Engine.arrays``).  One argument rather than 16; a plain tuple, as numba
 #: types it about as fast as 16 arrays and unpacks it at no cost per event,
-#: where a named tuple cost 2-3 us more per call (benchmarks/core_call.py,
+#: where a named tuple cost 3-4 us more per call (benchmarks/core_call.py,
 #: benchmarks/README.md "the core's arguments").
 ARRAYS = (
     "spheres",
