@@ -164,6 +164,10 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
+#   order      int64   (N,)              the input index of sphere i (the engine keeps the
+#                                        spheres in an order of its own, near in space near
+#                                        in memory): tie keys, the a - b of a collision and
+#                                        the event record are on input indices, never on i
 
 
 #: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
@@ -190,6 +194,7 @@ ARRAYS = (
     "scratch",
     "images",
     "calendar",
+    "order",
 )
 
 
@@ -341,9 +346,9 @@ def _sift_down(heap, heap_t, heap_key, book, k, n):
 
 
 @_inline
-def _entry(due, book, i, n):
+def _entry(due, book, order, i, n):
     """Sphere ``i``'s calendar entry: the earlier of its event and its crossing, ``(t, key)``."""
-    cross_key = _key(CROSSING, i, -1, n)
+    cross_key = _key(CROSSING, order[i], -1, n)
     if due[i, CROSS_T] < due[i, EVENT_T] or (
         due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
     ):
@@ -410,7 +415,7 @@ def _unlink(calendar, book, counts, i):
 
 
 @_inline
-def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, everything):
+def _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, everything):
     """Move the overflow entries within a year of the current bucket (or all) into the calendar."""
     nb = _year(calendar, book)
     n = book.shape[0]
@@ -419,7 +424,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts,
     i = calendar[nb]
     while i >= 0:
         nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
-        t, key = _entry(due, book, i, n)
+        t, key = _entry(due, book, order, i, n)
         if everything or np.floor(t * rate) < limit:
             _unlink(calendar, book, counts, i)
             if everything:
@@ -434,7 +439,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts,
 
 
 @_inline
-def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
+def _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts):
     """While the heap is empty: on to the next bucket, its list into the heap."""
     nb = _year(calendar, book)
     n = book.shape[0]
@@ -446,32 +451,32 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
             first = np.inf
             i = calendar[nb]
             while i >= 0:
-                t, key = _entry(due, book, i, n)
+                t, key = _entry(due, book, order, i, n)
                 fb = np.floor(t * rate)
                 if fb < first:
                     first = fb
                 i = calendar[nb + 1 + 3 * i + CAL_NEXT]
             if first < CAL_ALL:
                 counts[C_BUCKET] = np.int64(first)
-                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, False)
             else:
                 # (and from now on every entry into the heap: one plain heap
                 # until the next requeue)
                 counts[C_BUCKET] = CAL_ALL
-                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, True)
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, True)
             continue
         cur = counts[C_BUCKET] + 1
         counts[C_BUCKET] = cur
         if (cur & (nb - 1)) == 0:
             # a new year: the overflow entries that fall in it come in
-            _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
+            _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, False)
         slot = cur & (nb - 1)
         i = calendar[slot]
         calendar[slot] = -1
         while i >= 0:
             nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
             counts[C_QUEUED] -= 1
-            t, key = _entry(due, book, i, n)
+            t, key = _entry(due, book, order, i, n)
             k = counts[C_HEAP_SIZE]
             counts[C_HEAP_SIZE] = k + 1
             heap[k], heap_t[k], heap_key[k] = i, t, key
@@ -481,11 +486,11 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
 
 
 @_inline
-def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
+def _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i):
     """Sphere ``i``'s calendar entry becomes the earlier of its event and its crossing."""
     n = book.shape[0]
     nb = _year(calendar, book)
-    t, key = _entry(due, book, i, n)
+    t, key = _entry(due, book, order, i, n)
     if calendar[nb + 1 + 3 * i + CAL_BUCKET] == CAL_HEAP:
         k = book[i, HEAP_POS]
         if np.floor(t * scalars[F_BUCKET_RATE]) <= counts[C_BUCKET]:
@@ -505,11 +510,11 @@ def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
     else:
         _unlink(calendar, book, counts, i)
     _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
-    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
+    _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
 
 
 @_jit
-def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, rate):
+def requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, per_bucket, rate):
     """The calendar made anew from the predictions (``due``, ``book``).
 
     Buckets ``1 / rate`` wide if ``rate > 0``, else so wide that about
@@ -522,7 +527,7 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bu
     total = 0.0
     finite = 0
     for i in range(n):
-        t, key = _entry(due, book, i, n)
+        t, key = _entry(due, book, order, i, n)
         if t < np.inf and t > clock:
             total += t - clock
             finite += 1
@@ -542,9 +547,9 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bu
     for s in range(nb + 1):
         calendar[s] = -1
     for i in range(n):
-        t, key = _entry(due, book, i, n)
+        t, key = _entry(due, book, order, i, n)
         _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
-    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
+    _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
 
 
 def calendar_size(n):
@@ -700,11 +705,12 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 
 @_inline
-def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+def _pair(spheres, order, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
 
-    ``j`` seen at its image shifted by ``(sx, sy, sz)``; returns the new
-    ``(best_t, best_key, best_p)``.
+    ``j`` seen at its image shifted by ``(sx, sy, sz)``; ``oi`` is
+    ``order[i]`` (the tie key is on the spheres' input indices, ``order``);
+    returns the new ``(best_t, best_key, best_p)``.
     """
     tj = spheres[j, T_OWN]
     t0 = ti if ti > tj else tj
@@ -764,7 +770,8 @@ def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t,
         if te < clock:
             te = clock  # a root rounded into the past
         if te <= best_t:
-            kk = _key(COLLISION, min(i, j), max(i, j), n)
+            oj = order[j]
+            kk = _key(COLLISION, min(oi, oj), max(oi, oj), n)
             if te < best_t or kk < best_key:
                 best_t, best_key, best_p = te, kk, j
     return best_t, best_key, best_p
@@ -801,7 +808,7 @@ def _scan_start(spheres, book, due, scalars, i):
 
 
 @_inline
-def _scan_list(spheres, book, due, neighbours, scalars, i):
+def _scan_list(spheres, book, due, order, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     box = scalars[F_BOX]
@@ -811,6 +818,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
     one = 1.0 if n > 0 else 2.0
+    oi = order[i]
     for q in range(book[i, NEIGHBOURS]):
         entry = neighbours[i, q]
         j = entry >> 5
@@ -820,13 +828,15 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         sy = (((code // 3) % 3) - 1) * box
         sz = ((code % 3) - 1) * box
         best_t, best_key, best_p = _pair(
-            spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+            spheres, order, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
         )
     _store(due, book, i, best_t, best_key, best_p)
 
 
 @_inline
-def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
+def _scan_cells(
+    spheres, book, due, order, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi
+):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
@@ -839,6 +849,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     best_p = -1
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
+    oi = order[i]
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
@@ -860,7 +871,9 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                     if j != i:
                         best_t, best_key, best_p = _pair(
                             spheres,
+                            order,
                             i,
+                            oi,
                             j,
                             sx,
                             sy,
@@ -881,7 +894,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
 
 
 @_inline
-def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
     """Find sphere ``i``'s earliest collision or reflection and its next crossing.
 
     Against its neighbours and leaving its shell (``F_SHELL > 0``), or
@@ -917,23 +930,23 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
             if te < scalars[F_CLOCK]:
                 te = scalars[F_CLOCK]
             due[i, EVENT_T] = te
-            book[i, EVENT_KEY] = _key(REFLECTION, i, -1, n)
+            book[i, EVENT_KEY] = _key(REFLECTION, order[i], -1, n)
             book[i, EVENT_KIND] = REFLECTION
     if scalars[F_SHELL] > 0.0:
-        _scan_list(spheres, book, due, neighbours, scalars, i)
+        _scan_list(spheres, book, due, order, neighbours, scalars, i)
         _shell_exit(spheres, shells, due, scalars, i, t)
     else:
-        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
+        _scan_cells(spheres, book, due, order, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
         _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
 
 
 @_jit
-def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict_one(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
     """:func:`predict`, called rather than inlined: for the callers outside the event loop.
 
     (Each inlined copy holds both scans and costs compile time.)
     """
-    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    predict(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
 
 
 @_inline
@@ -1105,7 +1118,7 @@ def build(arrays, per_bucket):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, order = arrays[16:18]
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -1127,8 +1140,10 @@ def build(arrays, per_bucket):
         if longest > neighbours.shape[1]:
             return longest
     for i in range(n):
-        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, 0.0)
+        predict_one(
+            spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t
+        )
+    requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, per_bucket, 0.0)
     return longest
 
 
@@ -1200,7 +1215,7 @@ def refresh_window(arrays):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, order = arrays[16:18]
     n = heap.shape[0]
     if n == 0:
         return
@@ -1235,7 +1250,7 @@ def refresh_window(arrays):
             else:
                 j = calendar[nb] if whole else -1
             while j >= 0:
-                tj, kj = _entry(due, book, j, n)
+                tj, kj = _entry(due, book, order, j, n)
                 if tj < limit:
                     scratch[n + found] = j
                     found += 1
@@ -1245,8 +1260,10 @@ def refresh_window(arrays):
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
+            predict_one(
+                spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t
+            )
+            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
 
 
 # ---- transport tallies -----------------------------------------------------------
@@ -1362,7 +1379,7 @@ def run(arrays, until, max_events, max_collisions, record):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, order = arrays[16:18]
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
@@ -1413,9 +1430,11 @@ def run(arrays, until, max_events, max_collisions, record):
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
+            _scan_cells(
+                spheres, book, due, order, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh
+            )
             _crossing(spheres, book, due, scalars, nc, i, te)
-            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
             # leaving its shell: not an event of the physics (the clock
@@ -1466,7 +1485,8 @@ def run(arrays, until, max_events, max_collisions, record):
             scalars[F_ANCHOR] = te
             _advance(spheres, i, te)
             _advance(spheres, j, te)
-            a, b = (i, j) if i < j else (j, i)
+            # lower input index minus higher (the tie rule's order)
+            a, b = (i, j) if order[i] < order[j] else (j, i)
             dx = spheres[a, X] - spheres[b, X]
             dy = spheres[a, Y] - spheres[b, Y]
             dz = spheres[a, Z] - spheres[b, Z]
@@ -1502,8 +1522,8 @@ def run(arrays, until, max_events, max_collisions, record):
             p0, p1 = a, b
             rec_t[done] = te
             rec_kind[done] = COLLISION
-            rec_i[done] = a
-            rec_j[done] = b
+            rec_i[done] = order[a]
+            rec_j[done] = order[b]
             rec_imp[done] = -masses[a] * k1 * np.sqrt(d2)
             rec_dp[done, 0] = -masses[a] * k1 * dx
             rec_dp[done, 1] = -masses[a] * k1 * dy
@@ -1545,7 +1565,7 @@ def run(arrays, until, max_events, max_collisions, record):
             book[i, FRESH] = counts[C_SERIAL]
             rec_t[done] = te
             rec_kind[done] = REFLECTION
-            rec_i[done] = i
+            rec_i[done] = order[i]
             rec_j[done] = -1
             rec_imp[done] = imp
             rec_dp[done, 0] = -masses[i] * k * px
@@ -1556,8 +1576,10 @@ def run(arrays, until, max_events, max_collisions, record):
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
-            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, x)
+            predict(
+                spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp
+            )
+            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
@@ -1573,7 +1595,7 @@ def kick(arrays, i, t, vx, vy, vz):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, order = arrays[16:18]
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
@@ -1591,8 +1613,8 @@ def kick(arrays, i, t, vx, vy, vz):
     book[i, CHANGES] += 1
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
-    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
+    predict_one(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
 
 
 # ---- state and checks ------------------------------------------------------------

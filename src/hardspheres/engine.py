@@ -47,8 +47,35 @@ LISTS_FROM = 0.35
 HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
 
 
+#: Spatial reordering (benchmarks/README.md, "Spatial reordering"): from this
+#: many spheres the engine keeps its per-sphere arrays in Morton order of the
+#: spheres' places (near in space, near in memory: fewer cache misses where
+#: the arrays outgrow the caches), sorted at the build ...
+REORDER_FROM = 1 << 14
+#: ... and again after this many collisions and reflections per sphere (the
+#: spheres diffuse out of their places slowly).
+REORDER_EVERY = 20.0
+
+# the core's arrays that the engine shows in the input order under their own
+# names (properties): kept in the engine's order under these
+_INTERNAL = {"masses": "_masses", "images": "_images"}
+
 # the engine's arrays, by name, as the core takes them (one C call)
-_core_arrays = operator.attrgetter(*core.ARRAYS)
+_core_arrays = operator.attrgetter(*(_INTERNAL.get(k, k) for k in core.ARRAYS))
+
+
+def _spread_bits(q):
+    """The low 21 bits of each ``q`` (uint64) spread out to every third bit (Morton codes)."""
+    q = q & np.uint64(0x1FFFFF)
+    for shift, mask in (
+        (32, 0x1F00000000FFFF),
+        (16, 0x1F0000FF0000FF),
+        (8, 0x100F00F00F00F00F),
+        (4, 0x10C30C30C30C30C3),
+        (2, 0x1249249249249249),
+    ):
+        q = (q | (q << np.uint64(shift))) & np.uint64(mask)
+    return q
 
 
 class CheckpointError(ValueError):
@@ -73,6 +100,13 @@ class Engine:
         time: the time the positions are given at [time].
         rebase: move the time origin forward now and then, for precision
             in long runs (off: the same arithmetic as the reference loop).
+        reorder: keep the spheres in Morton order of their places inside,
+            sorted at the build and again after this many collisions and
+            reflections per sphere; 0: never; ``None`` (default):
+            :data:`REORDER_EVERY` from :data:`REORDER_FROM` spheres.  Only
+            speed depends on it: every event, every array shown and every
+            sphere index (``kick``, event records) is the same, in the input
+            order, bit for bit.
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -93,10 +127,11 @@ class Engine:
         window: float = 0.0,
         time: float = 0.0,
         rebase: bool = True,
+        reorder: float | None = None,
     ) -> None:
         self.container: Container = as_container(container, box)
-        self.masses = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
-        n = self.masses.shape[0]
+        self._masses = np.array(masses, dtype=np.float64).reshape(-1)
+        n = self._masses.shape[0]
         # one 64-byte row per sphere: x y z vx vy vz t_own radius
         self.spheres = np.zeros((n, core.SPHERE_COLS))
         self.spheres[:, core.X : core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
@@ -113,7 +148,18 @@ class Engine:
         self.heap_key = np.zeros(n, np.int64)
         self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, np.int64)
-        self.images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
+        self._images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
+        # the engine's order: sphere i here is sphere order[i] of the input (and
+        # _rank the other way round; None while the two orders are the same)
+        self.order = np.arange(n, dtype=np.int64)
+        self._rank: np.ndarray | None = None
+        if reorder is None:
+            reorder = REORDER_EVERY if n >= REORDER_FROM else 0.0
+        reorder = float(reorder)
+        if not (reorder >= 0.0 and np.isfinite(reorder)):
+            raise ValueError(f"reorder must be a finite number >= 0 (collisions per sphere), got {reorder}")
+        self._reorder_every = reorder
+        self._since_reorder = 0
         self.scalars = np.zeros(core.N_SCALARS)
         self.counts = np.zeros(core.N_COUNTS, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -124,6 +170,8 @@ class Engine:
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = StopReason.UNTIL, 0
+        if self._reorder_every and n > 1:
+            self._permute(self._morton(self._inside_at(0.0)), built=False)
         self._build()
 
     @property
@@ -131,15 +179,138 @@ class Engine:
         """Number of spheres."""
         return self.masses.shape[0]
 
+    def _shown(self, a):
+        """A per-sphere array of the engine's order in the input order (itself while they agree)."""
+        return a if self._rank is None else a[self._rank]
+
+    @property
+    def masses(self) -> np.ndarray:
+        """``(N,)`` masses [mass] (do not write)."""
+        return self._shown(self._masses)
+
+    @property
+    def images(self) -> np.ndarray:
+        """``(N, 3)`` int64: each sphere's crossings of the periodic box per axis (a copy to write back)."""
+        return self._shown(self._images)
+
+    @images.setter
+    def images(self, value):
+        self._images[:] = np.asarray(value, dtype=np.int64).reshape(-1, 3)[self.order]
+
     @property
     def velocities(self) -> np.ndarray:
-        """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
-        return self.spheres[:, core.VX : core.VZ + 1]
+        """``(N, 3)`` velocities now [length/time] (do not write)."""
+        return self._shown(self.spheres[:, core.VX : core.VZ + 1])
 
     @property
     def radii(self) -> np.ndarray:
-        """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""
-        return self.spheres[:, core.RADIUS]
+        """``(N,)`` radii at the time origin [length] (do not write; :meth:`radii_at` for now)."""
+        return self._shown(self.spheres[:, core.RADIUS])
+
+    # ---- the engine's order of the spheres ------------------------------------
+    def _inside_at(self, t):
+        """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
+        out = np.empty((self.n, 3))
+        core.positions_at(self.spheres, t, out, self.scalars[core.F_BOX])
+        return out
+
+    def _morton(self, x):
+        """The engine's spheres in Morton (Z-curve) order of their places ``x``.
+
+        The centres are quantised to a grid of ``2^b`` per axis over the cells'
+        span (about one sphere per grid cell, ``b <= 21``), the three
+        coordinates' bits interleaved; ties keep the order they had.
+
+        Returns:
+            ``perm``: the sphere that comes ``k``-th (an index of the engine's order).
+        """
+        n = self.n
+        bits = int(min(21, max(1, np.ceil(np.log2(max(n, 2)) / 3.0))))
+        lo = self.scalars[core.F_LO]
+        span = self.scalars[core.F_W] * self.counts[core.C_CELLS]
+        q = np.floor((x - lo) * ((1 << bits) / span))
+        q = np.clip(np.nan_to_num(q), 0, (1 << bits) - 1).astype(np.uint64)
+        code = (
+            _spread_bits(q[:, 0])
+            | (_spread_bits(q[:, 1]) << np.uint64(1))
+            | (_spread_bits(q[:, 2]) << np.uint64(2))
+        )
+        return np.argsort(code, kind="stable")
+
+    def _permute(self, perm, built=True):
+        """Put the spheres in the order ``perm`` (``perm[k]``: the sphere that comes ``k``-th).
+
+        Every per-sphere array moves with its spheres and every sphere
+        index in them is renamed (partners, neighbour lists); the cell lists
+        and the calendar are made anew from them.  Nothing is predicted
+        again and no number changes, so the run goes on with the same events
+        bit for bit (the tie keys are on input indices, ``order``).
+        ``built``: the derived arrays exist (else only the physical state moves).
+        """
+        n = self.n
+        perm = np.asarray(perm, dtype=np.int64)
+        new = np.empty(n, np.int64)
+        new[perm] = np.arange(n)  # old index -> new
+        self.spheres = self.spheres[perm]
+        self._masses = self._masses[perm]
+        self._images = self._images[perm]
+        self.order = self.order[perm]
+        rank = np.empty(n, np.int64)
+        rank[self.order] = np.arange(n)
+        self._rank = None if np.array_equal(self.order, np.arange(n)) else rank
+        if not built:
+            return
+        self.due = self.due[perm]
+        self.shells = self.shells[perm]
+        book = self.book[perm]
+        partner = book[:, core.PARTNER]
+        book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
+        self.book = book
+        nb = self.neighbours[perm]
+        used = np.arange(nb.shape[1])[None, :] < book[:, core.NEIGHBOURS][:, None]
+        entries = nb[used].astype(np.int64)
+        nb[used] = ((new[entries >> 5] << 5) | (entries & 31)).astype(np.int32)
+        self.neighbours = nb
+        # the cell lists, each in the new order
+        cell = book[:, core.CELL]
+        by = np.argsort(cell, kind="stable")
+        c = cell[by]
+        same = c[1:] == c[:-1]
+        self.cell_next = np.full(n, -1, np.int64)
+        self.cell_prev = np.full(n, -1, np.int64)
+        self.cell_next[by[:-1][same]] = by[1:][same]
+        self.cell_prev[by[1:][same]] = by[:-1][same]
+        first = np.concatenate(([True], ~same))
+        self.cell_head[:] = -1
+        self.cell_head[c[first]] = by[first]
+        # the calendar, with the buckets as wide as they were
+        self.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
+        core.requeue(
+            *heap,
+            self.due,
+            self.book,
+            self.order,
+            self.scalars,
+            self.counts,
+            CAL_PER_BUCKET,
+            float(self.scalars[core.F_BUCKET_RATE]),
+        )
+
+    def _reorder(self):
+        """The spheres in Morton order of their places now (see :meth:`_permute`)."""
+        self._since_reorder = 0
+        if self.n > 1:
+            perm = self._morton(self._inside_at(self.scalars[core.F_CLOCK]))
+            if not np.array_equal(perm, np.arange(self.n)):
+                self._permute(perm)
+
+    def _kinetic_sums(self):
+        """The core's kinetic tensor and energy current, summed in the input order."""
+        if self._rank is None:
+            core.kinetic_sums(self.spheres, self._masses, self.scalars)
+        else:
+            core.kinetic_sums(self.spheres[self._rank], self._masses[self._rank], self.scalars)
 
     @property
     def box(self) -> float | None:
@@ -187,7 +358,7 @@ class Engine:
             # room for the longest list and more: lists change as spheres move
             self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
         self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
-        core.kinetic_sums(self.spheres, self.masses, self.scalars)
+        self._kinetic_sums()
         self._queue_anew(first=True)
 
     def _queue_anew(self, first=False):
@@ -229,7 +400,7 @@ class Engine:
     def _requeue(self):
         """The event calendar made anew (its buckets from the predictions now)."""
         heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
-        core.requeue(*heap, self.due, self.book, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
+        core.requeue(*heap, self.due, self.book, self.order, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
 
     @property
     def window(self):
@@ -306,7 +477,7 @@ class Engine:
                 return np.inf
             w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
             return self.offset + (w / (2.0 * rmax) - 1.0) / g
-        r = self.radii
+        r = self.spheres[:, core.RADIUS]  # (the engine's order, as the shells')
         grows = r > 0.0
         if not np.any(grows):
             return np.inf
@@ -338,7 +509,7 @@ class Engine:
         f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
         f[core.F_T_KIN] = f[core.F_CLOCK]
         self.spheres[:, core.VX : core.VZ + 1] *= factor
-        core.kinetic_sums(self.spheres, self.masses, f)
+        self._kinetic_sums()
         self._build()
 
     def kick(self, i, t, velocity):
@@ -347,7 +518,8 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.arrays, int(i), t, vx, vy, vz)
+        i = int(i)
+        core.kick(self.arrays, i if self._rank is None else int(self._rank[i]), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(
@@ -391,13 +563,19 @@ class Engine:
                 stop = until
             rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
+            if self._reorder_every:
+                reorder_due = max(int(self._reorder_every * self.n), 1)
+                left_ev = min(left_ev, reorder_due - self._since_reorder)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
             done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
             done_total += done
             self._since_rebase += done
             self._since_queue += done
+            self._since_reorder += done
             if self._since_queue >= self._queue_every:
                 self._queue_anew()
+            if self._reorder_every and self._since_reorder >= reorder_due:
+                self._reorder()
             if record and done:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
@@ -411,7 +589,7 @@ class Engine:
                     raise StuckError(
                         "frozen" if reason == StopReason.FROZEN else "sliding",
                         float(self.offset + self.heap_t[0]),
-                        int(self.heap[0]),
+                        int(self.order[self.heap[0]]),
                     )
                 break  # the events before it first; the next call raises
             if reason == StopReason.UNTIL and stop < until:
@@ -460,9 +638,9 @@ class Engine:
         time and tie key) and made anew on :meth:`restore`: the order of
         events does not depend on how the calendar is laid out.
         """
-        out = {k: getattr(self, k) for k in self._SAVED}
+        out = {k: getattr(self, _INTERNAL.get(k, k)) for k in self._SAVED}
         n = self.n
-        t, key = _entries(self.due, self.book, n)
+        t, key = _entries(self.due, self.book, self.order, n)
         order = np.lexsort((key, t))
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
@@ -483,6 +661,8 @@ class Engine:
             ]
         )
         out["container"] = self.container.record()
+        # the engine's order (``order``, saved above) and when it is next sorted
+        out["reorder"] = np.array([self._reorder_every, float(self._since_reorder)])
         return out
 
     @classmethod
@@ -506,7 +686,14 @@ class Engine:
                 data = dict(
                     data, shells=np.zeros((n, core.SHELL_COLS)), neighbours=np.zeros((n, 0), np.int32)
                 )
-            setattr(eng, k, np.array(data[k]))
+            if k == "order" and k not in data:  # from before the engine's own order: the input's
+                data = dict(data, order=np.arange(n, dtype=np.int64))
+            setattr(eng, _INTERNAL.get(k, k), np.array(data[k]))
+        rank = np.empty(n, np.int64)
+        rank[eng.order] = np.arange(n)
+        eng._rank = None if np.array_equal(eng.order, np.arange(n)) else rank
+        every, since_reorder = data["reorder"].tolist() if "reorder" in data else (0.0, 0.0)
+        eng._reorder_every, eng._since_reorder = every, int(since_reorder)
         if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
             eng.book = np.concatenate(
                 [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1
@@ -537,7 +724,7 @@ class Engine:
             eng.scalars = np.concatenate([eng.scalars, np.zeros(core.N_SCALARS - saved)])
         if saved <= core.F_T_KIN:  # before the transport tallies
             eng.scalars[core.F_T_KIN] = eng.scalars[core.F_CLOCK]
-            core.kinetic_sums(eng.spheres, eng.masses, eng.scalars)
+            eng._kinetic_sums()
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
@@ -559,12 +746,17 @@ class Engine:
         out = np.empty((self.n, 3)) if out is None else out
         if spheres is not None and self.box is None:
             t -= self.offset
+            rank = self._rank
             for k in spheres:  # a few: Python floats beat numpy's set-up
-                x, y, z, vx, vy, vz, tk = self.spheres[k, :7].tolist()
+                row = k if rank is None else rank[k]
+                x, y, z, vx, vy, vz, tk = self.spheres[row, :7].tolist()
                 dt = t - tk
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
-        core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
+        if self._rank is None:
+            core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
+        else:
+            out[self.order] = self._inside_at(t - self.offset)
         return out
 
     def unwrapped_at(self, t=None, out=None):
@@ -576,7 +768,12 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.unwrapped_at(self.spheres, self.images, t - self.offset, out, self.scalars[core.F_BOX])
+        if self._rank is None:
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, out, self.scalars[core.F_BOX])
+        else:
+            inside = np.empty((self.n, 3))
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, inside, self.scalars[core.F_BOX])
+            out[self.order] = inside
         return out
 
     @property
@@ -633,7 +830,7 @@ class Engine:
     def max_overlap(self, t: float | None = None) -> float:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         t = self.time if t is None else t
-        x = self.positions_at(t)  # pairs across the box compare by minimum image
+        x = self._inside_at(t - self.offset)  # pairs across the box compare by minimum image
         g = self.scalars[core.F_GROW]
         scale = 1.0 + g * (t - self.offset) if g else 1.0
         return float(
@@ -739,6 +936,15 @@ def check_arrays(data):
         _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
     if "images" in data:  # periodic image counts, where the core keeps them
         _array(data, "images", np.int64, (n, 3))
+    order = np.arange(n, dtype=np.int64)
+    if "order" in data:  # the engine's order of the spheres (absent: the input's)
+        order = _array(data, "order", np.int64, (n,))
+        if not np.array_equal(np.sort(order), np.arange(n)):
+            _bad("'order' is not a permutation of the spheres")
+    if "reorder" in data:
+        every, since = _array(data, "reorder", np.float64, (2,)).tolist()
+        if not (np.isfinite(every) and every >= 0 and np.isfinite(since) and 0 <= since < 2**62):
+            _bad("the reordering's interval or count is not a finite number >= 0")
     if "counts" not in data:
         _bad("no array 'counts'")
     counts = np.asarray(data["counts"])
@@ -805,11 +1011,13 @@ def check_arrays(data):
         _bad("an unknown event kind")
     if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
         _bad("a collision partner outside the spheres")
-    lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
+    # (tie keys are on the input indices)
+    mine, theirs = order, order[np.where(coll, partner, ids)]
+    lo, hi = np.minimum(mine, theirs), np.maximum(mine, theirs)
     key = np.where(
         coll,
         _key(core.COLLISION, lo, hi, n),
-        np.where(kind == core.REFLECTION, _key(core.REFLECTION, ids, -1, n), _key(core.NONE, n, n - 1, n)),
+        np.where(kind == core.REFLECTION, _key(core.REFLECTION, mine, -1, n), _key(core.NONE, n, n - 1, n)),
     )
     if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
@@ -824,7 +1032,7 @@ def check_arrays(data):
         code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
             _bad("an unknown cell crossing")
-    entry_t, entry_key = _entries(due, book, n)
+    entry_t, entry_key = _entries(due, book, order, n)
     pos = book[:, core.HEAP_POS]
     if np.any(heap_t[pos] != entry_t) or np.any(heap_key[pos] != entry_key):
         _bad("the event calendar disagrees with the predictions")
@@ -834,10 +1042,9 @@ def check_arrays(data):
         _bad("the event calendar is out of order")
 
 
-def _entries(due, book, n):
+def _entries(due, book, order, n):
     """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
-    ids = np.arange(n)
-    cross_key = _key(core.CROSSING, ids, -1, n)
+    cross_key = _key(core.CROSSING, order, -1, n)
     key = book[:, core.EVENT_KEY]
     ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
     first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
