@@ -357,16 +357,15 @@ def test_arrays_follow_the_core_order():
 def test_reordered_engine_matches_brute_force(monkeypatch, lists_on, window):
     """Sorted in space at the build and every 0.02 N events: the reference's events, bit for bit.
 
-    A dense fluid (packing 0.4, radii spread 2x) in a sphere, so that ties in
-    the window and neighbour lists both have work to do.
+    A dense fluid (packing 0.45) in a sphere, so that ties in the window and
+    neighbour lists both have work to do.
     """
-    if lists_on:
-        monkeypatch.setattr(engine_module, "LISTS_FROM", 0.0)
+    monkeypatch.setattr(engine_module, "LISTS_FROM", 0.0 if lists_on else 1.0)
     sorts = []
     monkeypatch.setattr(Engine, "_permute", _counting(Engine._permute, sorts))
-    n = 250
-    radius = 0.5 * (n / 0.4) ** (1 / 3)
-    s = random_spheres(n, 0.4, container=radius, seed=12, radius_ratio=2.0)
+    n = 300
+    radius = 0.5 * (n / 0.45) ** (1 / 3)
+    s = random_spheres(n, 0.45, container=radius, seed=12)
     m, r, p, v = s.masses, s.radii, s.positions, s.velocities
     ref_ev, ref = run(CompiledReference, m, r, p, v, radius, 3000, window)
     eng = Engine(m, r, p, v, container=radius, window=window, rebase=False, reorder=0.02)
