@@ -10,6 +10,7 @@ checks the sorted one against the brute-force reference).
 import numpy as np
 import pytest
 
+import hardspheres as hs
 from hardspheres import _core as core
 from hardspheres import engine as engine_module
 from hardspheres.builders import random_spheres
@@ -156,3 +157,24 @@ def test_reorder_option():
     assert eng._reorder_every == 0.0  # small: not sorted unless told
     eng = Engine(s.masses, s.radii, s.positions, s.velocities, box=6.0, reorder=1.0)
     assert not np.array_equal(eng.order, np.arange(50))
+
+
+def test_simulation_sorted_saved_and_loaded(monkeypatch, tmp_path):
+    """A Simulation whose engine sorts (as from REORDER_FROM spheres): its states, events and file."""
+    s = random_spheres(400, 0.3, box=9.0, seed=5)
+    plain = hs.Simulation(s, hs.PeriodicBox(9.0), window=1e-8)
+    monkeypatch.setattr(engine_module, "REORDER_FROM", 0)
+    monkeypatch.setattr(engine_module, "REORDER_EVERY", 0.5)
+    sorted_ = hs.Simulation(s, hs.PeriodicBox(9.0), window=1e-8)
+    assert sorted_.engine._reorder_every == 0.5 and plain.engine._reorder_every == 0.0
+    for sim in (plain, sorted_):
+        sim.run(collisions=3000)
+    sorted_.save(tmp_path / "c.npz")
+    back = hs.Simulation.load(tmp_path / "c.npz")
+    assert not np.array_equal(back.engine.order, np.arange(400))
+    events = [list(sim.iter_events(collisions=3000)) for sim in (plain, sorted_, back)]
+    assert len(events[0]) >= 3000 and events[0] == events[1] == events[2]
+    for sim in (sorted_, back):
+        a, b = plain.state(unwrapped=True), sim.state(unwrapped=True)
+        assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities)
+        assert np.array_equal(a.images, b.images) and np.array_equal(a.masses, b.masses)
