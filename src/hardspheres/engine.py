@@ -54,7 +54,7 @@ HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
 REORDER_FROM = 1 << 14
 #: ... and again after this many collisions and reflections per sphere (the
 #: spheres diffuse out of their places slowly).
-REORDER_EVERY = 20.0
+REORDER_EVERY = 10.0
 
 # the core's arrays that the engine shows in the input order under their own
 # names (properties): kept in the engine's order under these
@@ -270,6 +270,9 @@ class Engine:
         used = np.arange(nb.shape[1])[None, :] < book[:, core.NEIGHBOURS][:, None]
         entries = nb[used].astype(np.int64)
         nb[used] = ((new[entries >> 5] << 5) | (entries & 31)).astype(np.int32)
+        # each list in the new order too (entries past a list's length are never read)
+        nb[~used] = np.iinfo(np.int32).max
+        nb.sort(axis=1)
         self.neighbours = nb
         # the cell lists, each in the new order
         cell = book[:, core.CELL]
