@@ -162,7 +162,6 @@ def _recalendar(eng, buckets, rate):
         eng.calendar,
         eng.due,
         eng.book,
-        eng.order,
         eng.scalars,
         eng.counts,
         2.0,

@@ -112,7 +112,7 @@ def test_sorted_checkpoint_resumes_bit_for_bit(monkeypatch, lists):
     a.advance(events=5000)
     b.advance(events=5000)
     saved = b.checkpoint()
-    assert not np.array_equal(saved["order"], np.arange(300))
+    assert not np.array_equal(saved["book"][:, core.ORIGIN], np.arange(300))
     c = Engine.restore({k: np.array(v) for k, v in saved.items()})
     ea, eb, ec = (e.advance(events=6000) for e in (a, b, c))
     assert _same_events(ea, eb) and _same_events(eb, ec)
@@ -120,21 +120,26 @@ def test_sorted_checkpoint_resumes_bit_for_bit(monkeypatch, lists):
     _same_state(a, c)
 
 
+def _with_origin(saved, origin):
+    book = saved["book"].copy()
+    book[:, core.ORIGIN] = origin
+    return dict(saved, book=book)
+
+
 def test_checkpoint_order_is_checked():
     _, b = _pair(100, 0.3, True, 0.0, 0.0, reorder=0.1)
     b.advance(events=500)
     saved = b.checkpoint()
-    bad = dict(saved, order=np.zeros(100, np.int64))
+    check_arrays(saved)
     with pytest.raises(CheckpointError, match="permutation"):
-        check_arrays(bad)
-    with pytest.raises(CheckpointError, match="order"):
-        Engine.restore(dict(saved, order=saved["order"][:50]))
+        check_arrays(_with_origin(saved, np.zeros(100, np.int64)))
+    with pytest.raises(CheckpointError, match="permutation"):
+        Engine.restore(_with_origin(saved, np.arange(1, 101)))
     with pytest.raises(CheckpointError, match="reorder"):
         Engine.restore(dict(saved, reorder=np.array([np.nan, 0.0])))
-    # a sorted engine's arrays with the input order put back: the keys disagree
-    swapped = dict(saved, order=np.roll(saved["order"], 1))
-    with pytest.raises(CheckpointError):
-        check_arrays(swapped)
+    # a permutation, but not the one the tie keys were made with
+    with pytest.raises(CheckpointError, match="key"):
+        check_arrays(_with_origin(saved, np.roll(saved["book"][:, core.ORIGIN], 1)))
 
 
 def test_checkpoint_without_order_is_the_input_order():
@@ -142,7 +147,8 @@ def test_checkpoint_without_order_is_the_input_order():
     a, _ = _pair(100, 0.3, True, 0.0, 0.0, reorder=0.1)
     a.advance(events=500)
     saved = a.checkpoint()
-    old = {k: v for k, v in saved.items() if k not in ("order", "reorder")}
+    old = {k: v for k, v in saved.items() if k != "reorder"}
+    old["book"] = saved["book"][:, : core.ORIGIN]
     c = Engine.restore(old)
     assert np.array_equal(c.order, np.arange(100))
     assert np.array_equal(a.advance(events=2000), c.advance(events=2000))

@@ -34,7 +34,8 @@ Lubachevsky, as in the fastest public codes):
   brute-force reference (:mod:`hardspheres.reference`) does the same, so
   the two agree bit for bit.
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
-  collisions, lower index first.  With a simultaneity ``window > 0`` (the
+  collisions, lower index first: the spheres' input indices (``book``'s
+  ``ORIGIN``), whatever order the engine keeps them in.  With a simultaneity ``window > 0`` (the
   assignment's 1e-8 s), events less than ``window`` after the last one
   happen *at* its time, and whenever that time (the anchor) moves, every
   sphere whose event falls in the new window is predicted afresh
@@ -147,7 +148,8 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #                                        at the sphere's own time, that time, radius
 #   due        float64 (N, DUE_COLS)     when its next event and its shell crossing are due
 #   book       int64   (N, BOOK_COLS)    bookkeeping: course changes, cell, the
-#                                        predicted event, heap position, list length
+#                                        predicted event, heap position, list length,
+#                                        input index (ORIGIN)
 #   shells     float64 (N, SHELL_COLS)   shell centre and reach
 #   neighbours int32   (N, cap)          neighbour list: 32 j + image code (see _pair_code)
 #   images     int64   (N, 3)            crossings of the periodic box per axis
@@ -164,10 +166,6 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
-#   order      int64   (N,)              the input index of sphere i (the engine keeps the
-#                                        spheres in an order of its own, near in space near
-#                                        in memory): tie keys, the a - b of a collision and
-#                                        the event record are on input indices, never on i
 
 
 #: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
@@ -194,7 +192,6 @@ ARRAYS = (
     "scratch",
     "images",
     "calendar",
-    "order",
 )
 
 
@@ -223,7 +220,11 @@ CROSS_FACE = 9  # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 
 FRESH = 10  # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11  # position of the sphere's entry in the heap
 NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its row)
-BOOK_COLS = 13
+# its input index: the engine keeps the spheres in an order of its own (near
+# in space, near in memory); tie keys, a collision's a - b and the event record
+# are on input indices, never on i (here, in a row the event touches anyway)
+ORIGIN = 13
+BOOK_COLS = 14
 
 # indices into `scalars`
 F_CLOCK = 0  # time of the last processed event (relative to the origin)
@@ -346,9 +347,9 @@ def _sift_down(heap, heap_t, heap_key, book, k, n):
 
 
 @_inline
-def _entry(due, book, order, i, n):
+def _entry(due, book, i, n):
     """Sphere ``i``'s calendar entry: the earlier of its event and its crossing, ``(t, key)``."""
-    cross_key = _key(CROSSING, order[i], -1, n)
+    cross_key = _key(CROSSING, book[i, ORIGIN], -1, n)
     if due[i, CROSS_T] < due[i, EVENT_T] or (
         due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
     ):
@@ -415,7 +416,7 @@ def _unlink(calendar, book, counts, i):
 
 
 @_inline
-def _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, everything):
+def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, everything):
     """Move the overflow entries within a year of the current bucket (or all) into the calendar."""
     nb = _year(calendar, book)
     n = book.shape[0]
@@ -424,7 +425,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, 
     i = calendar[nb]
     while i >= 0:
         nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
-        t, key = _entry(due, book, order, i, n)
+        t, key = _entry(due, book, i, n)
         if everything or np.floor(t * rate) < limit:
             _unlink(calendar, book, counts, i)
             if everything:
@@ -439,7 +440,7 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, 
 
 
 @_inline
-def _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts):
+def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
     """While the heap is empty: on to the next bucket, its list into the heap."""
     nb = _year(calendar, book)
     n = book.shape[0]
@@ -451,32 +452,32 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
             first = np.inf
             i = calendar[nb]
             while i >= 0:
-                t, key = _entry(due, book, order, i, n)
+                t, key = _entry(due, book, i, n)
                 fb = np.floor(t * rate)
                 if fb < first:
                     first = fb
                 i = calendar[nb + 1 + 3 * i + CAL_NEXT]
             if first < CAL_ALL:
                 counts[C_BUCKET] = np.int64(first)
-                _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, False)
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
             else:
                 # (and from now on every entry into the heap: one plain heap
                 # until the next requeue)
                 counts[C_BUCKET] = CAL_ALL
-                _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, True)
+                _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, True)
             continue
         cur = counts[C_BUCKET] + 1
         counts[C_BUCKET] = cur
         if (cur & (nb - 1)) == 0:
             # a new year: the overflow entries that fall in it come in
-            _take_overflow(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, False)
+            _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
         slot = cur & (nb - 1)
         i = calendar[slot]
         calendar[slot] = -1
         while i >= 0:
             nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
             counts[C_QUEUED] -= 1
-            t, key = _entry(due, book, order, i, n)
+            t, key = _entry(due, book, i, n)
             k = counts[C_HEAP_SIZE]
             counts[C_HEAP_SIZE] = k + 1
             heap[k], heap_t[k], heap_key[k] = i, t, key
@@ -486,11 +487,11 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
 
 
 @_inline
-def _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i):
+def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
     """Sphere ``i``'s calendar entry becomes the earlier of its event and its crossing."""
     n = book.shape[0]
     nb = _year(calendar, book)
-    t, key = _entry(due, book, order, i, n)
+    t, key = _entry(due, book, i, n)
     if calendar[nb + 1 + 3 * i + CAL_BUCKET] == CAL_HEAP:
         k = book[i, HEAP_POS]
         if np.floor(t * scalars[F_BUCKET_RATE]) <= counts[C_BUCKET]:
@@ -510,11 +511,11 @@ def _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, count
     else:
         _unlink(calendar, book, counts, i)
     _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
-    _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
+    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
 
 
 @_jit
-def requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, per_bucket, rate):
+def requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, rate):
     """The calendar made anew from the predictions (``due``, ``book``).
 
     Buckets ``1 / rate`` wide if ``rate > 0``, else so wide that about
@@ -527,7 +528,7 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts,
     total = 0.0
     finite = 0
     for i in range(n):
-        t, key = _entry(due, book, order, i, n)
+        t, key = _entry(due, book, i, n)
         if t < np.inf and t > clock:
             total += t - clock
             finite += 1
@@ -547,9 +548,9 @@ def requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts,
     for s in range(nb + 1):
         calendar[s] = -1
     for i in range(n):
-        t, key = _entry(due, book, order, i, n)
+        t, key = _entry(due, book, i, n)
         _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key)
-    _refill(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts)
+    _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts)
 
 
 def calendar_size(n):
@@ -705,11 +706,11 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 
 @_inline
-def _pair(spheres, order, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
 
-    ``j`` seen at its image shifted by ``(sx, sy, sz)``; ``oi`` is
-    ``order[i]`` (the tie key is on the spheres' input indices, ``order``);
+    ``j`` seen at its image shifted by ``(sx, sy, sz)``; ``oi`` is ``i``'s
+    input index (``book[i, ORIGIN]``: tie keys are on input indices);
     returns the new ``(best_t, best_key, best_p)``.
     """
     tj = spheres[j, T_OWN]
@@ -770,7 +771,7 @@ def _pair(spheres, order, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one,
         if te < clock:
             te = clock  # a root rounded into the past
         if te <= best_t:
-            oj = order[j]
+            oj = book[j, ORIGIN]
             kk = _key(COLLISION, min(oi, oj), max(oi, oj), n)
             if te < best_t or kk < best_key:
                 best_t, best_key, best_p = te, kk, j
@@ -808,7 +809,7 @@ def _scan_start(spheres, book, due, scalars, i):
 
 
 @_inline
-def _scan_list(spheres, book, due, order, neighbours, scalars, i):
+def _scan_list(spheres, book, due, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     box = scalars[F_BOX]
@@ -818,7 +819,7 @@ def _scan_list(spheres, book, due, order, neighbours, scalars, i):
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
     one = 1.0 if n > 0 else 2.0
-    oi = order[i]
+    oi = book[i, ORIGIN]
     for q in range(book[i, NEIGHBOURS]):
         entry = neighbours[i, q]
         j = entry >> 5
@@ -828,15 +829,13 @@ def _scan_list(spheres, book, due, order, neighbours, scalars, i):
         sy = (((code // 3) % 3) - 1) * box
         sz = ((code % 3) - 1) * box
         best_t, best_key, best_p = _pair(
-            spheres, order, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+            spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
         )
     _store(due, book, i, best_t, best_key, best_p)
 
 
 @_inline
-def _scan_cells(
-    spheres, book, due, order, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi
-):
+def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
@@ -849,7 +848,7 @@ def _scan_cells(
     best_p = -1
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
-    oi = order[i]
+    oi = book[i, ORIGIN]
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
@@ -871,7 +870,7 @@ def _scan_cells(
                     if j != i:
                         best_t, best_key, best_p = _pair(
                             spheres,
-                            order,
+                            book,
                             i,
                             oi,
                             j,
@@ -894,7 +893,7 @@ def _scan_cells(
 
 
 @_inline
-def predict(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
     """Find sphere ``i``'s earliest collision or reflection and its next crossing.
 
     Against its neighbours and leaving its shell (``F_SHELL > 0``), or
@@ -930,23 +929,23 @@ def predict(spheres, book, due, order, shells, neighbours, cell_head, cell_next,
             if te < scalars[F_CLOCK]:
                 te = scalars[F_CLOCK]
             due[i, EVENT_T] = te
-            book[i, EVENT_KEY] = _key(REFLECTION, order[i], -1, n)
+            book[i, EVENT_KEY] = _key(REFLECTION, book[i, ORIGIN], -1, n)
             book[i, EVENT_KIND] = REFLECTION
     if scalars[F_SHELL] > 0.0:
-        _scan_list(spheres, book, due, order, neighbours, scalars, i)
+        _scan_list(spheres, book, due, neighbours, scalars, i)
         _shell_exit(spheres, shells, due, scalars, i, t)
     else:
-        _scan_cells(spheres, book, due, order, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
+        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
         _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
 
 
 @_jit
-def predict_one(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
     """:func:`predict`, called rather than inlined: for the callers outside the event loop.
 
     (Each inlined copy holds both scans and costs compile time.)
     """
-    predict(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
 
 
 @_inline
@@ -1118,7 +1117,7 @@ def build(arrays, per_bucket):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar, order = arrays[16:18]
+    calendar = arrays[16]
     n = spheres.shape[0]
     nc = counts[C_CELLS]
     cell_head[:] = -1
@@ -1140,10 +1139,8 @@ def build(arrays, per_bucket):
         if longest > neighbours.shape[1]:
             return longest
     for i in range(n):
-        predict_one(
-            spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t
-        )
-    requeue(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, per_bucket, 0.0)
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, 0.0)
     return longest
 
 
@@ -1215,7 +1212,7 @@ def refresh_window(arrays):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar, order = arrays[16:18]
+    calendar = arrays[16]
     n = heap.shape[0]
     if n == 0:
         return
@@ -1250,7 +1247,7 @@ def refresh_window(arrays):
             else:
                 j = calendar[nb] if whole else -1
             while j >= 0:
-                tj, kj = _entry(due, book, order, j, n)
+                tj, kj = _entry(due, book, j, n)
                 if tj < limit:
                     scratch[n + found] = j
                     found += 1
@@ -1260,10 +1257,8 @@ def refresh_window(arrays):
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict_one(
-                spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t
-            )
-            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
+            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
 # ---- transport tallies -----------------------------------------------------------
@@ -1379,7 +1374,7 @@ def run(arrays, until, max_events, max_collisions, record):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar, order = arrays[16:18]
+    calendar = arrays[16]
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
     n = spheres.shape[0]
     if n == 0:
@@ -1430,11 +1425,9 @@ def run(arrays, until, max_events, max_collisions, record):
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            _scan_cells(
-                spheres, book, due, order, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh
-            )
+            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
             _crossing(spheres, book, due, scalars, nc, i, te)
-            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
             # leaving its shell: not an event of the physics (the clock
@@ -1486,7 +1479,7 @@ def run(arrays, until, max_events, max_collisions, record):
             _advance(spheres, i, te)
             _advance(spheres, j, te)
             # lower input index minus higher (the tie rule's order)
-            a, b = (i, j) if order[i] < order[j] else (j, i)
+            a, b = (i, j) if book[i, ORIGIN] < book[j, ORIGIN] else (j, i)
             dx = spheres[a, X] - spheres[b, X]
             dy = spheres[a, Y] - spheres[b, Y]
             dz = spheres[a, Z] - spheres[b, Z]
@@ -1522,8 +1515,8 @@ def run(arrays, until, max_events, max_collisions, record):
             p0, p1 = a, b
             rec_t[done] = te
             rec_kind[done] = COLLISION
-            rec_i[done] = order[a]
-            rec_j[done] = order[b]
+            rec_i[done] = book[a, ORIGIN]
+            rec_j[done] = book[b, ORIGIN]
             rec_imp[done] = -masses[a] * k1 * np.sqrt(d2)
             rec_dp[done, 0] = -masses[a] * k1 * dx
             rec_dp[done, 1] = -masses[a] * k1 * dy
@@ -1565,7 +1558,7 @@ def run(arrays, until, max_events, max_collisions, record):
             book[i, FRESH] = counts[C_SERIAL]
             rec_t[done] = te
             rec_kind[done] = REFLECTION
-            rec_i[done] = order[i]
+            rec_i[done] = book[i, ORIGIN]
             rec_j[done] = -1
             rec_imp[done] = imp
             rec_dp[done, 0] = -masses[i] * k * px
@@ -1576,10 +1569,8 @@ def run(arrays, until, max_events, max_collisions, record):
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(
-                spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp
-            )
-            _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, x)
+            predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
+            _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, x)
         if stale:
             continue
         if window > 0.0 and te != anchor:
@@ -1595,7 +1586,7 @@ def kick(arrays, i, t, vx, vy, vz):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar, order = arrays[16:18]
+    calendar = arrays[16]
     scalars[F_CLOCK] = t
     _advance(spheres, i, t)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
@@ -1613,8 +1604,8 @@ def kick(arrays, i, t, vx, vy, vz):
     book[i, CHANGES] += 1
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
-    predict_one(spheres, book, due, order, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
-    _schedule(heap, heap_t, heap_key, calendar, due, book, order, scalars, counts, i)
+    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
 # ---- state and checks ------------------------------------------------------------

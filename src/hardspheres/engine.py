@@ -149,9 +149,9 @@ class Engine:
         self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, np.int64)
         self._images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
-        # the engine's order: sphere i here is sphere order[i] of the input (and
-        # _rank the other way round; None while the two orders are the same)
-        self.order = np.arange(n, dtype=np.int64)
+        # the engine's order: sphere i here is sphere order[i] of the input
+        # (book[:, ORIGIN]; _rank the other way round, None while the two agree)
+        self.book[:, core.ORIGIN] = np.arange(n)
         self._rank: np.ndarray | None = None
         if reorder is None:
             reorder = REORDER_EVERY if n >= REORDER_FROM else 0.0
@@ -177,7 +177,22 @@ class Engine:
     @property
     def n(self) -> int:
         """Number of spheres."""
-        return self.masses.shape[0]
+        return self._masses.shape[0]
+
+    @property
+    def order(self) -> np.ndarray:
+        """``(N,)`` int64: the input index of the engine's sphere ``i`` (a view: do not write)."""
+        return self.book[:, core.ORIGIN]
+
+    def _set_rank(self):
+        """The input order's sphere ``k`` is the engine's ``_rank[k]`` (None: the same order)."""
+        n = self.n
+        order = self.order
+        if np.array_equal(order, np.arange(n)):
+            self._rank = None
+        else:
+            self._rank = np.empty(n, np.int64)
+            self._rank[order] = np.arange(n)
 
     def _shown(self, a):
         """A per-sphere array of the engine's order in the input order (itself while they agree)."""
@@ -254,15 +269,13 @@ class Engine:
         self.spheres = self.spheres[perm]
         self._masses = self._masses[perm]
         self._images = self._images[perm]
-        self.order = self.order[perm]
-        rank = np.empty(n, np.int64)
-        rank[self.order] = np.arange(n)
-        self._rank = None if np.array_equal(self.order, np.arange(n)) else rank
+        book = self.book[perm]  # (with the input indices, ORIGIN)
+        self.book = book
+        self._set_rank()
         if not built:
             return
         self.due = self.due[perm]
         self.shells = self.shells[perm]
-        book = self.book[perm]
         partner = book[:, core.PARTNER]
         book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
         self.book = book
@@ -293,7 +306,6 @@ class Engine:
             *heap,
             self.due,
             self.book,
-            self.order,
             self.scalars,
             self.counts,
             CAL_PER_BUCKET,
@@ -403,7 +415,7 @@ class Engine:
     def _requeue(self):
         """The event calendar made anew (its buckets from the predictions now)."""
         heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
-        core.requeue(*heap, self.due, self.book, self.order, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
+        core.requeue(*heap, self.due, self.book, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
 
     @property
     def window(self):
@@ -643,7 +655,7 @@ class Engine:
         """
         out = {k: getattr(self, _INTERNAL.get(k, k)) for k in self._SAVED}
         n = self.n
-        t, key = _entries(self.due, self.book, self.order, n)
+        t, key = _entries(self.due, self.book, n)
         order = np.lexsort((key, t))
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
@@ -689,18 +701,17 @@ class Engine:
                 data = dict(
                     data, shells=np.zeros((n, core.SHELL_COLS)), neighbours=np.zeros((n, 0), np.int32)
                 )
-            if k == "order" and k not in data:  # from before the engine's own order: the input's
-                data = dict(data, order=np.arange(n, dtype=np.int64))
             setattr(eng, _INTERNAL.get(k, k), np.array(data[k]))
-        rank = np.empty(n, np.int64)
-        rank[eng.order] = np.arange(n)
-        eng._rank = None if np.array_equal(eng.order, np.arange(n)) else rank
         every, since_reorder = data["reorder"].tolist() if "reorder" in data else (0.0, 0.0)
         eng._reorder_every, eng._since_reorder = every, int(since_reorder)
-        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
+        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column or the input index
+            saved_cols = eng.book.shape[1]
             eng.book = np.concatenate(
-                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1
+                [eng.book, np.zeros((n, core.BOOK_COLS - saved_cols), np.int64)], axis=1
             )
+            if saved_cols <= core.ORIGIN:  # kept in the input order
+                eng.book[:, core.ORIGIN] = np.arange(n)
+        eng._set_rank()
         if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
             eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
         offset, since, rebase_on, radius, box = data["meta"].tolist()
@@ -921,8 +932,12 @@ def check_arrays(data):
     book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
     if "book" not in data:
         _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
-        # (12 columns: from before the neighbour lists)
+    if book.dtype != np.int64 or book.shape not in (
+        (n, core.BOOK_COLS),
+        (n, core.ORIGIN),
+        (n, core.NEIGHBOURS),
+    ):
+        # (13 columns: from before the engine's own order; 12: before the neighbour lists)
         _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
     due = _array(data, "due", np.float64, (n, core.DUE_COLS))
     cell_next = _array(data, "cell_next", np.int64, (n,))
@@ -939,11 +954,10 @@ def check_arrays(data):
         _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
     if "images" in data:  # periodic image counts, where the core keeps them
         _array(data, "images", np.int64, (n, 3))
-    order = np.arange(n, dtype=np.int64)
-    if "order" in data:  # the engine's order of the spheres (absent: the input's)
-        order = _array(data, "order", np.int64, (n,))
-        if not np.array_equal(np.sort(order), np.arange(n)):
-            _bad("'order' is not a permutation of the spheres")
+    # the engine's order of the spheres: the input index of each (before it, the input order)
+    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n, dtype=np.int64)
+    if not np.array_equal(np.sort(order), np.arange(n)):
+        _bad("the spheres' input indices are not a permutation of the spheres")
     if "reorder" in data:
         every, since = _array(data, "reorder", np.float64, (2,)).tolist()
         if not (np.isfinite(every) and every >= 0 and np.isfinite(since) and 0 <= since < 2**62):
@@ -1035,7 +1049,7 @@ def check_arrays(data):
         code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
             _bad("an unknown cell crossing")
-    entry_t, entry_key = _entries(due, book, order, n)
+    entry_t, entry_key = _entries(due, book, n)
     pos = book[:, core.HEAP_POS]
     if np.any(heap_t[pos] != entry_t) or np.any(heap_key[pos] != entry_key):
         _bad("the event calendar disagrees with the predictions")
@@ -1045,8 +1059,9 @@ def check_arrays(data):
         _bad("the event calendar is out of order")
 
 
-def _entries(due, book, order, n):
+def _entries(due, book, n):
     """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
+    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n)
     cross_key = _key(core.CROSSING, order, -1, n)
     key = book[:, core.EVENT_KEY]
     ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
