@@ -56,6 +56,8 @@ import numba
 import numba.core.cpu
 import numba.extending
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils, types
 
 from . import events, physics
 
@@ -124,6 +126,34 @@ wall_time_grow = _kernel(physics.wall_time_grow)
 collide_grow = _kernel(physics.collide_grow)
 reflect_grow = _kernel(physics.reflect_grow)
 frozen_limit_of = _kernel(physics.frozen_limit)
+
+
+@numba.extending.intrinsic
+def _prefetch(typingctx, array, index):
+    """Ask the CPU to start loading the cache line of ``array[index]`` (a row's first element).
+
+    A hint (x86 ``prefetcht0``): nothing is read or changed.  The scans call
+    it for every neighbour in a list before looking at any, so that the
+    rows of spheres scattered over memory load side by side rather than one
+    after another (benchmarks/README.md, "Prefetching").
+    """
+    sig = types.void(array, index)
+
+    def codegen(context, builder, signature, args):
+        arrayty = signature.args[0]
+        ary = context.make_array(arrayty)(context, builder, args[0])
+        first = [args[1]] + [context.get_constant(types.intp, 0)] * (arrayty.ndim - 1)
+        ptr = cgutils.get_item_pointer(context, builder, arrayty, ary, first, wraparound=False)
+        bytes_ptr = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        fnty = ir.FunctionType(ir.VoidType(), [bytes_ptr, i32, i32, i32])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0i8")
+        # read, highest locality, data cache
+        builder.call(fn, [builder.bitcast(ptr, bytes_ptr), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
 
 #: Event kinds (also the tie order at equal times): the public ones are
 #: :class:`hardspheres.events.EventKind`'s numbers; crossings and "nothing"
@@ -820,6 +850,8 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
     # and test it first again, on its own
     one = 1.0 if n > 0 else 2.0
     oi = book[i, ORIGIN]
+    for q in range(book[i, NEIGHBOURS]):
+        _prefetch(spheres, neighbours[i, q] >> 5)
     for q in range(book[i, NEIGHBOURS]):
         entry = neighbours[i, q]
         j = entry >> 5
