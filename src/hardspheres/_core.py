@@ -36,8 +36,9 @@ Lubachevsky, as in the fastest public codes):
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first: the spheres' input indices (``book``'s
   ``ORIGIN``), whatever order the engine keeps them in.  With a
-  simultaneity ``window > 0`` (the assignment's 1e-8 s), events less than ``window`` after the last one
-  happen *at* its time, and whenever that time (the anchor) moves, every
+  simultaneity ``window > 0`` (the assignment's 1e-8 s), events less than
+  ``window`` after the last one happen *at* its time, and whenever that
+  time (the anchor) moves, every
   sphere whose event falls in the new window is predicted afresh
   (:func:`refresh_window`), so the tie order decides among them exactly as
   in the reference.  An event at the anchor's own instant changes no other
