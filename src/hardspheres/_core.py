@@ -38,10 +38,9 @@ Lubachevsky, as in the fastest public codes):
   ``ORIGIN``), whatever order the engine keeps them in.  With a
   simultaneity ``window > 0`` (the assignment's 1e-8 s), events less than
   ``window`` after the last one happen *at* its time, and whenever that
-  time (the anchor) moves, every
-  sphere whose event falls in the new window is predicted afresh
-  (:func:`refresh_window`), so the tie order decides among them exactly as
-  in the reference.  An event at the anchor's own instant changes no other
+  time (the anchor) moves, every sphere whose event falls in the new window
+  is predicted afresh (:func:`refresh_window`), so the tie order decides
+  among them exactly as in the reference.  An event at the anchor's own instant changes no other
   prediction: only the spheres it touched are predicted again.
 * **Events that would not end** stop the loop (see :func:`run`): a
   reflection that would change nothing, and a clock that does not advance
