@@ -34,12 +34,13 @@ Lubachevsky, as in the fastest public codes):
   brute-force reference (:mod:`hardspheres.reference`) does the same, so
   the two agree bit for bit.
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
-  collisions, lower index first.  With a simultaneity ``window > 0`` (the
-  assignment's 1e-8 s), events less than ``window`` after the last one
-  happen *at* its time, and whenever that time (the anchor) moves, every
-  sphere whose event falls in the new window is predicted afresh
-  (:func:`refresh_window`), so the tie order decides among them exactly as
-  in the reference.  An event at the anchor's own instant changes no other
+  collisions, lower index first: the spheres' input indices (``book``'s
+  ``ORIGIN``), whatever order the engine keeps them in.  With a
+  simultaneity ``window > 0`` (the assignment's 1e-8 s), events less than
+  ``window`` after the last one happen *at* its time, and whenever that
+  time (the anchor) moves, every sphere whose event falls in the new window
+  is predicted afresh (:func:`refresh_window`), so the tie order decides
+  among them exactly as in the reference.  An event at the anchor's own instant changes no other
   prediction: only the spheres it touched are predicted again.
 * **Events that would not end** stop the loop (see :func:`run`): a
   reflection that would change nothing, and a clock that does not advance
@@ -177,7 +178,8 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #                                        at the sphere's own time, that time, radius
 #   due        float64 (N, DUE_COLS)     when its next event and its shell crossing are due
 #   book       int64   (N, BOOK_COLS)    bookkeeping: course changes, cell, the
-#                                        predicted event, heap position, list length
+#                                        predicted event, heap position, list length,
+#                                        input index (ORIGIN)
 #   shells     float64 (N, SHELL_COLS)   shell centre and reach
 #   neighbours int32   (N, cap)          neighbour list: 32 j + image code (see _pair_code)
 #   images     int64   (N, 3)            crossings of the periodic box per axis
@@ -248,7 +250,11 @@ CROSS_FACE = 9  # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 
 FRESH = 10  # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11  # position of the sphere's entry in the heap
 NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its row)
-BOOK_COLS = 13
+# its input index: the engine keeps the spheres in an order of its own (near
+# in space, near in memory); tie keys, a collision's a - b and the event record
+# are on input indices, never on i (here, in a row the event touches anyway)
+ORIGIN = 13
+BOOK_COLS = 14
 
 # indices into `scalars`
 F_CLOCK = 0  # time of the last processed event (relative to the origin)
@@ -373,7 +379,7 @@ def _sift_down(heap, heap_t, heap_key, book, k, n):
 @_inline
 def _entry(due, book, i, n):
     """Sphere ``i``'s calendar entry: the earlier of its event and its crossing, ``(t, key)``."""
-    cross_key = _key(CROSSING, i, -1, n)
+    cross_key = _key(CROSSING, book[i, ORIGIN], -1, n)
     if due[i, CROSS_T] < due[i, EVENT_T] or (
         due[i, CROSS_T] == due[i, EVENT_T] and cross_key < book[i, EVENT_KEY]
     ):
@@ -730,11 +736,12 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 
 @_inline
-def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
 
-    ``j`` seen at its image shifted by ``(sx, sy, sz)``; returns the new
-    ``(best_t, best_key, best_p)``.
+    ``j`` seen at its image shifted by ``(sx, sy, sz)``; ``oi`` is ``i``'s
+    input index (``book[i, ORIGIN]``: tie keys are on input indices);
+    returns the new ``(best_t, best_key, best_p)``.
     """
     tj = spheres[j, T_OWN]
     t0 = ti if ti > tj else tj
@@ -794,7 +801,8 @@ def _pair(spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t,
         if te < clock:
             te = clock  # a root rounded into the past
         if te <= best_t:
-            kk = _key(COLLISION, min(i, j), max(i, j), n)
+            oj = book[j, ORIGIN]
+            kk = _key(COLLISION, min(oi, oj), max(oi, oj), n)
             if te < best_t or kk < best_key:
                 best_t, best_key, best_p = te, kk, j
     return best_t, best_key, best_p
@@ -841,6 +849,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
     # kernel's own first test (receding: inf) decides both branches below
     # and test it first again, on its own
     one = 1.0 if n > 0 else 2.0
+    oi = book[i, ORIGIN]
     for q in range(book[i, NEIGHBOURS]):
         _prefetch(spheres, neighbours[i, q] >> 5)
     for q in range(book[i, NEIGHBOURS]):
@@ -852,7 +861,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         sy = (((code // 3) % 3) - 1) * box
         sz = ((code % 3) - 1) * box
         best_t, best_key, best_p = _pair(
-            spheres, i, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+            spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
         )
     _store(due, book, i, best_t, best_key, best_p)
 
@@ -871,6 +880,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     best_p = -1
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
+    oi = book[i, ORIGIN]
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
@@ -892,7 +902,9 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                     if j != i:
                         best_t, best_key, best_p = _pair(
                             spheres,
+                            book,
                             i,
+                            oi,
                             j,
                             sx,
                             sy,
@@ -949,7 +961,7 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
             if te < scalars[F_CLOCK]:
                 te = scalars[F_CLOCK]
             due[i, EVENT_T] = te
-            book[i, EVENT_KEY] = _key(REFLECTION, i, -1, n)
+            book[i, EVENT_KEY] = _key(REFLECTION, book[i, ORIGIN], -1, n)
             book[i, EVENT_KIND] = REFLECTION
     if scalars[F_SHELL] > 0.0:
         _scan_list(spheres, book, due, neighbours, scalars, i)
@@ -1498,7 +1510,8 @@ def run(arrays, until, max_events, max_collisions, record):
             scalars[F_ANCHOR] = te
             _advance(spheres, i, te)
             _advance(spheres, j, te)
-            a, b = (i, j) if i < j else (j, i)
+            # lower input index minus higher (the tie rule's order)
+            a, b = (i, j) if book[i, ORIGIN] < book[j, ORIGIN] else (j, i)
             dx = spheres[a, X] - spheres[b, X]
             dy = spheres[a, Y] - spheres[b, Y]
             dz = spheres[a, Z] - spheres[b, Z]
@@ -1534,8 +1547,8 @@ def run(arrays, until, max_events, max_collisions, record):
             p0, p1 = a, b
             rec_t[done] = te
             rec_kind[done] = COLLISION
-            rec_i[done] = a
-            rec_j[done] = b
+            rec_i[done] = book[a, ORIGIN]
+            rec_j[done] = book[b, ORIGIN]
             rec_imp[done] = -masses[a] * k1 * np.sqrt(d2)
             rec_dp[done, 0] = -masses[a] * k1 * dx
             rec_dp[done, 1] = -masses[a] * k1 * dy
@@ -1577,7 +1590,7 @@ def run(arrays, until, max_events, max_collisions, record):
             book[i, FRESH] = counts[C_SERIAL]
             rec_t[done] = te
             rec_kind[done] = REFLECTION
-            rec_i[done] = i
+            rec_i[done] = book[i, ORIGIN]
             rec_j[done] = -1
             rec_imp[done] = imp
             rec_dp[done, 0] = -masses[i] * k * px

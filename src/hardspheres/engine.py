@@ -47,8 +47,35 @@ LISTS_FROM = 0.35
 HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
 
 
+#: Spatial reordering (benchmarks/README.md, "Spatial reordering"): from this
+#: many spheres the engine keeps its per-sphere arrays in Morton order of the
+#: spheres' places (near in space, near in memory: fewer cache misses where
+#: the arrays outgrow the caches), sorted at the build ...
+REORDER_FROM = 1 << 14
+#: ... and again after this many collisions and reflections per sphere (the
+#: spheres diffuse out of their places slowly).
+REORDER_EVERY = 10.0
+
+# the core's arrays that the engine shows in the input order under their own
+# names (properties): kept in the engine's order under these
+_INTERNAL = {"masses": "_masses", "images": "_images"}
+
 # the engine's arrays, by name, as the core takes them (one C call)
-_core_arrays = operator.attrgetter(*core.ARRAYS)
+_core_arrays = operator.attrgetter(*(_INTERNAL.get(k, k) for k in core.ARRAYS))
+
+
+def _spread_bits(q):
+    """The low 21 bits of each ``q`` (uint64) spread out to every third bit (Morton codes)."""
+    q = q & np.uint64(0x1FFFFF)
+    for shift, mask in (
+        (32, 0x1F00000000FFFF),
+        (16, 0x1F0000FF0000FF),
+        (8, 0x100F00F00F00F00F),
+        (4, 0x10C30C30C30C30C3),
+        (2, 0x1249249249249249),
+    ):
+        q = (q | (q << np.uint64(shift))) & np.uint64(mask)
+    return q
 
 
 class CheckpointError(ValueError):
@@ -73,6 +100,13 @@ class Engine:
         time: the time the positions are given at [time].
         rebase: move the time origin forward now and then, for precision
             in long runs (off: the same arithmetic as the reference loop).
+        reorder: keep the spheres in Morton order of their places inside,
+            sorted at the build and again after this many collisions and
+            reflections per sphere; 0: never; ``None`` (default):
+            :data:`REORDER_EVERY` from :data:`REORDER_FROM` spheres.  Only
+            speed depends on it: every event, every array shown and every
+            sphere index (``kick``, event records) is the same, in the input
+            order, bit for bit.
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -93,10 +127,11 @@ class Engine:
         window: float = 0.0,
         time: float = 0.0,
         rebase: bool = True,
+        reorder: float | None = None,
     ) -> None:
         self.container: Container = as_container(container, box)
-        self.masses = np.ascontiguousarray(masses, dtype=np.float64).reshape(-1)
-        n = self.masses.shape[0]
+        self._masses = np.array(masses, dtype=np.float64).reshape(-1)
+        n = self._masses.shape[0]
         # one 64-byte row per sphere: x y z vx vy vz t_own radius
         self.spheres = np.zeros((n, core.SPHERE_COLS))
         self.spheres[:, core.X : core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
@@ -113,7 +148,18 @@ class Engine:
         self.heap_key = np.zeros(n, np.int64)
         self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, np.int64)
-        self.images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
+        self._images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
+        # the engine's order: sphere i here is sphere order[i] of the input
+        # (book[:, ORIGIN]; _rank the other way round, None while the two agree)
+        self.book[:, core.ORIGIN] = np.arange(n)
+        self._rank: np.ndarray | None = None
+        if reorder is None:
+            reorder = REORDER_EVERY if n >= REORDER_FROM else 0.0
+        reorder = float(reorder)
+        if not (reorder >= 0.0 and np.isfinite(reorder)):
+            raise ValueError(f"reorder must be a finite number >= 0 (collisions per sphere), got {reorder}")
+        self._reorder_every = reorder
+        self._since_reorder = 0
         self.scalars = np.zeros(core.N_SCALARS)
         self.counts = np.zeros(core.N_COUNTS, np.int64)
         self.offset = float(time)  # absolute time of the core's time origin
@@ -124,22 +170,162 @@ class Engine:
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = StopReason.UNTIL, 0
+        if self._reorder_every and n > 1:
+            self._permute(self._morton(self._inside_at(0.0)), built=False)
         self._build()
 
     @property
     def n(self) -> int:
         """Number of spheres."""
-        return self.masses.shape[0]
+        return self._masses.shape[0]
+
+    @property
+    def order(self) -> np.ndarray:
+        """``(N,)`` int64: the input index of the engine's sphere ``i`` (a view: do not write)."""
+        return self.book[:, core.ORIGIN]
+
+    def _set_rank(self):
+        """The input order's sphere ``k`` is the engine's ``_rank[k]`` (None: the same order)."""
+        n = self.n
+        order = self.order
+        if np.array_equal(order, np.arange(n)):
+            self._rank = None
+        else:
+            self._rank = np.empty(n, np.int64)
+            self._rank[order] = np.arange(n)
+
+    def _shown(self, a):
+        """A per-sphere array of the engine's order in the input order (itself while they agree)."""
+        return a if self._rank is None else a[self._rank]
+
+    @property
+    def masses(self) -> np.ndarray:
+        """``(N,)`` masses [mass] (do not write)."""
+        return self._shown(self._masses)
+
+    @property
+    def images(self) -> np.ndarray:
+        """``(N, 3)`` int64: each sphere's crossings of the periodic box per axis (a copy to write back)."""
+        return self._shown(self._images)
+
+    @images.setter
+    def images(self, value):
+        self._images[:] = np.asarray(value, dtype=np.int64).reshape(-1, 3)[self.order]
 
     @property
     def velocities(self) -> np.ndarray:
-        """``(N, 3)`` velocities now [length/time] (a view: do not write)."""
-        return self.spheres[:, core.VX : core.VZ + 1]
+        """``(N, 3)`` velocities now [length/time] (do not write)."""
+        return self._shown(self.spheres[:, core.VX : core.VZ + 1])
 
     @property
     def radii(self) -> np.ndarray:
-        """``(N,)`` radii at the time origin [length] (a view; :meth:`radii_at` for now)."""
-        return self.spheres[:, core.RADIUS]
+        """``(N,)`` radii at the time origin [length] (do not write; :meth:`radii_at` for now)."""
+        return self._shown(self.spheres[:, core.RADIUS])
+
+    # ---- the engine's order of the spheres ------------------------------------
+    def _inside_at(self, t):
+        """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
+        out = np.empty((self.n, 3))
+        core.positions_at(self.spheres, t, out, self.scalars[core.F_BOX])
+        return out
+
+    def _morton(self, x):
+        """The engine's spheres in Morton (Z-curve) order of their places ``x``.
+
+        The centres are quantised to a grid of ``2^b`` per axis over the cells'
+        span (about one sphere per grid cell, ``b <= 21``), the three
+        coordinates' bits interleaved; ties keep the order they had.
+
+        Returns:
+            ``perm``: the sphere that comes ``k``-th (an index of the engine's order).
+        """
+        n = self.n
+        bits = int(min(21, max(1, np.ceil(np.log2(max(n, 2)) / 3.0))))
+        lo = self.scalars[core.F_LO]
+        span = self.scalars[core.F_W] * self.counts[core.C_CELLS]
+        q = np.floor((x - lo) * ((1 << bits) / span))
+        q = np.clip(np.nan_to_num(q), 0, (1 << bits) - 1).astype(np.uint64)
+        code = (
+            _spread_bits(q[:, 0])
+            | (_spread_bits(q[:, 1]) << np.uint64(1))
+            | (_spread_bits(q[:, 2]) << np.uint64(2))
+        )
+        return np.argsort(code, kind="stable")
+
+    def _permute(self, perm, built=True):
+        """Put the spheres in the order ``perm`` (``perm[k]``: the sphere that comes ``k``-th).
+
+        Every per-sphere array moves with its spheres and every sphere
+        index in them is renamed (partners, neighbour lists); the cell lists
+        and the calendar are made anew from them.  Nothing is predicted
+        again and no number changes, so the run goes on with the same events
+        bit for bit (the tie keys are on input indices, ``order``).
+        ``built``: the derived arrays exist (else only the physical state moves).
+        """
+        n = self.n
+        perm = np.asarray(perm, dtype=np.int64)
+        new = np.empty(n, np.int64)
+        new[perm] = np.arange(n)  # old index -> new
+        self.spheres = self.spheres[perm]
+        self._masses = self._masses[perm]
+        self._images = self._images[perm]
+        book = self.book[perm]  # (with the input indices, ORIGIN)
+        self.book = book
+        self._set_rank()
+        if not built:
+            return
+        self.due = self.due[perm]
+        self.shells = self.shells[perm]
+        partner = book[:, core.PARTNER]
+        book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
+        self.book = book
+        nb = self.neighbours[perm]
+        used = np.arange(nb.shape[1])[None, :] < book[:, core.NEIGHBOURS][:, None]
+        entries = nb[used].astype(np.int64)
+        nb[used] = ((new[entries >> 5] << 5) | (entries & 31)).astype(np.int32)
+        # each list in the new order too (entries past a list's length are never read)
+        nb[~used] = np.iinfo(np.int32).max
+        nb.sort(axis=1)
+        self.neighbours = nb
+        # the cell lists, each in the new order
+        cell = book[:, core.CELL]
+        by = np.argsort(cell, kind="stable")
+        c = cell[by]
+        same = c[1:] == c[:-1]
+        self.cell_next = np.full(n, -1, np.int64)
+        self.cell_prev = np.full(n, -1, np.int64)
+        self.cell_next[by[:-1][same]] = by[1:][same]
+        self.cell_prev[by[1:][same]] = by[:-1][same]
+        first = np.concatenate(([True], ~same))
+        self.cell_head[:] = -1
+        self.cell_head[c[first]] = by[first]
+        # the calendar, with the buckets as wide as they were
+        self.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
+        core.requeue(
+            *heap,
+            self.due,
+            self.book,
+            self.scalars,
+            self.counts,
+            CAL_PER_BUCKET,
+            float(self.scalars[core.F_BUCKET_RATE]),
+        )
+
+    def _reorder(self):
+        """The spheres in Morton order of their places now (see :meth:`_permute`)."""
+        self._since_reorder = 0
+        if self.n > 1:
+            perm = self._morton(self._inside_at(self.scalars[core.F_CLOCK]))
+            if not np.array_equal(perm, np.arange(self.n)):
+                self._permute(perm)
+
+    def _kinetic_sums(self):
+        """The core's kinetic tensor and energy current, summed in the input order."""
+        if self._rank is None:
+            core.kinetic_sums(self.spheres, self._masses, self.scalars)
+        else:
+            core.kinetic_sums(self.spheres[self._rank], self._masses[self._rank], self.scalars)
 
     @property
     def box(self) -> float | None:
@@ -187,7 +373,7 @@ class Engine:
             # room for the longest list and more: lists change as spheres move
             self.neighbours = np.zeros((self.n, longest + longest // 2 + 4), np.int32)
         self.scalars[core.F_T_KIN] = self.scalars[core.F_CLOCK]
-        core.kinetic_sums(self.spheres, self.masses, self.scalars)
+        self._kinetic_sums()
         self._queue_anew(first=True)
 
     def _queue_anew(self, first=False):
@@ -306,7 +492,7 @@ class Engine:
                 return np.inf
             w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
             return self.offset + (w / (2.0 * rmax) - 1.0) / g
-        r = self.radii
+        r = self.spheres[:, core.RADIUS]  # (the engine's order, as the shells')
         grows = r > 0.0
         if not np.any(grows):
             return np.inf
@@ -338,7 +524,7 @@ class Engine:
         f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
         f[core.F_T_KIN] = f[core.F_CLOCK]
         self.spheres[:, core.VX : core.VZ + 1] *= factor
-        core.kinetic_sums(self.spheres, self.masses, f)
+        self._kinetic_sums()
         self._build()
 
     def kick(self, i, t, velocity):
@@ -347,7 +533,8 @@ class Engine:
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
         vx, vy, vz = (float(x) for x in velocity)
-        core.kick(self.arrays, int(i), t, vx, vy, vz)
+        i = int(i)
+        core.kick(self.arrays, i if self._rank is None else int(self._rank[i]), t, vx, vy, vz)
 
     # ---- running ----------------------------------------------------------
     def advance(
@@ -391,13 +578,19 @@ class Engine:
                 stop = until
             rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
+            if self._reorder_every:
+                reorder_due = max(int(self._reorder_every * self.n), 1)
+                left_ev = min(left_ev, reorder_due - self._since_reorder)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
             done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
             done_total += done
             self._since_rebase += done
             self._since_queue += done
+            self._since_reorder += done
             if self._since_queue >= self._queue_every:
                 self._queue_anew()
+            if self._reorder_every and self._since_reorder >= reorder_due:
+                self._reorder()
             if record and done:
                 chunks.append(_events.from_buffers(rec, done, self.offset))
             if self._since_rebase >= rebase_due:
@@ -411,7 +604,7 @@ class Engine:
                     raise StuckError(
                         "frozen" if reason == StopReason.FROZEN else "sliding",
                         float(self.offset + self.heap_t[0]),
-                        int(self.heap[0]),
+                        int(self.order[self.heap[0]]),
                     )
                 break  # the events before it first; the next call raises
             if reason == StopReason.UNTIL and stop < until:
@@ -460,7 +653,7 @@ class Engine:
         time and tie key) and made anew on :meth:`restore`: the order of
         events does not depend on how the calendar is laid out.
         """
-        out = {k: getattr(self, k) for k in self._SAVED}
+        out = {k: getattr(self, _INTERNAL.get(k, k)) for k in self._SAVED}
         n = self.n
         t, key = _entries(self.due, self.book, n)
         order = np.lexsort((key, t))
@@ -483,6 +676,8 @@ class Engine:
             ]
         )
         out["container"] = self.container.record()
+        # the engine's order (``order``, saved above) and when it is next sorted
+        out["reorder"] = np.array([self._reorder_every, float(self._since_reorder)])
         return out
 
     @classmethod
@@ -506,11 +701,17 @@ class Engine:
                 data = dict(
                     data, shells=np.zeros((n, core.SHELL_COLS)), neighbours=np.zeros((n, 0), np.int32)
                 )
-            setattr(eng, k, np.array(data[k]))
-        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column
+            setattr(eng, _INTERNAL.get(k, k), np.array(data[k]))
+        every, since_reorder = data["reorder"].tolist() if "reorder" in data else (0.0, 0.0)
+        eng._reorder_every, eng._since_reorder = every, int(since_reorder)
+        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column or the input index
+            saved_cols = eng.book.shape[1]
             eng.book = np.concatenate(
-                [eng.book, np.zeros((n, core.BOOK_COLS - eng.book.shape[1]), np.int64)], axis=1
+                [eng.book, np.zeros((n, core.BOOK_COLS - saved_cols), np.int64)], axis=1
             )
+            if saved_cols <= core.ORIGIN:  # kept in the input order
+                eng.book[:, core.ORIGIN] = np.arange(n)
+        eng._set_rank()
         if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
             eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
         offset, since, rebase_on, radius, box = data["meta"].tolist()
@@ -537,7 +738,7 @@ class Engine:
             eng.scalars = np.concatenate([eng.scalars, np.zeros(core.N_SCALARS - saved)])
         if saved <= core.F_T_KIN:  # before the transport tallies
             eng.scalars[core.F_T_KIN] = eng.scalars[core.F_CLOCK]
-            core.kinetic_sums(eng.spheres, eng.masses, eng.scalars)
+            eng._kinetic_sums()
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
@@ -559,12 +760,17 @@ class Engine:
         out = np.empty((self.n, 3)) if out is None else out
         if spheres is not None and self.box is None:
             t -= self.offset
+            rank = self._rank
             for k in spheres:  # a few: Python floats beat numpy's set-up
-                x, y, z, vx, vy, vz, tk = self.spheres[k, :7].tolist()
+                row = k if rank is None else rank[k]
+                x, y, z, vx, vy, vz, tk = self.spheres[row, :7].tolist()
                 dt = t - tk
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
-        core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
+        if self._rank is None:
+            core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
+        else:
+            out[self.order] = self._inside_at(t - self.offset)
         return out
 
     def unwrapped_at(self, t=None, out=None):
@@ -576,7 +782,12 @@ class Engine:
         """
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
-        core.unwrapped_at(self.spheres, self.images, t - self.offset, out, self.scalars[core.F_BOX])
+        if self._rank is None:
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, out, self.scalars[core.F_BOX])
+        else:
+            inside = np.empty((self.n, 3))
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, inside, self.scalars[core.F_BOX])
+            out[self.order] = inside
         return out
 
     @property
@@ -633,7 +844,7 @@ class Engine:
     def max_overlap(self, t: float | None = None) -> float:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         t = self.time if t is None else t
-        x = self.positions_at(t)  # pairs across the box compare by minimum image
+        x = self._inside_at(t - self.offset)  # pairs across the box compare by minimum image
         g = self.scalars[core.F_GROW]
         scale = 1.0 + g * (t - self.offset) if g else 1.0
         return float(
@@ -721,8 +932,12 @@ def check_arrays(data):
     book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
     if "book" not in data:
         _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in ((n, core.BOOK_COLS), (n, core.NEIGHBOURS)):
-        # (12 columns: from before the neighbour lists)
+    if book.dtype != np.int64 or book.shape not in (
+        (n, core.BOOK_COLS),
+        (n, core.ORIGIN),
+        (n, core.NEIGHBOURS),
+    ):
+        # (13 columns: from before the engine's own order; 12: before the neighbour lists)
         _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
     due = _array(data, "due", np.float64, (n, core.DUE_COLS))
     cell_next = _array(data, "cell_next", np.int64, (n,))
@@ -739,6 +954,14 @@ def check_arrays(data):
         _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
     if "images" in data:  # periodic image counts, where the core keeps them
         _array(data, "images", np.int64, (n, 3))
+    # the engine's order of the spheres: the input index of each (before it, the input order)
+    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n, dtype=np.int64)
+    if not np.array_equal(np.sort(order), np.arange(n)):
+        _bad("the spheres' input indices are not a permutation of the spheres")
+    if "reorder" in data:
+        every, since = _array(data, "reorder", np.float64, (2,)).tolist()
+        if not (np.isfinite(every) and every >= 0 and np.isfinite(since) and 0 <= since < 2**62):
+            _bad("the reordering's interval or count is not a finite number >= 0")
     if "counts" not in data:
         _bad("no array 'counts'")
     counts = np.asarray(data["counts"])
@@ -805,11 +1028,13 @@ def check_arrays(data):
         _bad("an unknown event kind")
     if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
         _bad("a collision partner outside the spheres")
-    lo, hi = np.minimum(ids, partner), np.maximum(ids, partner)
+    # (tie keys are on the input indices)
+    mine, theirs = order, order[np.where(coll, partner, ids)]
+    lo, hi = np.minimum(mine, theirs), np.maximum(mine, theirs)
     key = np.where(
         coll,
         _key(core.COLLISION, lo, hi, n),
-        np.where(kind == core.REFLECTION, _key(core.REFLECTION, ids, -1, n), _key(core.NONE, n, n - 1, n)),
+        np.where(kind == core.REFLECTION, _key(core.REFLECTION, mine, -1, n), _key(core.NONE, n, n - 1, n)),
     )
     if np.any(book[:, core.EVENT_KEY] != key):
         _bad("an event key disagrees with its event")
@@ -836,8 +1061,8 @@ def check_arrays(data):
 
 def _entries(due, book, n):
     """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
-    ids = np.arange(n)
-    cross_key = _key(core.CROSSING, ids, -1, n)
+    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n)
+    cross_key = _key(core.CROSSING, order, -1, n)
     key = book[:, core.EVENT_KEY]
     ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
     first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))

@@ -129,7 +129,7 @@ class Simulation:
             window=window,
             time=state.time,
         )
-        self._engine.images[:] = images
+        self._engine.images = images
         if state.n > 1:
             worst = self._engine.max_overlap()
             if worst > TOUCH_TOL:
