@@ -51,7 +51,7 @@ HEADROOM_MIN, HEADROOM_MAX = 1.002, 1.05
 #: many spheres the engine keeps its per-sphere arrays in Morton order of the
 #: spheres' places (near in space, near in memory: fewer cache misses where
 #: the arrays outgrow the caches), sorted at the build ...
-REORDER_FROM = 1 << 14
+REORDER_FROM = 1 << 13
 #: ... and again after this many collisions and reflections per sphere (the
 #: spheres diffuse out of their places slowly).
 REORDER_EVERY = 10.0
