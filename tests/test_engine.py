@@ -90,6 +90,15 @@ def run(engine, masses, radii, pos, vel, container, n_events, window):
     return eng.advance(events=n_events), eng
 
 
+def assert_same_state(eng, ref, n):
+    """The engine ``eng`` and the reference ``ref`` (``n`` spheres) agree bit for bit after a run."""
+    assert np.array_equal(eng.velocities, ref.velocities)
+    assert np.array_equal(eng.positions_at(), ref.positions_at(out=np.empty((n, 3))))
+    for key in ("collisions", "reflections"):
+        assert eng.counters[key] == ref.counters[key]
+    assert (eng.time, eng.wall_impulse, eng.virial) == (ref.time, ref.wall_impulse, ref.virial)
+
+
 @pytest.mark.parametrize("seed,n", [(1, 2), (2, 3), (3, 10), (4, 40), (5, 100), (6, 300), (7, 17), (8, 200)])
 @pytest.mark.parametrize("window", [0.0, 1e-8])
 def test_engine_matches_brute_force(seed, n, window):
@@ -99,11 +108,7 @@ def test_engine_matches_brute_force(seed, n, window):
     eng_ev, eng = run(Engine, m, r, p, v, R, 1000, window)
     assert len(ref_ev) == len(eng_ev) == 1000
     assert same_events(eng_ev, ref_ev)
-    assert np.array_equal(eng.velocities, ref.velocities)
-    assert np.array_equal(eng.positions_at(), ref.positions_at(out=np.empty((n, 3))))
-    for key in ("collisions", "reflections"):
-        assert eng.counters[key] == ref.counters[key]
-    assert (eng.time, eng.wall_impulse, eng.virial) == (ref.time, ref.wall_impulse, ref.virial)
+    assert_same_state(eng, ref, n)
 
 
 @pytest.fixture
@@ -373,11 +378,7 @@ def test_reordered_engine_matches_brute_force(monkeypatch, lists_on, window):
     assert not np.array_equal(eng.order, np.arange(n))  # the test can fail
     assert (eng.scalars[core.F_SHELL] > 0.0) == lists_on
     assert same_events(eng_ev, ref_ev)
-    assert np.array_equal(eng.velocities, ref.velocities)
-    assert np.array_equal(eng.positions_at(), ref.positions_at(out=np.empty((n, 3))))
-    for key in ("collisions", "reflections"):
-        assert eng.counters[key] == ref.counters[key]
-    assert (eng.time, eng.wall_impulse, eng.virial) == (ref.time, ref.wall_impulse, ref.virial)
+    assert_same_state(eng, ref, n)
 
 
 def _counting(fn, calls):
