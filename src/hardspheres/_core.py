@@ -132,10 +132,10 @@ frozen_limit_of = _kernel(physics.frozen_limit)
 def _prefetch(typingctx, array, index):
     """Ask the CPU to start loading the cache line of ``array[index]`` (a row's first element).
 
-    A hint (x86 ``prefetcht0``): nothing is read or changed.  The scans call
-    it for every neighbour in a list before looking at any, so that the
-    rows of spheres scattered over memory load side by side rather than one
-    after another (benchmarks/README.md, "Prefetching").
+    A hint (x86 ``prefetcht0``): nothing is read or changed.  The list scan
+    calls it for every neighbour in a list before looking at any, so that
+    the rows of spheres scattered over memory load side by side rather than
+    one after another (benchmarks/README.md, "Where the time goes").
     """
     sig = types.void(array, index)
 

@@ -278,7 +278,6 @@ class Engine:
         self.shells = self.shells[perm]
         partner = book[:, core.PARTNER]
         book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
-        self.book = book
         nb = self.neighbours[perm]
         used = np.arange(nb.shape[1])[None, :] < book[:, core.NEIGHBOURS][:, None]
         entries = nb[used].astype(np.int64)
