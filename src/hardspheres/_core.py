@@ -105,10 +105,14 @@ def _compiler(**options):
 # _nrt=False: nothing here allocates, and without numba's runtime no array
 # argument is reference-counted per call.
 _jit = _compiler()
-# The event loop's helpers are inlined into it (numba IR inlining): a call
-# would pass every array as a struct of 7-9 words on the stack.  (What each
-# of these choices gained: benchmarks/README.md, "history of the core's speed".)
-_inline = _compiler(inline="always")
+# The event loop's helpers are inlined into it: a call would pass every
+# array as a struct of 7-9 words on the stack.  LLVM inlines them
+# (forceinline: numba compiles each helper once and marks it alwaysinline);
+# numba's IR inlining (inline="always") gave the same machine code but
+# copied and typed each helper again at every call site, and the first
+# compilation took about 200 s instead of about 25 s.  (What each of these
+# choices gained: benchmarks/README.md, "history of the core's speed".)
+_inline = _compiler(forceinline=True)
 
 # the kernels are inlined into the loops that call them (numba IR inlining)
 _kernel = _compiler(inline="always")
