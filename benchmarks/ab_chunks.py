@@ -21,17 +21,12 @@ import time
 
 
 def one(a):
-    import numpy as np
 
-    from hardspheres.bench import warm_up
+    from hardspheres.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.containers import PeriodicBox, SphericalContainer
     from hardspheres.engine import Engine
 
-    if a.sphere:
-        where = SphericalContainer(0.5 * (a.n / a.phi) ** (1.0 / 3.0))
-    else:
-        where = PeriodicBox((a.n * (4.0 / 3.0) * np.pi * 0.125 / a.phi) ** (1.0 / 3.0))
+    where = container_for(a.n, a.phi, box=not a.sphere)
     eng = Engine(*random_arrays(a.n, a.phi, where, seed=0), container=where)
     warm_up(eng, a.warm)
     per = []

@@ -26,9 +26,8 @@ import time
 
 import numpy as np
 
-from hardspheres.bench import warm_up
+from hardspheres.bench import container_for, warm_up
 from hardspheres.builders import random_arrays
-from hardspheres.containers import PeriodicBox
 from hardspheres.engine import Engine
 
 
@@ -46,7 +45,7 @@ def main():
     p.add_argument("c", type=int)
     p.add_argument("rounds", type=int)
     a = p.parse_args()
-    where = PeriodicBox((a.n * (4.0 / 3.0) * np.pi * 0.125 / a.phi) ** (1.0 / 3.0))
+    where = container_for(a.n, a.phi, box=True)
     plain = Engine(*random_arrays(a.n, a.phi, where, seed=0), container=where, reorder=0)
     warm_up(plain, 10)
     engines = {"plain": plain}

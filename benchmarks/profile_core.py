@@ -27,19 +27,14 @@ import time
 
 
 def inner(a, out):
-    import numpy as np
 
     from hardspheres import _core as core
-    from hardspheres.bench import warm_up
+    from hardspheres.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.containers import PeriodicBox, SphericalContainer
     from hardspheres.engine import Engine
 
     n, phi = a.n, a.packing
-    if a.sphere:
-        where = SphericalContainer(0.5 * (n / phi) ** (1.0 / 3.0))
-    else:
-        where = PeriodicBox((n * (4.0 / 3.0) * np.pi * 0.125 / phi) ** (1.0 / 3.0))
+    where = container_for(n, phi, box=not a.sphere)
     eng = Engine(*random_arrays(n, phi, where, seed=0), container=where)
     warm_up(eng, 10)
     cres = list(core.run.overloads.values())[0]

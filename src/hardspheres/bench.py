@@ -147,6 +147,21 @@ def warm_up(eng, per_sphere=None):
     return blocks, ok
 
 
+def container_for(n, packing, box=False):
+    """The container (or periodic box) that holds ``n`` spheres of radius 0.5 at ``packing``.
+
+    The benchmarks' one sizing rule, so that every script times the same
+    systems as ``hardspheres bench``.
+
+    Example:
+        >>> round(container_for(1000, 0.3, box=True).length, 4)
+        12.04
+    """
+    if box:
+        return PeriodicBox((n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0))
+    return SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
+
+
 def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=False, warmup=None):
     """Generate ``n`` spheres, warm them up into a fluid, time ``collisions`` more.
 
@@ -167,11 +182,7 @@ def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=
     """
     t0 = time.perf_counter()
     cpu0 = time.process_time()
-    if box:
-        edge = (n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0)
-        where = PeriodicBox(edge)
-    else:
-        where = SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
+    where = container_for(n, packing, box)
     arrays = random_arrays(n, packing, where, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio)
     generate = time.perf_counter() - t0
     eng = Engine(*arrays, container=where)
