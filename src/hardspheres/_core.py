@@ -40,8 +40,9 @@ Lubachevsky, as in the fastest public codes):
   ``window`` after the last one happen *at* its time, and whenever that
   time (the anchor) moves, every sphere whose event falls in the new window
   is predicted afresh (:func:`refresh_window`), so the tie order decides
-  among them exactly as in the reference.  An event at the anchor's own instant changes no other
-  prediction: only the spheres it touched are predicted again.
+  among them exactly as in the reference.  An event at the anchor's own
+  instant changes no other prediction: only the spheres it touched are
+  predicted again.
 * **Events that would not end** stop the loop (see :func:`run`): a
   reflection that would change nothing, and a clock that does not advance
   over ``physics.frozen_limit(N)`` collisions and reflections.
@@ -108,9 +109,9 @@ _jit = _compiler()
 # The event loop's helpers are inlined into it: a call would pass every
 # array as a struct of 7-9 words on the stack.  LLVM inlines them
 # (forceinline: numba compiles each helper once and marks it alwaysinline);
-# numba's IR inlining (inline="always") gave the same machine code but
-# copied and typed each helper again at every call site, and the first
-# compilation took about 200 s instead of about 25 s.  (What each of these
+# numba's IR inlining (inline="always") ran at the same speed but copied
+# and typed each helper again at every call site: the first compilation
+# took about 200 s instead of about 25 s.  (What each of these
 # choices gained: benchmarks/README.md, "history of the core's speed".)
 _inline = _compiler(forceinline=True)
 
