@@ -35,10 +35,10 @@ if hasattr(_core, "ARRAYS"):
         arrays = e.arrays
 
     def call():
-        return _core.run(arrays, now, big, big, rec)
+        return _core.run(arrays, now, big, big, rec, True)
 
     def call_fresh():  # as the engine calls it: the tuple made per call
-        return _core.run(e.arrays, now, big, big, rec)
+        return _core.run(e.arrays, now, big, big, rec, True)
 else:
     args = (
         e.spheres,

@@ -581,7 +581,7 @@ class Engine:
                 reorder_due = max(int(self._reorder_every * self.n), 1)
                 left_ev = min(left_ev, reorder_due - self._since_reorder)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec)
+            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec, record)
             done_total += done
             self._since_rebase += done
             self._since_queue += done
