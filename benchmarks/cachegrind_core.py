@@ -83,7 +83,9 @@ def anchor_cmd(a, c):
     work = os.environ.get("ANCHOR_WORK", "/tmp/edmd-anchor")
     env = dict(os.environ, CFLAGS=ANCHOR_CFLAGS, ANCHOR_WORK=work)
     # builds the binary and the initial configuration (both cached by anchor.sh)
-    subprocess.run(["bash", script, str(a.n), str(a.phi), "1000", a.anchor], env=env, check=True, capture_output=True)
+    subprocess.run(
+        ["bash", script, str(a.n), str(a.phi), "1000", a.anchor], env=env, check=True, capture_output=True
+    )
     tag = hashlib.md5((ANCHOR_CFLAGS + "\n").encode()).hexdigest()[:8]
     (binary,) = glob.glob(os.path.join(work, "bin", f"md_{a.anchor}*_{tag}"))
     init = os.path.join(work, "init", f"n{a.n}_phi{a.phi}_s1.sph")
@@ -113,7 +115,9 @@ def main():
         dest = os.path.join(out, f"{c}.out")
         log = open(os.path.join(out, f"{c}.log"), "w")
         procs.append(
-            subprocess.Popen(CACHEGRIND + [f"--cachegrind-out-file={dest}"] + cmd, env=env, cwd=cwd, stdout=log, stderr=log)
+            subprocess.Popen(
+                CACHEGRIND + [f"--cachegrind-out-file={dest}"] + cmd, env=env, cwd=cwd, stdout=log, stderr=log
+            )
         )
     for proc in procs:
         if proc.wait() != 0:

@@ -389,3 +389,27 @@ def _counting(fn, calls):
         return fn(self, *args, **kw)
 
     return counted
+
+
+@pytest.mark.parametrize("packing", [0.1, 0.45])  # cells, neighbour lists
+def test_no_record_same_events_and_not_limited_by_the_buffer(packing):
+    """``run(..., keep=False)`` writes every event to one row: the same
+    dynamics bit for bit as a recorded run, and more events in one call than
+    the record holds."""
+    from hardspheres.events import StopReason
+
+    n = 2000
+    box = (n * math.pi / 6 / packing) ** (1 / 3)
+    s = random_spheres(n, packing, box=box, seed=5)
+    a = Engine(s.masses, s.radii, s.positions, s.velocities, box=box)
+    b = Engine(s.masses, s.radii, s.positions, s.velocities, box=box)
+    cap = len(a._rec[0])
+    a.advance(collisions=3 * cap, record=True)
+    b.advance(collisions=3 * cap, record=False)
+    assert np.array_equal(a.positions_at(), b.positions_at())
+    assert np.array_equal(a.velocities, b.velocities)
+    assert a.counters == b.counters
+    done, reason = core.run(b.arrays, np.inf, 2 * cap, 2**62, b._rec, False)
+    assert (done, reason) == (2 * cap, StopReason.MAX_EVENTS)
+    done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._rec, True)
+    assert (done, reason) == (cap, StopReason.RECORD_FULL)
