@@ -1398,8 +1398,8 @@ def run(arrays, until, max_events, max_collisions, record, keep):
     and the record does not limit the run.
 
     Returns:
-        ``(done, reason)``: the collisions and reflections processed, and a :class:`hardspheres.events.StopReason`
-        number: 0 = ``until`` reached (or nothing will
+        ``(done, reason)``: the collisions and reflections processed, and
+        a :class:`hardspheres.events.StopReason` number: 0 = ``until`` reached (or nothing will
         ever happen, or ``until`` is NaN), 1 = ``max_events``, 2 =
         ``max_collisions``, 3 = record full, 4 (:data:`STOP_FROZEN`) = the
         next collision or reflection would be one more than

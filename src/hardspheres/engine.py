@@ -577,6 +577,9 @@ class Engine:
                 stop = until
             rebase_due = REBASE_EVERY * max(self.n, 16) if self._rebase_on else np.iinfo(np.int64).max
             left_ev = min(max_events - done_total, rebase_due - self._since_rebase)
+            # the calendar made anew on time (with no record kept, the core
+            # would otherwise run on past it: the record no longer limits it)
+            left_ev = min(left_ev, max(self._queue_every - self._since_queue, 1))
             if self._reorder_every:
                 reorder_due = max(int(self._reorder_every * self.n), 1)
                 left_ev = min(left_ev, reorder_due - self._since_reorder)
