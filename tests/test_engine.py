@@ -413,3 +413,25 @@ def test_no_record_same_events_and_not_limited_by_the_buffer(packing):
     assert (done, reason) == (2 * cap, StopReason.MAX_EVENTS)
     done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._rec, True)
     assert (done, reason) == (cap, StopReason.RECORD_FULL)
+
+
+def test_calendar_made_anew_on_schedule_without_a_record(monkeypatch):
+    """With no record kept the core is not stopped by the record's size; the
+    engine still stops it when the calendar is due to be made anew (N events
+    after the build, then 2N, 4N, ...), not later."""
+    due = []
+
+    def watched(self, first=False):
+        if not first:
+            due.append((self._since_queue, self._queue_every))
+        return queue_anew(self, first)
+
+    queue_anew = Engine._queue_anew
+    monkeypatch.setattr(Engine, "_queue_anew", watched)
+    n = 3000
+    box = (n * math.pi / 6 / 0.3) ** (1 / 3)
+    s = random_spheres(n, 0.3, box=box, seed=6)
+    eng = Engine(s.masses, s.radii, s.positions, s.velocities, box=box, rebase=False, reorder=0)
+    eng.advance(collisions=20 * n, record=False)
+    assert [every for _, every in due] == [n, 2 * n, 4 * n, 8 * n]
+    assert all(since == every for since, every in due)
