@@ -22,9 +22,9 @@ import time
 
 def one(a):
 
-    from hardspheres.bench import container_for, warm_up
+    from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.engine import Engine
+    from hardspheres.core.engine import Engine
 
     where = container_for(a.n, a.phi, box=not a.sphere)
     eng = Engine(*random_arrays(a.n, a.phi, where, seed=0), container=where)

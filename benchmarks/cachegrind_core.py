@@ -50,9 +50,9 @@ CACHEGRIND = [
 
 
 def inner(n, phi, c):
-    from hardspheres.bench import container_for, warm_up
+    from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.engine import Engine
+    from hardspheres.core.engine import Engine
 
     where = container_for(n, phi, box=True)
     eng = Engine(*random_arrays(n, phi, where, seed=0), container=where)

@@ -9,9 +9,9 @@ import statistics
 import sys
 import time
 
-from hardspheres import engine as engine_module
+from hardspheres.core import engine as engine_module
 from hardspheres.builders import random_spheres
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 
 args = sys.argv[1:]
 sphere = "--sphere" in args

@@ -8,9 +8,9 @@ import statistics
 import sys
 import time
 import numpy as np
-from hardspheres import _core as core
+from hardspheres.core import _core as core
 from hardspheres.builders import random_spheres
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 
 n, phi, coll, rounds = int(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
 factors = [float(f) for f in sys.argv[5:]]

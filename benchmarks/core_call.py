@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 import hardspheres as hs
-from hardspheres import _core
+from hardspheres.core import _core
 
 numbers = [a for a in sys.argv[1:] if not a.startswith("--")]
 calls = int(numbers[0]) if numbers else 200000

@@ -26,9 +26,9 @@ import time
 
 import numpy as np
 
-from hardspheres.bench import container_for, warm_up
+from hardspheres.core.bench import container_for, warm_up
 from hardspheres.builders import random_arrays
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 
 
 def aligned(n):

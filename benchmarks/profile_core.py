@@ -28,10 +28,10 @@ import time
 
 def inner(a, out):
 
-    from hardspheres import _core as core
-    from hardspheres.bench import container_for, warm_up
+    from hardspheres.core import _core as core
+    from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.engine import Engine
+    from hardspheres.core.engine import Engine
 
     n, phi = a.n, a.packing
     where = container_for(n, phi, box=not a.sphere)

@@ -19,9 +19,9 @@ import time
 
 import numpy as np
 
-from hardspheres import engine as engine_module
+from hardspheres.core import engine as engine_module
 from hardspheres.builders import random_arrays
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 
 ap = argparse.ArgumentParser()
 ap.add_argument("n", type=int)

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 import hardspheres as hs
 from hardspheres.cli import run_spheres
 from hardspheres.physics import collide, pair_time, pair_time_grow, reflect, wall_time
-from hardspheres.reference import SIMULTANEOUS
+from hardspheres.core.reference import SIMULTANEOUS
 
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 
@@ -533,8 +533,8 @@ def test_engine_breaks_exact_ties_in_tie_order():
     time as its root with sphere 3 (gap 0): a tie, so (0, 2) goes first, as
     in the reference.  The engine used to prune (0, 2) as "surely later".
     """
-    from hardspheres.engine import Engine
-    from hardspheres.reference import Reference
+    from hardspheres.core.engine import Engine
+    from hardspheres.core.reference import Reference
 
     r = 5.902408432445262
     a, b = 11.804816864890526, 11.804816864890523

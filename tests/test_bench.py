@@ -5,8 +5,8 @@ from pathlib import Path
 
 import pytest
 
-from hardspheres import bench as hb
-from hardspheres.commands import build_parser
+from hardspheres.core import bench as hb
+from hardspheres.cli.commands import build_parser
 from helpers import hs_cmd
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from hardspheres.cli import run_spheres
-from hardspheres.report import PROMPT
+from hardspheres.io.report import PROMPT
 from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -194,7 +194,7 @@ ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 @pytest.fixture(scope="module", autouse=True)
 def _compiled_core():
     """The core compiled up front, silently: a cold cache's note is not a test's stderr."""
-    from hardspheres.warmup import ensure_compiled
+    from hardspheres.core.warmup import ensure_compiled
 
     ensure_compiled(quiet=True)
 

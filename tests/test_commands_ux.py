@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres import commands, runner
+from hardspheres.cli import commands
+from hardspheres.cli import run as runner
 from hardspheres.progress import Progress
 from helpers import ROOT, hs_cmd, spheres_cmd
 
@@ -33,7 +34,7 @@ def scn(tmp_path_factory):
     d = tmp_path_factory.mktemp("ux")
     (d / "s.txt").write_text(hs.random_spheres(200, 0.2, container=10.0, seed=3).to_text())
     (d / "b.txt").write_text(hs.random_spheres(200, 0.2, box=15.0, seed=3).to_text())
-    from hardspheres.warmup import ensure_compiled
+    from hardspheres.core.warmup import ensure_compiled
 
     ensure_compiled(quiet=True)
     return d
@@ -56,7 +57,7 @@ def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
 
 def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     """The assignment's program (compiled engine) gives the same note, on stderr only."""
-    from hardspheres import warmup
+    from hardspheres.core import warmup
     from hardspheres.cli import run_spheres
 
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
@@ -70,7 +71,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
 
 
 def test_cold_cache_detection(tmp_path, monkeypatch):
-    from hardspheres import warmup
+    from hardspheres.core import warmup
 
     assert warmup.ensure_compiled(quiet=True) >= 0.0
     assert not warmup.is_cold()
@@ -352,7 +353,7 @@ def test_render_slice_caption_and_size(scn):
     # the top of the picture (z > 0) is emptier with the cut: more white
     white = lambda img: np.mean(np.all(img[120:300, 400:880] > 245, axis=2))  # noqa: E731
     assert white(c) > white(a) + 0.2
-    from hardspheres.render import packing_fraction
+    from hardspheres.viz.render import packing_fraction
 
     frames = hs.read_trajectory  # noqa: F841 (the caption's phi comes from packing_fraction)
     f = hs.Frames(
@@ -373,8 +374,8 @@ def test_view_slice_is_in_the_page(scn):
 @pytest.mark.slow
 def test_screenshot_of_20000_spheres(tmp_path):
     """The page of 20000 spheres renders, plays and is saved, with no click to time out."""
-    from hardspheres.screenshot import find_chromium, screenshot
-    from hardspheres.viewer import write_viewer
+    from hardspheres.viz.screenshot import find_chromium, screenshot
+    from hardspheres.viz.viewer import write_viewer
 
     pytest.importorskip("playwright.sync_api")
     if find_chromium() is None:
@@ -456,7 +457,7 @@ def test_reprs_are_summaries_and_help_lists_attributes():
 
 
 def test_viewer_colour_bar_top_is_round():
-    from hardspheres.viewer import _payload, _round_up
+    from hardspheres.viz.viewer import _payload, _round_up
 
     assert _round_up(3.6388) == 3.7 and _round_up(0.012345) == 0.013 and _round_up(2.0) == 2.0
     rng = np.random.default_rng(0)

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from hardspheres.assignment import choose_engine
+from hardspheres.cli.assignment import choose_engine
 from hardspheres.cli import run_spheres
-from hardspheres.report import PROMPT
+from hardspheres.io.report import PROMPT
 
 ROOT = Path(__file__).resolve().parents[1]
 SUITE = Path(os.environ.get("HARDSPHERES_CONFORMANCE") or ROOT / "tests" / "data" / "assignment")
@@ -100,7 +100,7 @@ def test_both_engines_match(row, engine, monkeypatch, capsys):
     if engine == "compiled":
         # a cold cache's one-line note is not what this test is about
         # (test_commands_ux checks it): compile first, quietly
-        from hardspheres.warmup import ensure_compiled
+        from hardspheres.core.warmup import ensure_compiled
 
         ensure_compiled(quiet=True)
     out = io.StringIO()

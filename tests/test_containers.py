@@ -9,7 +9,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import KINDS, Container, ContainerError, as_container, from_fields, from_record
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 
 SRC = Path(hs.__file__).parent
 BOTH = [hs.SphericalContainer(3.0), hs.PeriodicBox(4.0)]
@@ -82,7 +82,7 @@ def test_one_object_through_every_layer(c):
     assert eng.container is c
     sim.run(collisions=200)
     assert sim.observables.temperature() > 0
-    from hardspheres.trajectory import frames_from_simulation
+    from hardspheres.io.trajectory import frames_from_simulation
 
     frames = frames_from_simulation(sim, until=sim.time + 0.5, every=0.25)
     assert frames.container is c and len(frames.events) > 0

@@ -8,10 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
-from hardspheres import _core as core
+from hardspheres.core import _core as core
 from hardspheres import physics
 from hardspheres.dense import Andersen, CompressionError, VelocityRescale
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 from helpers import spheres_cmd
 
 TOL = 1e-9
@@ -94,7 +94,7 @@ def test_pair_time_grow_rejects_only_exact_misses(v, s, u, e):
 
 def test_growth_headroom_follows_the_rate():
     """Room to grow: 1 without growth, small for slow growth, at most HEADROOM_MAX for fast."""
-    import hardspheres.engine as engine_mod
+    import hardspheres.core.engine as engine_mod
 
     state = hs.random_spheres(200, 0.3, box=12.0, seed=1)
     eng = Engine(state.masses, state.radii, state.positions, state.velocities, box=12.0)
@@ -342,7 +342,7 @@ def test_assignment_program_refuses_thermostats():
 
 
 def test_compress_command(tmp_path):
-    from hardspheres.commands import main
+    from hardspheres.cli.commands import main
 
     scn = tmp_path / "a.txt"
     state = hs.random_spheres(150, 0.3, box=10.0, seed=2)
@@ -365,7 +365,7 @@ def test_compress_command(tmp_path):
 
 
 def test_generate_method_compress(tmp_path, capsys):
-    from hardspheres.commands import main
+    from hardspheres.cli.commands import main
 
     assert (
         main(
@@ -476,7 +476,7 @@ def test_growing_engine_matches_brute_force(seed):
 def test_compression_progress_shows_packing_and_Z():
     import io
 
-    from hardspheres.dense import compression_progress
+    from hardspheres.cli.compress import compression_progress
 
     sim = hs.Simulation(hs.random_spheres(200, 0.3, box=10.0, seed=1), hs.PeriodicBox(10.0))
     buf = io.StringIO()
@@ -496,12 +496,12 @@ def test_compression_progress_shows_packing_and_Z():
 def test_generate_method_compress_shows_progress(monkeypatch, capsys):
     import io
 
-    from hardspheres import dense
-    from hardspheres.commands import main
+    from hardspheres.cli import compress
+    from hardspheres.cli.commands import main
 
     buf = io.StringIO()
-    real = dense.compression_progress
-    monkeypatch.setattr(dense, "compression_progress", lambda *a, **k: real(*a, stream=buf, enabled=True))
+    real = compress.compression_progress
+    monkeypatch.setattr(compress, "compression_progress", lambda *a, **k: real(*a, stream=buf, enabled=True))
     argv = ["generate", "--n", "100", "--box", "8", "--packing", "0.45", "--method", "compress"]
     assert main(argv + ["--rate", "0.05"]) == 0
     assert "packing 0.45000" in buf.getvalue() and "  Z " in buf.getvalue()

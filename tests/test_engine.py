@@ -7,16 +7,18 @@ import numpy as np
 import pytest
 from numba import njit
 
-from hardspheres import _core, reference
-from hardspheres import _core as core
-from hardspheres import engine as engine_module
+from hardspheres.core import _core
+
+from hardspheres.core import reference
+from hardspheres.core import _core as core
+from hardspheres.core import engine as engine_module
 from hardspheres.builders import random_spheres
-from hardspheres.engine import Engine
-from hardspheres.reference import Reference
+from hardspheres.core.engine import Engine
+from hardspheres.core.reference import Reference
 
 
 def _compiled(fn):
-    """A step of :mod:`hardspheres.reference`'s loop, compiled by numba.
+    """A step of :mod:`hardspheres.core.reference`'s loop, compiled by numba.
 
     The same code object as the pure-Python step (no copy), its physics
     bound to the core's compiled kernels (the same functions of
@@ -318,7 +320,7 @@ def test_assignment_report_same_from_both_engines():
     import io
     import os
 
-    from hardspheres.assignment import write_report
+    from hardspheres.cli.assignment import write_report
     from hardspheres.scenario import parse_scenario
 
     rng = np.random.default_rng(11)

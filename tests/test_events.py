@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres import _core as core
-from hardspheres import reference
-from hardspheres.engine import Engine
+from hardspheres.core import _core as core
+from hardspheres.core import reference
+from hardspheres.core.engine import Engine
 from hardspheres.events import (
     EVENT_DTYPE,
     EVENT_FIELDS,

@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres.engine import CheckpointError
+from hardspheres.core.engine import CheckpointError
 from hardspheres.fileio import FileInUseError, PathLock, atomic_write
-from hardspheres.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
+from hardspheres.io.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
 from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 
@@ -362,7 +362,7 @@ def test_trajectory_not_clobbered(scenario, tmp_path):
 # ---- 6. damaged checkpoints -----------------------------------------------------------------
 DAMAGE = r"""
 import json, sys, numpy as np, hardspheres as hs
-from hardspheres import _core as core
+from hardspheres.core import _core as core
 good = sys.argv[1]
 with np.load(good) as z:
     base = {k: z[k] for k in z.files}

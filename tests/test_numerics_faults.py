@@ -23,9 +23,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
-from hardspheres import physics, reference
+from hardspheres import physics
+from hardspheres.core import reference
 from hardspheres.cli import run_spheres
-from hardspheres.engine import Engine
+from hardspheres.core.engine import Engine
 from hardspheres.physics import pair_time, pair_time_within, wall_time
 from hardspheres.scenario import (
     ScenarioError,
@@ -170,7 +171,7 @@ def test_nan_until_returns():
         " [[1, 0, 0], [-1, 0, 0]], hs.SphericalContainer(20.0))\n"
         "try:\n    s.run(until=float('nan'))\nexcept ValueError as e:\n"
         "    print('refused', e)\n"
-        "from hardspheres import _core\n"
+        "from hardspheres.core import _core\n"
         "e = s._engine\n"
         "print(_core.run(e.arrays, np.nan, 10**9, 10**9, e._rec, True))\n"
     )

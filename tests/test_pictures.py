@@ -1,4 +1,4 @@
-"""Movies (hardspheres.render) and plots (hardspheres.plots) from synthetic frames."""
+"""Movies (hardspheres.viz.render) and plots (hardspheres.viz.plots) from synthetic frames."""
 
 import csv
 import io
@@ -12,8 +12,9 @@ import pytest
 pytest.importorskip("matplotlib")
 from PIL import Image, ImageSequence  # noqa: E402
 
-from hardspheres import maxwell, plots  # noqa: E402
-from hardspheres.render import render_movie  # noqa: E402
+from hardspheres import maxwell  # noqa: E402
+from hardspheres.viz import plots  # noqa: E402
+from hardspheres.viz.render import render_movie  # noqa: E402
 from helpers import synthetic_frames  # noqa: E402
 
 

@@ -5,7 +5,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
-from hardspheres.transport import ShearViscosity, ThermalConductivity, enskog
+from hardspheres.analysis.transport import ShearViscosity, ThermalConductivity, enskog
 from helpers import periodic_gas
 
 PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))

@@ -5,7 +5,7 @@ momentum and leaves the pair receding; a reflection keeps the speed, reverses
 the normal velocity and keeps the tangential one; no two spheres overlap by
 more than 1e-9 of their contact distance and none pokes out of the container
 by more than 1e-9 of its radius.  Checked for both engines (the reference
-:class:`hardspheres.reference.Reference` and the compiled one), with exact
+:class:`hardspheres.core.reference.Reference` and the compiled one), with exact
 times (the library's) and the assignment's 1e-8 s window; and the two give
 the same events.
 
@@ -22,11 +22,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hardspheres import engine as engine_module
-from hardspheres import reference
+from hardspheres.core import engine as engine_module
+from hardspheres.core import reference
 from hardspheres.cli import run_spheres
-from hardspheres.engine import Engine
-from hardspheres.reference import Reference
+from hardspheres.core.engine import Engine
+from hardspheres.core.reference import Reference
 from hardspheres.scenario import check_scenario, parse_scenario
 
 TOL = 1e-9  # overlap / outside, relative to contact distance / container radius

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres import _core as core
-from hardspheres import engine as engine_module
+from hardspheres.core import _core as core
+from hardspheres.core import engine as engine_module
 from hardspheres.builders import random_spheres
-from hardspheres.engine import CheckpointError, Engine, check_arrays
+from hardspheres.core.engine import CheckpointError, Engine, check_arrays
 
 
 def _pair(n, phi, box, window, growth, reorder, seed=3):

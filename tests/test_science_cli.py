@@ -3,8 +3,8 @@
 import pytest
 
 import hardspheres as hs
-from hardspheres.commands import main
-from hardspheres.trajectory import GSDWriter
+from hardspheres.cli.commands import main
+from hardspheres.io.trajectory import GSDWriter
 from helpers import periodic_gas
 
 pytest.importorskip("freud")

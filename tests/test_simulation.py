@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres.validate import carnahan_starling, ks_distance, measure
+from hardspheres.studies.validate import carnahan_starling, ks_distance, measure
 from helpers import hs_cmd, hs_popen, spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,8 +7,8 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
-from hardspheres.structure import RDF, BondOrder, NotComputedError, StructureFactor
-from hardspheres.trajectory import frames_from_simulation
+from hardspheres.analysis.structure import RDF, BondOrder, NotComputedError, StructureFactor
+from hardspheres.io.trajectory import frames_from_simulation
 from helpers import periodic_gas
 
 pytest.importorskip("freud")

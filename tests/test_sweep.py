@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from hardspheres import studies
-from hardspheres.commands import main as hardspheres
+from hardspheres.cli.commands import main as hardspheres
 from helpers import ENV, ROOT, hs_cmd
 
 

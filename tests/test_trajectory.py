@@ -5,7 +5,7 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.events import EVENT_DTYPE
-from hardspheres.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
+from hardspheres.io.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
 from helpers import hs_cmd
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")

@@ -7,9 +7,9 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
-from hardspheres.structure import NotComputedError
-from hardspheres.trajectory import frames_from_simulation
-from hardspheres.transport import MSD, VACF, enskog, yeh_hummer
+from hardspheres.analysis.structure import NotComputedError
+from hardspheres.io.trajectory import frames_from_simulation
+from hardspheres.analysis.transport import MSD, VACF, enskog, yeh_hummer
 from helpers import periodic_gas
 
 pytest.importorskip("freud")

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from hardspheres.validate import (
+from hardspheres.studies.validate import (
     DYNAMO_RHO05,
     HEYES_CASS_D,
     PIEPRZYK_2019_D,
@@ -37,7 +37,7 @@ def test_interpolation_hits_tabulated_points_and_is_smooth():
 
 def test_lue_plus_yeh_hummer_gives_pieprzyk():
     """DynamO's finite-N D at rho 0.5 plus the Yeh-Hummer correction = the N -> inf table."""
-    from hardspheres.transport import yeh_hummer
+    from hardspheres.analysis.transport import yeh_hummer
 
     L = (DYNAMO_RHO05["n"] / DYNAMO_RHO05["rho"]) ** (1 / 3)
     d_inf = yeh_hummer(DYNAMO_RHO05["D"][0], L, DYNAMO_RHO05["eta"][0])
@@ -128,8 +128,8 @@ def test_transport_before_anything_was_measured_says_what_to_do():
     """Issue 11, item 7: one-line ValueErrors that say what to do."""
     import hardspheres as hs
     from hardspheres.observables import NoMeasurementError
-    from hardspheres.trajectory import frames_from_simulation
-    from hardspheres.transport import MSD, VACF, ShearViscosity, ThermalConductivity
+    from hardspheres.io.trajectory import frames_from_simulation
+    from hardspheres.analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity
 
     L = 7.0
     sim = hs.Simulation(hs.random_spheres(64, 0.2, box=L, seed=2), hs.PeriodicBox(L))
@@ -149,8 +149,8 @@ def test_transport_before_anything_was_measured_says_what_to_do():
 
 
 def test_line_extrapolation_recovers_an_exact_yeh_hummer_series():
-    from hardspheres.transport import yeh_hummer
-    from hardspheres.validate import line_extrapolations
+    from hardspheres.analysis.transport import yeh_hummer
+    from hardspheres.studies.validate import line_extrapolations
 
     rows = []
     for n in (500, 1372, 2744):

@@ -18,8 +18,8 @@ import pytest
 from hardspheres.events import empty_events
 from hardspheres.frames import Frames
 from hardspheres.frames import frame_indices
-from hardspheres.screenshot import CHROMIUM_ARGS
-from hardspheres.viewer import write_viewer
+from hardspheres.viz.screenshot import CHROMIUM_ARGS
+from hardspheres.viz.viewer import write_viewer
 from helpers import embedded_data
 
 import helpers  # its synthetic_frames, with this module's defaults below
@@ -162,7 +162,7 @@ def test_page_is_a_packaged_file_and_render_does_not_import_the_viewer():
     assert page.startswith("<!DOCTYPE html>") and "__DATA__" in page and "__JS__" in page
     viewer_src = (resources.files("hardspheres") / "viewer.py").read_text(encoding="utf-8")
     assert "<!DOCTYPE" not in viewer_src
-    code = "import sys, hardspheres.render; print('hardspheres.viewer' in sys.modules)"
+    code = "import sys, hardspheres.viz.render; print('hardspheres.viz.viewer' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
-from hardspheres.trajectory import FrameRecorder, GSDWriter, XYZWriter
+from hardspheres.io.trajectory import FrameRecorder, GSDWriter, XYZWriter
 from hardspheres.writers import AtTimes, EveryCollisions, LogSpaced, Periodic, Trigger, Writer, as_trigger
 
 

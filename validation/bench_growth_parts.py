@@ -16,8 +16,8 @@ import sys
 import time
 
 import hardspheres as hs
-from hardspheres import _core as core
-from hardspheres.engine import Engine
+from hardspheres.core import _core as core
+from hardspheres.core.engine import Engine
 
 n = int(sys.argv[1]) if len(sys.argv) > 1 else 4000
 repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 2

@@ -1,10 +1,10 @@
 """Transport validation: D, eta, lambda of the hard-sphere fluid against published MD.
 
-Runs :func:`hardspheres.validate.validate_transport`: at packing 0.2618
+Runs :func:`hardspheres.studies.validate.validate_transport`: at packing 0.2618
 (rho sigma^3 = 0.5, DynamO's test system of 1372 spheres), 0.3 and 0.45,
 with N = 500 and 1372, prints the measurements (with the Enskog ratios) and
 the z-scores against the published values (sources in
-``hardspheres.validate`` and docs/validation.md), and writes the scores to
+``hardspheres.studies.validate`` and docs/validation.md), and writes the scores to
 docs/validation-transport.csv (``hardspheres plot transport`` draws it).
 
 usage:
@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from hardspheres.validate import TRANSPORT_PACKINGS, validate_transport
+from hardspheres.studies.validate import TRANSPORT_PACKINGS, validate_transport
 
 RHO05 = 0.5 * math.pi / 6.0
 #: production runs [sigma sqrt(m/kT)]: about 15000 mean free times at rho = 0.5
@@ -39,7 +39,7 @@ class _Velocities:
         self.t, self.v = [], []
 
     def make(self, sim):
-        from hardspheres.trajectory import FrameRecorder
+        from hardspheres.io.trajectory import FrameRecorder
 
         class Rec(FrameRecorder):
             def _write_frame(rec, sim, state, events):
@@ -61,8 +61,8 @@ def vacf_tail(n=500, phi=0.45, mft_total=2000.0, seed=3):
     """C(t) at packing ``phi`` over ``mft_total`` mean free times: D from its integral to
     several cuts against the MSD's D (same run), and the tail against t^-3/2."""
     import hardspheres as hs
-    from hardspheres.trajectory import FrameRecorder
-    from hardspheres.transport import MSD, VACF
+    from hardspheres.io.trajectory import FrameRecorder
+    from hardspheres.analysis.transport import MSD, VACF
     L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
     sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=seed), hs.PeriodicBox(L))
     sim.run(collisions=50 * n)

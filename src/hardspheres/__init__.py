@@ -16,16 +16,6 @@ from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
 
 
-def _version():
-    """The installed distribution's version (pyproject.toml's, the one place it is set)."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("hardspheres")
-    except PackageNotFoundError:  # run from a source tree that is not installed
-        return "0+unknown"
-
-
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
 _LAZY = {
@@ -36,30 +26,32 @@ _LAZY = {
     "Observables": "observables",
     "Simulation": "simulation",
     "State": "state",
-    "GSDWriter": "trajectory",
-    "XYZWriter": "trajectory",
-    "read_trajectory": "trajectory",
+    "GSDWriter": "io.trajectory",
+    "XYZWriter": "io.trajectory",
+    "read_trajectory": "io.trajectory",
     "Frames": "frames",
     "sweep": "studies",
     "StudyError": "studies",
-    "CheckpointError": "engine",
+    "CheckpointError": "core.engine",
     "FileInUseError": "fileio",
-    "TruncatedTrajectory": "trajectory",
-    "RDF": "structure",
-    "StructureFactor": "structure",
-    "BondOrder": "structure",
-    "MSD": "transport",
-    "VACF": "transport",
-    "ShearViscosity": "transport",
-    "ThermalConductivity": "transport",
-    "yeh_hummer": "transport",
-    "enskog": "transport",
+    "TruncatedTrajectory": "io.trajectory",
+    "RDF": "analysis.structure",
+    "StructureFactor": "analysis.structure",
+    "BondOrder": "analysis.structure",
+    "MSD": "analysis.transport",
+    "VACF": "analysis.transport",
+    "ShearViscosity": "analysis.transport",
+    "ThermalConductivity": "analysis.transport",
+    "yeh_hummer": "analysis.transport",
+    "enskog": "analysis.transport",
 }
 
 
 def __getattr__(name):
     if name == "__version__":  # looked up on first use: the program starts faster
-        return _version()
+        from .version import package_version
+
+        return package_version()
     if name in _LAZY:
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

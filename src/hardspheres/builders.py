@@ -21,14 +21,11 @@ import numpy as np
 from .containers import Container, as_container
 from .maxwell import maxwell_boltzmann
 from .state import State
+from .errors import BuildError  # noqa: F401 (re-exported)
 
 
 #: Random placement is tried for up to this many spheres when the lattice does not fit.
 INSERTION_MAX = 500
-
-
-class BuildError(ValueError):
-    """The requested scenario cannot be built; the message says what to change."""
 
 
 #: The lattice holds at most this many sites per sphere (a random subset of

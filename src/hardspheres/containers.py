@@ -44,17 +44,19 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
-from .scenario import TOUCH_TOL
+from .errors import ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
     import numpy as np
 
+#: Relative tolerance for "touching within rounding": two spheres overlap only
+#: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
+#: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
+#: times the container radius.
+TOUCH_TOL = 1e-9
+
 # numpy is imported where it is used: the assignment's program checks its
 # scenario against a container without loading numpy.
-
-
-class ContainerError(ValueError):
-    """A container cannot be built or read back; the message says why."""
 
 
 @runtime_checkable
@@ -120,10 +122,6 @@ def _positive(value: float, what: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise ContainerError(f"{what} must be a finite number > 0, got {value}")
     return value
-
-
-class PeriodicBoxRequired(ValueError):
-    """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
 
 
 def require_periodic(container: Container | None, what: str) -> float:

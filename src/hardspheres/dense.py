@@ -29,8 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .containers import PeriodicBox
 from .scenario import StuckError
+from .errors import CompressionError  # noqa: F401 (re-exported)
 
 #: Densest packing of equal spheres (FCC/HCP): pi / sqrt(18).
 MAX_PACKING_EQUAL = math.pi / math.sqrt(18.0)
@@ -39,10 +39,6 @@ MAX_PACKING_EQUAL = math.pi / math.sqrt(18.0)
 #: jammed (Z diverges as the packing approaches jamming: ``Z ~ 3 phi_J /
 #: (phi_J - phi)``, so 1e3 is within ~0.002 of it).
 DEFAULT_PRESSURE = 1e3
-
-
-class CompressionError(ValueError):
-    """A compression that cannot be run; the message names the option."""
 
 
 class CompressResult(NamedTuple):
@@ -270,142 +266,3 @@ def thermostat_from_state(text):
         th = VelocityRescale(d["kT"], d["interval"])
     th.next_time = d["next_time"]
     return th
-
-
-# ---- commands -------------------------------------------------------------------
-
-
-def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled=None):
-    """A progress bar (on a terminal) and the ``progress`` callback of :func:`compress`.
-
-    The bar shows the packing fraction, the reduced pressure ``Z`` and the
-    collisions per second; its fraction done is the packing's way from
-    ``phi0`` to ``packing``, or without a target packing ``log Z / log
-    pressure``.
-
-    Returns:
-        ``(bar, show)``: close ``bar`` (:class:`hardspheres.progress.Progress`)
-        at the end; pass ``show`` as ``progress=``.
-    """
-    from .progress import Progress
-
-    bar = Progress(1.0, stream=stream, enabled=enabled, unit="collisions")
-
-    def show(phi, z, coll):
-        if packing is not None and packing > phi0:
-            done = (phi - phi0) / (packing - phi0)
-        elif pressure is not None and pressure > 1 and z > 1:
-            done = math.log(z) / math.log(pressure)
-        else:
-            done = 0.0
-        bar.update(max(0.0, min(1.0, done)), label=f"packing {phi:.5f}  Z {z:.4g}", events=coll)
-
-    return bar, show
-
-
-def start_packing(packing):
-    """The packing :func:`generate_compressed` starts from (a lattice melt)."""
-    return min(packing * 0.9, 0.2)
-
-
-def generate_compressed(
-    n,
-    packing,
-    container=None,
-    box=None,
-    seed=0,
-    rate=0.01,
-    radius_ratio=1.0,
-    mass_ratio=1.0,
-    kT=1.0,
-    progress=None,
-):
-    """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
-
-    The spheres start on random FCC sites at packing :func:`start_packing`
-    (``min(0.9 packing, 0.2)``), run ``2 N`` collisions to lose the lattice,
-    and are compressed at ``rate``; ``progress`` is passed to
-    :func:`compress` (``progress(packing, Z, collisions)``).
-
-    Raises:
-        CompressionError: the spheres jammed before ``packing``.
-    """
-    from .builders import random_spheres
-    from .containers import SphericalContainer
-    from .simulation import Simulation
-
-    start = start_packing(packing)
-    if box is not None:
-        state = random_spheres(
-            n, start, box=box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
-        )
-        sim = Simulation(state, PeriodicBox(box))
-    else:
-        state = random_spheres(
-            n, start, container=container, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
-        )
-        sim = Simulation(state, SphericalContainer(container))
-    names = list(state.names)
-    if n > 1:
-        sim.run(collisions=2 * n)
-    if packing > start:
-        res = sim.compress(packing=packing, rate=rate, progress=progress)
-        if res.reason != "packing":
-            raise CompressionError(
-                f"--packing {packing:g}: the spheres jammed at {res.packing:.4f} "
-                f"(Z = {res.pressure:.3g}); lower --packing or --rate"
-            )
-    out = sim.state()
-    out.names = names
-    return out
-
-
-def compress_command(args):
-    """``hardspheres compress``; returns the exit status."""
-    import sys
-
-    from .runner import _simulation
-
-    if args.packing is None and args.collisions is None and args.pressure is None:
-        raise CompressionError("give --packing, --pressure or --collisions")
-    sim = _simulation(args)
-    phi0 = sim.packing
-    target = args.packing
-    if target is not None:
-        top = max_packing(sim.engine.radii_at())
-        if target >= top:
-            raise CompressionError(
-                f"--packing {target:g} is not below {top:.4f}, the densest the geometry allows"
-            )
-        if target <= phi0:
-            raise CompressionError(f"--packing {target:g} is not above the scenario's packing {phi0:.6g}")
-    progress, show = compression_progress(phi0, target, args.pressure)
-
-    try:
-        res = compress(
-            sim,
-            packing=target,
-            rate=args.rate,
-            pressure=args.pressure,
-            collisions=None if args.collisions is None else int(args.collisions),
-            progress=show,
-        )
-    finally:
-        progress.close()
-    text = sim.state().to_text()
-    from .fileio import atomic_write
-
-    with atomic_write(args.output, "w") as fh:
-        fh.write(text)
-    if args.checkpoint:
-        sim.save(args.checkpoint)
-    if res.jammed:
-        what = (
-            f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed --pressure {args.pressure:g}"
-        )
-    elif res.reason == "collisions":
-        what = f"stopped after {res.collisions} collisions at packing {res.packing:.6f}"
-    else:
-        what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
-    print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
-    return 0

@@ -28,10 +28,7 @@ import stat
 import tempfile
 
 from .messages import oserror_line
-
-
-class FileInUseError(ValueError):
-    """Another writer (this process or another) holds the file's lock."""
+from .errors import FileInUseError  # noqa: F401 (re-exported)
 
 
 def _special(path):

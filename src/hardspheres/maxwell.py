@@ -41,7 +41,7 @@ def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 
         BuildError: ``kT`` is not a finite number >= 0.
     """
     if not (np.isfinite(kT) and kT >= 0):
-        from .builders import BuildError  # builders imports this module
+        from .errors import BuildError
 
         raise BuildError(f"kT must be a finite number >= 0 [energy], got {kT!r}")
     n = len(masses)
@@ -77,3 +77,18 @@ def speed_cdf(v, kT: float = 1.0, m: float = 1.0):
     x = np.asarray(v) / a
     erf = np.vectorize(math.erf)
     return erf(x / math.sqrt(2.0)) - np.sqrt(2.0 / math.pi) * x * np.exp(-0.5 * x * x)
+
+
+#: Mean of the Kolmogorov distribution, sqrt(pi/2) ln 2: ``sqrt(n) E[D]`` for
+#: n independent samples of the right distribution.
+KS_MEAN = math.sqrt(math.pi / 2.0) * math.log(2.0)
+
+
+def ks_distance(speeds, kT=1.0, m=1.0):
+    """Largest gap between the speeds' empirical CDF and Maxwell-Boltzmann's."""
+    s = np.sort(np.asarray(speeds))
+    n = len(s)
+    cdf = speed_cdf(s, kT, m)
+    hi = np.arange(1, n + 1) / n - cdf
+    lo = cdf - np.arange(0, n) / n
+    return float(max(hi.max(), lo.max()))

@@ -13,15 +13,13 @@ events, so sampling stays cheap in small systems.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .simulation import Simulation
-
 from .blocking import Blocking, blocking
 from .containers import require_periodic
+from .errors import NoMeasurementError  # noqa: F401 (re-exported)
+from .writers import SimulationView
 
 # columns of a tally sample (the transport tallies follow in a periodic box)
 _T, _COLL, _REFL, _WALL, _VIRIAL = range(5)
@@ -31,10 +29,6 @@ _HEAT_C = slice(17, 20)  # heat Helfand moment: collisional part
 _HEAT_K = slice(20, 23)  # heat Helfand moment: free flight
 _TENSOR = ("xx", "yy", "zz", "xy", "xz", "yz")
 _PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
-
-
-class NoMeasurementError(ValueError):
-    """Results were asked for before anything was measured."""
 
 
 class Observables:
@@ -60,7 +54,7 @@ class Observables:
     #: hundred events, so small systems would otherwise pay for sampling.
     MIN_EVENTS = 500
 
-    def __init__(self, sim: Simulation, every: float | None = None) -> None:
+    def __init__(self, sim: SimulationView, every: float | None = None) -> None:
         self._sim = sim
         self.reset(every)
 

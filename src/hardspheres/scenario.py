@@ -15,71 +15,15 @@ Pure Python (no numpy), so that the assignment's program starts fast.
 import math
 from dataclasses import dataclass, field
 
+from .containers import TOUCH_TOL
+from .errors import ScenarioError, StuckError  # noqa: F401 (re-exported)
 from .messages import quote
-
-#: Relative tolerance for "touching within rounding": two spheres overlap only
-#: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
-#: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
-#: times the container radius.
-TOUCH_TOL = 1e-9
 
 #: Largest magnitude of an input number: squares (|v|^2, |p|^2) and energies
 #: (m |v|^2) of numbers up to this stay finite doubles.
 MAX_MAGNITUDE = 1e100
 
 FIELDS = ("mass", "radius", "x", "y", "z", "vx", "vy", "vz", "name")
-
-
-class ScenarioError(ValueError):
-    """A scenario that cannot be simulated; the message says where and why.
-
-    Attributes:
-        line: 1-based input line the problem is on, or ``None``.
-    """
-
-    def __init__(self, message, line=None):
-        self.line = line
-        super().__init__(f"line {line}: {message}" if line is not None else message)
-
-
-class StuckError(ScenarioError):
-    """A run that cannot go on: its next event would repeat without end.
-
-    Raised by both engines, with the run stopped before that event (the
-    spheres stay where they are, at the last event's time).
-
-    Attributes:
-        reason: ``"sliding"`` (a sphere touching the wall moves along it: its
-            reflection would change nothing and come again at once) or
-            ``"frozen"`` (the clock stopped advancing: more than
-            :func:`hardspheres.physics.frozen_limit` collisions and
-            reflections in a row without the clock advancing).
-        time: the instant [time].
-        sphere: index of a sphere involved (the one at the wall).
-    """
-
-    def __init__(self, reason, time, sphere, names=None):
-        self.reason, self.time, self.sphere = reason, time, sphere
-        who = quote(names[sphere]) if names is not None else f"#{sphere}"
-        if reason == "sliding":
-            message = (
-                f"at t = {time:.6g} sphere {who} touches the container wall and moves "
-                "along it: it would slide along the wall, which point reflections "
-                "cannot model (its reflection would change nothing and repeat "
-                "forever); give it a velocity component off the wall"
-            )
-        else:
-            message = (
-                f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
-                "collisions and reflections at that instant do not end, as for a "
-                "light sphere trapped between the wall and a far heavier sphere; "
-                "outside what the model resolves"
-            )
-        super().__init__(message)
-
-    def named(self, names):
-        """The same error, naming the sphere by ``names``."""
-        return StuckError(self.reason, self.time, self.sphere, names)
 
 
 @dataclass

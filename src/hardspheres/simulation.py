@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .containers import Container, as_container, require_periodic
-from .engine import CheckpointError, Engine
+from .core.engine import CheckpointError, Engine
 from .events import EventKind, StopReason
 from .fileio import atomic_write
 from .messages import quote

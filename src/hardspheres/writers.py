@@ -36,7 +36,29 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 if TYPE_CHECKING:
     import numpy as np
 
-    from .simulation import Simulation
+    from .containers import Container
+    from .core.engine import Engine
+
+
+class SimulationView(Protocol):
+    """What writers and observables read of a simulation.
+
+    :class:`hardspheres.Simulation` is one; naming this protocol rather than
+    the class keeps the import direction one way (``simulation`` imports
+    ``writers``, never the reverse).
+    """
+
+    @property
+    def container(self) -> Container: ...
+
+    @property
+    def engine(self) -> Engine: ...
+
+    @property
+    def n(self) -> int: ...
+
+    @property
+    def time(self) -> float: ...
 
 
 @runtime_checkable
@@ -72,10 +94,10 @@ class Writer(Protocol):
     next_time: float
     wants_events: bool
 
-    def attach(self, sim: Simulation) -> None:
+    def attach(self, sim: SimulationView) -> None:
         """Called as each run starts (a writer attached before keeps its schedule)."""
 
-    def write(self, sim: Simulation, t: float) -> None:
+    def write(self, sim: SimulationView, t: float) -> None:
         """Write now: the simulation's clock is at ``t`` [time]."""
 
     def observe(self, events: np.ndarray) -> None:

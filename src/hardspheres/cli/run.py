@@ -23,11 +23,11 @@ import signal
 import sys
 import time
 
-from .containers import PeriodicBox, SphericalContainer
-from .fileio import PathLock
-from .messages import oserror_line
-from .progress import Progress
-from .simulation import Simulation
+from ..containers import PeriodicBox, SphericalContainer
+from ..fileio import PathLock
+from ..messages import oserror_line
+from ..progress import Progress
+from ..simulation import Simulation
 
 #: Signals that stop a run cleanly (checkpoint written).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -62,7 +62,7 @@ class ProgressWriter:
     next_collisions = math.inf
 
     def __init__(self, progress, start, steps=200, trigger=None, first=None):
-        from .writers import Periodic
+        from ..writers import Periodic
 
         self.progress = progress
         self.start = start
@@ -128,7 +128,7 @@ def _check_args(args):
 
 def _simulation(args):
     """The simulation to run; the core is compiled (and said so) after the input is read."""
-    from .warmup import ensure_compiled
+    from ..core.warmup import ensure_compiled
 
     if args.resume:
         sim = Simulation.load(args.resume)
@@ -141,21 +141,21 @@ def _simulation(args):
     if not isinstance(source, bytes):
         with open(source, "rb") as fh:
             source = fh.read()
-    from .scenario import check_scenario, parse_scenario
+    from ..scenario import check_scenario, parse_scenario
 
     scn = parse_scenario(source)  # bad input is refused before the compilation
     if len(scn) == 0:
         raise ValueError(f"{args.scenario}: no spheres in the scenario")
     check_scenario(scn, container)
     ensure_compiled()  # before any clock starts: no rate below includes compilation
-    from .state import State
+    from ..state import State
 
     return Simulation(State.from_scenario(scn), container)
 
 
 def _writer(args, sim, every):
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
-    from .trajectory import GSDWriter, NotAContinuation, XYZWriter
+    from ..io.trajectory import GSDWriter, NotAContinuation, XYZWriter
 
     path = args.trajectory
     exists = os.path.exists(path) and os.path.getsize(path) > 0

@@ -26,24 +26,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .eos import carnahan_starling, hansen_goos, kolafa
-from .maxwell import speed_cdf
+from ..eos import carnahan_starling, hansen_goos, kolafa
+from ..maxwell import KS_MEAN, ks_distance, speed_cdf  # noqa: F401 (re-exported)
 
 PACKINGS = (0.1, 0.2, 0.3, 0.4, 0.45, 0.49)
 MEASURE = ["Z", "collision_rate", "temperature", "speeds_ks"]
-#: Mean of the Kolmogorov distribution, sqrt(pi/2) ln 2: ``sqrt(n) E[D]`` for
-#: n independent samples of the right distribution.
-KS_MEAN = math.sqrt(math.pi / 2.0) * math.log(2.0)
-
-
-def ks_distance(speeds, kT=1.0, m=1.0):
-    """Largest gap between the speeds' empirical CDF and Maxwell-Boltzmann's."""
-    s = np.sort(np.asarray(speeds))
-    n = len(s)
-    cdf = speed_cdf(s, kT, m)
-    hi = np.arange(1, n + 1) / n - cdf
-    lo = cdf - np.arange(0, n) / n
-    return float(max(hi.max(), lo.max()))
 
 
 @dataclass
@@ -85,7 +72,7 @@ def _study(packings, n, equilibrate, collisions, blocks, seeds, folder):
 
 
 def _rows(df, n, collisions):
-    from .studies import summarize
+    from . import summarize
 
     rows = []
     for r in summarize(df).to_dict("records"):
@@ -137,7 +124,7 @@ def measure(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
     Returns:
         A :class:`Row`.
     """
-    from .studies import sweep
+    from . import sweep
 
     with tempfile.TemporaryDirectory() as folder:
         df = sweep(_study([phi], n, equilibrate, collisions, blocks, [seed], folder), serial=True)
@@ -178,7 +165,7 @@ def validate(
     Returns:
         The list of :class:`Row`.
     """
-    from .studies import sweep
+    from . import sweep
 
     seed_list = range(seed, seed + seeds)
     # the study's folder: the one given (kept), else a temporary one (removed after)
@@ -217,7 +204,7 @@ def validate(
 
 def _write_csv(path, records):
     """Dataclass records as a CSV table (a header of their fields), written atomically."""
-    from .fileio import atomic_write
+    from ..fileio import atomic_write
 
     with atomic_write(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(asdict(records[0])))
@@ -444,11 +431,11 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     """
     import time as _time
 
-    from .builders import random_spheres
-    from .containers import PeriodicBox
-    from .simulation import Simulation
-    from .trajectory import FrameRecorder
-    from .transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
+    from ..builders import random_spheres
+    from ..containers import PeriodicBox
+    from ..simulation import Simulation
+    from ..io.trajectory import FrameRecorder
+    from ..analysis.transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
 
     t0 = _time.perf_counter()
     box = PeriodicBox.for_packing(n, phi)
@@ -577,7 +564,7 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
 
 def transport_table(rows, out):
     """Print the measurements, with the Enskog ratios, as a markdown table."""
-    from .transport import enskog
+    from ..analysis.transport import enskog
 
     print(
         "| phi | N | time | Z | mean free time | D | D_inf (Yeh-Hummer) | D_inf/D_E "
@@ -629,7 +616,7 @@ def line_extrapolations(rows):
     differ at the 1-2% level with runs of ~10^4 mean free times
     (docs/validation.md).
     """
-    from .transport import XI_CUBIC
+    from ..analysis.transport import XI_CUBIC
 
     out = []
     for phi in dict.fromkeys(r.phi for r in rows):
@@ -669,7 +656,7 @@ def validate_transport(
     Returns:
         ``(rows, scores)``: :class:`TransportRow` s and :class:`TransportScore` s.
     """
-    from .eos import kolafa
+    from ..eos import kolafa
 
     jobs = []
     for phi in packings:

@@ -52,21 +52,14 @@ from typing import Any
 
 import numpy as np
 
-from .containers import from_fields
-from .events import EVENT_DTYPE, empty_events, from_columns
-from .fileio import PathLock
-from .frames import Frames
-from .writers import Periodic, Trigger, as_trigger
+from ..containers import from_fields
+from ..events import EVENT_DTYPE, empty_events, from_columns
+from ..fileio import PathLock
+from ..frames import Frames
+from ..writers import Periodic, Trigger, as_trigger
+from ..errors import TruncatedTrajectory, NotAContinuation  # noqa: F401 (re-exported)
 
 _GSD_EVENTS = "hardspheres/events"
-
-
-class TruncatedTrajectory(UserWarning):
-    """A trajectory file ends before the run that wrote it meant to (cut short)."""
-
-
-class NotAContinuation(ValueError):
-    """An ``append=True`` writer's file does not end where the simulation is."""
 
 
 class _FrameWriter:
@@ -376,7 +369,7 @@ class XYZWriter(_FrameWriter):
         return open(self.path, "a" if self._append else "w", encoding="utf-8", newline="\n")
 
     def _start(self, sim):
-        from .messages import quote
+        from ..messages import quote
 
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:

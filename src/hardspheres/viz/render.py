@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .frames import frame_indices
-from .progress import Progress, duration
+from ..frames import frame_indices
+from ..progress import Progress, duration
 
 
 def _writer(path, fps, dpi):
@@ -62,7 +62,7 @@ def packing_fraction(frames):
     """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
     if frames.container is None:
         return None
-    from .dense import packing_fraction as of_radii
+    from ..dense import packing_fraction as of_radii
 
     return of_radii(frames.radii, frames.container)
 
@@ -236,7 +236,7 @@ def render_movie(
     start = _time.monotonic()
     first_done = None
     try:
-        from .fileio import atomic_path
+        from ..fileio import atomic_path
 
         with atomic_path(path) as tmp, writer.saving(fig, tmp, dpi):
             for f in range(len(keep)):
@@ -299,7 +299,7 @@ def render_still(
         k = int(np.argmin(np.abs(times - float(time))))
     fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)
     show(0)
-    from .fileio import atomic_write
+    from ..fileio import atomic_write
 
     with atomic_write(path, "wb") as fh:
         fig.savefig(fh, dpi=dpi, format=fmt)

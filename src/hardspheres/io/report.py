@@ -5,7 +5,7 @@ Numbers print with ``:g``; the container radius and end time print as
 ``[x, y, z]`` (lists, or numpy arrays, which are converted once per block).
 """
 
-from .events import KIND_LABELS, EventKind
+from ..events import KIND_LABELS, EventKind
 
 _REFLECTION = int(EventKind.REFLECTION)
 

@@ -10,7 +10,7 @@ import re
 import sys
 import warnings
 
-from .messages import QUOTE_LIMIT, oserror_line, quote
+from ..messages import QUOTE_LIMIT, oserror_line, quote
 
 
 class _Parser(argparse.ArgumentParser):
@@ -26,7 +26,7 @@ def _number(text):
     """``float(text)`` for a plain decimal number (:func:`~hardspheres.scenario.plain_float`), else NaN."""
     import math
 
-    from .scenario import plain_float
+    from ..scenario import plain_float
 
     x = plain_float(text)
     return math.nan if x is None else x
@@ -149,13 +149,13 @@ def _note(text):
 
 def _compile_first():
     """Compile the event core now if needed (said on stderr), so no timing includes it."""
-    from .warmup import ensure_compiled
+    from ..core.warmup import ensure_compiled
 
     ensure_compiled()
 
 
 def cmd_generate(args):
-    from .builders import random_spheres
+    from ..builders import random_spheres
 
     common = dict(  # container or box: exactly one is given (argparse's group)
         container=args.container,
@@ -165,7 +165,7 @@ def cmd_generate(args):
         mass_ratio=args.mass_ratio,
     )
     if args.method == "compress":
-        from .dense import compression_progress, generate_compressed, start_packing
+        from .compress import compression_progress, generate_compressed, start_packing
 
         bar, show = compression_progress(start_packing(args.packing), args.packing)
         try:
@@ -179,7 +179,7 @@ def cmd_generate(args):
 
 
 def cmd_compress(args):
-    from .dense import compress_command
+    from .compress import compress_command
 
     return compress_command(args)
 
@@ -202,7 +202,7 @@ def cmd_bench(args):
 
 
 def cmd_validate(args):
-    from .validate import PACKINGS, validate, verdict
+    from ..studies.validate import PACKINGS, validate, verdict
 
     _compile_first()
     if args.transport:
@@ -224,7 +224,7 @@ def cmd_validate(args):
                 setattr(args, key, value)
     client = None
     if args.scheduler:
-        from .studies import connect
+        from ..studies import connect
 
         client = connect(args.scheduler, timeout=args.timeout)
     try:
@@ -253,7 +253,7 @@ def cmd_validate(args):
 
 
 def _validate_transport(args):
-    from .validate import TRANSPORT_PACKINGS, validate_transport
+    from ..studies.validate import TRANSPORT_PACKINGS, validate_transport
 
     for key in ("collisions", "equilibrate", "seeds", "scheduler", "output"):
         if getattr(args, key) not in (None, 1, False):
@@ -317,11 +317,11 @@ def _check_source(args):
 
 def _frames(args):
     """Frames from a trajectory file, or from a scenario run on the spot."""
-    from .trajectory import frames_from_simulation, read_trajectory
+    from ..io.trajectory import frames_from_simulation, read_trajectory
 
     path = args.input
     if _suffix(path) in _TRAJECTORY_SUFFIXES:
-        from .trajectory import TruncatedTrajectory
+        from ..io.trajectory import TruncatedTrajectory
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", TruncatedTrajectory)
@@ -329,9 +329,9 @@ def _frames(args):
         for w in caught:  # one line each, not Python's two-line warning format
             print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
         return frames
-    from .containers import PeriodicBox, SphericalContainer
-    from .scenario import check_scenario, parse_scenario
-    from .simulation import Simulation
+    from ..containers import PeriodicBox, SphericalContainer
+    from ..scenario import check_scenario, parse_scenario
+    from ..simulation import Simulation
 
     container = SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
     with open(path, "rb") as fh:
@@ -353,8 +353,8 @@ def cmd_view(args):
     if args.screenshot:
         _require_suffix("--screenshot", args.screenshot, (".png",), "the screenshot")
     _check_source(args)
-    from .screenshot import screenshot
-    from .viewer import write_viewer
+    from ..viz.screenshot import screenshot
+    from ..viz.viewer import write_viewer
 
     frames = _frames(args)
     write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice, color_by=args.color)
@@ -390,14 +390,14 @@ def cmd_render(args):
         if args.size and (args.size[0] % 2 or args.size[1] % 2):
             raise ValueError(f"--size: {_suffix(args.output)} needs an even width and height")
     _check_source(args)
-    from .render import render_movie, render_still
+    from ..viz.render import render_movie, render_still
 
     frames = _frames(args)
     size = args.size or ((1280, 720) if still else (960, 540))
     if still:
         render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
     else:
-        from .progress import duration
+        from ..progress import duration
 
         def estimate(n_frames, seconds):
             _note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
@@ -409,7 +409,7 @@ def cmd_render(args):
 
 def cmd_plot(args):
     _require_suffix("-o", args.output, _STILLS, "a plot")
-    from . import plots
+    from ..viz import plots
 
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
@@ -466,19 +466,19 @@ def _dask_args(q, scheduler_help, serial_help):
 
 
 def cmd_run(args):
-    from .runner import run_command
+    from .run import run_command
 
     return run_command(args)
 
 
 def _version():
-    from . import __version__
+    from ..version import package_version
 
-    return f"%(prog)s {__version__}"
+    return f"%(prog)s {package_version()}"
 
 
 def cmd_sweep(args):
-    from .studies import main
+    from .sweep import main
 
     return main(args)
 

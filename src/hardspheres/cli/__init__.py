@@ -3,6 +3,14 @@
 Everything here is at the edge: arguments, stdin, stdout, exit codes.  Bad
 input gives one line on stderr and exit status 1, never a traceback; Ctrl-C
 exits 130 and a closed stdout (``| head``) exits quietly.
+
+Contract: nothing imports this family (but ``python -m hardspheres``).  All
+argument parsing, printing to stdout and ``sys.exit`` live here, with one
+module per command family: ``assignment`` (the ``spheres`` program),
+``commands`` (the ``hardspheres`` parser), ``run``, ``compress``, ``sweep``
+and ``bench``.  The ``spheres`` program starts without numpy: this module,
+``assignment``, :mod:`hardspheres.scenario`, :mod:`hardspheres.containers`,
+:mod:`hardspheres.errors` and :mod:`hardspheres.io.report` import none.
 """
 
 import io
@@ -11,9 +19,9 @@ import os
 import signal
 import sys
 
-from .messages import oserror_line, quote
-from .report import PROMPT
-from .scenario import (
+from ..messages import oserror_line, quote
+from ..io.report import PROMPT
+from ..scenario import (
     MAX_MAGNITUDE,
     ScenarioError,
     StuckError,
@@ -21,6 +29,7 @@ from .scenario import (
     parse_scenario,
     plain_float,
 )
+from ..errors import UsageError  # noqa: F401 (re-exported)
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 HELP = f"""{USAGE}
@@ -39,10 +48,6 @@ options:
 Bad input exits 1 with one line on stderr.  More: the hardspheres command.
 """
 FORMATS = ("text", "jsonl")
-
-
-class UsageError(ValueError):
-    """Bad command-line arguments."""
 
 
 def _positive_number(token, what, allow_zero, limit=math.inf):
@@ -97,9 +102,9 @@ def _help_or_version(argv, stdout):
     if len(argv) != 1 or argv[0] not in ("-h", "--help", "--version"):
         return False
     if argv[0] == "--version":
-        from . import __version__
+        from ..version import package_version
 
-        stdout.write(f"spheres (hardspheres {__version__})\n")
+        stdout.write(f"spheres (hardspheres {package_version()})\n")
     else:
         stdout.write(HELP)
     stdout.flush()

@@ -54,18 +54,19 @@ def is_cold():
 
 def _compile():
     """Run every entry point of the core once, on two spheres (compiles them)."""
-    from .containers import SphericalContainer
-    from .simulation import Simulation
+    from ..containers import SphericalContainer
+    from .engine import Engine
 
-    sim = Simulation.from_arrays(
+    engine = Engine(
         [1.0, 1.0],
         [1.0, 1.0],
         [[-3.0, 0, 0], [3.0, 0, 0]],
         [[1.0, 0, 0], [-1.0, 0, 0]],
         SphericalContainer(10.0),
     )
-    sim.run(events=2000)  # past the first rebase of the time origin
-    sim.state()
+    engine.max_overlap()
+    engine.advance(events=2000)  # past the first rebase of the time origin
+    engine.positions_at()
 
 
 def ensure_compiled(quiet=False, stream=None):

@@ -104,7 +104,7 @@ def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=6
                     # pause: the picture shows the Play button
                     page.evaluate("window.viewerControl.setPlaying(false)")
                 page.wait_for_timeout(100)
-                from .fileio import atomic_path
+                from ..fileio import atomic_path
 
                 with atomic_path(png_path) as tmp:
                     page.screenshot(path=tmp, type="png", timeout=timeout * 1000)

@@ -1,7 +1,7 @@
 """Interactive 3-D viewer: one self-contained HTML file that opens offline.
 
 :func:`write_viewer` writes a page with three.js (vendored in
-``hardspheres/_static``, MIT) and the run's frames embedded in it, so the file
+``hardspheres/viz/_static``, MIT) and the run's frames embedded in it, so the file
 can be mailed or opened from disk with no server and no network::
 
     from hardspheres.viewer import write_viewer
@@ -28,7 +28,7 @@ for scripts (the screenshot plays the page through it, without clicks).
 
 :func:`hardspheres.screenshot.screenshot` opens such a page in headless
 Chromium and saves a PNG.  The page itself (HTML, CSS and the JavaScript that
-draws it) is ``hardspheres/_static/viewer.html``, a template whose
+draws it) is ``hardspheres/viz/_static/viewer.html``, a template whose
 ``__TITLE__``, ``__JS__`` and ``__DATA__`` this module fills in.
 """
 
@@ -40,8 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .events import EventKind
-from .frames import even_indices, frame_indices
+from ..events import EventKind
+from ..frames import even_indices, frame_indices
 
 _STATIC = ("three.core.min.js", "three.module.min.js", "OrbitControls.js")
 _CORE_SPECIFIER = '"./three.core.min.js"'
@@ -60,16 +60,16 @@ def _script_json(obj):
 
 
 def _static(name):
-    """Text of the packaged file ``hardspheres/_static/NAME``."""
-    return (resources.files("hardspheres") / "_static").joinpath(name).read_text(encoding="utf-8")
+    """Text of the packaged file ``hardspheres/viz/_static/NAME``."""
+    return (resources.files("hardspheres.viz") / "_static").joinpath(name).read_text(encoding="utf-8")
 
 
 def _vendored_js():
     """The three vendored scripts, keyed ``core``, ``module``, ``orbit``."""
-    folder = resources.files("hardspheres") / "_static"
+    folder = resources.files("hardspheres.viz") / "_static"
     core, module, orbit = (folder.joinpath(name).read_text(encoding="utf-8") for name in _STATIC)
     if _CORE_SPECIFIER not in module or "from 'three'" not in orbit:
-        raise RuntimeError("hardspheres/_static: the vendored three.js files' import specifiers changed")
+        raise RuntimeError("hardspheres/viz/_static: the vendored three.js files' import specifiers changed")
     return {"core": core, "module": module, "orbit": orbit}
 
 
@@ -94,7 +94,7 @@ def _q6(frames, positions):
     a spherical container or open space the spheres sit in a box wide enough
     that none sees an image (:class:`hardspheres.structure.BondOrder`).
     """
-    from .structure import BondOrder
+    from ..analysis.structure import BondOrder
 
     c = frames.container
     if c is not None and c.periodic:
@@ -256,7 +256,7 @@ def write_viewer(
         .replace("__JS__", _script_json(_vendored_js()))
         .replace("__DATA__", _script_json(data))
     )
-    from .fileio import atomic_write
+    from ..fileio import atomic_write
 
     with atomic_write(path, "w", encoding="utf-8") as fh:
         fh.write(page)

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from .containers import PeriodicBox, require_periodic
+from ..containers import PeriodicBox, require_periodic
 from .structure import NotComputedError, _Computed
 
 #: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
@@ -115,7 +115,7 @@ def _trajectory(source, what, positions=True):
     With ``positions=False`` the positions are not unwrapped (``None``): the
     velocity autocorrelation needs only the velocities.
     """
-    from .frames import Frames
+    from ..frames import Frames
 
     if not isinstance(source, Frames):
         raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or frames_from_simulation)")

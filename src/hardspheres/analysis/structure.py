@@ -24,11 +24,8 @@ Example:
 
 import numpy as np
 
-from .containers import PeriodicBox, require_periodic
-
-
-class NotComputedError(ValueError):
-    """A result was read before :meth:`compute` was called."""
+from ..containers import PeriodicBox, require_periodic
+from ..errors import NotComputedError  # noqa: F401 (re-exported)
 
 
 def _freud():
@@ -52,9 +49,9 @@ def configurations(source, box=None):
     Raises:
         PeriodicBoxRequired: the configurations are not in a periodic box.
     """
-    from .frames import Frames
-    from .simulation import Simulation
-    from .state import State
+    from ..frames import Frames
+    from ..simulation import Simulation
+    from ..state import State
 
     if isinstance(source, Frames):
         L = require_periodic(PeriodicBox(source.box) if source.box else None, "g(r), S(k) and bond order")
@@ -79,8 +76,8 @@ def _local_configurations(source, box=None):
     spherical container gets a box ``4 R`` wide: no sphere sees an image
     within a neighbour shell, so a periodic neighbour search is an open one.
     """
-    from .frames import Frames
-    from .simulation import Simulation
+    from ..frames import Frames
+    from ..simulation import Simulation
 
     container = getattr(source, "container", None)
     if isinstance(source, (Frames, Simulation)) and container is not None and not container.periodic:

@@ -60,7 +60,7 @@ import numpy as np
 from llvmlite import ir
 from numba.core import cgutils, types
 
-from . import events, physics
+from .. import events, physics
 
 
 def _cache_dir():

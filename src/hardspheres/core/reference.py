@@ -48,9 +48,9 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .containers import Container, as_container
-from .events import EventKind, StopReason
-from .physics import (
+from ..containers import Container, as_container
+from ..events import EventKind, StopReason
+from ..physics import (
     FROZEN_RELATIVE,
     INF,
     collide,
@@ -59,7 +59,7 @@ from .physics import (
     reflect,
     wall_time,
 )
-from .scenario import StuckError
+from ..scenario import StuckError
 
 if TYPE_CHECKING:
     import numpy as np
@@ -311,7 +311,7 @@ class Reference:
         """Total kinetic energy [mass*length^2/time^2]."""
         import numpy as np
 
-        from .state import kinetic_energy
+        from ..state import kinetic_energy
 
         return float(kinetic_energy(np.asarray(self.masses), np.asarray(self._v)))
 
@@ -400,7 +400,7 @@ class Reference:
             StuckError: as :meth:`step`; events before it are returned first,
                 and the call after raises.
         """
-        from .events import EVENT_DTYPE
+        from ..events import EVENT_DTYPE
 
         import numpy as np
 

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .eos import carnahan_starling, hansen_goos
-from .maxwell import reduced_density, speed_density
+from ..eos import carnahan_starling, hansen_goos
+from ..maxwell import reduced_density, speed_density
 
 SIZE = (960, 720)
 
@@ -43,7 +43,7 @@ FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 def _save(fig, path, dpi):
     """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
-    from .fileio import atomic_write
+    from ..fileio import atomic_write
 
     path = Path(path)
     fmt = FORMATS.get(path.suffix.lower())
@@ -374,7 +374,7 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
     Raises:
         ValueError: a column missing (the message lists those present).
     """
-    from .studies import GRID, measured, summarize
+    from ..studies import GRID, measured, summarize
 
     df = read_table(table) if not hasattr(table, "columns") else table
     if "seed" in df.columns:
@@ -455,7 +455,7 @@ def plot_gr(frames, path, *, size=SIZE, dpi=100):
 
     Uses :class:`hardspheres.structure.RDF` (freud).  Returns ``path``.
     """
-    from .structure import RDF
+    from ..analysis.structure import RDF
 
     rdf = RDF().compute(frames)
     fig = _figure(size, dpi)
@@ -481,7 +481,7 @@ def plot_msd(frames, path, *, size=SIZE, dpi=100):
     Uses :class:`hardspheres.transport.MSD` (freud) on the unwrapped
     positions.  Returns ``path``.
     """
-    from .transport import MSD
+    from ..analysis.transport import MSD
 
     msd = MSD().compute(frames)
     D, err = msd.diffusion()

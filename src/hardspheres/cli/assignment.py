@@ -10,9 +10,9 @@ reports are identical;
 
 import os
 
-from .reference import SIMULTANEOUS, Reference
-from .report import JSONLReport, TextReport
-from .scenario import StuckError
+from ..core.reference import SIMULTANEOUS, Reference
+from ..io.report import JSONLReport, TextReport
+from ..scenario import StuckError
 
 #: Up to this many spheres the reference loop runs (its O(N^2) prediction
 #: per event costs less than loading the compiled core).
@@ -48,8 +48,8 @@ def _write_events(scn, container, end, out, fmt):
     if choose_engine(len(scn)) == "reference":
         engine = Reference
     else:
-        from .engine import Engine as engine
-        from .warmup import ensure_compiled
+        from ..core.engine import Engine as engine
+        from ..core.warmup import ensure_compiled
 
         ensure_compiled()  # says so on stderr, once, when the cache is cold
     eng = engine(

@@ -14,11 +14,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core as core
-from . import events as _events
-from .containers import Container, as_container, from_record
-from .events import StopReason
-from .state import kinetic_energy
-from .scenario import StuckError
+from .. import events as _events
+from ..containers import Container, as_container, from_record
+from ..events import StopReason
+from ..state import kinetic_energy
+from ..scenario import StuckError
+from ..errors import CheckpointError  # noqa: F401 (re-exported)
 
 #: Default number of events the core records per call.
 CHUNK = 1 << 14
@@ -76,10 +77,6 @@ def _spread_bits(q):
     ):
         q = (q | (q << np.uint64(shift))) & np.uint64(mask)
     return q
-
-
-class CheckpointError(ValueError):
-    """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
 
 
 class Engine:

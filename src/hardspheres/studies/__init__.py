@@ -1,5 +1,13 @@
 """Studies: parameter sweeps run as independent tasks on Dask, resumable.
 
+Contract: a study is data (a TOML file or a dict) turned into tasks, each a
+function of its parameters alone, so that a rerun, a resumed task and a task
+on another worker give the same bits.  This family builds simulations and
+analyses and writes tables; it imports them and everything below, never the
+pictures or the commands (``hardspheres sweep`` lives in :mod:`hardspheres.cli`).
+:mod:`hardspheres.studies.validate` holds the validation studies against
+published equations of state and transport coefficients.
+
 A study is a grid of runs (packing fraction x N x seeds x size and mass
 ratios) described in a TOML file; each point of the grid and each seed is
 one *task*, one run of equal-length blocks whose observables are averaged.
@@ -64,9 +72,9 @@ import itertools
 import json
 import math
 import os
-import sys
 import time
 from pathlib import Path
+from ..errors import StudyError  # noqa: F401 (re-exported)
 
 try:
     import tomllib
@@ -80,15 +88,11 @@ STEP = 1 << 20
 MAX_PACKING = math.pi / math.sqrt(18.0)
 
 
-class StudyError(ValueError):
-    """A study file or option is wrong, or a task failed; the message says which."""
-
-
 def _ks(sim, obs):
     """Kolmogorov-Smirnov distance of the reduced speeds ``v sqrt(m/kT)`` from Maxwell-Boltzmann."""
     import numpy as np
 
-    from .validate import ks_distance
+    from ..maxwell import ks_distance
 
     st = sim.state()
     kT = obs.temperature()
@@ -155,7 +159,7 @@ def _list_of(raw, key, check, what, source):
 
 def observable_names():
     """Names a study's ``measure`` accepts (the registry and ``Observables``' methods)."""
-    from .observables import Observables
+    from ..observables import Observables
 
     names = set(OBSERVABLES)
     for name in dir(Observables):
@@ -333,7 +337,7 @@ def _atomic(path, write):
     Raises:
         OSError: naming ``path``.
     """
-    from .fileio import atomic_path
+    from ..fileio import atomic_path
 
     with atomic_path(path, lock=False) as tmp:
         write(tmp)
@@ -359,9 +363,9 @@ def _row_path(task):
 
 # ---- one task -------------------------------------------------------------------
 def _build(task):
-    from .builders import random_spheres
-    from .containers import PeriodicBox, SphericalContainer
-    from .simulation import Simulation
+    from ..builders import random_spheres
+    from ..containers import PeriodicBox, SphericalContainer
+    from ..simulation import Simulation
 
     n, phi = task["n"], task["packing"]
     kind = PeriodicBox if task["container"] == "box" else SphericalContainer
@@ -413,7 +417,7 @@ def run_task(task):
     import numpy as np
     import pandas as pd
 
-    from .simulation import Simulation
+    from ..simulation import Simulation
 
     row_path = _row_path(task)
     if row_path.exists():
@@ -645,7 +649,7 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
         f"{len(all_tasks)} tasks: {len(all_tasks) - len(todo)} already done, "
         f"{len(todo)} to run; results in {folder}"
     )
-    from .runner import Progress
+    from ..progress import Progress
 
     bar = Progress(len(todo), stream=out) if out is not None else None
     done = 0
@@ -725,26 +729,3 @@ def _run_on(client, todo, retries, finished):
         for fut in futures:
             fut.cancel()
         raise
-
-
-def main(args, stdout=sys.stdout):
-    """``hardspheres sweep STUDY [--scheduler ADDRESS] [--workers N] [--serial]``."""
-    client = None
-    if args.scheduler:
-        if args.serial:
-            raise StudyError("--serial runs here; it takes no --scheduler")
-        client = connect(args.scheduler, timeout=args.timeout)
-        print(f"scheduler {args.scheduler}", file=stdout, flush=True)
-    try:
-        study = load_study(args.study)
-        df = sweep(args.study, client=client, serial=args.serial, workers=args.workers, out=stdout)
-    finally:
-        if client is not None:
-            client.close()
-    folder = Path(study["output"])
-    print(
-        f"{len(df)} rows: {folder / 'results.parquet'} (and .csv); "
-        f"summary: {folder / 'summary.parquet'} (and .csv)",
-        file=stdout,
-    )
-    return 0

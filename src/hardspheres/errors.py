@@ -1,0 +1,112 @@
+"""Every exception and warning of hardspheres, in one place.
+
+Each is a :class:`ValueError` subclass (or a :class:`UserWarning`) whose
+message is one line that names what is wrong (a line, an option, a file, an
+argument) and says what to do.  They are re-exported where users have always
+imported them (``hardspheres.ScenarioError``, ``hardspheres.containers.ContainerError``, ...).
+
+This module imports nothing of hardspheres but :mod:`hardspheres.messages`:
+any module may raise these.
+"""
+
+from .messages import quote
+
+
+class BuildError(ValueError):
+    """The requested scenario cannot be built; the message says what to change."""
+
+
+class ContainerError(ValueError):
+    """A container cannot be built or read back; the message says why."""
+
+
+class PeriodicBoxRequired(ValueError):
+    """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
+
+
+class CompressionError(ValueError):
+    """A compression that cannot be run; the message names the option."""
+
+
+class FileInUseError(ValueError):
+    """Another writer (this process or another) holds the file's lock."""
+
+
+class NoMeasurementError(ValueError):
+    """Results were asked for before anything was measured."""
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be simulated; the message says where and why.
+
+    Attributes:
+        line: 1-based input line the problem is on, or ``None``.
+    """
+
+    def __init__(self, message, line=None):
+        self.line = line
+        super().__init__(f"line {line}: {message}" if line is not None else message)
+
+
+class StuckError(ScenarioError):
+    """A run that cannot go on: its next event would repeat without end.
+
+    Raised by both engines, with the run stopped before that event (the
+    spheres stay where they are, at the last event's time).
+
+    Attributes:
+        reason: ``"sliding"`` (a sphere touching the wall moves along it: its
+            reflection would change nothing and come again at once) or
+            ``"frozen"`` (the clock stopped advancing: more than
+            :func:`hardspheres.physics.frozen_limit` collisions and
+            reflections in a row without the clock advancing).
+        time: the instant [time].
+        sphere: index of a sphere involved (the one at the wall).
+    """
+
+    def __init__(self, reason, time, sphere, names=None):
+        self.reason, self.time, self.sphere = reason, time, sphere
+        who = quote(names[sphere]) if names is not None else f"#{sphere}"
+        if reason == "sliding":
+            message = (
+                f"at t = {time:.6g} sphere {who} touches the container wall and moves "
+                "along it: it would slide along the wall, which point reflections "
+                "cannot model (its reflection would change nothing and repeat "
+                "forever); give it a velocity component off the wall"
+            )
+        else:
+            message = (
+                f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
+                "collisions and reflections at that instant do not end, as for a "
+                "light sphere trapped between the wall and a far heavier sphere; "
+                "outside what the model resolves"
+            )
+        super().__init__(message)
+
+    def named(self, names):
+        """The same error, naming the sphere by ``names``."""
+        return StuckError(self.reason, self.time, self.sphere, names)
+
+
+class NotComputedError(ValueError):
+    """A result was read before :meth:`compute` was called."""
+
+
+class UsageError(ValueError):
+    """Bad command-line arguments."""
+
+
+class CheckpointError(ValueError):
+    """A checkpoint that cannot be resumed (damaged, truncated, foreign); the message says why."""
+
+
+class TruncatedTrajectory(UserWarning):
+    """A trajectory file ends before the run that wrote it meant to (cut short)."""
+
+
+class NotAContinuation(ValueError):
+    """An ``append=True`` writer's file does not end where the simulation is."""
+
+
+class StudyError(ValueError):
+    """A study file or option is wrong, or a task failed; the message says which."""

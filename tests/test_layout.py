@@ -1,0 +1,197 @@
+"""The package's layout: families in layers, imports running one way only.
+
+The import graph of ``src/hardspheres`` is read with :mod:`ast` (every
+``import``, at the top, inside functions and under ``TYPE_CHECKING``), and
+must have no circle and no import from a lower family to a higher one.
+docs/architecture.md draws the same layers.
+"""
+
+import ast
+import pathlib
+
+import pytest
+
+SRC = pathlib.Path(__file__).resolve().parents[1] / "src" / "hardspheres"
+
+#: The families, lowest first.  A module may import its own family's modules
+#: and any lower family's, never a higher one's.
+LAYERS = (
+    # the terms: what the core and everything above speak in (numpy-free where the
+    # assignment's program needs them)
+    (
+        "errors",
+        "version",
+        "messages",
+        "fileio",
+        "progress",
+        "physics",
+        "events",
+        "eos",
+        "blocking",
+        "containers",
+        "scenario",
+        "state",
+        "frames",
+        "maxwell",
+        "builders",
+    ),
+    ("core",),  # the exact dynamics: nothing of Simulation, files or commands
+    ("writers", "observables", "dense", "simulation"),  # the run loop a physicist scripts
+    ("io",),
+    ("analysis",),
+    ("studies",),
+    ("viz",),
+    ("cli",),  # the two programs: nothing imports them
+    ("", "__main__"),  # the package root (lazy re-exports) and ``python -m hardspheres``
+)
+
+
+def _family(module):
+    """The family of ``hardspheres.X...``: its subpackage, or its root module's name."""
+    parts = module.split(".")[1:]
+    return parts[0] if parts else ""
+
+
+def _rank(module):
+    fam = _family(module)
+    for rank, layer in enumerate(LAYERS):
+        if fam in layer:
+            return rank
+    raise AssertionError(f"{module}: not in any layer of tests/test_layout.py; add it to one")
+
+
+def modules():
+    """``{dotted name: path}`` of every module of the package."""
+    out = {}
+    for path in SRC.rglob("*.py"):
+        parts = ["hardspheres", *path.relative_to(SRC).with_suffix("").parts]
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+def import_graph():
+    """``{module: {modules it imports}}``, counting every import statement."""
+    mods = modules()
+    graph = {}
+    for name, path in mods.items():
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        deps = set()
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package[: len(package) - node.level + 1]
+                    target = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    target = node.module or ""
+                subs = [f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in mods]
+                if subs:
+                    deps.update(subs)
+                    if len(subs) < len(node.names) and target in mods:
+                        deps.add(target)  # names defined in the package itself
+                elif target in mods:
+                    deps.add(target)
+            elif isinstance(node, ast.Import):
+                deps.update(a.name for a in node.names if a.name in mods)
+        deps.discard(name)
+        graph[name] = deps
+    return graph
+
+
+def circles(graph):
+    """The strongly connected components with more than one module (Tarjan)."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                found.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_the_graph_sees_imports_inside_functions(tmp_path):
+    # the reader itself: an import inside a function counts
+    graph = import_graph()
+    assert "hardspheres.core.engine" in graph["hardspheres.cli.assignment"]  # imported inside a function
+    assert "hardspheres.core._core" in graph["hardspheres.core.engine"]  # ``from . import _core``
+
+
+def test_no_import_circles():
+    assert circles(import_graph()) == []
+
+
+def test_circle_detection_can_fail():
+    assert circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == [["a", "b", "c"]]
+
+
+def test_nothing_imports_upward():
+    upward = [
+        f"{a} -> {b}"
+        for a, deps in sorted(import_graph().items())
+        for b in sorted(deps)
+        if _rank(b) > _rank(a)
+    ]
+    assert upward == []
+
+
+@pytest.mark.parametrize("family", ["cli"])
+def test_nothing_imports_the_commands(family):
+    users = [
+        a
+        for a, deps in import_graph().items()
+        if _family(a) not in (family, "__main__") and any(_family(b) == family for b in deps)
+    ]
+    assert users == []
+
+
+def test_every_family_states_its_contract():
+    for sub in sorted(p for p in SRC.iterdir() if (p / "__init__.py").exists()):
+        doc = ast.get_docstring(ast.parse((sub / "__init__.py").read_text()))
+        assert doc and len(doc.split()) >= 20, (
+            f"{sub.name}/__init__.py: its docstring states the family's contract"
+        )
+
+
+def test_the_programs_live_in_cli():
+    # argparse, sys.exit and print to stdout only in cli/ (and the assignment's report writer)
+    allowed = {"cli", "io.report"}
+    bad = []
+    for name, path in modules().items():
+        rel = name.split(".", 1)[1] if "." in name else ""
+        if rel.split(".")[0] in allowed or rel in allowed:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                names = [a.name for a in node.names] + [getattr(node, "module", None) or ""]
+                if "argparse" in names:
+                    bad.append(f"{name}: imports argparse")
+            elif isinstance(node, ast.Call):
+                f = node.func
+                if isinstance(f, ast.Attribute) and f.attr == "exit" and getattr(f.value, "id", "") == "sys":
+                    bad.append(f"{name}:{node.lineno}: sys.exit")
+                if isinstance(f, ast.Name) and f.id == "print":
+                    to = [k for k in node.keywords if k.arg == "file"]
+                    if not to or ast.unparse(to[0].value) in ("sys.stdout", "stdout"):
+                        bad.append(f"{name}:{node.lineno}: print to stdout")
+    assert bad == []
