@@ -13,6 +13,9 @@ Triggers (the :class:`Trigger` protocol) say when, as HOOMD-blue's do:
   attached (its first write is at that time);
 * :class:`LogSpaced`: at ``t0`` and ``t0 + first * factor^k`` (lags spread
   evenly on a log scale, for mean-squared displacements);
+* :class:`LogOrigins`: a new time origin every ``every`` [time], and from
+  each the lags of :class:`LogSpaced` (the multiple-origin log schedule of
+  glass studies: log-spaced lags, many origins, frames ~ log per origin);
 * :class:`AtTimes`: at given absolute times;
 * :class:`EveryCollisions`: after every ``k`` collisions.
 
@@ -186,6 +189,78 @@ class LogSpaced(_ByTime):
         self._k += 1
 
 
+class LogOrigins(_ByTime):
+    """Due at ``t0 + m every`` and ``t0 + m every + first * factor^k`` for ``m, k = 0, 1, ...``.
+
+    The multiple-origin log schedule: a :class:`LogSpaced` schedule restarted
+    every ``every`` [time], the schedules overlapping when ``until >
+    every``.  Correlators (:mod:`hardspheres.analysis.dynamics`) then have
+    log-spaced lags from ``first`` to ``until`` and one time origin per
+    ``every`` for every lag, with about ``per_decade * decades`` frames per
+    origin instead of ``until / first``.  Times due within ``1e-12`` (relative)
+    of one another are one write.
+
+    Args:
+        first: the first lag [time], > 0.
+        every: time between origins [time], > 0.
+        factor: ratio of successive lags, > 1; or
+        per_decade: that many lags per factor of ten.
+        until: the longest lag [time] (default ``every``).
+
+    Example:
+        >>> trig = LogOrigins(first=1.0, every=10.0, per_decade=1, until=10.0)
+        >>> trig.start(time=0.0, collisions=0)
+        >>> times = []
+        >>> for _ in range(6):
+        ...     times.append(round(trig.next_time, 6))
+        ...     trig.fired()
+        >>> times
+        [0.0, 1.0, 10.0, 11.0, 20.0, 21.0]
+    """
+
+    def __init__(
+        self,
+        first: float,
+        every: float,
+        factor: float | None = None,
+        per_decade: int | None = None,
+        until: float | None = None,
+    ):
+        self.every = _positive_time(every, "every")
+        until = self.every if until is None else _positive_time(until, "until")
+        self._log = LogSpaced(first, factor=factor, per_decade=per_decade, until=until)
+        self.first, self.factor, self.until = self._log.first, self._log.factor, until
+        self._t0 = 0.0
+        self._next_origin = 0
+        self._active: list[list[float]] = []  # [origin time, k] (k = -1: the origin itself)
+
+    def start(self, time: float, collisions: int) -> None:
+        self._t0, self._next_origin, self._active = float(time), 0, []
+
+    def _due(self, origin: float, k: int) -> float:
+        if k < 0:
+            return origin
+        lag = self.first * self.factor**k
+        return origin + lag if lag <= self.until * (1.0 + 1e-12) else math.inf
+
+    @property
+    def next_time(self) -> float:
+        new = self._t0 + self._next_origin * self.every
+        return min([new] + [self._due(o, int(k)) for o, k in self._active])
+
+    def fired(self) -> None:
+        now = self.next_time
+        near = now + 1e-12 * max(abs(now), self.first)
+        new = self._t0 + self._next_origin * self.every
+        if new <= near:
+            self._active.append([new, 0])
+            self._next_origin += 1
+        for entry in self._active:
+            while self._due(entry[0], int(entry[1])) <= near:
+                entry[1] += 1
+        self._active = [e for e in self._active if self._due(e[0], int(e[1])) < math.inf]
+
+
 class AtTimes(_ByTime):
     """Due at the given absolute times (those before it starts are skipped).
 
@@ -250,7 +325,8 @@ def as_trigger(every: float | None = None, trigger: Trigger | None = None) -> Tr
     if trigger is not None:
         if not isinstance(trigger, Trigger):
             raise ValueError(
-                f"trigger must be a Trigger (Periodic, LogSpaced, AtTimes, EveryCollisions), got {trigger!r}"
+                "trigger must be a Trigger (Periodic, LogSpaced, LogOrigins, AtTimes, "
+                f"EveryCollisions), got {trigger!r}"
             )
         return trigger
     return Periodic(every)  # type: ignore[arg-type]  # not None: checked above

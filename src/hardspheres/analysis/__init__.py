@@ -1,4 +1,4 @@
-"""Analyses of frames and runs: structure (g(r), S(k), bond order) and transport.
+"""Analyses of frames and runs: structure (g(r), S(k), bond order), transport, glassy dynamics.
 
 Contract: each analysis is a compute object in the manner of freud: built
 with its parameters, ``compute(source)`` returns ``self``, results read
@@ -17,4 +17,10 @@ Modules:
         (:class:`~hardspheres.analysis.transport.ShearViscosity`,
         :class:`~hardspheres.analysis.transport.ThermalConductivity`) and the
         Enskog and Yeh-Hummer references.
+    dynamics: the correlators of glass formers, in any dimension:
+        :class:`~hardspheres.analysis.dynamics.SelfIntermediate` (F_s(k, t),
+        tau_alpha), :class:`~hardspheres.analysis.dynamics.CollectiveIntermediate`
+        (F(k, t)), :class:`~hardspheres.analysis.dynamics.NonGaussian`
+        (alpha_2), :class:`~hardspheres.analysis.dynamics.VanHove` (G_s(r, t)),
+        :class:`~hardspheres.analysis.dynamics.Overlap` (Q(t), chi_4).
 """
