@@ -1,4 +1,4 @@
-"""Analyses of frames and runs: structure (g(r), S(k), bond order), transport, glassy dynamics.
+"""Analyses of frames and runs: structure, transport, glassy dynamics, collisions, jamming.
 
 Contract: each analysis is a compute object in the manner of freud: built
 with its parameters, ``compute(source)`` returns ``self``, results read
@@ -23,4 +23,12 @@ Modules:
         (F(k, t)), :class:`~hardspheres.analysis.dynamics.NonGaussian`
         (alpha_2), :class:`~hardspheres.analysis.dynamics.VanHove` (G_s(r, t)),
         :class:`~hardspheres.analysis.dynamics.Overlap` (Q(t), chi_4).
+    collisions: the event record:
+        :class:`~hardspheres.analysis.collisions.EventRecorder` (a writer),
+        :class:`~hardspheres.analysis.collisions.FreeFlights`,
+        :class:`~hardspheres.analysis.collisions.Recollisions`,
+        :class:`~hardspheres.analysis.collisions.ContactForces`.
+    jamming: packings: :class:`~hardspheres.analysis.jamming.Contacts`
+        (network, rattlers, z, g(h)), the force exponent, and
+        :class:`~hardspheres.analysis.jamming.JammingPoint` (phi_J).
 """

@@ -1,0 +1,147 @@
+"""Jamming analysis: contacts, rattler removal on constructed packings, exponents, phi_J, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hardspheres as hs
+from hardspheres.analysis.collisions import ContactForces, EventRecorder
+from hardspheres.analysis.jamming import (
+    Contacts,
+    JammingPoint,
+    force_exponent,
+    power_law_exponent,
+    remove_rattlers,
+)
+from hardspheres.errors import NotComputedError, PeriodicBoxRequired
+
+pytest.importorskip("scipy")
+
+
+def fcc(cells, a):
+    """FCC sites of ``cells^3`` cubic cells of edge ``a``, in a box ``cells * a``."""
+    base = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+    g = np.arange(cells)
+    cell = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+    return ((cell[:, None, :] + base[None]) * a).reshape(-1, 3)
+
+
+def test_fcc_crystal_at_contact_has_twelve_contacts_and_no_rattler():
+    pos = fcc(4, math.sqrt(2.0))  # nearest neighbours at distance 1
+    c = Contacts(tolerance=1e-9).compute(pos, radii=np.full(len(pos), 0.5), box=4 * math.sqrt(2.0))
+    assert c.z == 12.0 and c.rattler_fraction == 0.0 and len(c.pairs) == 6 * len(pos)
+
+
+def test_crystal_with_a_vacancy():
+    """Removing a site takes one contact from each of its 12 neighbours: z = 2 (6 N - 12) / (N - 1)."""
+    pos = fcc(4, math.sqrt(2.0))
+    n_sites = len(pos)
+    pos = np.delete(pos, 37, axis=0)
+    c = Contacts(tolerance=1e-9).compute(pos, radii=np.full(len(pos), 0.5), box=4 * math.sqrt(2.0))
+    assert c.rattler_fraction == 0.0
+    assert np.sort(c.contacts)[:12].tolist() == [11] * 12 and c.contacts.max() == 12
+    assert c.z == pytest.approx(2 * (6 * n_sites - 12) / (n_sites - 1), rel=1e-15)
+
+
+def test_packing_with_a_known_rattler():
+    """A small sphere on a site of the crystal touches nothing: the one rattler."""
+    pos = fcc(3, math.sqrt(2.0))
+    radii = np.full(len(pos), 0.5)
+    radii[5] = 0.3
+    c = Contacts(tolerance=1e-9).compute(pos, radii=radii, box=3 * math.sqrt(2.0))
+    assert np.flatnonzero(c.rattler).tolist() == [5]
+    assert c.rattler_fraction == pytest.approx(1 / len(pos))
+    assert c.contacts[5] == 0 and c.z == pytest.approx((12 * (len(pos) - 1) - 12) / (len(pos) - 1))
+
+
+def test_rattler_removal_cascades():
+    """In 2-D (3 contacts needed): 4 has two contacts; once it goes, 5 is left with two and goes too."""
+    k4a = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]
+    k4b = [[6, 7], [6, 8], [6, 9], [7, 8], [7, 9], [8, 9]]
+    pairs = k4a + k4b + [[3, 4], [4, 5], [5, 6], [5, 7]]
+    rattler, contacts = remove_rattlers(pairs, 10, 2)
+    assert np.flatnonzero(rattler).tolist() == [4, 5]
+    assert contacts.tolist() == [3, 3, 3, 3, 0, 0, 3, 3, 3, 3]
+
+
+def test_square_lattice_in_two_dimensions():
+    """Dimension-generic: a square lattice of disks at contact has z = 4 = 2d."""
+    g = np.arange(6.0)
+    pos = np.stack(np.meshgrid(g, g, indexing="ij"), -1).reshape(-1, 2)
+    c = Contacts(tolerance=1e-9).compute(pos, radii=np.full(36, 0.5), box=[6.0, 6.0])
+    assert c.dim == 2 and c.z == 4.0 and c.z_isostatic == pytest.approx(2 * (2 * 35 + 1) / 36)
+
+
+def test_compressed_packing_is_isostatic_after_rattler_removal():
+    """128 spheres compressed to Z > 10^6: z within 1% of 2 (d (N' - 1) + 1) / N' (gaps and forces)."""
+    n = 128
+    box = hs.PeriodicBox.for_packing(n, 0.3).length
+    sim = hs.Simulation(hs.random_spheres(n, 0.3, box=box, seed=4), hs.PeriodicBox(box))
+    sim.run(collisions=2 * n)
+    history = []
+    for rate, pressure in ((0.01, 1e3), (1e-3, 1e6)):
+        res = sim.compress(rate=rate, pressure=pressure, progress=lambda p, z, c: history.append((p, z)))
+    assert res.pressure > 1e6
+    c = Contacts().compute(sim)
+    assert abs(c.z - c.z_isostatic) <= 0.01 * c.z_isostatic
+    assert c.rattler_fraction < 0.1
+    rec = EventRecorder()
+    sim.writers.append(rec)
+    sim.run(collisions=100 * n)
+    cf = ContactForces().compute(rec)
+    by_force = Contacts().compute(sim, forces=cf)
+    assert abs(by_force.z - by_force.z_isostatic) <= 0.01 * by_force.z_isostatic
+    phi, z = np.array(history).T
+    jp = JammingPoint().compute(phi, z)
+    assert res.packing < jp.phi_J < res.packing * (1 + 1e-4)
+
+
+def test_jamming_point_of_the_free_volume_form():
+    phi = np.linspace(0.60, 0.639, 40)
+    z = 3 * 0.64 / (0.64 - phi)
+    jp = JammingPoint(z_min=10).compute(phi, z)
+    assert jp.phi_J == pytest.approx(0.64, rel=1e-12) and jp.d_fit == pytest.approx(3.0, rel=1e-9)
+
+
+def test_power_law_exponent_recovers_a_known_one():
+    rng = np.random.default_rng(3)
+    x = rng.uniform(0, 1, 5000) ** (1 / 0.59)  # density ~ x^(-0.41) on (0, 1]
+    lo, hi = 1e-3, 0.5
+    used = x[(x > lo) & (x <= hi)]
+    a = power_law_exponent(used, lo, hi)
+    assert abs(a - 0.59) < 4 * 0.59 / math.sqrt(len(used))
+
+
+def test_force_exponent_of_constructed_forces():
+    class Forces:
+        _need = staticmethod(lambda: None)
+        rng = np.random.default_rng(7)
+        forces = rng.uniform(0, 1, 20000) ** (1 / 1.42)  # P(f) ~ f^0.42 on (0, 1]
+        pairs = np.zeros((20000, 2), np.int64)
+
+    f = Forces()
+    theta, err, count = force_exponent(f, f_max=0.5)
+    assert abs(theta - 0.42) < 4 * err and count > 1000
+
+
+# ---- bad input -------------------------------------------------------------------------
+def test_spherical_container_is_refused():
+    sim = hs.Simulation(hs.random_spheres(20, 0.1, container=5.0, seed=1), hs.SphericalContainer(5.0))
+    with pytest.raises(PeriodicBoxRequired, match="need a periodic box"):
+        Contacts().compute(sim)
+    with pytest.raises(PeriodicBoxRequired, match="pass box"):
+        Contacts().compute(np.zeros((3, 3)), radii=np.ones(3))
+
+
+def test_bad_arguments_are_refused_naming_them():
+    with pytest.raises(ValueError, match="tolerance must be"):
+        Contacts(tolerance=-1)
+    with pytest.raises(ValueError, match="radii: 2 radii for 3 spheres"):
+        Contacts().compute(np.zeros((3, 3)), radii=np.ones(2), box=5.0)
+    with pytest.raises(ValueError, match="^Z: 1 points with Z >= z_min = 100"):
+        JammingPoint(z_min=100).compute([0.6, 0.63], [50.0, 500.0])
+    with pytest.raises(NotComputedError):
+        Contacts().z  # noqa: B018
+    with pytest.raises(NotComputedError):
+        JammingPoint().plot()
