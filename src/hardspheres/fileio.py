@@ -13,7 +13,9 @@ Two writers of one file: each takes an advisory lock (``fcntl.flock``) on a
 lock file beside the target (``.NAME.lock``, removed when released); the
 second gets :class:`FileInUseError` at once, naming the file and the
 process holding it.  The lock is advisory: programs other than hardspheres
-do not see it.
+do not see it.  Where ``fcntl`` does not exist (Windows) the library still
+imports and writes atomically, but takes no lock: a second writer of one
+file is not refused there.
 
 Errors: an :class:`OSError` raised while writing carries the target's name
 (``err.filename``), so :func:`hardspheres.messages.oserror_line` prints one
@@ -22,10 +24,14 @@ line naming the file.
 
 import contextlib
 import errno
-import fcntl
 import os
 import stat
 import tempfile
+
+try:  # POSIX; Windows has no flock: writes stay atomic, but unlocked
+    import fcntl
+except ImportError:  # pragma: no cover - exercised by tests/test_packaging.py
+    fcntl = None  # type: ignore[assignment]
 
 from .messages import oserror_line
 from .errors import FileInUseError  # noqa: F401 (re-exported)
@@ -69,6 +75,8 @@ class PathLock:
             raise IsADirectoryError(errno.EISDIR, "is a folder, not a file", self.path)
         if _special(self.path):
             return  # /dev/null, a FIFO: nothing to lock, and no lock file in /dev
+        if fcntl is None:
+            return  # no advisory locks on this platform (module docstring)
         while True:
             try:
                 fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)

@@ -19,8 +19,8 @@ from .containers import TOUCH_TOL
 from .errors import ScenarioError, StuckError  # noqa: F401 (re-exported)
 from .messages import quote
 
-#: Largest magnitude of an input number: squares (|v|^2, |p|^2) and energies
-#: (m |v|^2) of numbers up to this stay finite doubles.
+#: Largest magnitude of an input number: squares (``|v|^2``, ``|p|^2``) and energies
+#: (``m |v|^2``) of numbers up to this stay finite doubles.
 MAX_MAGNITUDE = 1e100
 
 FIELDS = ("mass", "radius", "x", "y", "z", "vx", "vy", "vz", "name")

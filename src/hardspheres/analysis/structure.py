@@ -212,10 +212,10 @@ class StructureFactor(_Computed):
     """Static structure factor S(k) from the box's own wave vectors (freud, direct).
 
     Args:
-        bins: number of |k| bins.
-        k_max: largest |k| [1/length]; default ``20 / sigma`` (sigma = 1 if
+        bins: number of ``|k|`` bins.
+        k_max: largest ``|k|`` [1/length]; default ``20 / sigma`` (sigma = 1 if
             radii are unknown).
-        k_min: smallest |k| [1/length]; default half the box's smallest
+        k_min: smallest ``|k|`` [1/length]; default half the box's smallest
             wave vector ``2 pi / L`` (so only the forward peak at k = 0,
             ``S = N``, is left out).
 

@@ -24,7 +24,7 @@ otherwise): in a container the displacement is bounded and D would be zero.
 
 Example:
     >>> import hardspheres as hs
-    >>> from hardspheres.trajectory import frames_from_simulation
+    >>> from hardspheres.io.trajectory import frames_from_simulation
     >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=7.0, seed=1), hs.PeriodicBox(7.0))
     >>> fr = frames_from_simulation(sim, until=4.0, every=0.05)
     >>> msd = MSD().compute(fr)
@@ -242,7 +242,7 @@ class MSD(_Blocked):
 
 
 class VACF(_Blocked):
-    """Velocity autocorrelation ``C(t) = <v(0) . v(t)>`` over all origins, and D by Green-Kubo.
+    """Velocity autocorrelation ``C(t) = <v(0)·v(t)>`` over all origins, and D by Green-Kubo.
 
     Args:
         blocks: segments the trajectory is cut into for the error bar of D.

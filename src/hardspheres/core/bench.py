@@ -21,7 +21,6 @@ Example:
 from __future__ import annotations
 
 import math
-import resource
 import time
 
 import numpy as np
@@ -53,7 +52,9 @@ WARMUP_MAX_BLOCKS = 10
 
 
 def peak_rss_mb():
-    """Peak resident memory of this process so far [MB]."""
+    """Peak resident memory of this process so far [MB] (POSIX: ``resource``; Windows has none)."""
+    import resource
+
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 

@@ -31,7 +31,7 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
 
 Example:
     >>> import hardspheres as hs, tempfile, os
-    >>> from hardspheres.trajectory import GSDWriter, read_trajectory
+    >>> from hardspheres.io.trajectory import GSDWriter, read_trajectory
     >>> sim = hs.Simulation.from_arrays([1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]],
     ...                                 hs.SphericalContainer(3.0))
     >>> path = os.path.join(tempfile.mkdtemp(), "run.gsd")

@@ -1,0 +1,97 @@
+"""Sphinx configuration: the hardspheres documentation site.
+
+Build it (warnings are errors) with::
+
+    python -m sphinx -W -b html docs docs/_build/html
+
+Tutorials in ``docs/tutorials/*.md`` are MyST notebooks executed on every
+build (myst-nb, cached in ``docs/_build/.jupyter_cache``); a cell that
+raises fails the build.
+"""
+
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+# the checkout's sources first (for the notebooks' kernels too), so that the
+# pages document this tree even when another copy of the package is installed;
+# a copy of docs/ elsewhere (tests/test_docs.py) documents the importable package
+if (ROOT / "src" / "hardspheres").is_dir():
+    sys.path.insert(0, str(ROOT / "src"))
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    )
+# the notebooks' kernels draw figures inline (matplotlib-inline), never on a display
+if os.environ.get("MPLBACKEND", "").lower() == "agg":
+    del os.environ["MPLBACKEND"]
+
+from hardspheres.version import package_version  # noqa: E402
+
+project = "hardspheres"
+author = "the hardspheres developers"
+copyright = "2026, the hardspheres developers"
+release = package_version()
+version = release
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "myst_nb",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
+exclude_patterns = ["_build", "**.ipynb_checkpoints", "images/make.sh", "*.csv", "README.md"]
+templates_path = ["_templates"]
+
+# --- API reference ------------------------------------------------------------
+autosummary_generate = True
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_member_order = "bysource"
+autodoc_typehints = "description"
+napoleon_google_docstring = True
+napoleon_numpy_docstring = False
+napoleon_use_rtype = False
+napoleon_use_ivar = True
+# the subpackages list their modules in a "Modules:" section
+napoleon_custom_sections = [("Modules", "params_style")]
+# names the docstrings use as plain words or that live outside the package
+nitpicky = False
+suppress_warnings = ["myst.header", "autosummary.import_cycle"]
+
+# --- MyST and notebooks -------------------------------------------------------
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
+myst_heading_anchors = 3
+nb_execution_mode = "cache"
+nb_execution_cache_path = str(ROOT / "docs" / "_build" / ".jupyter_cache")
+nb_execution_timeout = 300
+nb_execution_raise_on_error = True
+nb_execution_show_tb = True
+nb_merge_streams = True
+
+# --- HTML -----------------------------------------------------------------------
+html_theme = "furo"
+html_title = f"hardspheres {release}"
+html_static_path = ["_static"]
+html_theme_options = {"navigation_with_keys": True}
+
+
+def _skip_root_names(app, what, name, obj, skip, options):
+    """On a module's page, leave out what the package root exports: it has its own page.
+
+    (Each object is then described once, so cross-references never find two targets.)
+    """
+    if what == "module":
+        import hardspheres
+
+        if name in hardspheres.__all__ and getattr(hardspheres, name, None) is obj:
+            return True
+    return None
+
+
+def setup(app):
+    app.connect("autodoc-skip-member", _skip_root_names)

@@ -1,0 +1,155 @@
+"""The documentation site: every public name has an API page; a small site builds and renders.
+
+``.ci/run`` builds the whole site with warnings as errors
+(``python -m sphinx -W -b html docs docs/_build/html``).  These tests build
+a smaller copy (the API reference, the user guide and the first tutorial,
+executed) in a temporary folder, check that every public name has its page,
+and open the index and the executed tutorial in headless Debian Chromium.
+"""
+
+import importlib
+import os
+import pkgutil
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hardspheres as hs
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+CHROMIUM = "/usr/bin/chromium"
+TUTORIAL = "01-first-simulation"
+
+pytest.importorskip("sphinx", reason="the docs extra is missing (pip install -e '.[docs]')")
+pytest.importorskip("myst_nb", reason="the docs extra is missing (pip install -e '.[docs]')")
+
+
+def public_subpackages():
+    """Every module of the package whose dotted name has no part starting with ``_``."""
+    out = []
+    for m in pkgutil.walk_packages(hs.__path__, "hardspheres."):
+        if not any(part.startswith("_") for part in m.name.split(".")):
+            out.append(m.name)
+    return out
+
+
+def test_every_root_name_is_in_the_api_index():
+    """docs/api/index.rst lists each name of ``hardspheres.__all__`` (autosummary makes its page)."""
+    index = (DOCS / "api" / "index.rst").read_text()
+    listed = set(re.findall(r"^   hardspheres\.(\w+)$", index, re.M))
+    assert set(hs.__all__) - listed == set(), "names in hardspheres.__all__ without an API page"
+    assert listed - set(hs.__all__) == set(), "API entries for names not in hardspheres.__all__"
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """A copy of docs/ with one tutorial, built to HTML (its notebook executed)."""
+    tmp = tmp_path_factory.mktemp("site")
+    src = tmp / "docs"
+    shutil.copytree(DOCS, src, ignore=shutil.ignore_patterns("_build", "generated"))
+    for f in ("CHANGELOG.md", "CONTRIBUTING.md", "README.md"):
+        shutil.copy(ROOT / f, tmp / f)
+    for nb in (src / "tutorials").glob("[0-9]*.md"):
+        if nb.stem != TUTORIAL:
+            nb.unlink()
+    env = dict(os.environ)
+    # the package as the tests import it (the checkout or the installed wheel)
+    env["PYTHONPATH"] = os.pathsep.join(
+        [str(Path(hs.__file__).parents[1])] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
+    )
+    out = tmp / "html"
+    res = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-q", "-b", "html", str(src), str(out)],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp,
+    )
+    assert res.returncode == 0, res.stderr[-4000:]
+    # the other tutorials were removed: references to them are the only warnings allowed
+    warnings = [
+        line
+        for line in res.stderr.splitlines()
+        if "WARNING" in line and "tutorials/0" not in line and "Kernel is running over TCP" not in line
+    ]
+    assert warnings == [], warnings
+    return out
+
+
+def _ids(html_dir):
+    ids = set()
+    for page in (html_dir / "api" / "generated").glob("*.html"):
+        ids.update(re.findall(r'<dt class="sig[^"]*" id="([^"]+)"', page.read_text()))
+    return ids
+
+
+def test_every_public_name_has_a_page(site):
+    """Each root name has a page of its own; each subpackage's ``__all__`` names are described."""
+    ids = _ids(site)
+    for name in hs.__all__:
+        assert (site / "api" / "generated" / f"hardspheres.{name}.html").exists(), name
+        assert f"hardspheres.{name}" in ids, name
+    for modname in public_subpackages():
+        mod = importlib.import_module(modname)
+        assert (site / "api" / "generated" / f"{modname}.html").exists(), f"no page for {modname}"
+        for name in getattr(mod, "__all__", []):
+            obj = getattr(mod, name)
+            at_root = name in hs.__all__ and getattr(hs, name) is obj
+            assert at_root or f"{modname}.{name}" in ids, f"{modname}.{name} has no entry"
+
+
+def test_tutorial_executed_with_figures(site):
+    page = (site / "tutorials" / f"{TUTORIAL}.html").read_text()
+    assert "Hansen-Goos" in page and "standard errors" in page  # the cell's printed comparison
+    assert page.count("<img") >= 2  # its plots
+    assert "Traceback" not in page
+
+
+def _nonblank(png):
+    from PIL import Image
+
+    img = np.asarray(Image.open(png).convert("RGB")).astype(float)
+    return len(np.unique(img.reshape(-1, 3), axis=0)), img.std()
+
+
+def test_index_and_tutorial_render_in_chromium(site, tmp_path):
+    if not os.path.exists(CHROMIUM):
+        pytest.skip(f"{CHROMIUM} is missing (apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Python playwright is missing")
+    from hardspheres.viz.screenshot import CHROMIUM_ARGS
+
+    errors = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(viewport={"width": 1100, "height": 800})
+            page.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+            page.goto((site / "index.html").as_uri())
+            page.wait_for_load_state("load")
+            assert "hardspheres" in page.title()
+            shot = tmp_path / "index.png"
+            page.screenshot(path=str(shot))
+            colours, spread = _nonblank(shot)
+            assert colours > 20 and spread > 5, "the index looks blank"
+
+            page.goto((site / "tutorials" / f"{TUTORIAL}.html").as_uri())
+            page.wait_for_load_state("load")
+            figures = page.locator("img").evaluate_all(
+                "els => els.filter(e => e.complete && e.naturalWidth > 100).length"
+            )
+            assert figures >= 2, "the tutorial's figures did not load"
+            fig = page.locator("div.cell_output img").first
+            fig.scroll_into_view_if_needed()
+            shot = tmp_path / "tutorial.png"
+            fig.screenshot(path=str(shot))
+            colours, spread = _nonblank(shot)
+            assert colours > 50 and spread > 5, "the tutorial's first figure looks blank"
+        finally:
+            browser.close()
+    assert not errors, errors
