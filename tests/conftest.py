@@ -6,13 +6,27 @@ files need no decorators (``pytest -m unit`` runs the fast ones; CI runs all):
 * ``unit``: one function or class, in process (and the docstrings' examples);
 * ``integration``: several layers together (engine, simulation, files);
 * ``e2e``: the commands as a user runs them (subprocesses, a browser).
+
+Hypothesis runs derandomized and without its example database (profile
+``deterministic``, always loaded): the same examples on every run and every
+machine, so that CI never fails on a seed.  Every example it ever found is
+kept as an explicit ``@example`` or regression test.  To search afresh,
+``HYPOTHESIS_PROFILE=seeded pytest --hypothesis-seed=N ...`` (random,
+reproducible by ``N``, still no database).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import os
+
 import pytest
+from hypothesis import settings
+
+settings.register_profile("deterministic", derandomize=True, database=None, print_blob=True)
+settings.register_profile("seeded", derandomize=False, database=None, print_blob=True)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 
 #: Test level by module; a module not listed is ``integration``.
 LEVELS = {

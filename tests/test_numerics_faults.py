@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
@@ -269,6 +269,8 @@ edge = st.integers(-2047, 2047)
     k=st.integers(-340, 330),
     m=st.integers(-1000, 330),
 )
+# |dv|^2 subnormal (2^-1058), |dr|^2 large: in RANGE_LO..RANGE_HI, 4.8e7 ulps off (issue 29)
+@example(d=(-2000, 3, 0), w=(449, 0, 0), sigma=7, k=197, m=-538)
 def test_pair_time_exact_over_the_whole_accepted_range(d, w, sigma, k, m):
     """Lengths 2^-340..2^341 (past 1e-100..1e100), speeds 2^-1000..2^341."""
     k = max(min(k, m + 1000), m - 1000)  # times stay normal doubles
@@ -286,6 +288,8 @@ def test_pair_time_exact_over_the_whole_accepted_range(d, w, sigma, k, m):
     k=st.integers(-340, 330),
     m=st.integers(-1000, 330),
 )
+# hypothesis seed 9 (issue 29): |v|^2 subnormal, 1.3e10 ulps off
+@example(p=(0, 0, 0), w=(0, 0, 449), extra=1, k=197, m=-538)
 def test_wall_time_exact_over_the_whole_accepted_range(p, w, extra, k, m):
     if w == (0, 0, 0):
         return
@@ -297,6 +301,48 @@ def test_wall_time_exact_over_the_whole_accepted_range(p, w, extra, k, m):
     L, V = 2.0**k, 2.0**m
     args = (*(x * L for x in p), *(x * V for x in w), reach * L)
     assert ulps(wall_time(*args), exact_wall_time(*args)) <= 2.0
+
+
+@pytest.mark.parametrize("m", range(-575, -505, 3))
+def test_subnormal_squared_speeds_solve_exactly(m):
+    """|v|^2 from 2^-1150 (zero) through the subnormals to 2^-1010, lengths
+    large enough that |v|^2 |p|^2 is inside RANGE_LO..RANGE_HI: the product
+    alone let a subnormal |v|^2 through, with as few as 10 significant bits
+    (issue 29).  Both roots within 2 ulps of the exact ones."""
+    V = 2.0**m
+    for k in range(-340, 331, 23):
+        L = 2.0**k
+        wall = (3 * L, -5 * L, 0.0, 449 * V, 7 * V, -3 * V, 1001 * L)
+        assert ulps(wall_time(*wall), exact_wall_time(*wall)) <= 2.0, (m, k)
+        pair = (-2000 * L, 3 * L, -2 * L, 449 * V, 0.0, 1 * V, 7 * L)
+        assert ulps(pair_time(*pair), exact_pair_time(*pair)) <= 2.0, (m, k)
+
+
+@ENGINES
+def test_subnormal_squared_speed_reflects_on_time_from_spheres(engine, monkeypatch):
+    """The issue's accepted input: 4.02533e+218 printed where the exact time
+    is 4.02532e+218 (|v|^2 = 2.5e-319 is subnormal)."""
+    reach, speed = 2.008672555323738e59, 4.990093392593999e-160
+    text = f"1 0 0 0 0 0 0 {speed!r} a\n"
+    status, events, _ = spheres([reach, 5e218], text, engine, monkeypatch)
+    assert status == 0 and [e["kind"] for e in events] == ["reflection"]
+    exact = Fraction(reach) / Fraction(speed)
+    assert ulps(events[0]["time"], exact) <= 1.0
+    status, lines, _ = spheres([reach, 5e218], text, engine, monkeypatch, fmt="text")
+    assert "time of event: 4.02532e+218" in lines
+
+
+@ENGINES
+def test_subnormal_squared_relative_speed_collides_on_time(engine, monkeypatch):
+    """The same for a grazing pair: 451 2^-539 m/s across 2000 2^197 m, offset
+    3.4 of 3.5.  |dv|^2 rounds up by 2e-6 of itself, and the compiled core's
+    branch-free pre-test took the pair for a sure miss."""
+    L, V = 2.0**197, 2.0**-539
+    text = f"1 {1.75 * L!r} {-2000 * L!r} 0 0 {451 * V!r} 0 0 a\n1 {1.75 * L!r} 0 {3.4 * L!r} 0 0 0 0 b\n"
+    status, events, _ = spheres([1e64, 1e223], text, engine, monkeypatch)
+    assert status == 0 and events and events[0]["kind"] == "collision"
+    exact = exact_pair_time(-2000 * L, -3.4 * L, 0.0, 451 * V, 0.0, 0.0, 3.5 * L)
+    assert ulps(events[0]["time"], exact) <= 2.0
 
 
 # ---- 10: no cancellation when the contact distance is small -------------------------------

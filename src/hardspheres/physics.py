@@ -29,6 +29,14 @@ INF = math.inf
 RANGE_LO = 1e-200
 RANGE_HI = 1e300
 
+#: ... and while ``|dv|^2`` and ``|dr|^2`` (``|v|^2`` and ``|p|^2 + reach^2``)
+#: are each at least ``SQUARES_LO`` [length^2/time^2, length^2]: the product
+#: alone let a subnormal ``|v|^2`` through (2^-1058, with 17 significant
+#: bits: wall times 10^10 ulps off, issue 29).  Above ``SQUARES_LO`` the
+#: subnormal parts of a sum of squares (each off by at most 2^-1075) move it
+#: by less than 2^-110 of itself.
+SQUARES_LO = 1e-290
+
 #: :func:`pair_time_within` takes the discriminant ``b^2 - a c`` as Lagrange's
 #: ``|dv|^2 sigma^2 - |dr x dv|^2`` when ``|dr|^2 > LAGRANGE_RATIO sigma^2``
 #: (more than 4 contact distances apart), where ``b^2 - a c`` would cancel;
@@ -141,7 +149,7 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     a = dvx * dvx + dvy * dvy + dvz * dvz
     r2 = dx * dx + dy * dy + dz * dz
     shift = 0
-    if not RANGE_LO <= a * r2 <= RANGE_HI:
+    if not RANGE_LO <= a * r2 <= RANGE_HI or a < SQUARES_LO or r2 < SQUARES_LO:
         dx, dy, dz, sigma, dvx, dvy, dvz, _, shift = order_one(dx, dy, dz, sigma, dvx, dvy, dvz, 0.0)
         horizon = math.ldexp(horizon, -shift)
         a = dvx * dvx + dvy * dvy + dvz * dvz
@@ -266,7 +274,8 @@ def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
     a0 = dvx * dvx + dvy * dvy + dvz * dvz
     r2 = dx * dx + dy * dy + dz * dz
     shift = 0
-    if not RANGE_LO <= (a0 + u * u) * (r2 + s * s) <= RANGE_HI:
+    a2, l2 = a0 + u * u, r2 + s * s
+    if not RANGE_LO <= a2 * l2 <= RANGE_HI or a2 < SQUARES_LO or l2 < SQUARES_LO:
         if dvx == 0.0 and dvy == 0.0 and dvz == 0.0 and u == 0.0:
             return INF  # at rest (a0 alone underflows for speeds below 1e-154)
         dx, dy, dz, s, dvx, dvy, dvz, u, shift = order_one(dx, dy, dz, s, dvx, dvy, dvz, u)
@@ -334,7 +343,8 @@ def wall_time_grow(px, py, pz, vx, vy, vz, reach, w):
     a0 = vx * vx + vy * vy + vz * vz
     pp = px * px + py * py + pz * pz
     shift = 0
-    if not RANGE_LO <= (a0 + w * w) * (pp + reach * reach) <= RANGE_HI:
+    a2, l2 = a0 + w * w, pp + reach * reach
+    if not RANGE_LO <= a2 * l2 <= RANGE_HI or a2 < SQUARES_LO or l2 < SQUARES_LO:
         if vx == 0.0 and vy == 0.0 and vz == 0.0 and w == 0.0:
             return INF  # at rest (a0 alone underflows for speeds below 1e-154)
         px, py, pz, reach, vx, vy, vz, w, shift = order_one(px, py, pz, reach, vx, vy, vz, w)

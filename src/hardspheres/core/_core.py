@@ -792,10 +792,17 @@ def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, 
     miss = b * b - a * cc < -physics.MISS_MARGIN * ar2
     # (past RANGE_HI no test here rejects wrongly: an
     # overflow makes them false, or NaN, so the kernel
-    # decides; below RANGE_LO, b may underflow)
+    # decides; below RANGE_LO, b may underflow, and a
+    # |dv|^2 or |dr|^2 below SQUARES_LO may be subnormal:
+    # the kernel rescales those)
     if grow != 0.0:
         pass
-    elif (ar2 < physics.RANGE_LO) | ((recede ^ True) & (touch | ((beyond ^ True) & (miss ^ True)))):
+    elif (
+        (ar2 < physics.RANGE_LO)
+        | (a < physics.SQUARES_LO)
+        | (r2 < physics.SQUARES_LO)
+        | ((recede ^ True) & (touch | ((beyond ^ True) & (miss ^ True))))
+    ):
         dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one, sigma, horizon)
     else:
         dt = np.inf
