@@ -48,6 +48,51 @@ exclude_patterns = ["_build", "**.ipynb_checkpoints", "images/make.sh", "*.csv",
 templates_path = ["_templates"]
 
 # --- API reference ------------------------------------------------------------
+API_INDEX = """API reference
+=============
+
+Every public name, generated from the docstrings (Google style, types from the
+annotations).  This page is written by ``docs/conf.py`` from
+``hardspheres.__all__`` at every build, so a new name gets its page at once;
+``tests/test_docs.py`` checks the built pages (and those of each subpackage's
+``__all__``).
+
+The package root
+----------------
+
+What ``import hardspheres as hs`` gives (``hs.Simulation``, ``hs.PeriodicBox``, ...):
+
+.. autosummary::
+   :toctree: generated
+
+{root}
+
+Modules
+-------
+
+Each module and subpackage, with its contract (the ``__init__`` docstring) and
+every public function and class:
+
+.. autosummary::
+   :toctree: generated
+   :recursive:
+
+   hardspheres
+"""
+
+
+def _write_api_index():
+    import hardspheres
+
+    names = sorted(hardspheres.__all__, key=str.lower)
+    text = API_INDEX.format(root="\n".join(f"   hardspheres.{n}" for n in names))
+    path = ROOT / "docs" / "api" / "index.rst"
+    path.parent.mkdir(exist_ok=True)
+    if not path.exists() or path.read_text() != text:  # unchanged: no rebuild
+        path.write_text(text)
+
+
+_write_api_index()
 autosummary_generate = True
 autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
@@ -80,18 +125,39 @@ html_static_path = ["_static"]
 html_theme_options = {"navigation_with_keys": True}
 
 
-def _skip_root_names(app, what, name, obj, skip, options):
-    """On a module's page, leave out what the package root exports: it has its own page.
+_documenting = {"module": None}
 
-    (Each object is then described once, so cross-references never find two targets.)
-    """
+
+def _note_module(app, what, name, obj, options, lines):
     if what == "module":
-        import hardspheres
+        _documenting["module"] = name
 
-        if name in hardspheres.__all__ and getattr(hardspheres, name, None) is obj:
-            return True
+
+def _public_module(name):
+    return name.startswith("hardspheres") and not any(p.startswith("_") for p in name.split("."))
+
+
+def _skip_described_elsewhere(app, what, name, obj, skip, options):
+    """On a module's page, leave out what has a page elsewhere, so each object is described once.
+
+    * what the package root exports (it has a page of its own), and
+    * what a module re-exports from another public module (its home module's page has it),
+
+    so cross-references never find two targets.
+    """
+    if what != "module":
+        return None
+    import hardspheres
+
+    if name in hardspheres.__all__ and getattr(hardspheres, name, None) is obj:
+        return True
+    home = getattr(obj, "__module__", None)
+    here = _documenting["module"]
+    if isinstance(home, str) and here and home != here and _public_module(home):
+        return True
     return None
 
 
 def setup(app):
-    app.connect("autodoc-skip-member", _skip_root_names)
+    app.connect("autodoc-process-docstring", _note_module)
+    app.connect("autodoc-skip-member", _skip_described_elsewhere)

@@ -108,7 +108,7 @@ class EventRecorder:
 
     @property
     def duration(self) -> float:
-        """Time recorded [time]: from the first attach to the simulation's clock now."""
+        """Time recorded, from the first attach to the simulation's clock now [time]."""
         if self._sim is not None:
             self.t1 = float(self._sim.time)
         return self.t1 - self.t0

@@ -619,7 +619,7 @@ class VanHove(_Dynamic):
         return self
 
     def plot(self, ax=None):
-        """``S_d r^(d-1) G_s(r, t)`` (the density of |dr|) for each lag; returns the Axes."""
+        """``S_d r^(d-1) G_s(r, t)`` (the density of ``|dr|``) for each lag; returns the Axes."""
         ax = self._axes(ax)
         for row, t in enumerate(self.t):
             ax.plot(self.r, self.P[row], label=f"t = {t:.3g}")
@@ -696,7 +696,7 @@ class Overlap(_Dynamic):
 
 
 class CollectiveIntermediate(_Dynamic):
-    """Collective intermediate scattering function F(k, t) = <rho_k(t0 + t) rho_-k(t0)> / N.
+    """Collective intermediate scattering function ``F(k, t) = <rho_k(t0 + t) rho_-k(t0)> / N``.
 
     ``rho_k = sum_i exp(i k . r_i)`` over the box's wave vectors in the
     shell ``| |q| - k | <= dk / 2`` (``dk`` default ``2 pi / L``; at most
