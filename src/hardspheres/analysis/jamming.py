@@ -39,6 +39,7 @@ Example:
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -345,7 +346,7 @@ class JammingPoint(_Computed):
 
     Args:
         dim: dimension ``d``.
-        z_min: smallest Z used (default ``max(Z) / 100``).
+        z_min: smallest Z used (default ``max(Z) / 100``, at least 10).
 
     Attributes (after :meth:`compute`): ``phi_J``, ``error``, ``d_fit``,
     ``phi_J_free``, ``points`` (used).
@@ -364,7 +365,7 @@ class JammingPoint(_Computed):
         ok = np.isfinite(phi) & np.isfinite(Z)
         if not ok.any():
             raise ValueError("Z: no finite values")
-        z_min = float(np.max(Z[ok])) / 100.0 if self.z_min is None else float(self.z_min)
+        z_min = max(float(np.max(Z[ok])) / 100.0, 10.0) if self.z_min is None else float(self.z_min)
         sel = ok & (Z >= z_min)
         if sel.sum() < 3:
             raise ValueError(
@@ -394,12 +395,81 @@ class JammingPoint(_Computed):
         return ax
 
 
+class PackingSummary(NamedTuple):
+    """What :func:`summarize_packing` finds (``nan`` where it cannot say).
+
+    ``z_low``/``z_high`` and ``rattlers_low``/``rattlers_high``: with
+    contacts at gaps below ``30 / Z`` and ``100 / Z``.
+    """
+
+    z_low: float
+    z_high: float
+    z_isostatic: float
+    rattlers_low: float
+    rattlers_high: float
+    phi_J: float
+    phi_J_error: float
+    fit_points: int
+
+
+#: Contact tolerances of :func:`summarize_packing`, times the reduced pressure Z.
+CONTACT_GAPS_Z = (30.0, 100.0)
+
+
+def summarize_packing(sim, phi=(), Z=(), pressure=None):
+    """z, the rattler fraction and phi_J of a compressed packing in a periodic box.
+
+    Near jamming the gaps of a sphere to its contacts shrink as ``1 / Z``
+    (free volume: about ``d / Z`` of the contact distance) while the other
+    gaps follow g(h), so a contact is a gap below ``c / Z``.  At ``Z ~
+    10^5 - 10^6`` there is no clean plateau between the two: z is given for
+    ``c = 30`` and ``c = 100`` (docs/validation.md, "Jamming": isostatic
+    within 1% between them at ``Z > 10^6``).  ``phi_J`` is
+    :class:`JammingPoint`'s fit to the compression's ``(phi, Z)`` when it
+    reached ``Z >= 100`` (``nan`` otherwise).
+
+    Args:
+        sim: the packing (its state now).
+        phi, Z: the compression's packing fractions and reduced pressures.
+        pressure: the packing's Z (default the last of ``Z``); without one
+            (or below 1e3) z is not computed.
+
+    Raises:
+        PeriodicBoxRequired: not a periodic box.
+    """
+    if not sim.container.periodic:
+        raise PeriodicBoxRequired("jamming analyses need a periodic box")
+    Z = np.asarray(Z, float)
+    phi = np.asarray(phi, float)
+    dim = sim.state().positions.shape[1]
+    pressure = float(Z[-1]) if pressure is None and len(Z) else pressure
+    z = [math.nan, math.nan]
+    ratt = [math.nan, math.nan]
+    z_iso = math.nan
+    if pressure is not None and pressure >= 1e3:
+        for k, c in enumerate(CONTACT_GAPS_Z):
+            net = Contacts(tolerance=c / pressure, h_max=c / pressure).compute(sim)
+            z[k], ratt[k], z_iso = net.z, net.rattler_fraction, net.z_isostatic
+    phi_j = err = math.nan
+    points = 0
+    if len(Z) and np.nanmax(Z) >= 100:
+        try:
+            jp = JammingPoint(dim=dim).compute(phi, Z)
+            phi_j, err, points = jp.phi_J, jp.error, jp.points
+        except ValueError:
+            pass
+    return PackingSummary(z[0], z[1], z_iso, ratt[0], ratt[1], phi_j, err, points)
+
+
 __all__ = [
     "Contacts",
     "JammingPoint",
+    "CONTACT_GAPS_Z",
+    "PackingSummary",
     "NotComputedError",
     "force_exponent",
     "near_pairs",
     "power_law_exponent",
     "remove_rattlers",
+    "summarize_packing",
 ]

@@ -417,6 +417,8 @@ def cmd_plot(args):
         plots.plot_transport(args.input, args.output)
     elif args.what == "sweep":
         plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
+    elif args.what == "contacts":
+        plots.plot_contacts(_packing_sim(args), args.output)
     else:
         _check_source(args)
         frames = _frames(args)
@@ -426,10 +428,28 @@ def cmd_plot(args):
             plots.plot_gr(frames, args.output)
         elif args.what == "msd":
             plots.plot_msd(frames, args.output)
+        elif args.what == "fs":
+            plots.plot_fs(frames, args.output, k=args.k)
+        elif args.what == "chi4":
+            plots.plot_chi4(frames, args.output, a=args.a)
         else:
             plots.plot_speeds(frames, args.output)
     print(f"wrote {args.output}")
     return 0
+
+
+def _packing_sim(args):
+    """The packing a scenario file holds, in its periodic box (``--box``), for ``plot contacts``."""
+    from ..containers import PeriodicBox
+    from ..simulation import Simulation
+
+    if args.box is None or _suffix(args.input) in _TRAJECTORY_SUFFIXES:
+        raise ValueError("plot contacts: give a packing's scenario file (as compress writes) and --box L")
+    _compile_first()
+    try:
+        return Simulation.from_scenario(args.input, PeriodicBox(args.box))
+    except ValueError as e:
+        raise ValueError(f"{args.input}: {e}") from None
 
 
 def _picture_args(q, output_default, output_help):
@@ -716,17 +736,34 @@ def build_parser():
     m.set_defaults(func=cmd_render)
 
     pl = sub.add_parser(
-        "plot", help="plots (.png, .pdf, .svg): conservation, speeds, eos, transport, sweep, gr, msd"
+        "plot",
+        help="plots (.png, .pdf, .svg): conservation, speeds, eos, transport, sweep, gr, msd, "
+        "fs, chi4, contacts",
     )
     pl.add_argument(
         "what",
-        choices=["conservation", "speeds", "eos", "transport", "sweep", "gr", "msd"],
+        choices=[
+            "conservation",
+            "speeds",
+            "eos",
+            "transport",
+            "sweep",
+            "gr",
+            "msd",
+            "fs",
+            "chi4",
+            "contacts",
+        ],
         help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
         "the validate CSV vs Carnahan-Starling, the validate --transport CSV "
         "vs published values, a study's results "
-        "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), or the "
-        "mean squared displacement with D (periodic box)",
+        "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), the "
+        "mean squared displacement with D (periodic box), F_s(k, t) with "
+        "tau_alpha, chi_4(t) of the overlap (periodic box), or a packing's "
+        "contacts Z(h) and forces P(f) (a scenario with --box)",
     )
+    pl.add_argument("--k", type=_positive, help="fs: wave number [1/m] (default 2 pi / mean diameter)")
+    pl.add_argument("--a", type=_positive, help="chi4: overlap cut-off [m] (default 0.3 mean diameter)")
     _picture_args(pl, "plot.png", "the plot to write (.png, .pdf, .svg)")
     pl.add_argument("--x", default="packing", help="sweep: parameter on the x axis (default packing)")
     pl.add_argument("--y", default="Z", help="sweep: observable on the y axis (default Z)")

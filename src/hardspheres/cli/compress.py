@@ -112,6 +112,11 @@ def compress_command(args):
         if target <= phi0:
             raise CompressionError(f"--packing {target:g} is not above the scenario's packing {phi0:.6g}")
     progress, show = compression_progress(phi0, target, args.pressure)
+    history = []
+
+    def record(phi, z, coll):
+        history.append((phi, z))
+        show(phi, z, coll)
 
     try:
         res = compress(
@@ -120,7 +125,7 @@ def compress_command(args):
             rate=args.rate,
             pressure=args.pressure,
             collisions=None if args.collisions is None else int(args.collisions),
-            progress=show,
+            progress=record,
         )
     finally:
         progress.close()
@@ -138,4 +143,32 @@ def compress_command(args):
     else:
         what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
     print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
+    if sim.container.periodic and max((z for _, z in history), default=0.0) >= 100:
+        print(jamming_line(sim, history, res.pressure), file=sys.stdout)
     return 0
+
+
+def jamming_line(sim, history, pressure):
+    """The report's jamming line: z and rattlers (Z >= 1e3) and phi_J from the compression's (phi, Z)."""
+    from ..analysis.jamming import CONTACT_GAPS_Z, summarize_packing
+
+    phi, z = zip(*history) if history else ((), ())
+    s = summarize_packing(sim, phi, z, pressure=pressure)
+    parts = []
+    if math.isfinite(s.z_low):
+        lo, hi = CONTACT_GAPS_Z
+        parts.append(
+            f"z = {s.z_low:.3f} to {s.z_high:.3f} after removing {s.rattlers_low:.1%} to "
+            f"{s.rattlers_high:.1%} rattlers (contacts: gaps below {lo:g}/Z to {hi:g}/Z of the "
+            f"contact distance; isostatic {s.z_isostatic:.3f})"
+        )
+    else:
+        parts.append("z: not at Z < 1e3 (no contacts yet)")
+    if math.isfinite(s.phi_J):
+        parts.append(
+            f"phi_J = {s.phi_J:.6f} +- {s.phi_J_error:.1g} (Z = d phi_J / (phi_J - phi) fitted "
+            f"to {s.fit_points} points)"
+        )
+    else:
+        parts.append("phi_J: the compression did not reach Z = 100")
+    return "jamming: " + "; ".join(parts)

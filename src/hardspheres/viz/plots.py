@@ -489,3 +489,83 @@ def plot_msd(frames, path, *, size=SIZE, dpi=100):
     ax = msd.plot(fig.add_subplot())
     ax.set_title(f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)")
     return _save(fig, path, dpi)
+
+
+# ---- glasses and jamming (hardspheres.analysis.dynamics, .jamming) ----------------------
+def _mean_diameter(frames):
+    r = np.asarray(getattr(frames, "radii", None) if frames is not None else [], float)
+    return 2.0 * float(r.mean()) if r.size else 1.0
+
+
+def plot_fs(frames, path, k=None, *, size=SIZE, dpi=100):
+    """F_s(k, t) of a periodic-box trajectory with tau_alpha marked; ``k`` default ``2 pi / sigma``.
+
+    Uses :class:`hardspheres.analysis.dynamics.SelfIntermediate` (sigma the
+    mean diameter; error bars from the spread over time origins).  Returns ``path``.
+    """
+    from ..analysis.dynamics import INV_E, SelfIntermediate
+
+    k = 2.0 * math.pi / _mean_diameter(frames) if k is None else k
+    fs = SelfIntermediate(k=k).compute(frames)
+    fig = _figure(size, dpi)
+    ax = fs.plot(fig.add_subplot())
+    try:
+        tau, err = fs.tau_alpha()
+        ax.plot([tau], [INV_E], "o", label=f"tau_alpha = {tau:.4g} +- {err:.2g}")
+        ax.legend()
+    except ValueError:
+        ax.set_title("F_s stays above 1/e: no tau_alpha within the run")
+    return _save(fig, path, dpi)
+
+
+def plot_chi4(frames, path, a=None, *, size=SIZE, dpi=100):
+    """chi_4(t) = N var Q(t) of a periodic-box trajectory, with its peak; ``a`` default 0.3 sigma.
+
+    Uses :class:`hardspheres.analysis.dynamics.Overlap`.  Returns ``path``.
+    """
+    from ..analysis.dynamics import Overlap
+
+    ov = Overlap(a=a).compute(frames)
+    fig = _figure(size, dpi)
+    ax = ov.plot(fig.add_subplot())
+    t, c = ov.peak()
+    ax.plot([t], [c], "o", label=f"peak chi_4 = {c:.3g} at t = {t:.3g}")
+    ax.legend()
+    return _save(fig, path, dpi)
+
+
+def plot_contacts(sim, path, per_sphere=200, *, size=SIZE, dpi=100):
+    """A packing's contacts: the cumulative Z(h) against the gap h, and P(f) of its contact forces.
+
+    Left: twice the pairs with gap below h per sphere (a plateau at z near
+    ``2d`` in a jammed packing; Donev, Torquato and Stillinger, PRE 71,
+    011105 (2005)).  Right: the time-averaged contact forces of a copy run
+    ``per_sphere`` collisions per sphere at fixed radii
+    (:class:`hardspheres.analysis.collisions.ContactForces`).  Returns ``path``.
+    """
+    from ..analysis.collisions import ContactForces, EventRecorder
+    from ..analysis.jamming import near_pairs
+    from ..simulation import Simulation
+
+    st = sim.state()
+    dim = st.positions.shape[1]
+    lengths = getattr(sim.container, "lengths", None)
+    box = np.full(dim, sim.container.length) if lengths is None else np.asarray(lengths, float)
+    _, h = near_pairs(st.positions, st.radii, box, 0.5)
+    h = np.sort(h[h > 0])
+    fig = _figure(size, dpi)
+    left, right = fig.subplots(1, 2)
+    left.semilogx(h, 2.0 * np.arange(1, len(h) + 1) / st.n)
+    left.axhline(2 * dim, color="grey", lw=0.5, ls=":", label=f"2d = {2 * dim}")
+    left.set_xlabel("gap h = r / (R_i + R_j) - 1")
+    left.set_ylabel("Z(h): contacts per sphere with gap below h")
+    left.set_ylim(0, 4 * dim)
+    left.legend()
+    copy = Simulation(st, sim.container)
+    rec = EventRecorder()
+    copy.writers.append(rec)
+    copy.run(collisions=int(per_sphere) * sim.n)
+    if rec.collisions:
+        ContactForces().compute(rec).plot(right)
+        right.set_title(f"{per_sphere} collisions per sphere at fixed radii")
+    return _save(fig, path, dpi)

@@ -1,0 +1,82 @@
+"""The glass and jamming commands: plot fs|chi4|contacts, compress's jamming line, their bad input."""
+
+import re
+
+import pytest
+
+import hardspheres as hs
+from hardspheres.cli.commands import main
+
+pytest.importorskip("matplotlib")
+pytest.importorskip("scipy")
+
+
+@pytest.fixture(scope="module")
+def fluid(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("glass")
+    box = hs.PeriodicBox.for_packing(108, 0.4).length
+    (tmp / "f.txt").write_text(hs.random_spheres(108, 0.4, box=box, seed=1).to_text())
+    return tmp, box
+
+
+@pytest.mark.parametrize("what", ["fs", "chi4"])
+def test_plot_fs_and_chi4(fluid, what, capsys):
+    tmp, box = fluid
+    out = tmp / f"{what}.png"
+    assert main(["plot", what, str(tmp / "f.txt"), "--box", str(box), "--until", "5", "-o", str(out)]) == 0
+    assert out.read_bytes()[:4] == b"\x89PNG" and f"wrote {out}" in capsys.readouterr().out
+
+
+def test_compress_reports_z_rattlers_and_phi_j_then_plot_contacts(fluid, capsys):
+    tmp, box = fluid
+    out = tmp / "jammed.txt"
+    argv = ["compress", str(tmp / "f.txt"), "--box", str(box), "--rate", "0.01", "--pressure", "1e4"]
+    assert main([*argv, "-o", str(out)]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("jammed at packing")
+    m = re.fullmatch(
+        r"jamming: z = ([\d.]+) to ([\d.]+) after removing [\d.]+% to [\d.]+% rattlers \(contacts: gaps below "
+        r"30/Z to 100/Z of the contact distance; isostatic ([\d.]+)\); phi_J = ([\d.]+) \+- \S+ "
+        r"\(Z = d phi_J / \(phi_J - phi\) fitted to \d+ points\)",
+        lines[1],
+    )
+    assert m, lines[1]
+    z_lo, z_hi, z_iso, phi_j = map(float, m.groups())
+    assert z_lo <= z_hi and 5.0 < z_iso < 6.0
+    packing = float(lines[0].split()[3].rstrip(":"))
+    assert packing < phi_j < packing + 0.01
+    pic = tmp / "contacts.png"
+    assert main(["plot", "contacts", str(out), "--box", str(box), "-o", str(pic)]) == 0
+    assert pic.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_fluid_compression_has_no_jamming_line(fluid, capsys):
+    tmp, box = fluid
+    argv = ["compress", str(tmp / "f.txt"), "--box", str(box), "--rate", "0.01", "--packing", "0.45"]
+    assert main([*argv, "-o", str(tmp / "g.txt")]) == 0
+    assert len(capsys.readouterr().out.strip().splitlines()) == 1
+
+
+def test_bad_input_is_one_line(fluid, capsys):
+    tmp, box = fluid
+    assert main(["plot", "contacts", str(tmp / "f.txt"), "-o", str(tmp / "c.png")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "hardspheres plot: plot contacts: give a packing's scenario file (as compress writes) and --box L"
+    ]
+    argv = [
+        "plot",
+        "fs",
+        str(tmp / "f.txt"),
+        "--box",
+        str(box),
+        "--until",
+        "2",
+        "--k",
+        "0.1",
+        "-o",
+        str(tmp / "x.png"),
+    ]
+    assert main(argv) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "k = 0.1 is below 2 pi / L" in err[0]
