@@ -85,3 +85,21 @@ def test_simulation_events_name_their_kind():
     (ev,) = list(sim.iter_events(until=2.5))
     assert (ev.time, ev.kind, ev.i, ev.j) == (2.0, "reflection", 0, -1)
     assert ev.impulse == pytest.approx(2.0)
+
+
+def test_event_kind_equals_the_string_and_the_enum(make_sim):
+    """Issue 29 item 3: ``e.kind == EventKind.COLLISION`` was always False
+    (a user counting contacts got zero without a word)."""
+    import pickle
+
+    from hardspheres.events import EventKind as K
+
+    events = list(make_sim(n=30, packing=0.2).iter_events(events=300))
+    by_name = sum(e.kind == "collision" for e in events)
+    by_enum = sum(e.kind == K.COLLISION for e in events)
+    reflected = sum(K.REFLECTION == e.kind for e in events)
+    assert by_name > 0 and by_enum == by_name and reflected == len(events) - by_name
+    assert all((e.kind != K.COLLISION) == (e.kind == "reflection") for e in events)
+    k = events[0].kind
+    assert pickle.loads(pickle.dumps(k)) == k and hash(k) == hash(str(k)) and k.code in K
+    assert {e.kind for e in events} <= {"collision", "reflection"}

@@ -71,8 +71,45 @@ class StopReason(IntEnum):
     SLIDING = 5
 
 
-#: Event kind names by number: ``KIND_LABELS[kind]``.
-KIND_LABELS = tuple(k.label for k in EventKind)
+class KindLabel(str):
+    """An event kind's name (``"collision"``) that also equals its :class:`EventKind`.
+
+    :attr:`hardspheres.Event.kind` is one of these, so that both
+    ``e.kind == "collision"`` and ``e.kind == EventKind.COLLISION`` hold
+    (a plain string compared false with the enum, without a word: issue 29).
+    It hashes as the string; :attr:`code` is the :class:`EventKind`.
+
+    Example:
+        >>> k = KindLabel("collision")
+        >>> k == "collision", k == EventKind.COLLISION, EventKind.COLLISION == k
+        (True, True, True)
+        >>> k == EventKind.REFLECTION, k != EventKind.COLLISION, k.code
+        (False, False, <EventKind.COLLISION: 1>)
+    """
+
+    __slots__ = ()
+
+    @property
+    def code(self) -> EventKind:
+        """The :class:`EventKind` of this name."""
+        return EventKind[self.upper()]
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, EventKind):
+            return str.__eq__(self, other.label)
+        return str.__eq__(self, other)
+
+    def __ne__(self, other: object) -> bool:
+        return not self == other
+
+    __hash__ = str.__hash__
+
+    def __reduce__(self):
+        return (KindLabel, (str(self),))
+
+
+#: Event kind names by number: ``KIND_LABELS[kind]`` (each a :class:`KindLabel`).
+KIND_LABELS = tuple(KindLabel(k.label) for k in EventKind)
 
 #: The fields of an event, in order: ``(name, numpy dtype, shape)``.
 #:

@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike
 
 from .containers import Container, as_container, require_periodic
 from .core.engine import CheckpointError, Engine
-from .events import EventKind, StopReason
+from .events import KIND_LABELS, KindLabel, StopReason
 from .fileio import atomic_write
 from .messages import quote
 from .observables import Observables
@@ -39,7 +39,7 @@ from .state import State
 from .writers import Writer
 
 #: Event kind names by number (:class:`~hardspheres.events.EventKind`).
-KINDS = tuple(k.label for k in EventKind)
+KINDS = KIND_LABELS
 
 #: What :meth:`Simulation.save` writes in its ``format`` array, and the
 #: version of the layout; :meth:`Simulation.load` refuses anything else.
@@ -52,7 +52,9 @@ class Event(NamedTuple):
 
     Attributes:
         time: [time].
-        kind: ``"collision"`` or ``"reflection"``.
+        kind: ``"collision"`` or ``"reflection"``, a
+            :class:`~hardspheres.events.KindLabel`: it equals its
+            :class:`~hardspheres.events.EventKind` too.
         i: the sphere (the lower index of a colliding pair).
         j: the other sphere of a collision, ``-1`` for a reflection.
         impulse: magnitude of the momentum sphere ``i`` received
@@ -62,7 +64,7 @@ class Event(NamedTuple):
     """
 
     time: float
-    kind: str
+    kind: KindLabel
     i: int
     j: int
     impulse: float
