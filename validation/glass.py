@@ -34,7 +34,9 @@ def binary(n, phi, seed=1, rate=0.01, equilibrate=200):
     st = hs.random_spheres(n, 0.1 * phi / 0.5, box=box, seed=seed)  # equal spheres, dilute
     r = np.where(np.arange(n) % 2 == 0, 0.5, 0.7)
     scale = float(st.radii[0]) / 0.7  # the big ones no larger than the sites' spheres
-    sim = hs.Simulation(hs.State.from_arrays(st.masses, r * scale, st.positions, st.velocities), hs.PeriodicBox(box))
+    sim = hs.Simulation(
+        hs.State.from_arrays(st.masses, r * scale, st.positions, st.velocities), hs.PeriodicBox(box)
+    )
     sim.run(collisions=2 * n)
     res = sim.compress(packing=phi, rate=rate)
     assert res.reason == "packing", res
@@ -78,9 +80,15 @@ def run(n, phi, until, every, seed, rate, equilibrate, origins):
         "simulate_s": round(sim_s, 1),
         "analyse_s": round(time.time() - t1, 1),
     }
-    curves = {"t": fs.t.tolist(), "Fs": fs.F[:, 0].tolist(), "Fs_err": fs.error[:, 0].tolist(),
-              "chi4": ov.chi4.tolist(), "chi4_err": ov.chi4_error.tolist(), "chi4_t": ov.t.tolist(),
-              "alpha2": ng.alpha2.tolist()}
+    curves = {
+        "t": fs.t.tolist(),
+        "Fs": fs.F[:, 0].tolist(),
+        "Fs_err": fs.error[:, 0].tolist(),
+        "chi4": ov.chi4.tolist(),
+        "chi4_err": ov.chi4_error.tolist(),
+        "chi4_t": ov.t.tolist(),
+        "alpha2": ng.alpha2.tolist(),
+    }
     return row, curves
 
 
@@ -99,7 +107,9 @@ def main():
     out = []
     for phi in args.phi:
         every = args.every or args.until / 10
-        row, curves = run(args.n, phi, args.until, every, args.seed, args.rate, args.equilibrate, args.origins)
+        row, curves = run(
+            args.n, phi, args.until, every, args.seed, args.rate, args.equilibrate, args.origins
+        )
         print(json.dumps(row), flush=True)
         out.append({"row": row, "curves": curves})
         if args.json:
@@ -113,14 +123,21 @@ def main():
         from scipy.optimize import curve_fit
 
         try:
-            p, cov = curve_fit(lambda x, l0, A, p0: l0 + A / (p0 - x), phi, np.log(tau), p0=(0.0, 1.0, 0.64),
-                               maxfev=20000)
+            p, cov = curve_fit(
+                lambda x, l0, A, p0: l0 + A / (p0 - x), phi, np.log(tau), p0=(0.0, 1.0, 0.64), maxfev=20000
+            )
             print(f"VFT fit: phi_0 = {p[2]:.4f} +- {math.sqrt(cov[2, 2]):.4f}, A = {p[1]:.3f}")
         except Exception as e:  # noqa: BLE001
             print("VFT fit failed:", e)
         try:
-            p, cov = curve_fit(lambda x, l0, g, pc: l0 - g * np.log(pc - x), phi, np.log(tau), p0=(0.0, 2.5, 0.6),
-                               bounds=([-50, 0.1, phi.max() + 1e-4], [50, 10, 0.7]), maxfev=20000)
+            p, cov = curve_fit(
+                lambda x, l0, g, pc: l0 - g * np.log(pc - x),
+                phi,
+                np.log(tau),
+                p0=(0.0, 2.5, 0.6),
+                bounds=([-50, 0.1, phi.max() + 1e-4], [50, 10, 0.7]),
+                maxfev=20000,
+            )
             print(f"MCT fit: phi_c = {p[2]:.4f} +- {math.sqrt(cov[2, 2]):.4f}, gamma = {p[1]:.3f}")
         except Exception as e:  # noqa: BLE001
             print("MCT fit failed:", e)

@@ -22,7 +22,13 @@ import numpy as np
 
 import hardspheres as hs
 from hardspheres.analysis.collisions import ContactForces, EventRecorder
-from hardspheres.analysis.jamming import Contacts, JammingPoint, force_exponent, power_law_exponent, _bootstrap
+from hardspheres.analysis.jamming import (
+    Contacts,
+    JammingPoint,
+    force_exponent,
+    power_law_exponent,
+    _bootstrap,
+)
 
 STAGES = ((1e-2, 1e3), (1e-3, 1e5), (1e-4, 1e6))
 
@@ -47,21 +53,25 @@ def packing(n, seed, per_sphere, save=None):
     if save:
         st = sim.state()
         np.savez(save, positions=st.positions, radii=st.radii, box=box, history=np.array(history))
-    return {
-        "n": n,
-        "seed": seed,
-        "packing": res.packing,
-        "Z": res.pressure,
-        "compress_seconds": round(seconds, 1),
-        "z_gap": by_gap.z,
-        "z_force": by_force.z,
-        "z_isostatic": by_gap.z_isostatic,
-        "rattlers_gap": by_gap.rattler_fraction,
-        "rattlers_force": by_force.rattler_fraction,
-        "phi_J": jp.phi_J,
-        "phi_J_error": jp.error,
-        "d_fit": jp.d_fit,
-    }, by_gap, forces
+    return (
+        {
+            "n": n,
+            "seed": seed,
+            "packing": res.packing,
+            "Z": res.pressure,
+            "compress_seconds": round(seconds, 1),
+            "z_gap": by_gap.z,
+            "z_force": by_force.z,
+            "z_isostatic": by_gap.z_isostatic,
+            "rattlers_gap": by_gap.rattler_fraction,
+            "rattlers_force": by_force.rattler_fraction,
+            "phi_J": jp.phi_J,
+            "phi_J_error": jp.error,
+            "d_fit": jp.d_fit,
+        },
+        by_gap,
+        forces,
+    )
 
 
 def main():
@@ -85,13 +95,22 @@ def main():
     for lo, hi in ((1e-4, 1e-2), (1e-4, 1e-3), (1e-3, 1e-2), (1e-5, 1e-2)):
         used = h[(h > lo) & (h <= hi)]
         a = power_law_exponent(used, lo, hi)
-        print(f"gamma in ({lo:g}, {hi:g}]: {1 - a:.3f} +- {_bootstrap(used, lambda s: power_law_exponent(s, lo, hi)):.3f} ({len(used)} gaps)")
+        print(
+            f"gamma in ({lo:g}, {hi:g}]: {1 - a:.3f} +- {_bootstrap(used, lambda s: power_law_exponent(s, lo, hi)):.3f} ({len(used)} gaps)"
+        )
     for lo, hi in ((0.0, 0.1), (0.0, 0.3), (0.0, 0.5), (0.01, 0.3), (0.03, 0.5)):
         used = x[(x > lo) & (x <= hi)]
         a = power_law_exponent(used, lo, hi)
-        print(f"theta in ({lo:g}, {hi:g}] <f>: {a - 1:.3f} +- {_bootstrap(used, lambda s: power_law_exponent(s, lo, hi)):.3f} ({len(used)} forces)")
+        print(
+            f"theta in ({lo:g}, {hi:g}] <f>: {a - 1:.3f} +- {_bootstrap(used, lambda s: power_law_exponent(s, lo, hi)):.3f} ({len(used)} forces)"
+        )
     z = np.array([(r["z_gap"], r["z_force"], r["z_isostatic"]) for r in rows])
-    print("mean z (gap, force, isostatic):", z.mean(axis=0).round(4).tolist(), "spread", z.std(axis=0, ddof=1).round(4).tolist() if len(z) > 1 else "")
+    print(
+        "mean z (gap, force, isostatic):",
+        z.mean(axis=0).round(4).tolist(),
+        "spread",
+        z.std(axis=0, ddof=1).round(4).tolist() if len(z) > 1 else "",
+    )
 
 
 if __name__ == "__main__":

@@ -330,6 +330,30 @@ def lattice_vectors(k, lengths, dk=None, max_vectors=200, seed=0):
     return q
 
 
+def _phases(x, q, lengths):
+    """``exp(i q . x)`` ``(N, V)`` for lattice vectors ``q = 2 pi n / L`` (integer ``n``).
+
+    By axes: ``prod_a w_a^(n_a)`` with ``w_a = exp(2 pi i x_a / L_a)``, its
+    powers made by repeated multiplication (``|n_a|`` is a few): a complex
+    product per element and axis instead of a complex exponential (5-10x
+    faster); the rounding grows with ``|n|``, ~1e-15 per power.
+    """
+    step = 2.0 * math.pi / np.asarray(lengths, float)
+    n = np.rint(q / step).astype(np.int64)
+    out = None
+    for a in range(x.shape[1]):
+        top = int(np.abs(n[:, a]).max())
+        w = np.exp(1j * step[a] * x[:, a])
+        pw = np.empty((x.shape[0], 2 * top + 1), complex)
+        pw[:, top] = 1.0
+        for m in range(1, top + 1):
+            pw[:, top + m] = pw[:, top + m - 1] * w
+            pw[:, top - m] = np.conj(pw[:, top + m])
+        f = pw[:, n[:, a] + top]
+        out = f if out is None else out * f
+    return out
+
+
 def _isotropic(kr, dim):
     """The average of ``cos(k . dr)`` over directions at ``|k| |dr| = kr``."""
     if dim == 3:
@@ -441,7 +465,7 @@ class SelfIntermediate(_Dynamic):
                     r = np.sqrt(np.einsum("nd,nd->n", dx, dx))
                     c = _isotropic(np.outer(ks, r), src.dim)
                 else:
-                    c = np.stack([np.cos(dx @ q.T).mean(axis=1) for q in vecs])
+                    c = np.stack([_phases(dx, q, src.lengths).real.mean(axis=1) for q in vecs])
                 per[m], spread[m] = c.mean(axis=1), c.var(axis=1)
             f, e = _block_stats(per, self.blocks)
             F.append(f)
@@ -722,7 +746,7 @@ class CollectiveIntermediate(_Dynamic):
         split = np.cumsum([len(v) for v in vecs])[:-1]
         rho = np.empty((len(src.times), len(allv)), complex)
         for f in range(len(src.times)):
-            rho[f] = np.exp(1j * (src.unwrapped(f) @ allv.T)).sum(axis=0)
+            rho[f] = _phases(src.unwrapped(f), allv, src.lengths).sum(axis=0)
         n = src.n
 
         def corr(i, j):
