@@ -10,6 +10,7 @@ a traceback.  Most cases run in-process through
 import io
 import json
 import os
+import random
 import signal
 import subprocess
 import sys
@@ -418,3 +419,46 @@ def test_small_inputs_start_without_numpy_or_numba():
         env={k: v for k, v in os.environ.items() if k != "HARDSPHERES_ENGINE"},
     )
     assert res.stdout.split() == [b"0", b"7", b"False", b"False"], res.stderr
+
+
+def test_many_spheres_without_numpy_run_the_pure_python_engine(tmp_path):
+    """Issue 29 item 6: more than 24 spheres on a Python without numpy printed a
+    21-line traceback; the reference engine needs no numpy and writes the same bytes."""
+    rng = random.Random(3)
+    lines = [
+        f"1 0.5 {-8 + 4 * (i % 5)} {-8 + 4 * (i // 5 % 5)} {-4 + 4 * (i // 25)} "
+        f"{rng.uniform(-1, 1):.3f} {rng.uniform(-1, 1):.3f} {rng.uniform(-1, 1):.3f} s{i}"
+        for i in range(30)
+    ]
+    text = "\n".join(lines) + "\n"
+    block = tmp_path / "block"
+    block.mkdir()
+    # a meta-path finder that refuses numpy and numba, as on a Python without them
+    (block / "sitecustomize.py").write_text(
+        "import sys\n"
+        "class _No:\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name.split('.')[0] in ('numpy', 'numba'):\n"
+        "            raise ModuleNotFoundError(f'No module named {name!r}')\n"
+        "sys.meta_path.insert(0, _No())\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "HARDSPHERES_ENGINE"}
+    without = subprocess.run(
+        [sys.executable, "spheres.py", "14", "8"],
+        input=text.encode(),
+        capture_output=True,
+        cwd=ROOT,
+        timeout=300,
+        env={**env, "PYTHONPATH": os.pathsep.join([str(block), env.get("PYTHONPATH", "")])},
+    )
+    assert without.returncode == 0 and without.stderr == b"", without.stderr.decode()[-500:]
+    with_numpy = subprocess.run(
+        [sys.executable, "spheres.py", "14", "8"],
+        input=text.encode(),
+        capture_output=True,
+        cwd=ROOT,
+        timeout=300,
+        env=env,
+    )
+    assert with_numpy.returncode == 0
+    assert without.stdout == with_numpy.stdout and without.stdout.count(b"time of event") > 10

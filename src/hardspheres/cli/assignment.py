@@ -1,13 +1,15 @@
 """The assignment's simulation and report, given a checked scenario.
 
 Small inputs run the pure-Python reference engine (no numba or numpy
-start-up); larger ones run the compiled event core.  Both speak one interface
+start-up); larger ones run the compiled event core (or, on a Python
+without numpy or numba, the reference engine too).  Both speak one interface
 and follow the same rules with the same arithmetic
 (:mod:`hardspheres.reference`), so one loop writes the report and the
 reports are identical;
 ``HARDSPHERES_ENGINE=reference|compiled`` forces one (the tests do).
 """
 
+import importlib.util
 import os
 
 from ..core.reference import SIMULTANEOUS, Reference
@@ -19,12 +21,28 @@ from ..scenario import StuckError
 SMALL = 24
 
 
+def compiled_available():
+    """Whether numpy and numba can be imported (looked up, not imported)."""
+    for name in ("numpy", "numba"):
+        try:
+            if importlib.util.find_spec(name) is None:
+                return False
+        except (ImportError, ValueError):
+            return False
+    return True
+
+
 def choose_engine(n):
-    """``"reference"`` or ``"compiled"`` for ``n`` spheres."""
+    """``"reference"`` or ``"compiled"`` for ``n`` spheres.
+
+    The compiled core for more than :data:`SMALL` spheres, if numpy and
+    numba are installed; else the reference loop, which needs neither and
+    writes the same bytes (only slower: O(N^2) per event).
+    """
     forced = os.environ.get("HARDSPHERES_ENGINE", "")
     if forced in ("reference", "compiled"):
         return forced
-    return "reference" if n <= SMALL else "compiled"
+    return "reference" if n <= SMALL or not compiled_available() else "compiled"
 
 
 def write_report(scn, container, end, out, fmt="text"):
