@@ -9,7 +9,8 @@ files need no decorators (``pytest -m unit`` runs the fast ones; CI runs all):
 
 Hypothesis runs derandomized and without its example database (profile
 ``deterministic``, always loaded): the same examples on every run and every
-machine, so that CI never fails on a seed.  Every example it ever found is
+machine, so that CI never fails on a seed, and no timed health check
+(``too_slow`` fails a test on a busy machine).  Every example it ever found is
 kept as an explicit ``@example`` or regression test.  To search afresh,
 ``HYPOTHESIS_PROFILE=seeded pytest --hypothesis-seed=N ...`` (random,
 reproducible by ``N``, still no database).
@@ -22,10 +23,13 @@ from pathlib import Path
 import os
 
 import pytest
-from hypothesis import settings
+from hypothesis import HealthCheck, settings
 
-settings.register_profile("deterministic", derandomize=True, database=None, print_blob=True)
-settings.register_profile("seeded", derandomize=False, database=None, print_blob=True)
+# no timing in tests: neither deadlines nor the "too slow" health check,
+# which fails a test when the machine is busy (shared CI runners are)
+_COMMON = dict(database=None, print_blob=True, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("deterministic", derandomize=True, **_COMMON)
+settings.register_profile("seeded", derandomize=False, **_COMMON)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 
 #: Test level by module; a module not listed is ``integration``.
