@@ -104,6 +104,7 @@ def test_tutorial_executed_with_figures(site):
     assert "Hansen-Goos" in page and "standard errors" in page  # the cell's printed comparison
     assert page.count("<img") >= 2  # its plots
     assert "Traceback" not in page
+    assert 'class="hardspheres-viewer"' in page  # the Simulation ending a cell, as the viewer
 
 
 def _nonblank(png):
@@ -145,6 +146,17 @@ def test_index_and_tutorial_render_in_chromium(site, tmp_path):
             fig.screenshot(path=str(shot))
             colours, spread = _nonblank(shot)
             assert colours > 50 and spread > 5, "the tutorial's first figure looks blank"
+
+            # the Simulation ending a cell: the viewer inline, drawn offline in its iframe
+            viewer = page.locator("div.hardspheres-viewer iframe").first
+            viewer.scroll_into_view_if_needed()
+            inner = page.frame_locator("div.hardspheres-viewer iframe").first
+            inner.locator("canvas").first.wait_for(timeout=30_000)
+            page.wait_for_timeout(1500)
+            shot = tmp_path / "viewer.png"
+            viewer.screenshot(path=str(shot))
+            colours, spread = _nonblank(shot)
+            assert colours > 100 and spread > 5, "the inline viewer looks blank"
         finally:
             browser.close()
     assert not errors, errors

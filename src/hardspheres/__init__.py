@@ -10,6 +10,7 @@ Example:
 """
 
 import importlib
+import sys
 
 from .containers import Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .events import EventKind, StopReason
@@ -56,6 +57,67 @@ _LAZY = {
     "JammingPoint": "analysis.jamming",
     "enskog": "analysis.transport",
 }
+
+
+def _frames_html(frames):
+    from .viz.viewer import notebook_html
+
+    return notebook_html(frames)
+
+
+def _simulation_html(sim):
+    """A simulation as the viewer shows it: its spheres now, one frame."""
+    from .frames import Frames
+    from .viz.viewer import notebook_html
+
+    st = sim.state()
+    frames = Frames(
+        [st.time],
+        st.positions[None],
+        st.velocities[None],
+        st.radii,
+        st.masses,
+        st.names,
+        container=sim.container,
+    )
+    title = f"{sim.n} spheres, t = {st.time:.6g}"
+    return notebook_html(frames, title=title)
+
+
+def _quietly(to_html):
+    """A display formatter that falls back to the plain repr instead of raising."""
+
+    def html(obj):
+        try:
+            return to_html(obj)
+        except Exception:  # a picture is never worth a traceback in the cell
+            return None
+
+    return html
+
+
+def _register_notebook_display(shell=None):
+    """Show Simulation, Frames and trajectories as the interactive viewer in Jupyter.
+
+    Called on import: when IPython is running, its ``text/html`` formatter
+    is told (by name, importing nothing) how to draw
+    :class:`~hardspheres.Simulation` and :class:`~hardspheres.Frames` (what
+    :func:`~hardspheres.read_trajectory` returns), so that one ending a cell
+    shows :func:`hardspheres.viz.viewer.notebook_html`: the self-contained
+    viewer page, offline.  The classes stay below the pictures' family
+    (tests/test_layout.py); this, at the package root, joins them.
+    """
+    if shell is None:
+        ipython = sys.modules.get("IPython")
+        shell = ipython.get_ipython() if ipython is not None else None
+    if shell is None:
+        return
+    html = shell.display_formatter.formatters["text/html"]
+    html.for_type_by_name("hardspheres.frames", "Frames", _quietly(_frames_html))
+    html.for_type_by_name("hardspheres.simulation", "Simulation", _quietly(_simulation_html))
+
+
+_register_notebook_display()
 
 
 def __getattr__(name):

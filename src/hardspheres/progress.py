@@ -1,4 +1,4 @@
-"""The progress bar of the commands: one line on a terminal, silent elsewhere.
+"""The progress bar of the commands: one line on a terminal or in a notebook, silent elsewhere.
 
 ``hardspheres run`` (through :class:`hardspheres.runner.ProgressWriter`),
 ``compress``, ``sweep`` and ``render`` all draw this bar: how far, the rate,
@@ -28,6 +28,15 @@ def isatty(stream: TextIO) -> bool:
         return False
 
 
+def in_notebook(stream: TextIO) -> bool:
+    """Whether ``stream`` is a Jupyter kernel's output (ipykernel's ``OutStream``).
+
+    A notebook shows such a stream as the cell's output and honours ``\\r``
+    there, so the bar redraws in place as on a terminal.
+    """
+    return type(stream).__module__.split(".")[0] == "ipykernel"
+
+
 def duration(seconds: float) -> str:
     """``42 s``, ``3 min 5 s``, ``2 h 10 min`` (``?`` if not finite).
 
@@ -46,7 +55,7 @@ def duration(seconds: float) -> str:
 
 
 class Progress:
-    """A one-line progress bar with rate and time left, on a terminal; silent otherwise.
+    """A one-line progress bar with rate and time left, on a terminal or in a notebook; silent otherwise.
 
     Every update rewrites the whole line (padded over the previous one), and
     :meth:`close` clears it, so no stale characters remain.
@@ -54,9 +63,11 @@ class Progress:
     Args:
         total: how much there is to do (a time, a count of frames or tasks).
         stream: where to draw (default: stderr).
-        enabled: draw or not (default: whether ``stream`` is a terminal).
+        enabled: draw or not (default: whether ``stream`` is a terminal or
+            a Jupyter notebook's output).
         unit: what the rate counts (``events`` -> "events/s").
-        every: redraw at most this often [s] (the last step always shows).
+        every: redraw at most this often [s] (the last step always shows;
+            in a notebook at most four times a second).
     """
 
     def __init__(
@@ -69,9 +80,10 @@ class Progress:
     ) -> None:
         self.total = total
         self.stream = sys.stderr if stream is None else stream
-        self.on = isatty(self.stream) if enabled is None else bool(enabled)
+        notebook = in_notebook(self.stream)
+        self.on = (isatty(self.stream) or notebook) if enabled is None else bool(enabled)
         self.unit = unit
-        self.every = every
+        self.every = max(every, 0.25) if notebook else every
         self.t0 = time.perf_counter()
         self.width = 0
         self._text = ""

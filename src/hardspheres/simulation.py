@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike
 
 from .containers import Container, as_container, require_periodic
 from .core.engine import CheckpointError, Engine
+from .core.warmup import ensure_compiled
 from .events import KIND_LABELS, KindLabel, StopReason
 from .fileio import atomic_write
 from .messages import quote
@@ -122,6 +123,7 @@ class Simulation:
         images = container.image_counts(state.positions)
         if state.images is not None:
             images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
+        _compiled()
         self._engine = Engine(
             state.masses,
             state.radii,
@@ -476,6 +478,7 @@ class Simulation:
         clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
         try:
+            _compiled()
             sim._engine = Engine.restore(data)  # it reads and checks the container
         except CheckpointError as e:
             raise CheckpointError(f"{path}: {e}") from None
@@ -523,6 +526,22 @@ class Simulation:
             except (ValueError, KeyError, TypeError) as e:
                 raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") from None
         return sim
+
+
+_WARM = False
+
+
+def _compiled():
+    """Compile the event core now if numba's cache is cold (once per process).
+
+    :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
+    which a notebook shows under the cell, so the first simulation of a fresh
+    install is not a silent wait of half a minute.
+    """
+    global _WARM
+    if not _WARM:
+        _WARM = True
+        ensure_compiled()
 
 
 def _read_checkpoint(path):

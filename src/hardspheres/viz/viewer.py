@@ -247,17 +247,84 @@ def write_viewer(
         ``path`` as a :class:`pathlib.Path`.
     """
     path = Path(path)
-    if cut is not None and not np.isfinite(cut):
-        raise ValueError(f"write_viewer: cut must be a finite number, got {cut!r}")
-    data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
-    page = (
-        _static("viewer.html")
-        .replace("__TITLE__", html.escape(data["title"]))
-        .replace("__JS__", _script_json(_vendored_js()))
-        .replace("__DATA__", _script_json(data))
+    page = viewer_page(
+        frames,
+        title,
+        max_frames,
+        color_by=color_by,
+        max_values=max_values,
+        max_events=max_events,
+        cut=cut,
     )
     from ..fileio import atomic_write
 
     with atomic_write(path, "w", encoding="utf-8") as fh:
         fh.write(page)
     return path
+
+
+def viewer_page(
+    frames,
+    title=None,
+    max_frames=600,
+    *,
+    color_by="speed",
+    max_values=12_000_000,
+    max_events=200_000,
+    cut=None,
+):
+    """The viewer's self-contained HTML page of ``frames``, as text (what :func:`write_viewer` writes).
+
+    Arguments as for :func:`write_viewer`.
+    """
+    if cut is not None and not np.isfinite(cut):
+        raise ValueError(f"write_viewer: cut must be a finite number, got {cut!r}")
+    data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
+    return (
+        _static("viewer.html")
+        .replace("__TITLE__", html.escape(data["title"]))
+        .replace("__JS__", _script_json(_vendored_js()))
+        .replace("__DATA__", _script_json(data))
+    )
+
+
+#: Frames a notebook's inline viewer embeds at most (the page stays a few MB).
+NOTEBOOK_FRAMES = 200
+#: Numbers (frames x spheres x 4) a notebook's inline viewer embeds at most.
+NOTEBOOK_VALUES = 2_000_000
+
+
+def notebook_html(frames, title=None, height=480, *, max_frames=NOTEBOOK_FRAMES, color_by="speed"):
+    """The viewer for a notebook cell: the same self-contained page in an ``<iframe srcdoc>``.
+
+    It needs no server and no network (three.js is inside the page), so it
+    works offline and in a notebook saved to HTML.  Jupyter shows it for a
+    :class:`~hardspheres.Simulation`, a :class:`~hardspheres.Frames` or a
+    trajectory read back (:func:`~hardspheres.read_trajectory`) that ends a
+    cell.
+
+    Args:
+        frames: a :class:`hardspheres.frames.Frames`.
+        title: shown in the page's corner.
+        height: of the frame in the notebook [CSS pixels].
+        max_frames: frames embedded at most (evenly spaced, first and last kept).
+        color_by: ``"speed"``, ``"mass"`` or ``"q6"``.
+
+    Returns:
+        The HTML text (a ``<div>`` holding the ``<iframe>``).
+
+    Example:
+        >>> import numpy as np
+        >>> from hardspheres.frames import Frames
+        >>> f = Frames([0.0], np.zeros((1, 1, 3)), np.ones((1, 1, 3)), [0.5], [1.0], ["a"], box=4.0)
+        >>> notebook_html(f).startswith('<div class="hardspheres-viewer"><iframe')
+        True
+    """
+    page = viewer_page(
+        frames, title, max_frames, color_by=color_by, max_values=NOTEBOOK_VALUES, max_events=20_000
+    )
+    return (
+        f'<div class="hardspheres-viewer"><iframe srcdoc="{html.escape(page, quote=True)}" '
+        f'style="width: 100%; height: {int(height)}px; border: 1px solid #ccc;" '
+        'title="hardspheres viewer" loading="lazy"></iframe></div>'
+    )
