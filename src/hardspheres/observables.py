@@ -47,8 +47,13 @@ class Observables:
         True
     """
 
-    #: Samples kept before neighbouring blocks merge (the interval doubles).
-    MAX_SAMPLES = 4096
+    #: Samples kept before neighbouring blocks merge (the interval doubles):
+    #: 2^16, so that the transport fits keep lags of about a mean free time
+    #: in runs of 10^4 mean free times or more (a sample is 23 numbers in a
+    #: periodic box, about 0.8 kB as kept: 50 MB at the cap).  Set it per
+    #: run with ``reset(max_samples=...)``; :attr:`merges` counts the
+    #: doublings the cap caused.
+    MAX_SAMPLES = 65536
     #: With the automatic interval, blocks merge (the interval doubles) while
     #: they hold fewer events than this: a sample costs about as much as a
     #: hundred events, so small systems would otherwise pay for sampling.
@@ -72,10 +77,12 @@ class Observables:
             )
         return now
 
-    def reset(self, every: float | None = None) -> Observables:
+    def reset(self, every: float | None = None, max_samples: int | None = None) -> Observables:
         """Start averaging afresh from now; returns self.
 
         Args:
+            max_samples: samples kept before neighbouring blocks merge
+                (default :attr:`MAX_SAMPLES`, at least 16).
             every: first interval between tally samples (blocks) [time];
                 default: a tenth of the time a sphere of rms speed takes to
                 cross the mean spacing ``(V/N)^(1/3)`` (about a mean free
@@ -83,6 +90,11 @@ class Observables:
                 than :attr:`MIN_EVENTS` events.  It doubles whenever
                 :attr:`MAX_SAMPLES` is reached.
         """
+        if max_samples is not None:
+            if not (isinstance(max_samples, int) and max_samples >= 16):
+                raise ValueError(f"max_samples must be an integer >= 16, got {max_samples!r}")
+            self.MAX_SAMPLES = max_samples
+        self.merges = 0
         self._mark = self._now()
         self._samples = [self._mark]
         self._auto = every is None
@@ -110,7 +122,9 @@ class Observables:
             and now[_COLL] + now[_REFL] - last[_COLL] - last[_REFL] < self.MIN_EVENTS
         )
         self._samples.append(now)
-        if len(self._samples) > self.MAX_SAMPLES or sparse:
+        full = len(self._samples) > self.MAX_SAMPLES
+        if full or sparse:
+            self.merges += full
             # merge neighbouring blocks: keep every other sample from the mark
             # (an odd last block waits for its partner)
             if len(self._samples) % 2 == 0:
@@ -299,6 +313,7 @@ class Observables:
             "elapsed": self.elapsed,
             "temperature": self.temperature(),
             "blocks": self.n_blocks,
+            "sample_interval": self.every,
         }
         if self.elapsed > 0:
             for name in ("pressure", "compressibility", "collision_rate"):
