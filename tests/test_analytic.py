@@ -21,8 +21,8 @@ from hypothesis import strategies as st
 
 import hardspheres as hs
 from hardspheres.cli import run_spheres
-from hardspheres.physics import collide, pair_time, pair_time_grow, reflect, wall_time
 from hardspheres.core.reference import SIMULTANEOUS
+from hardspheres.physics import collide, pair_time, pair_time_grow, reflect, wall_time
 
 ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
 

@@ -4,10 +4,10 @@ import json
 from pathlib import Path
 
 import pytest
-
-from hardspheres.core import bench as hb
-from hardspheres.cli.commands import build_parser
 from helpers import hs_cmd
+
+from hardspheres.cli.commands import build_parser
+from hardspheres.core import bench as hb
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -4,12 +4,12 @@ import math
 
 import numpy as np
 import pytest
+from helpers import periodic_gas
 from scipy.signal import lfilter
 
 import hardspheres as hs
 from hardspheres.blocking import blocking
 from hardspheres.observables import NoMeasurementError
-from helpers import periodic_gas
 
 
 def ar1(phi, n, seed):

@@ -18,10 +18,10 @@ import time
 from pathlib import Path
 
 import pytest
+from helpers import spheres_cmd
 
 from hardspheres.cli import run_spheres
 from hardspheres.io.report import PROMPT
-from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 OK = b"1 1 0 0 0 1 0 0 a\n"  # a valid first line

@@ -18,11 +18,11 @@ import pytest
 
 pytest.importorskip("matplotlib")
 pytest.importorskip("gsd")
+from helpers import ROOT, embedded_data, hs_cmd  # noqa: E402
 from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres.io.trajectory import read_trajectory  # noqa: E402
 from hardspheres.viz.screenshot import find_chromium  # noqa: E402
-from helpers import ROOT, embedded_data, hs_cmd  # noqa: E402
 
 N, R, UNTIL, EVERY = 60, 6.0, 2.0, 0.1
 N_FRAMES = 21

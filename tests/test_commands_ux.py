@@ -10,12 +10,12 @@ import re
 
 import numpy as np
 import pytest
+from helpers import ROOT, hs_cmd, spheres_cmd
 
 import hardspheres as hs
 from hardspheres.cli import commands
 from hardspheres.cli import run as runner
 from hardspheres.progress import Progress
-from helpers import ROOT, hs_cmd, spheres_cmd
 
 
 def assert_one_line(res, *words):
@@ -57,8 +57,8 @@ def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
 
 def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     """The assignment's program (compiled engine) gives the same note, on stderr only."""
-    from hardspheres.core import warmup
     from hardspheres.cli import run_spheres
+    from hardspheres.core import warmup
 
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
     monkeypatch.setattr(warmup, "is_cold", lambda: True)

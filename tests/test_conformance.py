@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from hardspheres.cli.assignment import choose_engine
 from hardspheres.cli import run_spheres
+from hardspheres.cli.assignment import choose_engine
 from hardspheres.io.report import PROMPT
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -4,15 +4,15 @@ import math
 
 import numpy as np
 import pytest
+from helpers import spheres_cmd
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
-from hardspheres.core import _core as core
 from hardspheres import physics
-from hardspheres.dense import Andersen, CompressionError, VelocityRescale
+from hardspheres.core import _core as core
 from hardspheres.core.engine import Engine
-from helpers import spheres_cmd
+from hardspheres.dense import Andersen, CompressionError, VelocityRescale
 
 TOL = 1e-9
 

@@ -7,12 +7,10 @@ import numpy as np
 import pytest
 from numba import njit
 
-from hardspheres.core import _core
-
-from hardspheres.core import reference
+from hardspheres.builders import random_spheres
+from hardspheres.core import _core, reference
 from hardspheres.core import _core as core
 from hardspheres.core import engine as engine_module
-from hardspheres.builders import random_spheres
 from hardspheres.core.engine import Engine
 from hardspheres.core.reference import Reference
 

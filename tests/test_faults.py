@@ -18,12 +18,12 @@ import warnings
 
 import numpy as np
 import pytest
+from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 import hardspheres as hs
 from hardspheres.core.engine import CheckpointError
 from hardspheres.fileio import FileInUseError, PathLock, atomic_write
 from hardspheres.io.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
-from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 
 def one_line(err, *words, warnings_too=True):

@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from helpers import periodic_gas
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.io.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
-from helpers import periodic_gas
 
 
 def gas(n=64, phi=0.2, seed=3, kT=4.0):

@@ -19,13 +19,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import spheres_cmd
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import hardspheres as hs
 from hardspheres import physics
-from hardspheres.core import reference
 from hardspheres.cli import run_spheres
+from hardspheres.core import reference
 from hardspheres.core.engine import Engine
 from hardspheres.physics import pair_time, pair_time_within, wall_time
 from hardspheres.scenario import (
@@ -34,7 +35,6 @@ from hardspheres.scenario import (
     check_scenario,
     parse_scenario,
 )
-from helpers import spheres_cmd
 
 ROOT = Path(__file__).resolve().parent.parent
 

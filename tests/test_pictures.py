@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 
 pytest.importorskip("matplotlib")
+from helpers import synthetic_frames  # noqa: E402
 from PIL import Image, ImageSequence  # noqa: E402
 
 from hardspheres import maxwell  # noqa: E402
 from hardspheres.viz import plots  # noqa: E402
 from hardspheres.viz.render import render_movie  # noqa: E402
-from helpers import synthetic_frames  # noqa: E402
 
 
 def assert_not_blank(img, min_colours=20):

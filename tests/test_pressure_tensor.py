@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from helpers import periodic_gas
 
 import hardspheres as hs
-from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.analysis.transport import ShearViscosity, ThermalConductivity, enskog
-from helpers import periodic_gas
+from hardspheres.containers import PeriodicBoxRequired
 
 PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 

@@ -22,9 +22,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from hardspheres.cli import run_spheres
 from hardspheres.core import engine as engine_module
 from hardspheres.core import reference
-from hardspheres.cli import run_spheres
 from hardspheres.core.engine import Engine
 from hardspheres.core.reference import Reference
 from hardspheres.scenario import check_scenario, parse_scenario

@@ -43,8 +43,15 @@ def test_readme_commands_run(tmp_path):
 def test_readme_layout_names_every_module():
     """README's Layout names each module of src/hardspheres, and only modules that exist."""
     layout = re.search(r"## Layout\n(.*?)(\n## |\Z)", README, re.S).group(1)
-    named = set(re.findall(r"`_?\w+\.py`", layout))
+    named = {m for m in re.findall(r"`(?:\w+/)?_?\w+\.py`", layout) if m not in ("`__init__.py`",)}
+    named = {m for m in named if not m.startswith("`tests/")}
     src = ROOT / "src" / "hardspheres"
-    modules = {f"`{p.name}`" for p in src.glob("*.py") if p.name not in ("__init__.py", "__main__.py")}
+    modules = {
+        f"`{p.relative_to(src).as_posix()}`"
+        for p in src.rglob("*.py")
+        if p.name != "__main__.py"
+        and (p.name != "__init__.py" or p.parent.name in ("studies", "cli"))
+        and "_static" not in p.parts
+    }
     assert modules - named == set(), "modules the Layout does not name"
     assert named - modules == set(), "the Layout names modules that do not exist"

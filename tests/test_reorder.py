@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
+from hardspheres.builders import random_spheres
 from hardspheres.core import _core as core
 from hardspheres.core import engine as engine_module
-from hardspheres.builders import random_spheres
 from hardspheres.core.engine import CheckpointError, Engine, check_arrays
 
 

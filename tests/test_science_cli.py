@@ -1,11 +1,11 @@
 """`hardspheres plot gr|msd` on a periodic-box trajectory."""
 
 import pytest
+from helpers import periodic_gas
 
 import hardspheres as hs
 from hardspheres.cli.commands import main
 from hardspheres.io.trajectory import GSDWriter
-from helpers import periodic_gas
 
 pytest.importorskip("freud")
 pytest.importorskip("gsd")

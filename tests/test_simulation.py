@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import hs_cmd, hs_popen, spheres_cmd
 
 import hardspheres as hs
 from hardspheres.studies.validate import carnahan_starling, ks_distance, measure
-from helpers import hs_cmd, hs_popen, spheres_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
 

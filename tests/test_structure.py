@@ -4,12 +4,12 @@ import math
 
 import numpy as np
 import pytest
+from helpers import periodic_gas
 
 import hardspheres as hs
-from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.analysis.structure import RDF, BondOrder, NotComputedError, StructureFactor
+from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.io.trajectory import frames_from_simulation
-from helpers import periodic_gas
 
 pytest.importorskip("freud")
 

@@ -12,11 +12,10 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from helpers import ENV, ROOT, hs_cmd
 
 from hardspheres import studies
 from hardspheres.cli.commands import main as hardspheres
-from helpers import ENV, ROOT, hs_cmd
-
 
 # `dask scheduler` and `dask worker`, by this Python whatever the PATH
 DASK = [sys.executable, "-m"]

@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from helpers import hs_cmd
 
 import hardspheres as hs
 from hardspheres.events import EVENT_DTYPE
 from hardspheres.io.trajectory import GSDWriter, XYZWriter, frames_from_simulation, read_trajectory
-from helpers import hs_cmd
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")
 

@@ -4,13 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from helpers import periodic_gas
 
 import hardspheres as hs
-from hardspheres.containers import PeriodicBoxRequired
 from hardspheres.analysis.structure import NotComputedError
-from hardspheres.io.trajectory import frames_from_simulation
 from hardspheres.analysis.transport import MSD, VACF, enskog, yeh_hummer
-from helpers import periodic_gas
+from hardspheres.containers import PeriodicBoxRequired
+from hardspheres.io.trajectory import frames_from_simulation
 
 pytest.importorskip("freud")
 

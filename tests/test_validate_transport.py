@@ -4,6 +4,7 @@ import csv
 import math
 
 import pytest
+from helpers import hs_cmd
 
 from hardspheres.studies.validate import (
     DYNAMO_RHO05,
@@ -13,7 +14,6 @@ from hardspheres.studies.validate import (
     published_diffusion,
     score_transport,
 )
-from helpers import hs_cmd
 
 RHO05 = 0.5 * math.pi / 6.0
 
@@ -127,9 +127,9 @@ def test_transport_refuses_options_it_does_not_take(tmp_path):
 def test_transport_before_anything_was_measured_says_what_to_do():
     """Issue 11, item 7: one-line ValueErrors that say what to do."""
     import hardspheres as hs
-    from hardspheres.observables import NoMeasurementError
-    from hardspheres.io.trajectory import frames_from_simulation
     from hardspheres.analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity
+    from hardspheres.io.trajectory import frames_from_simulation
+    from hardspheres.observables import NoMeasurementError
 
     L = 7.0
     sim = hs.Simulation(hs.random_spheres(64, 0.2, box=L, seed=2), hs.PeriodicBox(L))

@@ -12,17 +12,15 @@ import os
 import re
 from pathlib import Path
 
+import helpers  # its synthetic_frames, with this module's defaults below
 import numpy as np
 import pytest
-
-from hardspheres.events import empty_events
-from hardspheres.frames import Frames
-from hardspheres.frames import frame_indices
-from hardspheres.viz.screenshot import CHROMIUM_ARGS
-from hardspheres.viz.viewer import write_viewer
 from helpers import embedded_data
 
-import helpers  # its synthetic_frames, with this module's defaults below
+from hardspheres.events import empty_events
+from hardspheres.frames import Frames, frame_indices
+from hardspheres.viz.screenshot import CHROMIUM_ARGS
+from hardspheres.viz.viewer import write_viewer
 
 CHROMIUM = "/usr/bin/chromium"
 ARTIFACTS = Path(__file__).resolve().parent.parent / "test-artifacts"
@@ -153,14 +151,14 @@ def test_viewer_in_chromium(tmp_path):
 
 
 def test_page_is_a_packaged_file_and_render_does_not_import_the_viewer():
-    """The page lives in _static/viewer.html (package data), not in a Python string."""
-    from importlib import resources
+    """The page lives in viz/_static/viewer.html (package data), not in a Python string."""
     import subprocess
     import sys
+    from importlib import resources
 
-    page = (resources.files("hardspheres") / "_static" / "viewer.html").read_text(encoding="utf-8")
+    page = (resources.files("hardspheres.viz") / "_static" / "viewer.html").read_text(encoding="utf-8")
     assert page.startswith("<!DOCTYPE html>") and "__DATA__" in page and "__JS__" in page
-    viewer_src = (resources.files("hardspheres") / "viewer.py").read_text(encoding="utf-8")
+    viewer_src = (resources.files("hardspheres.viz") / "viewer.py").read_text(encoding="utf-8")
     assert "<!DOCTYPE" not in viewer_src
     code = "import sys, hardspheres.viz.render; print('hardspheres.viz.viewer' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -16,7 +16,6 @@ from .containers import Container, PeriodicBox, PeriodicBoxRequired, SphericalCo
 from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
 
-
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
 _LAZY = {

@@ -18,11 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .containers import Container, as_container
+from .containers import MAX_PACKING, Container, as_container
+from .errors import BuildError  # noqa: F401 (re-exported)
 from .maxwell import maxwell_boltzmann
 from .state import State
-from .errors import BuildError  # noqa: F401 (re-exported)
-
 
 #: Random placement is tried for up to this many spheres when the lattice does not fit.
 INSERTION_MAX = 500
@@ -261,8 +260,8 @@ def random_arrays(
         where = as_container(container, box)
     except ValueError as e:
         raise BuildError(str(e)) from None
-    if not (0.0 < packing < 0.74):
-        raise BuildError(f"packing fraction must be in (0, 0.74), got {packing}")
+    if not (0.0 < packing < MAX_PACKING):
+        raise BuildError(f"packing fraction must be in (0, {MAX_PACKING:.4f}), got {packing}")
     if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)

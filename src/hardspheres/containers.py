@@ -23,7 +23,7 @@ geometry, so nothing above the compiled core asks which container it is:
   loop reads (a wall radius and a periodic edge, 0 when absent).
 
 A third geometry (a slab, a cylinder) is one new class here, registered in
-:data:`KINDS`, and one branch in the core (:mod:`hardspheres._core`: its
+:data:`KINDS`, and one branch in the core (:mod:`hardspheres.core._core`: its
 wall time and reflection, and its cell grid's edges).
 
 Example:
@@ -478,3 +478,22 @@ def from_fields(fields: dict) -> Container:
             if key in fields:
                 return cls(float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0]))
     raise ContainerError("no container size found (container_radius or box_length)")
+
+
+#: The densest packing of equal spheres, ``pi / sqrt(18) = 0.74048`` (FCC and
+#: HCP; Kepler's conjecture, proved by Hales, Ann. Math. 162, 1065 (2005)).
+#: The one home of this constant: every check of a packing fraction uses it.
+MAX_PACKING = math.pi / math.sqrt(18.0)
+
+
+def packing_fraction(radii, container) -> float:
+    """Fraction of the container's volume the spheres of ``radii`` fill.
+
+    Example:
+        >>> round(packing_fraction([1.0], PeriodicBox(4.0)), 6)
+        0.06545
+    """
+    import numpy as np
+
+    r = np.asarray(radii, dtype=np.float64)
+    return float(4.0 / 3.0 * math.pi * np.sum(r**3) / container.volume)

@@ -29,11 +29,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .scenario import StuckError
+from .containers import MAX_PACKING, packing_fraction  # noqa: F401 (re-exported)
 from .errors import CompressionError  # noqa: F401 (re-exported)
+from .scenario import StuckError
 
-#: Densest packing of equal spheres (FCC/HCP): pi / sqrt(18).
-MAX_PACKING_EQUAL = math.pi / math.sqrt(18.0)
+#: Densest packing of equal spheres (FCC/HCP): :data:`hardspheres.containers.MAX_PACKING`.
+MAX_PACKING_EQUAL = MAX_PACKING
 
 #: Default reduced pressure ``Z = PV/(NkT)`` at which compression stops as
 #: jammed (Z diverges as the packing approaches jamming: ``Z ~ 3 phi_J /
@@ -59,12 +60,6 @@ class CompressResult(NamedTuple):
     collisions: int
     reason: str
     jammed: bool
-
-
-def packing_fraction(radii, container):
-    """Fraction of the container's volume the spheres fill."""
-    r = np.asarray(radii, dtype=np.float64)
-    return float(4.0 / 3.0 * math.pi * np.sum(r**3) / container.volume)
 
 
 def max_packing(radii):

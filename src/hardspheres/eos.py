@@ -26,6 +26,8 @@ The two accurate ones agree with each other to about 1e-4 for
     True
 """
 
+import math
+
 import numpy as np
 
 # Hansen-Goos (2016), Table I: coefficients of the polynomial in phi, highest
@@ -73,6 +75,36 @@ def carnahan_starling(phi):
     """
     phi = _phi(phi)
     return (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
+
+
+def carnahan_starling_contact(phi):
+    """Carnahan-Starling contact value ``g(sigma+) = (1 - phi/2) / (1 - phi)^3``.
+
+    The radial distribution at contact that makes the virial route give
+    :func:`carnahan_starling`: ``Z = 1 + 4 phi g``.
+
+    Example:
+        >>> round(float(carnahan_starling_contact(0.3)), 4)
+        2.4781
+    """
+    phi = _phi(phi)
+    return (1.0 - 0.5 * phi) / (1.0 - phi) ** 3
+
+
+def collision_rate_from_z(z, sigma=1.0, kT=1.0, mass=1.0):
+    """Collisions per sphere per unit time of equal hard spheres with pressure ``Z``.
+
+    ``nu = 6 (Z - 1) sqrt(kT / (pi m)) / sigma``: exact for hard spheres, since
+    both ``Z - 1 = 4 phi g(sigma+)`` (the virial) and the collision frequency
+    ``nu = 4 n sigma^2 g(sigma+) sqrt(pi kT / m)`` are set by the contact value
+    (Chapman and Cowling, *The Mathematical Theory of Non-uniform Gases*, 3rd
+    ed., 1970, ch. 16).  The mean free time is ``1 / nu``.
+
+    Example:
+        >>> round(collision_rate_from_z(float(carnahan_starling(0.3))), 3)
+        10.067
+    """
+    return 6.0 * (z - 1.0) * math.sqrt(kT / (math.pi * mass)) / sigma
 
 
 def hansen_goos(phi):

@@ -3,8 +3,8 @@
 An event is a row of :data:`EVENT_DTYPE`, a numpy structured dtype; a run's
 events are a 1-D array of it.  The compiled core fills one plain array per
 field (:func:`empty_buffers`), the engine hands the rows out
-(:meth:`hardspheres.engine.Engine.advance`), trajectories store and read
-them back (:mod:`hardspheres.trajectory`), and :class:`hardspheres.Frames`
+(:meth:`hardspheres.core.engine.Engine.advance`), trajectories store and read
+them back (:mod:`hardspheres.io.trajectory`), and :class:`hardspheres.Frames`
 keeps them.  Adding a field is one line in :data:`EVENT_FIELDS` (and the
 core's code that fills it).
 
@@ -52,7 +52,7 @@ class EventKind(IntEnum):
 
 
 class StopReason(IntEnum):
-    """Why the compiled core's :func:`run <hardspheres._core.run>` returned.
+    """Why the compiled core's :func:`run <hardspheres.core._core.run>` returned.
 
     ``UNTIL``: the next event is after the requested time (or nothing
     will ever happen); ``MAX_EVENTS``: the event budget is spent;

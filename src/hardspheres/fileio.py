@@ -33,8 +33,8 @@ try:  # POSIX; Windows has no flock: writes stay atomic, but unlocked
 except ImportError:  # pragma: no cover - exercised by tests/test_packaging.py
     fcntl = None  # type: ignore[assignment]
 
-from .messages import oserror_line
 from .errors import FileInUseError  # noqa: F401 (re-exported)
+from .messages import oserror_line
 
 
 def _special(path):

@@ -1,8 +1,8 @@
 """Frames: a run sampled at fixed times, the common currency of writers and pictures.
 
-Trajectory readers (:mod:`hardspheres.trajectory`) produce :class:`Frames`;
-the viewer, renderer and plots (:mod:`hardspheres.viewer`,
-:mod:`hardspheres.render`, :mod:`hardspheres.plots`) consume them, picking
+Trajectory readers (:mod:`hardspheres.io.trajectory`) produce :class:`Frames`;
+the viewer, renderer and plots (:mod:`hardspheres.viz.viewer`,
+:mod:`hardspheres.viz.render`, :mod:`hardspheres.viz.plots`) consume them, picking
 the frames they draw with :func:`frame_indices` (and the viewer the events
 it embeds with :func:`even_indices`).
 """

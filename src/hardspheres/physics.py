@@ -3,7 +3,7 @@
 Every function here takes and returns plain floats, so that the same source
 runs unchanged as Python (the small-input path of ``spheres``, which must not
 pay numba's start-up) and compiled by numba inside the event core
-(:mod:`hardspheres._core`).  The two give bit-identical results: both use
+(:mod:`hardspheres.core._core`).  The two give bit-identical results: both use
 IEEE-754 double arithmetic in the same order, and the core is compiled without
 ``fastmath`` (so no reassociation and no fused multiply-add).
 

@@ -1,6 +1,6 @@
 """The progress bar of the commands: one line on a terminal or in a notebook, silent elsewhere.
 
-``hardspheres run`` (through :class:`hardspheres.runner.ProgressWriter`),
+``hardspheres run`` (through :class:`hardspheres.cli.run.ProgressWriter`),
 ``compress``, ``sweep`` and ``render`` all draw this bar: how far, the rate,
 and the time left.  It is written by hand rather than with ``tqdm`` (not a
 dependency): a few lines, and the same look on every command.

@@ -1,7 +1,7 @@
 """Simulation: the object physicists script.
 
 A :class:`Simulation` holds spheres in a container, runs them exactly
-(compiled event core, :mod:`hardspheres.engine`), hands out the state at its
+(compiled event core, :mod:`hardspheres.core.engine`), hands out the state at its
 clock, calls writers when their triggers say (:mod:`hardspheres.writers`),
 and accumulates observables.
 
@@ -221,7 +221,7 @@ class Simulation:
         ``write(sim, t)`` when the clock reaches their ``next_time`` [time]
         or the collision count their ``next_collisions``, and, if their
         ``wants_events`` is true, ``observe(events)`` with each batch of
-        events as :meth:`advance <hardspheres.engine.Engine.advance>`
+        events as :meth:`advance <hardspheres.core.engine.Engine.advance>`
         returns them.
 
         Returns:

@@ -5,7 +5,7 @@ A writer (the :class:`Writer` protocol) is appended to
 the simulation attaches it, stops exactly at the times (or collision counts)
 its trigger asks for, calls :meth:`Writer.write`, hands it the events if it
 wants them, and :meth:`Writer.detach` ends it.  The trajectory writers
-(:mod:`hardspheres.trajectory`) are such writers.
+(:mod:`hardspheres.io.trajectory`) are such writers.
 
 Triggers (the :class:`Trigger` protocol) say when, as HOOMD-blue's do:
 

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from ..containers import PeriodicBox, require_periodic
+from ..eos import carnahan_starling_contact
 from .structure import NotComputedError, _Computed
 
 #: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
@@ -96,7 +97,7 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
         (2.4781, 0.149)
     """
     rho = 6.0 * packing / (math.pi * sigma**3)
-    g = (1.0 - 0.5 * packing) / (1.0 - packing) ** 3
+    g = float(carnahan_starling_contact(packing))
     brho = 4.0 * packing
     D0 = 3.0 / (8.0 * rho * sigma**2) * math.sqrt(kT / (math.pi * mass))
     eta0 = 5.0 / (16.0 * sigma**2) * math.sqrt(mass * kT / math.pi)

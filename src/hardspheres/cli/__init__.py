@@ -19,8 +19,9 @@ import os
 import signal
 import sys
 
-from ..messages import oserror_line, quote
+from ..errors import UsageError  # noqa: F401 (re-exported)
 from ..io.report import PROMPT
+from ..messages import oserror_line, quote
 from ..scenario import (
     MAX_MAGNITUDE,
     ScenarioError,
@@ -29,7 +30,6 @@ from ..scenario import (
     parse_scenario,
     plain_float,
 )
-from ..errors import UsageError  # noqa: F401 (re-exported)
 
 USAGE = "usage: spheres [--format text|jsonl] RADIUS END_TIME < scenario.txt"
 HELP = f"""{USAGE}

@@ -4,7 +4,7 @@ Small inputs run the pure-Python reference engine (no numba or numpy
 start-up); larger ones run the compiled event core (or, on a Python
 without numpy or numba, the reference engine too).  Both speak one interface
 and follow the same rules with the same arithmetic
-(:mod:`hardspheres.reference`), so one loop writes the report and the
+(:mod:`hardspheres.core.reference`), so one loop writes the report and the
 reports are identical;
 ``HARDSPHERES_ENGINE=reference|compiled`` forces one (the tests do).
 """

@@ -3,6 +3,7 @@
 import json
 
 from ..core.bench import bench
+from .options import compile_first, count, packing, ratio, warmup, whole
 
 
 def main(n, packing, collisions, **kw):
@@ -35,3 +36,48 @@ def main(n, packing, collisions, **kw):
     )
     print(json.dumps(res))
     return res
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser("bench", help="measure collisions per second")
+    p.add_argument("--n", type=whole(2), required=True, help="number of spheres (>= 2)")
+    p.add_argument("--packing", type=packing, required=True)
+    p.add_argument(
+        "--collisions",
+        type=whole(1),
+        required=True,
+        help="collisions timed, after the warm-up (2e6 is fine)",
+    )
+    p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
+    p.add_argument("--radius-ratio", type=ratio, default=1.0)
+    p.add_argument("--mass-ratio", type=ratio, default=1.0)
+    p.add_argument("--box", action="store_true", help="periodic box instead of the spherical container")
+    p.add_argument(
+        "--warmup",
+        type=warmup,
+        default=None,
+        metavar="auto|PER_SPHERE",
+        help="collisions per sphere run before the clock starts; 'auto' "
+        "(default): in blocks of 2 per sphere (and 1e5 at least) until the "
+        "collision and cell-crossing rates settle to 1%% or their noise, "
+        "at most 100 per sphere (or 10 blocks)",
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    """Run the subcommand on its parsed arguments; returns the exit status."""
+    compile_first()
+    main(
+        args.n,
+        args.packing,
+        args.collisions,
+        seed=args.seed,
+        radius_ratio=args.radius_ratio,
+        mass_ratio=args.mass_ratio,
+        box=args.box,
+        warmup=args.warmup,
+    )
+    return 0

@@ -14,7 +14,8 @@ from ..dense import CompressionError, compress, max_packing
 from ..fileio import atomic_write
 from ..progress import Progress
 from ..simulation import Simulation
-from .run import _simulation
+from .options import positive, where_args, whole
+from .source import starting_simulation
 
 
 def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled=None):
@@ -100,7 +101,7 @@ def compress_command(args):
     """``hardspheres compress``; returns the exit status."""
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
-    sim = _simulation(args)
+    sim = starting_simulation(args)
     phi0 = sim.packing
     target = args.packing
     if target is not None:
@@ -124,7 +125,7 @@ def compress_command(args):
             packing=target,
             rate=args.rate,
             pressure=args.pressure,
-            collisions=None if args.collisions is None else int(args.collisions),
+            collisions=args.collisions,
             progress=record,
         )
     finally:
@@ -172,3 +173,39 @@ def jamming_line(sim, history, pressure):
     else:
         parts.append("phi_J: the compression did not reach Z = 100")
     return "jamming: " + "; ".join(parts)
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser(
+        "compress",
+        help="grow the spheres of a scenario to a packing fraction "
+        "(Lubachevsky-Stillinger); writes a scenario",
+    )
+    p.add_argument("scenario", nargs="?", help="scenario file ('-' for stdin)")
+    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]")
+    p.add_argument(
+        "--packing", type=positive, help="target packing fraction (below 0.7405 for equal spheres)"
+    )
+    p.add_argument(
+        "--rate",
+        type=positive,
+        required=True,
+        help="growth speed of the largest diameter per thermal speed "
+        "sqrt(kT/m) (1e-1 fast, 1e-4 slow; Skoge et al.'s program's "
+        "growthrate g is 2 sqrt(3) g)",
+    )
+    p.add_argument(
+        "--pressure",
+        type=positive,
+        default=1e3,
+        help="stop as jammed when Z = PV/NkT passes this (default 1e3)",
+    )
+    p.add_argument(
+        "--collisions", type=whole(1), help="stop after this many collisions (a whole number; 1e5 is fine)"
+    )
+    p.add_argument("-o", "--output", required=True, help="write the compressed scenario here")
+    p.add_argument("--checkpoint", help="also save a checkpoint here (run --resume reads it)")
+    p.add_argument("--resume", help="compress from this checkpoint instead of a scenario")
+    p.set_defaults(func=compress_command)
+    return p

@@ -23,11 +23,11 @@ import signal
 import sys
 import time
 
-from ..containers import PeriodicBox, SphericalContainer
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
-from ..simulation import Simulation
+from .options import count, positive, where_args
+from .source import starting_simulation
 
 #: Signals that stop a run cleanly (checkpoint written).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -124,33 +124,6 @@ def _check_args(args):
             raise ValueError(f"--trajectory {args.trajectory!r}: use a .gsd or .xyz file name")
         if args.events and suffix != ".gsd":
             raise ValueError("--events needs a .gsd trajectory (XYZ files hold no events)")
-
-
-def _simulation(args):
-    """The simulation to run; the core is compiled (and said so) after the input is read."""
-    from ..core.warmup import ensure_compiled
-
-    if args.resume:
-        sim = Simulation.load(args.resume)
-        ensure_compiled()
-        return sim
-    container = SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
-    source = sys.stdin.buffer.read() if args.scenario == "-" else args.scenario
-    if isinstance(source, bytes) and b"\n" not in source:
-        source += b"\n"
-    if not isinstance(source, bytes):
-        with open(source, "rb") as fh:
-            source = fh.read()
-    from ..scenario import check_scenario, parse_scenario
-
-    scn = parse_scenario(source)  # bad input is refused before the compilation
-    if len(scn) == 0:
-        raise ValueError(f"{args.scenario}: no spheres in the scenario")
-    check_scenario(scn, container)
-    ensure_compiled()  # before any clock starts: no rate below includes compilation
-    from ..state import State
-
-    return Simulation(State.from_scenario(scn), container)
 
 
 def _writer(args, sim, every):
@@ -315,7 +288,7 @@ def _equilibrate(sim, args, progress, start_time):
 def run_command(args):
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
-    sim = _simulation(args)
+    sim = starting_simulation(args)
     if args.until <= sim.time:
         raise ValueError(f"--until {args.until:g} is not after the simulation's time {sim.time:.9g}")
     if args.every is not None and args.every > args.until - sim.time:
@@ -427,3 +400,44 @@ def _run(args, sim, checkpoint):
 
 def _container_text(container):
     return container.description
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
+    p.add_argument("scenario", nargs="?", help="scenario file in the assignment's format ('-' for stdin)")
+    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]")
+    p.add_argument("--until", type=positive, required=True, help="end time [s]")
+    eq = p.add_mutually_exclusive_group()
+    eq.add_argument(
+        "--equilibrate",
+        type=count,
+        metavar="COLLISIONS",
+        help="collisions per sphere to run before the averages start",
+    )
+    eq.add_argument(
+        "--equilibrate-time", type=positive, metavar="T", help="time [s] to run before the averages start"
+    )
+    p.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
+    p.add_argument(
+        "--every", type=positive, help="time between trajectory frames [s] (default: the run / 100)"
+    )
+    p.add_argument(
+        "--events",
+        action="store_true",
+        help="also store every event in the .gsd (large: about 40 bytes each)",
+    )
+    p.add_argument(
+        "--checkpoint",
+        help="save the run here at the end or on Ctrl-C (with --resume: the resumed file, unless given)",
+    )
+    p.add_argument(
+        "--resume",
+        help="continue from this checkpoint instead of a scenario "
+        "(an existing --trajectory that ends where it starts is continued)",
+    )
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace an existing --trajectory file (refused otherwise)"
+    )
+    p.set_defaults(func=run_command)
+    return p

@@ -4,6 +4,7 @@ import sys
 from pathlib import Path
 
 from ..studies import StudyError, connect, load_study, sweep
+from .options import dask_args
 
 
 def main(args, stdout=sys.stdout):
@@ -27,3 +28,18 @@ def main(args, stdout=sys.stdout):
         file=stdout,
     )
     return 0
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser(
+        "sweep", help="run a study (a parameter grid in a TOML file) on Dask; reruns skip finished tasks"
+    )
+    p.add_argument("study", help="study file (TOML)")
+    dask_args(
+        p,
+        "an existing Dask scheduler (default: a LocalCluster, one worker per core)",
+        "run the tasks here, one by one, no Dask",
+    )
+    p.set_defaults(func=main)
+    return p

@@ -1,6 +1,6 @@
 """The compiled event core: O(log N) work per event.
 
-Private: use :class:`hardspheres.engine.Engine` (or the public
+Private: use :class:`hardspheres.core.engine.Engine` (or the public
 :class:`hardspheres.Simulation`).  Everything here is numba-compiled, without
 ``fastmath``, from the scalar kernels of :mod:`hardspheres.physics`.
 
@@ -31,7 +31,7 @@ Lubachevsky, as in the fastest public codes):
 * **Predictions that do not depend on when they are made.**  A pair is
   predicted from the later of its two spheres' own times, a wall from the
   sphere's own time, with the lower index's centre minus the higher's: the
-  brute-force reference (:mod:`hardspheres.reference`) does the same, so
+  brute-force reference (:mod:`hardspheres.core.reference`) does the same, so
   the two agree bit for bit.
 * **Ties.**  Events order by ``(time, kind, i, j)``: reflections before
   collisions, lower index first: the spheres' input indices (``book``'s
@@ -175,7 +175,7 @@ STOP_MAX_COLLISIONS = int(events.StopReason.MAX_COLLISIONS)
 STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 
 # ---- the arrays -------------------------------------------------------------------
-# The engine (hardspheres.engine.Engine) owns them, under the same names; per
+# The engine (hardspheres.core.engine.Engine) owns them, under the same names; per
 # sphere i (N rows each):
 #
 #   masses     float64 (N,)              [mass]

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..builders import random_arrays
 from ..containers import PeriodicBox, SphericalContainer
+from ..eos import carnahan_starling, collision_rate_from_z
 from .engine import Engine
 
 #: Warm-up block: this many collisions per sphere, and at least :data:`BLOCK_MIN` collisions.
@@ -70,8 +71,7 @@ def enskog_rate(packing):
         >>> round(enskog_rate(0.3), 3)
         10.067
     """
-    g = (1.0 - 0.5 * packing) / (1.0 - packing) ** 3
-    return 24.0 * packing * g / math.sqrt(math.pi)
+    return collision_rate_from_z(float(carnahan_starling(packing)))
 
 
 def _rates(eng, c0, t0, n):
@@ -113,7 +113,7 @@ def warm_up(eng, per_sphere=None):
     """Run ``eng`` into a fluid, in blocks; say how each block's rates came out.
 
     Args:
-        eng: the :class:`~hardspheres.engine.Engine`, fresh from the lattice.
+        eng: the :class:`~hardspheres.core.engine.Engine`, fresh from the lattice.
         per_sphere: collisions per sphere to run (in blocks, as the
             criterion's), or ``None``: until :func:`settled` holds for
             :data:`SETTLE_PAIRS` pairs of consecutive blocks in a row, at most

@@ -13,13 +13,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _core as core
 from .. import events as _events
-from ..containers import Container, as_container, from_record
-from ..events import StopReason
-from ..state import kinetic_energy
-from ..scenario import StuckError
+from ..containers import MAX_PACKING, Container, as_container, from_record
+from ..eos import carnahan_starling, collision_rate_from_z
 from ..errors import CheckpointError  # noqa: F401 (re-exported)
+from ..events import StopReason
+from ..scenario import StuckError
+from ..state import kinetic_energy
+from . import _core as core
 
 #: Default number of events the core records per call.
 CHUNK = 1 << 14
@@ -462,12 +463,12 @@ class Engine:
             return 1.0
         r = self.radii_at()
         phi = float(np.sum(r**3)) * (4.0 / 3.0 * np.pi) / self.container.volume
-        phi = min(phi, 0.74)
-        z = (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
+        phi = min(phi, MAX_PACKING)
+        z = float(carnahan_starling(phi))
         m = float(np.mean(self.masses))
         kt = float(np.sum(self.masses * np.sum(self.velocities**2, axis=1))) / (3.0 * self.n)
         sigma = 2.0 * float(np.mean(r))
-        nu = 6.0 * (z - 1.0) * np.sqrt(kt / (np.pi * m)) / sigma if sigma > 0.0 and m > 0.0 else 0.0
+        nu = collision_rate_from_z(z, sigma, kt, m) if sigma > 0.0 and m > 0.0 else 0.0
         room = np.sqrt(8.0 * g / nu) if nu > 0.0 else np.inf
         return 1.0 + min(max(room, HEADROOM_MIN - 1.0), HEADROOM_MAX - 1.0)
 

@@ -1,6 +1,6 @@
 """The brute-force reference engine: simple, obviously right, O(N^2) per event.
 
-:class:`Reference` speaks the compiled :class:`~hardspheres.engine.Engine`'s
+:class:`Reference` speaks the compiled :class:`~hardspheres.core.engine.Engine`'s
 interface (as DynamO keeps its brute-force scheduler behind the same
 interface as its fast ones): the same constructor, :meth:`~Reference.step`,
 :meth:`~Reference.advance`, :meth:`~Reference.positions_at`, ``velocities``,
@@ -171,7 +171,7 @@ class Reference:
     """Exact event-driven dynamics of hard spheres, by brute force, in pure Python.
 
     The arguments, and the methods that run and read, are
-    :class:`~hardspheres.engine.Engine`'s (not its cells, time origin,
+    :class:`~hardspheres.core.engine.Engine`'s (not its cells, time origin,
     growth, kicks, checkpoints or overlap checks); arrays come back as lists.
 
     Args:
@@ -400,9 +400,9 @@ class Reference:
             StuckError: as :meth:`step`; events before it are returned first,
                 and the call after raises.
         """
-        from ..events import EVENT_DTYPE
-
         import numpy as np
+
+        from ..events import EVENT_DTYPE
 
         if until != until:
             raise ValueError("until must be a time, not NaN")

@@ -1,6 +1,6 @@
 """The event core's one-time compilation, announced and kept out of every timing.
 
-numba compiles the core (:mod:`hardspheres._core`) the first time it runs and
+numba compiles the core (:mod:`hardspheres.core._core`) the first time it runs and
 caches the machine code on disk; later processes load it in well under a
 second.  The first compilation takes a while (about 25 s of one core), so the
 commands call :func:`ensure_compiled` before they start any clock: when the
@@ -8,7 +8,7 @@ cache is cold it says so once on stderr and compiles the core on a two-sphere
 system, so that no rate a command reports includes compilation.
 
 Example:
-    >>> from hardspheres.warmup import ensure_compiled
+    >>> from hardspheres.core.warmup import ensure_compiled
     >>> ensure_compiled(quiet=True) >= 0.0  # compiles silently if needed
     True
 """

@@ -53,11 +53,11 @@ from typing import Any
 import numpy as np
 
 from ..containers import from_fields
+from ..errors import NotAContinuation, TruncatedTrajectory  # noqa: F401 (re-exported)
 from ..events import EVENT_DTYPE, empty_events, from_columns
 from ..fileio import PathLock
 from ..frames import Frames
 from ..writers import Periodic, Trigger, as_trigger
-from ..errors import TruncatedTrajectory, NotAContinuation  # noqa: F401 (re-exported)
 
 _GSD_EVENTS = "hardspheres/events"
 

@@ -74,6 +74,8 @@ import math
 import os
 import time
 from pathlib import Path
+
+from ..containers import MAX_PACKING as _MAX_PACKING
 from ..errors import StudyError  # noqa: F401 (re-exported)
 
 try:
@@ -84,8 +86,8 @@ except ModuleNotFoundError:  # Python 3.10
 #: Most collisions run between two chances to checkpoint (about a second of work).
 STEP = 1 << 20
 
-#: Densest packing of equal spheres, pi / sqrt(18).
-MAX_PACKING = math.pi / math.sqrt(18.0)
+#: Densest packing of equal spheres (the one constant, re-exported).
+MAX_PACKING = _MAX_PACKING
 
 
 def _ks(sim, obs):
@@ -190,7 +192,7 @@ def parse_study(data, source=None, base=None):
         >>> parse_study({"packing": 0.8, "n": 100})
         Traceback (most recent call last):
         ...
-        hardspheres.studies.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.7405)
+        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.7405)
     """
     if not isinstance(data, dict):
         raise StudyError(f"{_where(source)}a study is a table of keys, not {type(data).__name__}")

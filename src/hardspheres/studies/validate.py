@@ -417,7 +417,7 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     runs ``duration`` [sigma sqrt(m/kT)] recording frames every ``every``
     (default ``duration / 2000``) for the MSD, while the observables sample
     Z, the mean free time and the Helfand moments every quarter mean free
-    time.  D from the MSD (:class:`~hardspheres.transport.MSD`), eta and
+    time.  D from the MSD (:class:`~hardspheres.analysis.transport.MSD`), eta and
     lambda by Einstein-Helfand, ``D_inf`` by Yeh-Hummer with the measured eta
     (its error combines D's and eta's).
 
@@ -431,11 +431,11 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
     """
     import time as _time
 
+    from ..analysis.transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
     from ..builders import random_spheres
     from ..containers import PeriodicBox
-    from ..simulation import Simulation
     from ..io.trajectory import FrameRecorder
-    from ..analysis.transport import MSD, XI_CUBIC, ShearViscosity, ThermalConductivity, yeh_hummer
+    from ..simulation import Simulation
 
     t0 = _time.perf_counter()
     box = PeriodicBox.for_packing(n, phi)

@@ -453,7 +453,7 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
 def plot_gr(frames, path, *, size=SIZE, dpi=100):
     """g(r) of a periodic-box trajectory, averaged over its frames, with g(sigma) and Z.
 
-    Uses :class:`hardspheres.structure.RDF` (freud).  Returns ``path``.
+    Uses :class:`hardspheres.analysis.structure.RDF` (freud).  Returns ``path``.
     """
     from ..analysis.structure import RDF
 
@@ -478,7 +478,7 @@ def plot_gr(frames, path, *, size=SIZE, dpi=100):
 def plot_msd(frames, path, *, size=SIZE, dpi=100):
     """Mean squared displacement of a periodic-box trajectory (all origins), with D.
 
-    Uses :class:`hardspheres.transport.MSD` (freud) on the unwrapped
+    Uses :class:`hardspheres.analysis.transport.MSD` (freud) on the unwrapped
     positions.  Returns ``path``.
     """
     from ..analysis.transport import MSD

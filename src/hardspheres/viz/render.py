@@ -2,7 +2,7 @@
 
 ::
 
-    from hardspheres.render import render_movie, render_still
+    from hardspheres.viz.render import render_movie, render_still
     render_movie(frames, "run.gif", fps=20, size=(960, 540))
     render_movie(frames, "run.mp4")            # needs ffmpeg on PATH
     render_still(frames, "last.png")           # one frame (the last, or time=T)
@@ -62,7 +62,7 @@ def packing_fraction(frames):
     """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
     if frames.container is None:
         return None
-    from ..dense import packing_fraction as of_radii
+    from ..containers import packing_fraction as of_radii
 
     return of_radii(frames.radii, frames.container)
 

@@ -1,10 +1,10 @@
 """Pictures of viewer pages: headless Chromium saves a PNG of a page.
 
 :func:`screenshot` opens a page written by
-:func:`hardspheres.viewer.write_viewer` in headless Chromium (Debian's
+:func:`hardspheres.viz.viewer.write_viewer` in headless Chromium (Debian's
 ``chromium`` driven by the Python ``playwright`` package) and saves a PNG::
 
-    from hardspheres.screenshot import screenshot
+    from hardspheres.viz.screenshot import screenshot
     screenshot("run.html", "run.png")
 """
 

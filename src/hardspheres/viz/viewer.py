@@ -4,7 +4,7 @@
 ``hardspheres/viz/_static``, MIT) and the run's frames embedded in it, so the file
 can be mailed or opened from disk with no server and no network::
 
-    from hardspheres.viewer import write_viewer
+    from hardspheres.viz.viewer import write_viewer
     write_viewer(frames, "run.html", title="2000 spheres, phi = 0.3")
 
 In the page: drag to orbit, wheel to zoom, right-drag to pan; space plays or
@@ -26,7 +26,7 @@ box.  The page sets
 ``window.viewerControl`` has ``setPlaying(bool)`` and ``setCut(z or null)``
 for scripts (the screenshot plays the page through it, without clicks).
 
-:func:`hardspheres.screenshot.screenshot` opens such a page in headless
+:func:`hardspheres.viz.screenshot.screenshot` opens such a page in headless
 Chromium and saves a PNG.  The page itself (HTML, CSS and the JavaScript that
 draws it) is ``hardspheres/viz/_static/viewer.html``, a template whose
 ``__TITLE__``, ``__JS__`` and ``__DATA__`` this module fills in.
@@ -92,7 +92,7 @@ def _q6(frames, positions):
 
     ``positions`` are the embedded frames' (wrapped into a periodic box).  In
     a spherical container or open space the spheres sit in a box wide enough
-    that none sees an image (:class:`hardspheres.structure.BondOrder`).
+    that none sees an image (:class:`hardspheres.analysis.structure.BondOrder`).
     """
     from ..analysis.structure import BondOrder
 
@@ -230,7 +230,7 @@ def write_viewer(
         color_by: initial colouring, ``"speed"``, ``"mass"`` or ``"q6"``
             (switchable in the page).  ``"q6"``: each sphere's Steinhardt
             q6 over its 12 nearest neighbours in each embedded frame
-            (:class:`hardspheres.structure.BondOrder`, needs freud), on the
+            (:class:`hardspheres.analysis.structure.BondOrder`, needs freud), on the
             fixed scale :data:`Q6_RANGE` (0.25 to 0.6): a fluid or a jammed
             packing sits near 0.3-0.45, FCC at 0.575.
         max_values: at most this many numbers (frames x spheres x 4: a

@@ -1,0 +1,63 @@
+"""``hardspheres generate``: a scenario of N spheres at a packing fraction, on stdout."""
+
+import sys
+
+from .options import count, packing, positive, ratio, where_args, whole
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
+    p.add_argument("--n", type=whole(1), required=True, help="number of spheres (>= 1)")
+    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]", required=True)
+    p.add_argument(
+        "--packing", type=packing, required=True, help="volume fraction filled by the spheres (< 0.74)"
+    )
+    p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
+    p.add_argument(
+        "--radius-ratio", type=ratio, default=1.0, help="largest over smallest radius (uniform in between)"
+    )
+    p.add_argument(
+        "--mass-ratio", type=ratio, default=1.0, help="largest over smallest mass (log-uniform in between)"
+    )
+    p.add_argument(
+        "--method",
+        choices=["lattice", "compress"],
+        default="lattice",
+        help="lattice: FCC sites at random (default; melts within a few "
+        "collisions below 0.5); compress: a random fluid grown to the packing "
+        "(Lubachevsky-Stillinger), for dense fluids and mixtures",
+    )
+    p.add_argument(
+        "--rate",
+        type=positive,
+        default=0.01,
+        help="--method compress: growth rate (default 0.01, see compress)",
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    """Run the subcommand on its parsed arguments; returns the exit status."""
+    from ..builders import random_spheres
+
+    common = dict(  # container or box: exactly one is given (argparse's group)
+        container=args.container,
+        box=args.box,
+        seed=args.seed,
+        radius_ratio=args.radius_ratio,
+        mass_ratio=args.mass_ratio,
+    )
+    if args.method == "compress":
+        from .compress import compression_progress, generate_compressed, start_packing
+
+        bar, show = compression_progress(start_packing(args.packing), args.packing)
+        try:
+            state = generate_compressed(args.n, args.packing, rate=args.rate, progress=show, **common)
+        finally:
+            bar.close()
+    else:
+        state = random_spheres(args.n, args.packing, **common)
+    sys.stdout.write(state.to_text())
+    return 0

@@ -1,0 +1,202 @@
+"""What every subcommand of ``hardspheres`` shares: the parser class, argument types, option groups.
+
+Argument types raise :class:`argparse.ArgumentTypeError` with a message that
+names what is allowed; :class:`Parser` turns it into one line on stderr and
+exit status 1 (``hardspheres run: argument --n: ...``).
+"""
+
+import argparse
+import re
+import sys
+
+from ..containers import MAX_PACKING
+from ..messages import QUOTE_LIMIT, quote
+
+#: Picture suffixes: movies and stills.
+MOVIES = (".gif", ".mp4", ".m4v", ".mov", ".mkv", ".webm")
+STILLS = (".png", ".pdf", ".svg")
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``hardspheres run: argument --n: ...``."""
+
+    def error(self, message):
+        # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
+        message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
+        raise SystemExit(f"{self.prog}: {message} (see {self.prog} --help)")
+
+
+def number(text):
+    """``float(text)`` for a plain decimal number (:func:`~hardspheres.scenario.plain_float`), else NaN."""
+    import math
+
+    from ..scenario import plain_float
+
+    x = plain_float(text)
+    return math.nan if x is None else x
+
+
+def positive(text):
+    import math
+
+    x = number(text)
+    if not math.isfinite(x) or x <= 0.0:
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {quote(text)}")
+    return x
+
+
+def ratio(text):
+    x = positive(text)
+    if x < 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number >= 1, got {quote(text)}")
+    return x
+
+
+def whole(lowest, highest=None):
+    """A whole number in ``[lowest, highest]``; integral floats as physicists type them
+    (``1e5``, ``2.0``) are accepted."""
+    import math
+
+    def parse(text):
+        x = number(text)
+        bound = f">= {lowest}" if highest is None else f"from {lowest} to {highest}"
+        if not math.isfinite(x) or x != math.floor(x) or x < lowest or (highest is not None and x > highest):
+            raise argparse.ArgumentTypeError(
+                f"must be a whole number {bound} (1e5 is fine), got {quote(text)}"
+            )
+        return int(x)
+
+    parse.__name__ = "whole number"
+    return parse
+
+
+count = whole(0)
+
+
+def packing(text):
+    import math
+
+    x = number(text)
+    if not math.isfinite(x) or not 0.0 < x < MAX_PACKING:
+        raise argparse.ArgumentTypeError(
+            f"must be a packing fraction between 0 and {MAX_PACKING:.4f} (exclusive), got {quote(text)}"
+        )
+    return x
+
+
+def warmup(text):
+    """``auto`` or collisions per sphere (a finite number >= 0)."""
+    import math
+
+    if text.strip().lower() == "auto":
+        return None
+    x = number(text)
+    if not math.isfinite(x) or x < 0.0:
+        raise argparse.ArgumentTypeError(f"must be 'auto' or collisions per sphere >= 0, got {quote(text)}")
+    return x
+
+
+def packings(text):
+    """Comma-separated packing fractions, every one checked before any is run."""
+    values = []
+    for part in text.split(","):
+        try:
+            values.append(packing(part.strip()))
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(
+                f"must be comma-separated packing fractions between 0 and {MAX_PACKING:.4f} "
+                f"(e.g. 0.1,0.3), got {quote(part.strip())} in {quote(text)}"
+            ) from None
+    return values
+
+
+def finite(text):
+    import math
+
+    x = number(text)
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {quote(text)}")
+    return x
+
+
+def size(text):
+    """``WIDTHxHEIGHT`` in pixels."""
+    w, _, h = text.lower().partition("x")
+    try:
+        size = (int(w), int(h))
+    except ValueError:
+        size = (0, 0)
+    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
+        raise argparse.ArgumentTypeError(
+            f"must be WIDTHxHEIGHT in pixels, each 16 to 8192 (e.g. 1280x720), got {quote(text)}"
+        )
+    return size
+
+
+def suffix(path):
+    import os
+
+    return os.path.splitext(path)[1].lower()
+
+
+def require_suffix(option, path, allowed, what):
+    """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
+    if suffix(path) not in allowed:
+        got = suffix(path) or "no extension"
+        raise ValueError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} (got {got})")
+
+
+def note(text):
+    """A one-line note on stderr (not an error)."""
+    print(text, file=sys.stderr, flush=True)
+
+
+def compile_first():
+    """Compile the event core now if needed (said on stderr), so no timing includes it."""
+    from ..core.warmup import ensure_compiled
+
+    ensure_compiled()
+
+
+def picture_args(q, output_default, output_help):
+    q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
+    q.add_argument("-o", "--output", default=output_default, help=output_help)
+    where_args(q, "scenario: container radius [m]", "scenario: periodic box edge [m]")
+    q.add_argument("--until", type=positive, help="scenario: end time [s]")
+    q.add_argument(
+        "--every", type=positive, help="scenario: time between frames [s] (default: --until / 200)"
+    )
+
+
+def where_args(q, container_help, box_help, required=False):
+    """``--container R`` or ``--box L`` (at most one; exactly one if ``required``)."""
+    where = q.add_mutually_exclusive_group(required=required)
+    where.add_argument("--container", type=positive, help=container_help)
+    where.add_argument("--box", type=positive, help=box_help)
+
+
+def size_slice_args(q, size_help, slice_help):
+    """``--size WIDTHxHEIGHT`` (:func:`size`) and ``--slice Z`` (cut-away plane) of a picture."""
+    q.add_argument("--size", type=size, help=size_help)
+    q.add_argument("--slice", type=finite, metavar="Z", help=slice_help)
+
+
+def dask_args(q, scheduler_help, serial_help):
+    """Where a study runs: ``--scheduler``, ``--workers``, ``--serial``, ``--timeout``."""
+    q.add_argument("--scheduler", metavar="tcp://HOST:PORT", help=scheduler_help)
+    q.add_argument("--workers", type=count, help="worker processes of the LocalCluster")
+    q.add_argument("--serial", action="store_true", help=serial_help)
+    q.add_argument(
+        "--timeout", type=positive, default=10.0, help="seconds to wait for --scheduler (default 10)"
+    )
+
+
+def version_action():
+    from ..version import package_version
+
+    return f"%(prog)s {package_version()}"
+
+
+def one_line(err):
+    """An error's message on one line (a library's message may hold newlines)."""
+    return " ".join(str(err).split("\n"))

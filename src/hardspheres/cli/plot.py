@@ -1,0 +1,85 @@
+"""``hardspheres plot``: plots of a trajectory, a scenario's run, or a study's tables."""
+
+from .options import STILLS, picture_args, positive, require_suffix, suffix
+from .source import TRAJECTORY_SUFFIXES, check_source, frames_from_args, starting_simulation
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser(
+        "plot",
+        help="plots (.png, .pdf, .svg): conservation, speeds, eos, transport, sweep, gr, msd, "
+        "fs, chi4, contacts",
+    )
+    p.add_argument(
+        "what",
+        choices=[
+            "conservation",
+            "speeds",
+            "eos",
+            "transport",
+            "sweep",
+            "gr",
+            "msd",
+            "fs",
+            "chi4",
+            "contacts",
+        ],
+        help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
+        "the validate CSV vs Carnahan-Starling, the validate --transport CSV "
+        "vs published values, a study's results "
+        "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), the "
+        "mean squared displacement with D (periodic box), F_s(k, t) with "
+        "tau_alpha, chi_4(t) of the overlap (periodic box), or a packing's "
+        "contacts Z(h) and forces P(f) (a scenario with --box)",
+    )
+    p.add_argument("--k", type=positive, help="fs: wave number [1/m] (default 2 pi / mean diameter)")
+    p.add_argument("--a", type=positive, help="chi4: overlap cut-off [m] (default 0.3 mean diameter)")
+    picture_args(p, "plot.png", "the plot to write (.png, .pdf, .svg)")
+    p.add_argument("--x", default="packing", help="sweep: parameter on the x axis (default packing)")
+    p.add_argument("--y", default="Z", help="sweep: observable on the y axis (default Z)")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    """Run the subcommand on its parsed arguments; returns the exit status."""
+    require_suffix("-o", args.output, STILLS, "a plot")
+    from ..viz import plots
+
+    if args.what == "eos":
+        plots.plot_eos(args.input, args.output)
+    elif args.what == "transport":
+        plots.plot_transport(args.input, args.output)
+    elif args.what == "sweep":
+        plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
+    elif args.what == "contacts":
+        plots.plot_contacts(_packing_sim(args), args.output)
+    else:
+        check_source(args)
+        frames = frames_from_args(args)
+        if args.what == "conservation":
+            plots.plot_conservation(frames, args.output)
+        elif args.what == "gr":
+            plots.plot_gr(frames, args.output)
+        elif args.what == "msd":
+            plots.plot_msd(frames, args.output)
+        elif args.what == "fs":
+            plots.plot_fs(frames, args.output, k=args.k)
+        elif args.what == "chi4":
+            plots.plot_chi4(frames, args.output, a=args.a)
+        else:
+            plots.plot_speeds(frames, args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def _packing_sim(args):
+    """The packing a scenario file holds, in its periodic box (``--box``), for ``plot contacts``."""
+
+    if args.box is None or suffix(args.input) in TRAJECTORY_SUFFIXES:
+        raise ValueError("plot contacts: give a packing's scenario file (as compress writes) and --box L")
+    try:
+        return starting_simulation(args, scenario=args.input)
+    except ValueError as e:
+        raise ValueError(f"{args.input}: {str(e).removeprefix(args.input + ': ')}") from None

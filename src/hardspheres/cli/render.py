@@ -1,0 +1,67 @@
+"""``hardspheres render``: a movie or a still picture of frames, headless."""
+
+from .options import (
+    MOVIES,
+    STILLS,
+    finite,
+    note,
+    picture_args,
+    require_suffix,
+    size_slice_args,
+    suffix,
+    whole,
+)
+from .source import check_source, frames_from_args
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser(
+        "render", help="render an animation (.gif, .mp4) or a still (.png, .pdf, .svg), headless"
+    )
+    picture_args(p, "movie.gif", "movie (.gif; .mp4 with ffmpeg) or still (.png, .pdf, .svg)")
+    p.add_argument(
+        "--fps", type=whole(1, 100), default=20, help="movie frames per second (1 to 100, default 20)"
+    )
+    p.add_argument("--time", type=finite, help="still: draw the frame nearest this time (default: the last)")
+    size_slice_args(
+        p,
+        "WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)",
+        "cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    """Run the subcommand on its parsed arguments; returns the exit status."""
+    require_suffix("-o", args.output, MOVIES + STILLS, "a movie or a still")
+    still = suffix(args.output) in STILLS
+    if args.time is not None and not still:
+        raise ValueError("--time picks the frame of a still picture: use -o NAME.png")
+    if not still and suffix(args.output) != ".gif":
+        from matplotlib import animation
+
+        if not animation.FFMpegWriter.isAvailable():
+            raise ValueError(
+                f"-o {args.output}: {suffix(args.output)} needs the ffmpeg program, "
+                "which was not found on PATH; install it or write a .gif"
+            )
+        if args.size and (args.size[0] % 2 or args.size[1] % 2):
+            raise ValueError(f"--size: {suffix(args.output)} needs an even width and height")
+    check_source(args)
+    from ..viz.render import render_movie, render_still
+
+    frames = frames_from_args(args)
+    size = args.size or ((1280, 720) if still else (960, 540))
+    if still:
+        render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
+    else:
+        from ..progress import duration
+
+        def estimate(n_frames, seconds):
+            note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
+
+        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice, on_estimate=estimate)
+    print(f"wrote {args.output}")
+    return 0

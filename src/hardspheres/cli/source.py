@@ -1,0 +1,113 @@
+"""The simulation a command starts from, and the frames a picture is drawn from.
+
+:func:`starting_simulation` is the one place a command turns its arguments
+(a scenario file or stdin, ``--container``/``--box``, or ``--resume``) into a
+:class:`~hardspheres.Simulation`: the scenario is parsed once and checked
+against the container before the event core is compiled, so bad input is
+refused in one line without waiting for the compiler.
+"""
+
+import sys
+import warnings
+
+from ..messages import quote
+from .options import compile_first, suffix
+
+
+def container_from(args):
+    """The container ``--container R`` or ``--box L`` names (exactly one is given)."""
+    from ..containers import PeriodicBox, SphericalContainer
+
+    return SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
+
+
+def starting_simulation(args, scenario=None):
+    """The simulation a command starts from; the core is compiled after the input is read.
+
+    Args:
+        args: the parsed arguments: ``resume`` (a checkpoint, if the command
+            takes one), ``container`` or ``box``, and the scenario file
+            (``-`` for stdin) as ``scenario`` unless given here.
+        scenario: the scenario file, when the command names it otherwise.
+
+    Raises:
+        ScenarioError: the scenario cannot be read or does not fit the container.
+        ValueError: the scenario holds no spheres.
+    """
+    from ..scenario import check_scenario, parse_scenario
+    from ..simulation import Simulation
+    from ..state import State
+
+    if getattr(args, "resume", None):
+        sim = Simulation.load(args.resume)
+        compile_first()
+        return sim
+    name = scenario if scenario is not None else args.scenario
+    container = container_from(args)
+    if name == "-":
+        data = sys.stdin.buffer.read()
+    else:
+        with open(name, "rb") as fh:
+            data = fh.read()
+    scn = parse_scenario(data)  # bad input is refused before the compilation
+    if len(scn) == 0:
+        raise ValueError(f"{name}: no spheres in the scenario")
+    check_scenario(scn, container)
+    compile_first()  # before any clock starts: no rate includes compilation
+    return Simulation(State.from_scenario(scn), container)
+
+
+TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")
+
+
+def check_source(args):
+    """Check the input's options (trajectory or scenario) before any work."""
+    if suffix(args.input) in TRAJECTORY_SUFFIXES:
+        given = [
+            o
+            for o, v in (
+                ("--container", args.container),
+                ("--box", args.box),
+                ("--until", args.until),
+                ("--every", args.every),
+            )
+            if v
+        ]
+        if given:
+            raise ValueError(
+                f"{'/'.join(given)} {'is' if len(given) == 1 else 'are'} for "
+                "scenarios, not trajectories "
+                f"({args.input} holds its own)"
+            )
+        return
+    if args.until is None or (args.container is None and args.box is None):
+        raise ValueError(
+            f"{quote(args.input)} is not a trajectory (.gsd, .xyz), so it is read as a "
+            "scenario: give --container R (or --box L) and --until T"
+        )
+    if args.every is not None and args.every > args.until:
+        raise ValueError(
+            f"--every {args.every:g} is longer than the run (--until "
+            f"{args.until:g}): there would be one frame"
+        )
+
+
+def frames_from_args(args):
+    """Frames from a trajectory file, or from a scenario run on the spot."""
+    from ..io.trajectory import frames_from_simulation, read_trajectory
+
+    path = args.input
+    if suffix(path) in TRAJECTORY_SUFFIXES:
+        from ..io.trajectory import TruncatedTrajectory
+
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TruncatedTrajectory)
+            frames = read_trajectory(path)
+        for w in caught:  # one line each, not Python's two-line warning format
+            print(f"hardspheres {args.command}: warning: {w.message}", file=sys.stderr)
+        return frames
+    try:
+        sim = starting_simulation(args, scenario=path)
+    except ValueError as e:
+        raise ValueError(f"{path}: {str(e).removeprefix(path + ': ')}") from None
+    return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)

@@ -1,0 +1,52 @@
+"""``hardspheres view``: a self-contained interactive 3-D viewer page (and a screenshot)."""
+
+from .options import picture_args, require_suffix, size_slice_args
+from .source import check_source, frames_from_args
+
+
+def add_parser(sub):
+    """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
+    p = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
+    picture_args(p, "viewer.html", "the page to write (.html)")
+    p.add_argument("--title")
+    p.add_argument(
+        "--screenshot", metavar="PNG", help="also open the page in headless Chromium, play it 1 s, save a PNG"
+    )
+    size_slice_args(
+        p,
+        "screenshot size WIDTHxHEIGHT (default 960x640)",
+        "start with the cut-away plane at z = Z (spheres above it hidden; the page's cut slider moves it)",
+    )
+    p.add_argument(
+        "--color",
+        choices=["speed", "mass", "q6"],
+        default="speed",
+        help="colour the spheres by speed (default), mass, or Steinhardt bond "
+        "order q6 over 12 neighbours (crystal-like spheres near 0.5-0.57, a "
+        "fluid or jammed packing 0.3-0.45; needs freud)",
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args):
+    """Run the subcommand on its parsed arguments; returns the exit status."""
+    require_suffix("-o", args.output, (".html", ".htm"), "the viewer is a web page and")
+    if args.screenshot:
+        require_suffix("--screenshot", args.screenshot, (".png",), "the screenshot")
+    check_source(args)
+    from ..viz.screenshot import screenshot
+    from ..viz.viewer import write_viewer
+
+    frames = frames_from_args(args)
+    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice, color_by=args.color)
+    print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
+    if args.screenshot:
+        try:
+            screenshot(args.output, args.screenshot, size=args.size or (960, 640))
+        except ValueError as e:
+            raise ValueError(
+                f"--screenshot {args.screenshot}: {str(e).removeprefix('screenshot: ')}"
+            ) from None
+        print(f"wrote {args.screenshot}")
+    return 0
