@@ -565,3 +565,55 @@ def test_compression_resumed_from_a_checkpoint_is_the_same_run(tmp_path):
     b = other.compress(packing=0.45, rate=0.02)
     assert a == b and a.reason == "packing"
     assert np.array_equal(sim._engine.spheres, other._engine.spheres) and sim.time == other.time
+
+
+def test_thermostat_is_not_a_writer_and_acts_before_the_writers():
+    """sim.writers only observe; the thermostat has its own slot and acts first at a shared time."""
+    import numpy as np
+
+    import hardspheres as hs
+    from hardspheres.dense import Thermostat, VelocityRescale
+
+    sim = hs.Simulation(hs.random_spheres(64, 0.2, box=8.0, seed=3), hs.PeriodicBox(8.0))
+    th = VelocityRescale(kT=2.0, interval=0.5)
+    sim.set_thermostat(th)
+    assert sim.writers == [] and sim.thermostat is th and isinstance(th, Thermostat)
+    seen = []
+
+    class Probe:
+        next_time, wants_events = 0.5, False
+
+        def attach(self, sim):
+            pass
+
+        def write(self, sim, t):
+            v = sim.engine.velocities
+            seen.append(
+                float(np.sum(sim.engine.masses[:, None] * v * v)) / (3 * (sim.n - 1))
+            )  # 3N - 3 in a box
+            self.next_time = np.inf
+
+    sim.writers.append(Probe())
+    sim.run(until=0.5)
+    assert seen and abs(seen[0] - 2.0) < 1e-9  # the writer at t = 0.5 saw the rescaled velocities
+
+
+def test_compress_counts_are_whole_numbers(tmp_path):
+    from helpers import hs_cmd
+
+    scn = tmp_path / "s.txt"
+    scn.write_text("1 0.5 0 0 0 1 0 0 a\n1 0.5 2 0 0 -1 0 0 b\n")
+    res = hs_cmd(
+        "compress",
+        str(scn),
+        "--box",
+        "6",
+        "--rate",
+        "0.1",
+        "--collisions",
+        "2.7",
+        "-o",
+        str(tmp_path / "o.txt"),
+    )
+    assert res.returncode == 1 and res.stdout == ""
+    assert "--collisions: must be a whole number" in res.stderr and len(res.stderr.splitlines()) == 1

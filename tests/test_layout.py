@@ -195,3 +195,73 @@ def test_the_programs_live_in_cli():
                     if not to or ast.unparse(to[0].value) in ("sys.stdout", "stdout"):
                         bad.append(f"{name}:{node.lineno}: print to stdout")
     assert bad == []
+
+
+def _private_reach_ins():
+    """``obj._name`` where ``_name`` is not defined by a class of the same module."""
+    hits = []
+    for name, path in modules().items():
+        tree = ast.parse(path.read_text())
+        own = set()
+        for cls in (n for n in ast.walk(tree) if isinstance(n, ast.ClassDef)):
+            for sub in ast.walk(cls):
+                if isinstance(sub, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    own.add(sub.name)
+                elif isinstance(sub, ast.Attribute) and getattr(sub.value, "id", None) in ("self", "cls"):
+                    own.add(sub.attr)
+                elif isinstance(sub, ast.AnnAssign) and isinstance(sub.target, ast.Name):
+                    own.add(sub.target.id)
+                elif isinstance(sub, ast.Assign):
+                    own.update(t.id for t in sub.targets if isinstance(t, ast.Name))
+        for node in ast.walk(tree):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr.startswith("_")
+                and not node.attr.startswith("__")
+                and getattr(node.value, "id", None) not in ("self", "cls")
+                and node.attr not in own
+                and node.attr != "_replace"  # namedtuple's public API
+            ):
+                hits.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+    return hits
+
+
+def test_no_private_reach_ins_across_modules():
+    # the engine may use its own numba core's helpers (one family, one concept)
+    allowed = {"hardspheres.core.engine": {"core._key"}}
+    bad = [h for h in _private_reach_ins() if h.split(": ", 1)[1] not in allowed.get(h.split(":")[0], ())]
+    assert bad == []
+
+
+def test_lazy_names_are_visible_to_type_checkers_dir_and_help():
+    import pydoc
+    import subprocess
+    import sys
+
+    tree = ast.parse((SRC / "__init__.py").read_text())
+    lazy = next(
+        n.value for n in tree.body if isinstance(n, ast.Assign) and getattr(n.targets[0], "id", "") == "_LAZY"
+    )
+    lazy_names = {k.value for k in lazy.keys}
+    checked = {
+        a.asname or a.name
+        for n in tree.body
+        if isinstance(n, ast.If) and ast.unparse(n.test) == "TYPE_CHECKING"
+        for imp in n.body
+        for a in imp.names
+    }
+    assert lazy_names == checked
+    import hardspheres as hs
+
+    assert set(hs.__all__) <= set(dir(hs))
+    text = pydoc.render_doc(hs, renderer=pydoc.plaintext)
+    for name in ("Simulation", "MSD", "GSDWriter", "random_spheres"):
+        assert name in text
+    # and importing the package still loads no numpy (the assignment's program starts fast)
+    out = subprocess.run(
+        [sys.executable, "-c", "import sys, hardspheres; print('numpy' in sys.modules)"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert out.strip() == "False"

@@ -25,7 +25,7 @@ sqrt(1/3) = 2 sqrt(3) g``.
 
 import json
 import math
-from typing import NamedTuple
+from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -162,7 +162,6 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
                 reason = "collisions"
     finally:
         eng.set_growth(0.0)
-        sim._clock = max(sim._clock, eng.time)
         sim.observables.reset()
     phi = packing_fraction(eng.radii, sim.container)
     return CompressResult(
@@ -171,6 +170,30 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
 
 
 # ---- thermostats ----------------------------------------------------------------
+
+
+@runtime_checkable
+class Thermostat(Protocol):
+    """What :class:`hardspheres.Simulation` calls on its thermostat (its own slot, not a writer).
+
+    A thermostat acts on the state: at :attr:`next_time` the simulation calls
+    :meth:`apply`, before any writer due at the same time writes, so writers
+    only ever observe.
+
+    Attributes:
+        next_time: when it next acts [time] (``None`` until attached).
+    """
+
+    next_time: float | None
+
+    def attach(self, sim) -> None:
+        """Called as each run starts."""
+
+    def apply(self, sim, t: float) -> None:
+        """Act on ``sim``'s spheres at time ``t``."""
+
+    def state(self) -> str:
+        """JSON text from which :func:`thermostat_from_state` rebuilds it exactly."""
 
 
 class Andersen:
@@ -195,10 +218,12 @@ class Andersen:
         self.resampled = 0
 
     def attach(self, sim):
+        """Called as each run starts: schedules the first resampling."""
         if self.next_time is None:
             self.next_time = sim.time + self._rng.exponential(1.0 / (self.rate * sim.n))
 
-    def write(self, sim, t):
+    def apply(self, sim, t):
+        """Resample one sphere's velocity at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         i = int(self._rng.integers(sim.n))
         v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.masses[i])
@@ -233,10 +258,12 @@ class VelocityRescale:
         self.next_time = None
 
     def attach(self, sim):
+        """Called as each run starts: schedules the first rescale."""
         if self.next_time is None:
             self.next_time = sim.time + self.interval
 
-    def write(self, sim, t):
+    def apply(self, sim, t):
+        """Rescale every velocity at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         eng.move_clock(t)
         kt = _kT(sim)

@@ -112,7 +112,46 @@ class Observables:
             return math.inf
         return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
 
-    def _sample(self):
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The arrays :meth:`restore` takes back: the mark, the samples, the schedule.
+
+        :meth:`hardspheres.Simulation.save` stores them in its checkpoint, so
+        a resumed run averages over the same blocks as the run it continues.
+        """
+        return {
+            "obs": np.array(self._mark, dtype=np.float64),
+            "obs_samples": np.array(self._samples, dtype=np.float64),
+            "obs_every": np.array([self.every, self.next_sample]),
+        }
+
+    def restore(self, arrays: dict[str, np.ndarray]) -> bool:
+        """Take back what :meth:`checkpoint` gave, checked first; returns whether it was taken.
+
+        A mark of another length (an older checkpoint's layout) or damaged
+        arrays leave the averages starting afresh from now (``False``).
+        """
+        mark = arrays.get("obs")
+        samples = arrays.get("obs_samples")
+        every = arrays.get("obs_every")
+        if mark is None or mark.ndim != 1 or len(mark) != len(self._mark):
+            return False
+        self._mark = tuple(mark.tolist())
+        self._samples = [self._mark]
+        if (
+            samples is not None
+            and every is not None
+            and samples.ndim == 2
+            and samples.shape[1] == len(mark)
+            and samples.shape[0] >= 1
+            and np.all(np.isfinite(samples))
+            and every.shape == (2,)
+            and every[0] > 0
+        ):
+            self._samples = [tuple(r) for r in samples.tolist()]
+            self.every, self.next_sample = every.tolist()
+        return True
+
+    def sample(self) -> None:
         """Record the tallies now (the simulation calls this at :attr:`next_sample`)."""
         now = self._now()
         last = self._samples[-1]

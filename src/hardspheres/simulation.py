@@ -261,6 +261,9 @@ class Simulation:
         ev_left = np.inf if events is None else _count(events, "events")
         eng = self._engine
         self._run_until = until
+        th = self.thermostat
+        if th is not None:
+            th.attach(self)
         for w in self.writers:
             w.attach(self)
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
@@ -269,7 +272,7 @@ class Simulation:
         by_count = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
         obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self.stop_requested:
-            stop = until
+            stop = until if th is None else min(until, th.next_time)
             for w in self.writers:
                 stop = min(stop, w.next_time)
             # the observables sample their tallies (for error bars) on a time grid
@@ -298,7 +301,9 @@ class Simulation:
                 if stop < np.inf:
                     self._clock = max(self._clock, stop)
                 if sampling:
-                    obs._sample()
+                    obs.sample()
+                if th is not None and th.next_time <= stop:
+                    th.apply(self, th.next_time)
                 for w in self.writers:
                     if w.next_time <= stop:
                         w.write(self, w.next_time)
@@ -351,9 +356,12 @@ class Simulation:
         """
         from .dense import compress
 
-        return compress(
-            self, packing=packing, rate=rate, pressure=pressure, collisions=collisions, progress=progress
-        )
+        try:
+            return compress(
+                self, packing=packing, rate=rate, pressure=pressure, collisions=collisions, progress=progress
+            )
+        finally:  # the clock moves with the spheres, even when the compression was stopped
+            self._clock = max(self._clock, self._engine.time)
 
     @property
     def packing(self):
@@ -370,12 +378,7 @@ class Simulation:
         """
         if thermostat is not None and self._engine.window > 0.0:
             raise ValueError("thermostat: not with a simultaneity window (window=0)")
-        old = self.thermostat
-        if old is not None:
-            self.writers.remove(old)
-        self.thermostat = thermostat
-        if thermostat is not None:
-            self.writers.append(thermostat)
+        self.thermostat = thermostat  # its own slot: it acts before the writers observe
         return self
 
     # ---- state -----------------------------------------------------------------
@@ -423,7 +426,7 @@ class Simulation:
         )
 
     # ---- checkpoints ---------------------------------------------------------
-    def save(self, path: str | os.PathLike) -> None:
+    def save(self, path: str | os.PathLike, lock: bool = True) -> None:
         """Write a checkpoint; :meth:`load` resumes it bit for bit.
 
         The file (an ``.npz`` with a ``format`` name and ``version``) is
@@ -432,29 +435,29 @@ class Simulation:
         an interrupted save leaves the old checkpoint, and two saves to one
         file never mix.
 
+        Args:
+            path: the checkpoint file (``.npz``).
+            lock: take the file's lock while writing; ``False`` when the
+                caller already holds it (the ``run`` command locks its
+                checkpoint for the whole run).
+
         Raises:
             FileInUseError: another writer holds ``path``.
             OSError: naming ``path``.
         """
-        self._save(path, lock=True)
-
-    def _save(self, path, lock):
         th = self.thermostat
-        extra = {} if th is None else {"thermostat": np.array(th.state())}
+        arrays: dict[str, np.ndarray] = {
+            "format": np.array(CHECKPOINT_FORMAT),
+            "version": np.array(CHECKPOINT_VERSION),
+            "names": np.array(self.names, dtype=str).reshape(-1),
+            **self.observables.checkpoint(),
+            "clock": np.array(self._clock),
+        }
+        if th is not None:
+            arrays["thermostat"] = np.array(th.state())
+        arrays.update(self._engine.checkpoint())  # the container's record is the engine's
         with atomic_write(path, "wb", lock=lock) as fh:
-            # the container's record is the engine's (Engine.checkpoint)
-            np.savez(
-                fh,
-                format=np.array(CHECKPOINT_FORMAT),
-                version=np.array(CHECKPOINT_VERSION),
-                names=np.array(self.names, dtype=str).reshape(-1),
-                obs=np.array(self.observables._mark, dtype=np.float64),
-                obs_samples=np.array(self.observables._samples, dtype=np.float64),
-                obs_every=np.array([self.observables.every, self.observables.next_sample]),
-                clock=np.array(self._clock),
-                **extra,
-                **self._engine.checkpoint(),
-            )
+            np.savez(fh, **arrays)  # type: ignore[arg-type]
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Simulation:
@@ -472,9 +475,8 @@ class Simulation:
             raise CheckpointError(f"{path}: damaged checkpoint: no valid container")
         sim = cls.__new__(cls)
         names = data.pop("names", None)
-        mark = data.pop("obs", None)
-        samples = data.pop("obs_samples", None)
-        every = data.pop("obs_every", None)
+        obs_arrays = {k: data.pop(k) for k in ("obs", "obs_samples", "obs_every") if k in data}
+        mark = obs_arrays.get("obs")
         clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
         try:
@@ -497,22 +499,7 @@ class Simulation:
         sim._run_until = math.inf
         sim._clock = float(clock)
         sim.observables = Observables(sim)
-        if len(mark) == len(sim.observables._mark):  # else an older layout: start afresh
-            obs = sim.observables
-            obs._mark = tuple(mark.tolist())
-            obs._samples = [obs._mark]
-            if (
-                samples is not None
-                and every is not None
-                and samples.ndim == 2
-                and samples.shape[1] == len(mark)
-                and samples.shape[0] >= 1
-                and np.all(np.isfinite(samples))
-                and every.shape == (2,)
-                and every[0] > 0
-            ):
-                obs._samples = [tuple(r) for r in samples.tolist()]
-                obs.every, obs.next_sample = every.tolist()
+        sim.observables.restore(obs_arrays)  # an older layout's mark: averages start afresh
         if n:
             worst = eng.max_overlap()
             if not worst <= 1e-6 or eng.outside(tol=1e-6):

@@ -362,7 +362,7 @@ def _run(args, sim, checkpoint):
         signum = stopper.signum
         if checkpoint:
             sim.stop_requested = False
-            sim._save(checkpoint, lock=False)
+            sim.save(checkpoint, lock=False)
     c1 = sim.counters
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
