@@ -30,6 +30,7 @@ from typing import NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from .containers import MAX_PACKING, packing_fraction  # noqa: F401 (re-exported)
+from .events import StopReason
 from .errors import CompressionError  # noqa: F401 (re-exported)
 from .scenario import StuckError
 
@@ -135,7 +136,7 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
                 reason = "stuck"
             done = eng.counters["collisions"] - c0
             left -= done
-            reached = eng.last_reason == 0 and t_target < math.inf
+            reached = eng.last_reason == StopReason.UNTIL and t_target < math.inf
             if reached:
                 eng.move_clock(t_target)
             dt = eng.time - t0

@@ -267,7 +267,7 @@ class Simulation:
         for w in self.writers:
             w.attach(self)
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
-        keep = record
+        yield_events = record  # the caller iterates over the events
         record = record or bool(listeners)
         by_count = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
         obs = self.observables
@@ -292,7 +292,7 @@ class Simulation:
             ev_left -= eng.last_done
             for w in listeners:
                 w.observe(ev)
-            if keep:
+            if yield_events:
                 yield ev
             for w in by_count:
                 if w.next_collisions <= c1:

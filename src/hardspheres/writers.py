@@ -3,9 +3,14 @@
 A writer (the :class:`Writer` protocol) is appended to
 :attr:`Simulation.writers <hardspheres.Simulation.writers>`; as a run goes
 the simulation attaches it, stops exactly at the times (or collision counts)
-its trigger asks for, calls :meth:`Writer.write`, hands it the events if it
-wants them, and :meth:`Writer.detach` ends it.  The trajectory writers
-(:mod:`hardspheres.io.trajectory`) are such writers.
+its trigger asks for, calls :meth:`Writer.write`, and hands it the events if
+it wants them.  Writers only observe: they never change the state (a
+thermostat, which does, has its own slot, :meth:`Simulation.set_thermostat
+<hardspheres.Simulation.set_thermostat>`).  One writer serves consecutive
+runs, so the simulation never ends it: :meth:`Writer.detach` is the caller's
+to call (or the trajectory writers' ``close()`` and ``with`` block) when no
+more runs will write.  The trajectory writers (:mod:`hardspheres.io.trajectory`)
+are such writers.
 
 Triggers (the :class:`Trigger` protocol) say when, as HOOMD-blue's do:
 

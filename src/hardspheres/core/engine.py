@@ -164,7 +164,7 @@ class Engine:
         self.scalars[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
         self.scalars[core.F_WINDOW] = window
         self._grid(n)
-        self._rec = _events.empty_buffers(CHUNK)
+        self._event_buffers = _events.empty_buffers(CHUNK)
         self._since_rebase = 0
         self._rebase_on = rebase
         self.last_reason, self.last_done = StopReason.UNTIL, 0
@@ -566,7 +566,7 @@ class Engine:
         chunks = []
         coll0 = int(self.counts[core.C_COLLISIONS])
         done_total = 0
-        rec = self._rec
+        buffers = self._event_buffers
         while True:
             limit = self._grid_limit()
             if limit < until:
@@ -582,7 +582,7 @@ class Engine:
                 reorder_due = max(int(self._reorder_every * self.n), 1)
                 left_ev = min(left_ev, reorder_due - self._since_reorder)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, rec, record)
+            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, buffers, record)
             done_total += done
             self._since_rebase += done
             self._since_queue += done
@@ -592,7 +592,7 @@ class Engine:
             if self._reorder_every and self._since_reorder >= reorder_due:
                 self._reorder()
             if record and done:
-                chunks.append(_events.from_buffers(rec, done, self.offset))
+                chunks.append(_events.from_buffers(buffers, done, self.offset))
             if self._since_rebase >= rebase_due:
                 self._rebase()
             if reason == core.STOP_LISTS_FULL:
@@ -732,7 +732,7 @@ class Engine:
         else:
             eng.container = as_container(None if np.isnan(radius) else radius, None if np.isnan(box) else box)
         eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
-        eng._rec = _events.empty_buffers(CHUNK)
+        eng._event_buffers = _events.empty_buffers(CHUNK)
         saved = eng.scalars.shape[0]
         if saved < core.N_SCALARS:  # checkpoints from before the last scalars
             eng.scalars = np.concatenate([eng.scalars, np.zeros(core.N_SCALARS - saved)])

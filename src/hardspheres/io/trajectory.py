@@ -128,8 +128,9 @@ class _FrameWriter:
             self.close()
             raise
 
-    def _start(self, sim):
-        pass
+    def _start(self, sim) -> bool:
+        """Get ready for the first frame; returns whether the file continues a run (its last frame is now)."""
+        return False
 
     def _check_open(self):
         if self._closed:
@@ -152,7 +153,7 @@ class _FrameWriter:
                 self._open()
             self._started = True
             self.trigger.start(sim.time, sim.counters["collisions"])
-            if self._start(sim) == "continues":
+            if self._start(sim):
                 self._k = 1  # the file's last frame is this one
                 self.trigger.fired()
             elif self.trigger.next_time <= sim.time:
@@ -289,7 +290,7 @@ class GSDWriter(_FrameWriter):
 
     def _start(self, sim):
         if not self._append or self._count == 0:
-            return None
+            return False
         try:
             last = _gsd_last(self._file)
         except (KeyError, IndexError, ValueError) as e:
@@ -298,7 +299,7 @@ class GSDWriter(_FrameWriter):
             ) from None
         _continues(self.path, last, sim)
         self.last_time = last["time"]
-        return "continues"
+        return True
 
     def _write_frame(self, sim, state, events):
         f = self._hoomd.Frame()
@@ -377,7 +378,7 @@ class XYZWriter(_FrameWriter):
                 f"sphere name {quote(bad[0])} cannot be written to XYZ (whitespace or quotes); use GSD"
             )
         if not self._append or os.path.getsize(self.path) == 0:
-            return None
+            return False
         old = _read_xyz(self.path, check_end=False)
         self._count = len(old.times)
         _continues(
@@ -386,7 +387,7 @@ class XYZWriter(_FrameWriter):
             sim,
         )
         self.last_time = float(old.times[-1])
-        return "continues"
+        return True
 
     def _write_frame(self, sim, state, events):
         c = sim.container
@@ -617,8 +618,9 @@ class FrameRecorder(_FrameWriter):
         self._ev: list[np.ndarray] = []
         self._img: list[np.ndarray | None] = []
 
-    def _start(self, sim):
+    def _start(self, sim) -> bool:
         self._sim = sim
+        return False
 
     def _write_frame(self, sim, state, events):
         self._times.append(state.time)
