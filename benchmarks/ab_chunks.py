@@ -22,9 +22,14 @@ import time
 
 def one(a):
 
-    from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
-    from hardspheres.core.engine import Engine
+
+    try:
+        from hardspheres.core.bench import container_for, warm_up
+        from hardspheres.core.engine import Engine
+    except ImportError:  # a tree from before the layout by families (04aa93d and older)
+        from hardspheres.bench import container_for, warm_up
+        from hardspheres.engine import Engine
 
     where = container_for(a.n, a.phi, box=not a.sphere)
     eng = Engine(*random_arrays(a.n, a.phi, where, seed=0), container=where)

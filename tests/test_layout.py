@@ -265,3 +265,35 @@ def test_lazy_names_are_visible_to_type_checkers_dir_and_help():
         check=True,
     ).stdout
     assert out.strip() == "False"
+
+
+def test_a_picture_command_parses_its_scenario_once(tmp_path, monkeypatch):
+    """view/render/plot start from cli.source.starting_simulation: one parse, checked before compiling."""
+    from hardspheres import scenario
+    from hardspheres.cli.commands import main
+
+    calls = []
+    real = scenario.parse_scenario
+
+    def counting(data):
+        calls.append(1)
+        return real(data)
+
+    monkeypatch.setattr(scenario, "parse_scenario", counting)
+    scn = tmp_path / "s.txt"
+    scn.write_text("1 0.5 0 0 0 1 0 0 a\n1 0.5 3 0 0 -1 0 0 b\n")
+    out = tmp_path / "v.html"
+    assert main(["view", str(scn), "--container", "10", "--until", "1", "-o", str(out)]) == 0
+    assert out.exists() and len(calls) == 1
+
+
+def test_every_subcommand_is_one_module_with_add_parser_and_run():
+    from hardspheres.cli import commands
+
+    names = []
+    for module in commands.SUBCOMMANDS:
+        assert callable(module.add_parser) and callable(module.run)
+        names.append(module.__name__.rsplit(".", 1)[1])
+    parser = commands.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    assert sorted(sub.choices) == sorted(names)

@@ -97,7 +97,7 @@ def generate_compressed(
     return out
 
 
-def compress_command(args):
+def run(args):
     """``hardspheres compress``; returns the exit status."""
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
@@ -207,5 +207,5 @@ def add_parser(sub):
     p.add_argument("-o", "--output", required=True, help="write the compressed scenario here")
     p.add_argument("--checkpoint", help="also save a checkpoint here (run --resume reads it)")
     p.add_argument("--resume", help="compress from this checkpoint instead of a scenario")
-    p.set_defaults(func=compress_command)
+    p.set_defaults(func=run)
     return p

@@ -268,7 +268,7 @@ def _equilibrate(sim, args, progress, start_time):
     """Run the equilibration the arguments ask for; returns its description or ''."""
     if args.equilibrate is None and args.equilibrate_time is None:
         return ""
-    if args.equilibrate_time is not None:  # ends before --until: run_command checked
+    if args.equilibrate_time is not None:  # ends before --until: run() checked
         what = f"{args.equilibrate_time:g} time units"
         sim.run(until=sim.time + args.equilibrate_time)
     else:
@@ -285,7 +285,7 @@ def _equilibrate(sim, args, progress, start_time):
     return f"{what}, to t = {sim.time:.6g}"
 
 
-def run_command(args):
+def run(args):
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
     sim = starting_simulation(args)
@@ -439,5 +439,5 @@ def add_parser(sub):
     p.add_argument(
         "--overwrite", action="store_true", help="replace an existing --trajectory file (refused otherwise)"
     )
-    p.set_defaults(func=run_command)
+    p.set_defaults(func=run)
     return p

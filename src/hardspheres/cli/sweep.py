@@ -7,7 +7,7 @@ from ..studies import StudyError, connect, load_study, sweep
 from .options import dask_args
 
 
-def main(args, stdout=sys.stdout):
+def run(args, stdout=sys.stdout):
     """``hardspheres sweep STUDY [--scheduler ADDRESS] [--workers N] [--serial]``."""
     client = None
     if args.scheduler:
@@ -41,5 +41,5 @@ def add_parser(sub):
         "an existing Dask scheduler (default: a LocalCluster, one worker per core)",
         "run the tasks here, one by one, no Dask",
     )
-    p.set_defaults(func=main)
+    p.set_defaults(func=run)
     return p
