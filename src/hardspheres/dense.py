@@ -121,7 +121,6 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
     per_sphere = min(8.0, max(0.5, 0.01 / rate))
     chunk = max(int(per_sphere * n), 200)
     left = math.inf if collisions is None else int(collisions)
-    periodic = sim.container.periodic
     eng.set_growth(speed / rmax)
     c_start = eng.counters["collisions"]
     z = math.nan
@@ -142,12 +141,9 @@ def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions
             dt = eng.time - t0
             kt_end = _kT(sim)
             kt_mean = 0.5 * (kT + kt_end)
-            if dt > 0:
-                if periodic:
-                    z = 1.0 + (eng.virial - w0) / (3.0 * dt * n * kt_mean)
-                else:
-                    p = (eng.wall_impulse - j0) / (sim.container.area * dt)
-                    z = p * sim.container.volume / (n * kt_mean)
+            if dt > 0:  # the container knows its pressure: the virial in a box, the wall in a sphere
+                p = sim.container.pressure(n, kt_mean, dt, eng.wall_impulse - j0, eng.virial - w0)
+                z = p * sim.container.volume / (n * kt_mean)
             if kt_end > 0:
                 eng.rescale_velocities(math.sqrt(kT / kt_end))
             phi = packing_fraction(eng.radii_at(), sim.container)
