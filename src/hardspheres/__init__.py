@@ -19,7 +19,9 @@ from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layout.py keeps both lists equal)
+    from .analysis.collisions import ContactForces, EventRecorder, FreeFlights, Recollisions
     from .analysis.dynamics import CollectiveIntermediate, NonGaussian, Overlap, SelfIntermediate, VanHove
+    from .analysis.jamming import Contacts, JammingPoint
     from .analysis.structure import BondOrder, RDF, StructureFactor
     from .analysis.transport import enskog, MSD, ShearViscosity, ThermalConductivity, VACF, yeh_hummer
     from .builders import random_spheres
