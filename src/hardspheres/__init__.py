@@ -22,11 +22,11 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
     from .analysis.collisions import ContactForces, EventRecorder, FreeFlights, Recollisions
     from .analysis.dynamics import CollectiveIntermediate, NonGaussian, Overlap, SelfIntermediate, VanHove
     from .analysis.jamming import Contacts, JammingPoint
-    from .analysis.structure import BondOrder, RDF, StructureFactor
-    from .analysis.transport import enskog, MSD, ShearViscosity, ThermalConductivity, VACF, yeh_hummer
+    from .analysis.structure import RDF, BondOrder, StructureFactor
+    from .analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity, enskog, yeh_hummer
     from .builders import random_spheres
     from .frames import Frames
-    from .io.trajectory import GSDWriter, read_trajectory, XYZWriter
+    from .io.trajectory import GSDWriter, XYZWriter, read_trajectory
     from .maxwell import maxwell_boltzmann
     from .observables import Observables
     from .simulation import Event, Simulation

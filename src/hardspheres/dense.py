@@ -30,8 +30,8 @@ from typing import NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from .containers import MAX_PACKING, packing_fraction  # noqa: F401 (re-exported)
-from .events import StopReason
 from .errors import CompressionError  # noqa: F401 (re-exported)
+from .events import StopReason
 from .scenario import StuckError
 
 #: Densest packing of equal spheres (FCC/HCP): :data:`hardspheres.containers.MAX_PACKING`.

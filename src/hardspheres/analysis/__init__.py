@@ -9,6 +9,7 @@ before ``compute`` raise :class:`~hardspheres.errors.NotComputedError`, and
 import the run-loop vocabulary and below, never studies, pictures or commands.
 
 Modules:
+    compute: :class:`~hardspheres.analysis.compute.Compute`, the shared base.
     structure: :class:`~hardspheres.analysis.structure.RDF`,
         :class:`~hardspheres.analysis.structure.StructureFactor`,
         :class:`~hardspheres.analysis.structure.BondOrder`.

@@ -38,8 +38,9 @@ import math
 
 import numpy as np
 
+from ..errors import NotComputedError
 from ..events import EventKind, empty_events
-from .structure import NotComputedError, _Computed
+from .compute import Compute
 
 
 def mean_free_time_from_z(z, sigma=1.0, kT=1.0, mass=1.0, dim=3):
@@ -151,7 +152,7 @@ def _per_sphere_stream(ev):
     return sphere[order], time[order], partner[order], row[order]
 
 
-class FreeFlights(_Computed):
+class FreeFlights(Compute):
     """Free-flight times (between successive collisions of a sphere) and collisions per sphere.
 
     A sphere's flight before its first recorded collision, and after its
@@ -215,7 +216,7 @@ class FreeFlights(_Computed):
         return ax
 
 
-class Recollisions(_Computed):
+class Recollisions(Compute):
     """Recollisions: the same pair colliding again.
 
     (Two hard spheres that have just collided part on straight lines: they
@@ -258,7 +259,7 @@ class Recollisions(_Computed):
         return ax
 
 
-class ContactForces(_Computed):
+class ContactForces(Compute):
     """Time-averaged contact forces of a near-jammed packing (Donev, Torquato and Stillinger 2005).
 
     ``f_ij = (sum of |impulse| over the collisions of i and j) / t`` over a

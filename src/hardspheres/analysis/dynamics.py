@@ -67,8 +67,8 @@ import os
 
 import numpy as np
 
-from ..errors import PeriodicBoxRequired
-from .structure import NotComputedError, _Computed
+from ..errors import NotComputedError, PeriodicBoxRequired
+from .compute import Compute
 
 #: ``1/e``: F_s at the alpha-relaxation time.
 INV_E = math.exp(-1.0)
@@ -365,7 +365,7 @@ def _isotropic(kr, dim):
     return np.cos(kr)
 
 
-class _Dynamic(_Computed):
+class _Dynamic(Compute):
     """Shared parameters of the correlators: lags, origins and error groups."""
 
     def __init__(self, lags=None, per_decade=10, origin_every=None, blocks=5):

@@ -43,8 +43,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import PeriodicBoxRequired
-from .structure import NotComputedError, _Computed
+from ..errors import NotComputedError, PeriodicBoxRequired
+from .compute import Compute
 
 
 def _packing(source, box=None, radii=None):
@@ -173,7 +173,7 @@ def power_law_exponent(x, lo, hi):
     return 0.5 * (a_lo + a_hi)
 
 
-class Contacts(_Computed):
+class Contacts(Compute):
     """The contact network of a packing, its rattlers and coordination.
 
     Args:
@@ -331,7 +331,7 @@ def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3):
     return alpha - 1.0, err, len(used)
 
 
-class JammingPoint(_Computed):
+class JammingPoint(Compute):
     """``phi_J`` from ``(phi, Z)`` along a compression: ``Z = d phi_J / (phi_J - phi)``.
 
     The free-volume form holds near jamming (Z large); ``d / Z - 1 =

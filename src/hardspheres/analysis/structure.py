@@ -26,6 +26,9 @@ import numpy as np
 
 from ..containers import PeriodicBox, require_periodic
 from ..errors import NotComputedError  # noqa: F401 (re-exported)
+from .compute import Compute
+
+_Computed = Compute  # the name the analyses used before analysis/compute.py
 
 
 def _freud():
@@ -107,30 +110,7 @@ def _contact_distance(radii):
     return float(d[0])
 
 
-class _Computed:
-    """Results (the names in ``_results``) read before ``compute()`` raise NotComputedError."""
-
-    _computed = False
-    _results: tuple[str, ...] = ()
-
-    def _need(self):
-        if not self._computed:
-            raise NotComputedError(f"{type(self).__name__}: call compute() first")
-
-    def _axes(self, ax):
-        """Where :meth:`plot` draws: ``ax``, or a new figure's axes (results computed first)."""
-        self._need()
-        import matplotlib.pyplot as plt
-
-        return plt.figure().add_subplot() if ax is None else ax
-
-    def __getattr__(self, name):  # only called for attributes not (yet) set
-        if name in type(self)._results:
-            self._need()
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-
-
-class RDF(_Computed):
+class RDF(Compute):
     """Radial distribution function g(r), averaged over configurations (freud).
 
     Args:
@@ -208,7 +188,7 @@ class RDF(_Computed):
         return ax
 
 
-class StructureFactor(_Computed):
+class StructureFactor(Compute):
     """Static structure factor S(k) from the box's own wave vectors (freud, direct).
 
     Args:
@@ -254,7 +234,7 @@ class StructureFactor(_Computed):
         return ax
 
 
-class BondOrder(_Computed):
+class BondOrder(Compute):
     """Steinhardt q_l per sphere and the fraction of crystal-like spheres (freud).
 
     Neighbours are the spheres within ``r_max`` (default 1.4 sigma, about

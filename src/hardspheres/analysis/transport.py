@@ -38,7 +38,8 @@ import numpy as np
 
 from ..containers import PeriodicBox, require_periodic
 from ..eos import carnahan_starling_contact
-from .structure import NotComputedError, _Computed
+from ..errors import NotComputedError
+from .compute import Compute
 
 #: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
 #: the periodic Oseen tensor): I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108,
@@ -154,7 +155,7 @@ def _segments(f, blocks):
     return [slice(k * size, (k + 1) * size) for k in range(blocks)]
 
 
-class _Blocked(_Computed):
+class _Blocked(Compute):
     """A compute object whose error bar is the spread over ``blocks`` segments of the run."""
 
     def __init__(self, blocks=5):
