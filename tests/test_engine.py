@@ -403,15 +403,15 @@ def test_no_record_same_events_and_not_limited_by_the_buffer(packing):
     s = random_spheres(n, packing, box=box, seed=5)
     a = Engine(s.masses, s.radii, s.positions, s.velocities, box=box)
     b = Engine(s.masses, s.radii, s.positions, s.velocities, box=box)
-    cap = len(a._rec[0])
+    cap = len(a._event_buffers[0])
     a.advance(collisions=3 * cap, record=True)
     b.advance(collisions=3 * cap, record=False)
     assert np.array_equal(a.positions_at(), b.positions_at())
     assert np.array_equal(a.velocities, b.velocities)
     assert a.counters == b.counters
-    done, reason = core.run(b.arrays, np.inf, 2 * cap, 2**62, b._rec, False)
+    done, reason = core.run(b.arrays, np.inf, 2 * cap, 2**62, b._event_buffers, False)
     assert (done, reason) == (2 * cap, StopReason.MAX_EVENTS)
-    done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._rec, True)
+    done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._event_buffers, True)
     assert (done, reason) == (cap, StopReason.RECORD_FULL)
 
 
