@@ -11,7 +11,7 @@ import pytest
 from helpers import hs_cmd, hs_popen, spheres_cmd
 
 import hardspheres as hs
-from hardspheres.studies.validate import carnahan_starling, ks_distance, measure
+from hardspheres.studies.validate import carnahan_starling, eos_point, ks_distance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -116,7 +116,7 @@ def test_observables_in_container_and_box():
 
 def test_validation_short():
     """A short hardspheres validate: Z near Carnahan-Starling, Gamma consistent with Z."""
-    row = measure(0.3, n=1000, equilibrate=20, collisions=100, blocks=10, seed=2)
+    row = eos_point(0.3, n=1000, equilibrate=20, collisions=100, blocks=10, seed=2)
     assert abs(row.rel_diff) < 0.03
     assert abs(row.gamma_rel_diff) < 0.02
     assert row.ks_D < 3 * row.ks_D_expected

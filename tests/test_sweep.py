@@ -257,7 +257,7 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
         pass
 
     calls = {"k": 0}
-    real = studies._measure_one
+    real = studies._block_value
 
     def flaky(name, sim, obs):  # dies in block 3, after checkpoints were written
         calls["k"] += 1
@@ -265,12 +265,12 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
             raise Stop
         return real(name, sim, obs)
 
-    studies._measure_one = flaky
+    studies._block_value = flaky
     try:
         with pytest.raises(Stop):
             studies.run_task(cut)
     finally:
-        studies._measure_one = real
+        studies._block_value = real
     assert not studies._row_path(cut).exists()
     again = studies.run_task(cut)
     assert again == ref

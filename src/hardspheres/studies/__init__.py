@@ -389,7 +389,7 @@ def _split(total, parts):
     return [q + (1 if k < r else 0) for k in range(parts)]
 
 
-def _measure_one(name, sim, obs):
+def _block_value(name, sim, obs):
     f = OBSERVABLES.get(name)
     value = f(sim, obs) if f is not None else getattr(obs, name)()
     try:
@@ -493,7 +493,7 @@ def run_task(task):
                 checkpoint(c, k + 1)
         if c >= blocks:
             for m in task["measure"]:
-                prog["values"][m].append(_measure_one(m, sim, sim.observables))
+                prog["values"][m].append(_block_value(m, sim, sim.observables))
         c, step = c + 1, 0
         if c < total:
             checkpoint(c, 0)

@@ -30,7 +30,7 @@ from ..eos import carnahan_starling, hansen_goos, kolafa
 from ..maxwell import KS_MEAN, ks_distance, speed_cdf  # noqa: F401 (re-exported)
 
 PACKINGS = (0.1, 0.2, 0.3, 0.4, 0.45, 0.49)
-MEASURE = ["Z", "collision_rate", "temperature", "speeds_ks"]
+EOS_OBSERVABLES = ["Z", "collision_rate", "temperature", "speeds_ks"]
 
 
 @dataclass
@@ -67,7 +67,7 @@ def _study(packings, n, equilibrate, collisions, blocks, seeds, folder):
         "equilibrate": equilibrate,
         "collisions": collisions,
         "blocks": blocks,
-        "measure": MEASURE,
+        "measure": EOS_OBSERVABLES,
     }
 
 
@@ -107,7 +107,7 @@ def _rows(df, n, collisions):
     return rows
 
 
-def measure(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
+def eos_point(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
     """Run equal spheres at packing ``phi`` here and measure Z, Gamma and the speeds.
 
     One task of the validation study, run in this process.
@@ -410,7 +410,7 @@ class TransportRow:
     seconds: float
 
 
-def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
+def transport_point(phi, n, duration, seed=1, every=None, equilibrate=50):
     """Run ``n`` equal spheres at packing ``phi`` in a periodic box and measure transport.
 
     Equilibrates ``equilibrate`` collisions per sphere from the lattice, then
@@ -425,7 +425,7 @@ def measure_transport(phi, n, duration, seed=1, every=None, equilibrate=50):
         A :class:`TransportRow`.
 
     Example:
-        >>> r = measure_transport(0.3, 108, duration=10.0, seed=2)
+        >>> r = transport_point(0.3, 108, duration=10.0, seed=2)
         >>> 0.1 < r.D < 0.3 and r.eta > 0 and r.lam > 0 and r.D_inf > r.D
         True
     """
@@ -688,4 +688,4 @@ def validate_transport(
 
 def _run_transport_job(job):
     phi, n, t, seed = job
-    return measure_transport(phi, n, t, seed=seed)
+    return transport_point(phi, n, t, seed=seed)
