@@ -401,18 +401,7 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
     else:
         ax, dx = fig.subplots(), None
     if reference:
-        top = float(df[x].max())
-        grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
-        ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
-        ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--", label="Carnahan-Starling")
-        dx.axhline(0.0, color="C3", lw=1)
-        dx.plot(
-            grid[1:],
-            100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
-            color="0.4",
-            lw=1,
-            ls="--",
-        )
+        _eos_reference(ax, dx, float(df[x].max()))
     colors = ["C0", "C1", "C2", "C4", "C5", "C6", "C7", "C8", "C9"]  # C3 is the reference
     for k, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)
@@ -433,21 +422,38 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
     ax.set_ylabel(y)
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize="small")
-    seeds = df["seeds"] if "seeds" in df.columns else None
-    note = (
-        f", {int(seeds.min())}-{int(seeds.max())} seeds per point"
-        if seeds is not None and seeds.min() != seeds.max()
-        else f", {int(seeds.iloc[0])} seeds per point"
-        if seeds is not None
-        else ""
-    )
-    ax.set_title(f"{y} against {x}: mean ± standard error{note}")
+    ax.set_title(f"{y} against {x}: mean ± standard error{_seeds_note(df)}")
     last = dx if dx is not None else ax
     if dx is not None:
         dx.set_ylabel(f"{y} / Z_HG - 1 [%]")
         dx.grid(alpha=0.3)
     last.set_xlabel(x)
     return _save(fig, path, dpi)
+
+
+def _eos_reference(ax, dx, top):
+    """Hansen-Goos (solid) and Carnahan-Starling (dashed) up to ``top``, and CS / HG - 1 on ``dx``."""
+    grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
+    ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
+    ax.plot(grid, carnahan_starling(grid), color="0.4", lw=1, ls="--", label="Carnahan-Starling")
+    dx.axhline(0.0, color="C3", lw=1)
+    dx.plot(
+        grid[1:],
+        100.0 * (carnahan_starling(grid[1:]) / hansen_goos(grid[1:]) - 1.0),
+        color="0.4",
+        lw=1,
+        ls="--",
+    )
+
+
+def _seeds_note(df):
+    """``, K seeds per point`` (or a range) for a summary table's title."""
+    seeds = df["seeds"] if "seeds" in df.columns else None
+    if seeds is None:
+        return ""
+    if seeds.min() != seeds.max():
+        return f", {int(seeds.min())}-{int(seeds.max())} seeds per point"
+    return f", {int(seeds.iloc[0])} seeds per point"
 
 
 def plot_gr(frames, path, *, size=SIZE, dpi=100):

@@ -83,7 +83,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     nearer spheres hide farther ones.  ``cut`` keeps only the spheres whose
     centre has ``z <= cut`` (a cut-away that shows the inside).
     """
-    from matplotlib import cm, colormaps, colors
+    from matplotlib import cm, colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -109,17 +109,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     ax.set_axis_off()
     _draw_container(ax, frames, right, up, cut)
 
-    if color_by == "speed":
-        finite = speeds[np.isfinite(speeds)]
-        hi = float(np.percentile(finite, 99.5)) if finite.size else 1.0
-        norm = colors.Normalize(0.0, hi if hi > 0 else 1.0)
-        values = speeds
-        label = "speed"
-    else:
-        lo, hi = (float(masses.min()), float(masses.max())) if masses.size else (0.0, 1.0)
-        norm = colors.Normalize(lo, hi if hi > lo else lo + 1.0)
-        values = np.broadcast_to(masses, speeds.shape)
-        label = "mass"
+    norm, values, label = _colour_scale(color_by, speeds, masses)
     cmap = colormaps["viridis"]
 
     points_per_unit = side * 72.0 / dpi / (2.0 * extent)
@@ -169,12 +159,34 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     return fig, show
 
 
+def _colour_scale(color_by, speeds, masses):
+    """``(norm, values, label)``: the spheres' colours by speed (to its 99.5th percentile) or by mass."""
+    from matplotlib import colors
+
+    if color_by == "speed":
+        finite = speeds[np.isfinite(speeds)]
+        hi = float(np.percentile(finite, 99.5)) if finite.size else 1.0
+        return colors.Normalize(0.0, hi if hi > 0 else 1.0), speeds, "speed"
+    lo, hi = (float(masses.min()), float(masses.max())) if masses.size else (0.0, 1.0)
+    return colors.Normalize(lo, hi if hi > lo else lo + 1.0), np.broadcast_to(masses, speeds.shape), "mass"
+
+
 def _check(size, color_by, what):
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
         raise ValueError(f"{what}: bad size {size}")
     if color_by not in ("speed", "mass"):
         raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
+
+
+def _check_movie(path, fps, size, color_by):
+    """Refuse a movie's arguments before any work (one line naming the argument)."""
+    _check(size, color_by, "render_movie")
+    width, height = (int(s) for s in size)
+    if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
+        raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
+    if int(fps) != fps or not 1 <= fps <= 100:
+        raise ValueError(f"render_movie: fps must be a whole number from 1 to 100, got {fps!r}")
 
 
 def render_movie(
@@ -218,12 +230,7 @@ def render_movie(
         ``path`` as a :class:`pathlib.Path`.
     """
     path = Path(path)
-    _check(size, color_by, "render_movie")
-    width, height = (int(s) for s in size)
-    if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
-        raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
-    if int(fps) != fps or not 1 <= fps <= 100:
-        raise ValueError(f"render_movie: fps must be a whole number from 1 to 100, got {fps!r}")
+    _check_movie(path, fps, size, color_by)
     writer = _writer(path, int(fps), dpi)
 
     n_frames = len(frames.times)

@@ -138,30 +138,8 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
     speeds = np.sqrt(np.einsum("fnk,fnk->fn", vel[keep], vel[keep]))
     extent = frames.extent(p, cover="sphere")
 
-    et = np.asarray(frames.event_times, dtype=np.float64).reshape(-1)
-    ek = np.asarray(frames.event_kinds).reshape(-1).astype(np.uint8)
-    ei = np.asarray(frames.event_i).reshape(-1).astype(np.int32)
-    ej = np.asarray(frames.event_j).reshape(-1).astype(np.int32)
-    m = min(len(et), len(ek), len(ei), len(ej))
-    et, ek, ei, ej = et[:m], ek[:m], ei[:m], ej[:m]
-    sel = (et >= t[0]) & (et <= t[-1]) & (ei >= 0) & (ei < n) & (ej < n)
-    et, ek, ei, ej = et[sel], ek[sel], ei[sel], ej[sel]
-    order = np.argsort(et, kind="stable")
-    et, ek, ei, ej = et[order], ek[order], ei[order], ej[order]
-    events_total = int(len(et))
-    counts = {
-        "collisions": int(np.sum(ek == EventKind.COLLISION)),
-        "reflections": int(np.sum(ek == EventKind.REFLECTION)),
-    }
-    if len(et) > max_events:
-        pick = even_indices(len(et), max_events)
-        et, ek, ei, ej = et[pick], ek[pick], ei[pick], ej[pick]
-
-    finite_speeds = speeds[np.isfinite(speeds)]
-    speed_max = float(np.percentile(finite_speeds, 99.5)) if finite_speeds.size else 1.0
-    if not speed_max > 0:
-        speed_max = float(finite_speeds.max()) if finite_speeds.size and finite_speeds.max() > 0 else 1.0
-    speed_max = _round_up(speed_max)
+    events = _events(frames, t, n, max_events)
+    speed_max = _speed_max(speeds)
 
     scalar = None
     if color_by == "q6":
@@ -196,16 +174,48 @@ def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=No
         "color_by": color_by,
         "scalar": scalar,
         "cut": None if cut is None else float(cut),
-        "events": {
-            "n": int(len(et)),
-            "total": events_total,
-            "counts": counts,
-            "times": _b64(et, np.float64),
-            "kinds": _b64(ek, np.uint8),
-            "i": _b64(ei, np.int32),
-            "j": _b64(ej, np.int32),
-        },
+        "events": events,
     }
+
+
+def _events(frames, t, n, max_events):
+    """The page's events: those between the first and last frame shown, in time order, at most ``max_events``."""
+    et = np.asarray(frames.event_times, dtype=np.float64).reshape(-1)
+    ek = np.asarray(frames.event_kinds).reshape(-1).astype(np.uint8)
+    ei = np.asarray(frames.event_i).reshape(-1).astype(np.int32)
+    ej = np.asarray(frames.event_j).reshape(-1).astype(np.int32)
+    m = min(len(et), len(ek), len(ei), len(ej))
+    et, ek, ei, ej = et[:m], ek[:m], ei[:m], ej[:m]
+    sel = (et >= t[0]) & (et <= t[-1]) & (ei >= 0) & (ei < n) & (ej < n)
+    et, ek, ei, ej = et[sel], ek[sel], ei[sel], ej[sel]
+    order = np.argsort(et, kind="stable")
+    et, ek, ei, ej = et[order], ek[order], ei[order], ej[order]
+    events_total = int(len(et))
+    counts = {
+        "collisions": int(np.sum(ek == EventKind.COLLISION)),
+        "reflections": int(np.sum(ek == EventKind.REFLECTION)),
+    }
+    if len(et) > max_events:
+        pick = even_indices(len(et), max_events)
+        et, ek, ei, ej = et[pick], ek[pick], ei[pick], ej[pick]
+    return {
+        "n": int(len(et)),
+        "total": events_total,
+        "counts": counts,
+        "times": _b64(et, np.float64),
+        "kinds": _b64(ek, np.uint8),
+        "i": _b64(ei, np.int32),
+        "j": _b64(ej, np.int32),
+    }
+
+
+def _speed_max(speeds):
+    """The top of the speed colour scale: the 99.5th percentile, rounded up."""
+    finite_speeds = speeds[np.isfinite(speeds)]
+    speed_max = float(np.percentile(finite_speeds, 99.5)) if finite_speeds.size else 1.0
+    if not speed_max > 0:
+        speed_max = float(finite_speeds.max()) if finite_speeds.size and finite_speeds.max() > 0 else 1.0
+    return _round_up(speed_max)
 
 
 def write_viewer(
