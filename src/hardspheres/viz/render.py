@@ -121,11 +121,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     cax = fig.add_axes([(x0 + side) / width + 0.03, 0.2, 0.018, 0.6])
     fig.colorbar(sm, cax=cax, label=label)
-    phi = packing_fraction(frames)
-    caption = f"N = {n}" + (f", phi = {phi:.3g}" if phi is not None else "")
-    if cut is not None:
-        caption += f"\ncut-away: z <= {cut:.4g}"
-    header = f"{title}\n" if title else ""
+    header, caption = _caption(frames, n, cut, title)
     label_t = fig.text(
         0.015, 0.975, "", va="top", ha="left", family="monospace", fontsize=max(9, round(height / 48))
     )
@@ -157,6 +153,15 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
         label_t.set_text(f"{header}{caption}\nt = {times[f]:.6g}")
 
     return fig, show
+
+
+def _caption(frames, n, cut, title):
+    """``(header, caption)`` of a picture: the title, then N, the packing fraction and the cut."""
+    phi = packing_fraction(frames)
+    caption = f"N = {n}" + (f", phi = {phi:.3g}" if phi is not None else "")
+    if cut is not None:
+        caption += f"\ncut-away: z <= {cut:.4g}"
+    return (f"{title}\n" if title else ""), caption
 
 
 def _colour_scale(color_by, speeds, masses):
