@@ -297,3 +297,19 @@ def test_every_subcommand_is_one_module_with_add_parser_and_run():
     parser = commands.build_parser()
     sub = next(a for a in parser._actions if a.dest == "command")
     assert sorted(sub.choices) == sorted(names)
+
+
+def test_every_exception_and_warning_lives_in_errors_py():
+    import hardspheres.errors as errors
+
+    defined = {n for n in dir(errors) if isinstance(getattr(errors, n), type)}
+    elsewhere = []
+    for name, path in modules().items():
+        if name == "hardspheres.errors":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ClassDef):
+                bases = {ast.unparse(b).rsplit(".", 1)[-1] for b in node.bases}
+                if any(b.endswith(("Error", "Warning", "Exception")) for b in bases | {node.name}):
+                    elsewhere.append(f"{name}.{node.name}")
+    assert elsewhere == [] and {"ScenarioError", "CheckpointError", "TruncatedTrajectory"} <= defined
