@@ -387,6 +387,11 @@ def _run(args, sim, checkpoint):
     if args.trajectory:
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
+    return _exit_status(failure, signum, checkpoint)
+
+
+def _exit_status(failure, signum, checkpoint):
+    """The run's exit status, saying on stderr why it is not 0 (and how to resume)."""
     resume = f"; resume with --resume {checkpoint}" if checkpoint else ""
     if failure is not None:
         print(f"hardspheres run: {oserror_line(failure)}{resume}", file=sys.stderr)
