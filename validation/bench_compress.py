@@ -35,8 +35,13 @@ for k in range(repeats):
     sim.run(collisions=coll)
     t_p = time.process_time() - t0
     ratios.append(t_c / t_p)
-    print(f"N={n} rate={rate} repeat {k + 1}: {coll} collisions; compression "
-          f"{t_c / coll * 1e6:.2f} us/collision, plain at 0.50 {t_p / coll * 1e6:.2f} us/collision "
-          f"(CPU); ratio {t_c / t_p:.2f}", flush=True)
-print(f"ratio median {statistics.median(ratios):.2f}, range {min(ratios):.2f}-{max(ratios):.2f} "
-      f"over {repeats} repeats")
+    print(
+        f"N={n} rate={rate} repeat {k + 1}: {coll} collisions; compression "
+        f"{t_c / coll * 1e6:.2f} us/collision, plain at 0.50 {t_p / coll * 1e6:.2f} us/collision "
+        f"(CPU); ratio {t_c / t_p:.2f}",
+        flush=True,
+    )
+print(
+    f"ratio median {statistics.median(ratios):.2f}, range {min(ratios):.2f}-{max(ratios):.2f} "
+    f"over {repeats} repeats"
+)

@@ -23,6 +23,7 @@ from hardspheres.builders import _fcc, maxwell_boltzmann
 
 # ---- equations of state (sources in docs/validation.md) -----------------------------
 
+
 def z_cs(eta):
     return float(eos.carnahan_starling(eta))
 
@@ -59,8 +60,9 @@ def z_syh(eta, diameters, fractions, pure=eos.kolafa):
 
 # ---- helpers ----------------------------------------------------------------------
 
+
 def box_for(n, phi, radius=1.0):
-    return (n * 4.0 / 3.0 * math.pi * radius ** 3 / phi) ** (1.0 / 3.0)
+    return (n * 4.0 / 3.0 * math.pi * radius**3 / phi) ** (1.0 / 3.0)
 
 
 EQUIL = 200  # collisions per sphere after a compression, before measuring
@@ -92,21 +94,28 @@ def fluid(n, phi0, seed=1):
 
 # ---- the checks -------------------------------------------------------------------
 
+
 def jam(n, rates, pressure=1e4, seed=1, trace=None):
     """Compress from a fluid at 0.3 until Z passes ``pressure``, one run per rate.
 
     ``trace``: a file name pattern with ``{rate}``; each rescale's (phi, Z,
     collisions) is written there as CSV (for phi_J(phi) = phi Z/(Z-3)).
     """
-    print("| N | rate gamma | phi at stop | Z at stop | phi_J = phi Z/(Z-3) | q6 | crystal-like |"
-          " collisions | wall s |")
+    print(
+        "| N | rate gamma | phi at stop | Z at stop | phi_J = phi Z/(Z-3) | q6 | crystal-like |"
+        " collisions | wall s |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for rate in rates:
         sim = fluid(n, 0.3, seed=seed)
         rows = []
         t0 = time.perf_counter()
-        res = sim.compress(packing=0.74, rate=rate, pressure=pressure,
-                           progress=lambda phi, z, c, rows=rows: rows.append((phi, z, c)))
+        res = sim.compress(
+            packing=0.74,
+            rate=rate,
+            pressure=pressure,
+            progress=lambda phi, z, c, rows=rows: rows.append((phi, z, c)),
+        )
         wall = time.perf_counter() - t0
         phij = res.packing * res.pressure / (res.pressure - 3.0)
         q, xtal = q6(sim)
@@ -114,13 +123,18 @@ def jam(n, rates, pressure=1e4, seed=1, trace=None):
             with open(trace.format(rate=rate), "w") as fh:
                 fh.write("phi,Z,collisions\n")
                 fh.writelines(f"{a:.8f},{b:.6g},{c}\n" for a, b, c in rows)
-        print(f"| {n} | {rate:g} | {res.packing:.4f} | {res.pressure:.3g} | {phij:.4f} | "
-              f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |", flush=True)
+        print(
+            f"| {n} | {rate:g} | {res.packing:.4f} | {res.pressure:.3g} | {phij:.4f} | "
+            f"{q:.3f} | {xtal:.2f} | {res.collisions} | {wall:.0f} |",
+            flush=True,
+        )
 
 
 def fluid_eos(n, phis, per_sphere=500, rate=0.005):
-    print("| N | phi | Z measured | CS | Hansen-Goos | KLM | (Z - HG)/sigma | (Z - KLM)/sigma |"
-          " q6 | crystal-like |")
+    print(
+        "| N | phi | Z measured | CS | Hansen-Goos | KLM | (Z - HG)/sigma | (Z - KLM)/sigma |"
+        " q6 | crystal-like |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for phi in phis:
         sim = fluid(n, 0.3)
@@ -129,12 +143,15 @@ def fluid_eos(n, phis, per_sphere=500, rate=0.005):
         z, s = measure_z(sim, per_sphere * n)
         q, xtal = q6(sim)
         zh, zk = z_hg(phi), z_klm(phi)
-        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zh:.4f} | {zk:.4f} | "
-              f"{(z - zh) / s:+.1f} | {(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |", flush=True)
+        print(
+            f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {z_cs(phi):.4f} | {zh:.4f} | {zk:.4f} | "
+            f"{(z - zh) / s:+.1f} | {(z - zk) / s:+.1f} | {q:.3f} | {xtal:.2f} |",
+            flush=True,
+        )
 
 
 def fcc_eos(k, phis, per_sphere=500, seed=1):
-    n = 4 * k ** 3
+    n = 4 * k**3
     print("| N | phi | Z measured | Speedy (1998) | (Z - Speedy)/sigma | q6 |")
     print("|---|---|---|---|---|---|")
     for phi in phis:
@@ -147,30 +164,35 @@ def fcc_eos(k, phis, per_sphere=500, seed=1):
         z, s = measure_z(sim, per_sphere * n)
         q, _ = q6(sim)
         zs = z_speedy_crystal(phi)
-        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zs:.4f} | {(z - zs) / s:+.1f} | {q:.3f} |",
-              flush=True)
+        print(f"| {n} | {phi} | {z:.4f} ± {s:.4f} | {zs:.4f} | {(z - zs) / s:+.1f} | {q:.3f} |", flush=True)
 
 
 def mix_eos(n, phis, ratio=1.4, per_sphere=500, seed=1, equil=EQUIL):
-    print("| N | phi | seed | Z measured | BMCSL | (Z - BMCSL)/sigma | Hansen-Goos-Roth |"
-          " (Z - HGR)/sigma | SYH on KLM | (Z - SYH)/sigma |")
+    print(
+        "| N | phi | seed | Z measured | BMCSL | (Z - BMCSL)/sigma | Hansen-Goos-Roth |"
+        " (Z - HGR)/sigma | SYH on KLM | (Z - SYH)/sigma |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for phi in phis:
         phi0 = 0.2
         L = box_for(n, phi0)
         state = hs.random_spheres(n, phi0, box=L, seed=seed)
         radii = state.radii.copy()
-        radii[n // 2:] /= ratio  # shrinking cannot overlap: 50:50, ratio 1.4
-        sim = hs.Simulation.from_arrays(state.masses, radii, state.positions,
-                                        state.velocities, hs.PeriodicBox(L))
+        radii[n // 2 :] /= ratio  # shrinking cannot overlap: 50:50, ratio 1.4
+        sim = hs.Simulation.from_arrays(
+            state.masses, radii, state.positions, state.velocities, hs.PeriodicBox(L)
+        )
         sim.run(collisions=5 * n)
         sim.compress(packing=phi, rate=0.05)
         sim.run(collisions=equil * n)
         z, s = measure_z(sim, per_sphere * n)
         zb, zh = z_bmcsl(phi, [ratio, 1.0], [0.5, 0.5]), z_hgr(phi, [ratio, 1.0], [0.5, 0.5])
         zy = z_syh(phi, [ratio, 1.0], [0.5, 0.5])
-        print(f"| {n} | {phi} | {seed} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} | "
-              f"{zh:.4f} | {(z - zh) / s:+.1f} | {zy:.4f} | {(z - zy) / s:+.1f} |", flush=True)
+        print(
+            f"| {n} | {phi} | {seed} | {z:.4f} ± {s:.4f} | {zb:.4f} | {(z - zb) / s:+.1f} | "
+            f"{zh:.4f} | {(z - zh) / s:+.1f} | {zy:.4f} | {(z - zy) / s:+.1f} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

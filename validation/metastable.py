@@ -58,8 +58,11 @@ if __name__ == "__main__":
     with open(out, "w") as fh:
         fh.write("rate,seed,collisions_per_sphere,Z,crystal_fraction\n")
     print(f"phi {phi}: KLM {klm:.4f}, Hansen-Goos {hg:.4f}")
-    print("| rate | seed | compression collisions | " + " | ".join(
-        f"Z, {a}-{b} coll/sphere" for a, b in WINDOWS) + " | crystal-like at end | wall s |")
+    print(
+        "| rate | seed | compression collisions | "
+        + " | ".join(f"Z, {a}-{b} coll/sphere" for a, b in WINDOWS)
+        + " | crystal-like at end | wall s |"
+    )
     print("|---" * (5 + len(WINDOWS)) + "|")
     for h in hist:
         rate, seed = float(h.split(":")[0]), int(h.split(":")[1])
@@ -71,5 +74,7 @@ if __name__ == "__main__":
             z, s = window(rows, a, b)
             cells.append(f"{z:.3f} ± {s:.3f} ({(z - klm) / s:+.1f} σ KLM)")
         xt = [r[2] for r in rows if not math.isnan(r[2])][-1]
-        print(f"| {rate:g} | {seed} | {c_comp} | " + " | ".join(cells) + f" | {xt:.2f} | {wall:.0f} |",
-              flush=True)
+        print(
+            f"| {rate:g} | {seed} | {c_comp} | " + " | ".join(cells) + f" | {xt:.2f} | {wall:.0f} |",
+            flush=True,
+        )

@@ -46,15 +46,24 @@ class _Velocities:
                 self.t.append(state.time)
                 self.v.append(state.velocities.copy())
                 rec._state = state
+
         return Rec(self.every, events=False)
 
     def frames(self, sim):
         from hardspheres.frames import Frames
+
         v = np.array(self.v)
         zeros = np.broadcast_to(np.zeros(1), v.shape)  # positions: not needed, not stored
-        return Frames(np.array(self.t), zeros, v, sim.state().radii, sim.state().masses,
-                      sim.names, container=sim.container,
-                      images=np.broadcast_to(np.zeros(1, np.int64), v.shape))
+        return Frames(
+            np.array(self.t),
+            zeros,
+            v,
+            sim.state().radii,
+            sim.state().masses,
+            sim.names,
+            container=sim.container,
+            images=np.broadcast_to(np.zeros(1, np.int64), v.shape),
+        )
 
 
 def vacf_tail(n=500, phi=0.45, mft_total=2000.0, seed=3):
@@ -63,6 +72,7 @@ def vacf_tail(n=500, phi=0.45, mft_total=2000.0, seed=3):
     import hardspheres as hs
     from hardspheres.io.trajectory import FrameRecorder
     from hardspheres.analysis.transport import MSD, VACF
+
     L = (n * math.pi / (6.0 * phi)) ** (1.0 / 3.0)
     sim = hs.Simulation(hs.random_spheres(n, phi, box=L, seed=seed), hs.PeriodicBox(L))
     sim.run(collisions=50 * n)
@@ -77,8 +87,10 @@ def vacf_tail(n=500, phi=0.45, mft_total=2000.0, seed=3):
     sim.writers.clear()
     v = VACF(blocks=5).compute(vel.frames(sim))
     D_msd, D_msd_err = MSD().compute(w_x.frames()).diffusion()
-    print(f"packing {phi}, N = {n}, L = {L:.3f}, mean free time {mft:.5f}, "
-          f"{mft_total:g} mean free times; D (MSD) = {D_msd:.5f} +- {D_msd_err:.5f}")
+    print(
+        f"packing {phi}, N = {n}, L = {L:.3f}, mean free time {mft:.5f}, "
+        f"{mft_total:g} mean free times; D (MSD) = {D_msd:.5f} +- {D_msd_err:.5f}"
+    )
     print("| cut [mean free times] | D (VACF) | D (VACF) / D (MSD) - 1 |")
     print("|---|---|---|")
     seg = v.t[len(v.t) // v.blocks - 1]
@@ -88,11 +100,12 @@ def vacf_tail(n=500, phi=0.45, mft_total=2000.0, seed=3):
         d, e = v.diffusion(t_max=cut * mft)
         print(f"| {cut} | {d:.5f} +- {e:.5f} | {d / D_msd - 1:+.2%} |")
     c = v.c / v.c[0]
-    for lo, hi in ((5, 10), (10, 20), (20, 40), (40, 80), (80, 160), (160, 250),
-                   (250, 400)):
+    for lo, hi in ((5, 10), (10, 20), (20, 40), (40, 80), (80, 160), (160, 250), (250, 400)):
         sel = (v.t >= lo * mft) & (v.t < hi * mft)
-        print(f"C(t)/C(0) over {lo}-{hi} mean free times: mean {np.mean(c[sel]):+.2e}, "
-              f"times (t/mft)^1.5: {np.mean(c[sel] * (v.t[sel] / mft) ** 1.5):+.4f}")
+        print(
+            f"C(t)/C(0) over {lo}-{hi} mean free times: mean {np.mean(c[sel]):+.2e}, "
+            f"times (t/mft)^1.5: {np.mean(c[sel] * (v.t[sel] / mft) ** 1.5):+.4f}"
+        )
 
 
 def main(argv=None):
@@ -103,22 +116,37 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--csv", default="docs/validation-transport.csv")
     ap.add_argument("--workers", type=int, default=1)
-    ap.add_argument("--vacf", action="store_true", help="only the VACF tail study "
-                    "(at the first of --packings if given, else 0.45; N = the first of "
-                    "--sizes if given, else 500; --scale multiplies its 2000 mean free times)")
+    ap.add_argument(
+        "--vacf",
+        action="store_true",
+        help="only the VACF tail study "
+        "(at the first of --packings if given, else 0.45; N = the first of "
+        "--sizes if given, else 500; --scale multiplies its 2000 mean free times)",
+    )
     args = ap.parse_args(argv)
     if args.vacf:
-        vacf_tail(n=args.sizes[0] if args.sizes != [500, 1372] else 500,
-                  phi=args.packings[0] if args.packings != list(TRANSPORT_PACKINGS) else 0.45,
-                  mft_total=2000.0 * args.scale, seed=3)
+        vacf_tail(
+            n=args.sizes[0] if args.sizes != [500, 1372] else 500,
+            phi=args.packings[0] if args.packings != list(TRANSPORT_PACKINGS) else 0.45,
+            mft_total=2000.0 * args.scale,
+            seed=3,
+        )
         return 0
     dur = {p: args.scale * DURATIONS.get(p, 7000.0 * 0.1) for p in args.packings}
     t0 = time.perf_counter()
-    rows, scores = validate_transport(packings=args.packings, sizes=args.sizes, duration=dur,
-                                      seed=args.seed, out=sys.stdout, csv_path=args.csv,
-                                      workers=args.workers)
-    print(f"\nwrote {args.csv}; {sum(r.collisions for r in rows)} collisions measured, "
-          f"{time.perf_counter() - t0:.0f} s")
+    rows, scores = validate_transport(
+        packings=args.packings,
+        sizes=args.sizes,
+        duration=dur,
+        seed=args.seed,
+        out=sys.stdout,
+        csv_path=args.csv,
+        workers=args.workers,
+    )
+    print(
+        f"\nwrote {args.csv}; {sum(r.collisions for r in rows)} collisions measured, "
+        f"{time.perf_counter() - t0:.0f} s"
+    )
     for r in rows:
         print(f"<!-- phi {r.phi:.4f} N {r.n}: {r.collisions} collisions, {r.seconds:.0f} s -->")
     return 0

@@ -1,0 +1,52 @@
+"""docs/glass.md's examples run (smaller and shorter)."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("matplotlib")
+pytest.importorskip("scipy")
+
+PAGE = (Path(__file__).resolve().parents[1] / "docs" / "glass.md").read_text()
+BLOCKS = re.findall(r"```python\n(.*?)```", PAGE, re.S)
+
+
+def run(block, changes):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    for old, new in changes:
+        assert old in block, old
+        block = block.replace(old, new)
+    scope: dict = {}
+    exec(compile(block, "docs/glass.md", "exec"), scope)
+    return scope
+
+
+def test_the_glass_former_example_runs():
+    s = run(
+        BLOCKS[0],
+        [
+            ("n, phi = 500, 0.56", "n, phi = 100, 0.45"),
+            ("10_000 * n", "20 * n"),
+            ("every=100, per_decade=8, until=1000", "every=2, per_decade=8, until=10"),
+            ("sim.time + 1000", "sim.time + 10"),
+            ("origin_every=100", "origin_every=2"),
+        ],
+    )
+    assert 0 < s["tau"] < 10 and s["chi4_peak"] > 0 and len(s["alpha2"]) == len(s["fs"].t)
+
+
+def test_the_jammed_packing_example_runs():
+    s = run(
+        BLOCKS[1],
+        [
+            ("1000, 0.3", "128, 0.3"),
+            ("(1e-3, 1e5), (1e-4, 1e6)", "(1e-3, 1e6)"),
+            ("2000 * sim.n", "100 * sim.n"),
+        ],
+    )
+    c = s["c"]
+    assert abs(c.z - c.z_isostatic) < 0.02 * c.z_isostatic
+    assert 0 < s["gamma"] < 1
