@@ -13,7 +13,7 @@ import importlib
 import sys
 from typing import TYPE_CHECKING
 
-from .containers import Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
+from .containers import BoxShapeError, Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .errors import BuildError, CheckpointError, FileInUseError, StudyError, TruncatedTrajectory
 from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
@@ -148,6 +148,7 @@ def __dir__():
 
 __all__ = [
     "BondOrder",
+    "BoxShapeError",
     "BuildError",
     "CheckpointError",
     "CollectiveIntermediate",

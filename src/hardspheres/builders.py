@@ -58,19 +58,27 @@ def _fcc(k, a, index=None):
 
     Site ``4 c + b`` is corner ``b`` of :data:`_BASE` in cell ``c`` (cells in
     x-major order); ``index`` picks some of the ``4 k^3`` sites (all if
-    ``None``), so that only the sites used are ever made.
+    ``None``), so that only the sites used are ever made.  ``k`` and ``a``
+    may be triples (cells per axis and their sides: a rectangular box).
     """
+    kx, ky, kz = (k, k, k) if np.ndim(k) == 0 else (int(x) for x in k)
     if index is None:
-        index = np.arange(4 * k**3)
+        index = np.arange(4 * kx * ky * kz)
     cell, corner = np.divmod(np.asarray(index, dtype=np.int64), 4)
-    cx, rest = np.divmod(cell, k * k)
-    cy, cz = np.divmod(rest, k)
+    cx, rest = np.divmod(cell, ky * kz)
+    cy, cz = np.divmod(rest, kz)
     sites = np.stack((cx, cy, cz), axis=-1).astype(np.float64)
     del cell, cx, cy, cz, rest
     sites += _BASE[corner]
-    sites *= a  # in place, the same operations as sites * a - 0.5 k a + 0.25 a
-    sites -= 0.5 * k * a
-    sites += 0.25 * a
+    if np.ndim(k) == 0:
+        sites *= a  # in place, the same operations as sites * a - 0.5 k a + 0.25 a
+        sites -= 0.5 * k * a
+        sites += 0.25 * a
+    else:
+        a = np.asarray(a, dtype=np.float64)
+        sites *= a
+        sites -= 0.5 * np.asarray([kx, ky, kz]) * a
+        sites += 0.25 * a
     return sites
 
 
@@ -94,6 +102,27 @@ def _box_lattice(n, side, a_min):
     k_max = int(np.floor(side / a_min))
     k = min(k_max, _whole_cells(_target_sites(n, 4 * k_max**3)))
     return k, (side / k if k >= 1 else 0.0)
+
+
+def _rect_lattice(n, sides, a_min):
+    """``(k, edges)``: FCC cells per axis of a rectangular box's lattice and their sides.
+
+    As in :func:`_box_lattice`: nearly cubic cells, as few as hold
+    :func:`_target_sites` and none narrower than ``a_min``; whole cells tile
+    each side.
+    """
+    sides = np.asarray(sides, dtype=np.float64)
+    k_max = np.floor(sides / a_min).astype(np.int64)
+    if np.any(k_max < 1):
+        return (0, 0, 0), (0.0, 0.0, 0.0)
+    want = _target_sites(n, 4 * int(np.prod(k_max)))
+    cell = (float(np.prod(sides)) * 4.0 / want) ** (1.0 / 3.0)
+    k = np.minimum(k_max, np.maximum(1, np.ceil(sides / cell).astype(np.int64)))
+    while 4 * int(np.prod(k)) < want and np.any(k < k_max):
+        # the axis whose cells are widest gets one more
+        grow = np.where(k < k_max, sides / k, 0.0)
+        k[int(np.argmax(grow))] += 1
+    return tuple(int(x) for x in k), tuple(float(x) for x in sides / k)
 
 
 def _ball_sites(k, a, where, rmax):
@@ -147,7 +176,7 @@ def _insert(rng, radii, container, sweeps=20000):
     params = container.core_params()
     wall = params["wall_radius"]
     if container.periodic:
-        h = container.half_width
+        h = container.half_width if container.cube else 0.5 * np.array(container.sides)
         x = rng.uniform(-h, h, (n, 3))
     else:
         reach = wall - grow
@@ -186,7 +215,7 @@ def random_spheres(
     n: int,
     packing: float,
     container: Container | float | None = None,
-    box: float | None = None,
+    box: float | tuple[float, ...] | None = None,
     seed: int | None = 0,
     radius_ratio: float = 1.0,
     mass_ratio: float = 1.0,
@@ -199,7 +228,7 @@ def random_spheres(
         packing: volume fraction of the container the spheres fill.
         container: the :class:`~hardspheres.containers.Container` (or the
             radius of a spherical container [length]), or
-        box: the edge of a periodic cubic box [length].
+        box: the edge of a periodic cubic box, or its sides ``(Lx, Ly, Lz)`` [length].
         seed: random seed (same seed, same scenario).
         radius_ratio: largest over smallest radius; radii are uniform in
             between (1 = equal spheres).
@@ -230,7 +259,7 @@ def random_arrays(
     n: int,
     packing: float,
     container: Container | float | None = None,
-    box: float | None = None,
+    box: float | tuple[float, ...] | None = None,
     seed: int | None = 0,
     radius_ratio: float = 1.0,
     mass_ratio: float = 1.0,
@@ -270,10 +299,11 @@ def random_arrays(
     scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel**3))) ** (1.0 / 3.0)
     radii = rel * scale
     rmax = float(radii.max()) if n else 0.0
-    if where.periodic and n and 6.0 * rmax > 2.0 * where.half_width:
+    narrowest = min(where.sides) if where.periodic else 0.0  # type: ignore[attr-defined]
+    if where.periodic and n and 6.0 * rmax > narrowest:
         raise BuildError(
             f"a periodic box must be at least three largest diameters wide "
-            f"({6.0 * rmax:.3g}), not {2.0 * where.half_width:g}: lower the "
+            f"({6.0 * rmax:.3g}), not {narrowest:g}: lower the "
             "packing or raise N"
         )
     # contact spacing: nearest sites (a / sqrt 2) one largest diameter apart
@@ -282,9 +312,12 @@ def random_arrays(
     if n == 0:
         sites = np.zeros((0, 3))
         count = 0
-    elif where.periodic:
+    elif where.periodic and where.cube:  # type: ignore[attr-defined]
         k, edge = _box_lattice(n, 2.0 * where.half_width, a_min)
         count = 4 * k**3 if k >= 1 else 0
+    elif where.periodic:
+        k, edge = _rect_lattice(n, where.sides, a_min)  # type: ignore[attr-defined]
+        count = 4 * int(np.prod(k))
     else:
         sites = _sphere_lattice(n, where, rmax, a_min)
         count = len(sites)
@@ -308,3 +341,76 @@ def random_arrays(
         masses = np.exp(rng.uniform(0.0, np.log(mass_ratio), n))
     velocities = maxwell_boltzmann(rng, masses, kT)
     return masses, radii, positions, velocities
+
+
+#: Close packing of equal spheres (FCC and HCP): pi / sqrt(18).
+CLOSE_PACKING = float(np.pi / np.sqrt(18.0))
+
+# the lattices' cells: sides in nearest-neighbour distances, and sites in fractions of them
+_CELLS = {
+    # the cubic cell of FCC, side sqrt(2) neighbour distances
+    "fcc": (np.sqrt(2.0) * np.ones(3), _BASE),
+    # the orthorhombic cell of HCP: a, sqrt(3) a, sqrt(8/3) a, layers A B A ... along z
+    "hcp": (
+        np.array([1.0, np.sqrt(3.0), np.sqrt(8.0 / 3.0)]),
+        np.array([[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [0.5, 5.0 / 6.0, 0.5], [0.0, 1.0 / 3.0, 0.5]]),
+    ),
+}
+
+
+def crystal(
+    lattice: str,
+    cells: tuple[int, int, int],
+    packing: float,
+    radius: float = 0.5,
+    kT: float = 1.0,
+    seed: int | None = 0,
+) -> tuple[State, Container]:
+    """A perfect FCC or HCP crystal filling a periodic box of whole cells.
+
+    Args:
+        lattice: ``"fcc"`` (cubic cells of 4 sites) or ``"hcp"``
+            (orthorhombic cells of 4 sites, sides ``a, sqrt(3) a, sqrt(8/3) a``
+            for neighbours ``a`` apart: the box is not a cube).
+        cells: cells per axis.
+        packing: volume fraction, up to close packing (``pi / sqrt(18)``).
+        radius: the spheres' radius [length].
+        kT: temperature of the Maxwell-Boltzmann velocities [energy].
+        seed: random seed of the velocities.
+
+    Returns:
+        ``(state, box)``: the spheres and their :class:`~hardspheres.PeriodicBox`.
+
+    Example:
+        >>> s, box = crystal("hcp", (4, 2, 2), 0.5)
+        >>> s.n, [round(x, 4) for x in box.sides]
+        (64, [4.5594, 3.9486, 3.7227])
+    """
+    from .containers import PeriodicBox
+
+    if lattice not in _CELLS:
+        raise BuildError(f"lattice {lattice!r}: give 'fcc' or 'hcp'")
+    try:
+        k = np.array([int(c) for c in cells])
+    except (TypeError, ValueError):
+        raise BuildError(f"cells {cells!r}: give three whole numbers >= 1") from None
+    if k.shape != (3,) or np.any(k < 1):
+        raise BuildError(f"cells {cells!r}: give three whole numbers >= 1")
+    if not (0.0 < packing <= CLOSE_PACKING):
+        raise BuildError(f"packing fraction must be in (0, {CLOSE_PACKING:.6f}] for a crystal, got {packing}")
+    if not (radius > 0.0 and np.isfinite(radius)):
+        raise BuildError(f"radius must be a finite number > 0, got {radius}")
+    unit, base = _CELLS[lattice]
+    a = 2.0 * radius * (CLOSE_PACKING / packing) ** (1.0 / 3.0)  # neighbour distance
+    side = unit * a
+    idx = np.stack(np.meshgrid(*(np.arange(x) for x in k), indexing="ij"), axis=-1).reshape(-1, 1, 3)
+    frac = (idx + base[None, :, :]).reshape(-1, 3)
+    sides = k * side
+    positions = frac * side - 0.5 * sides + 0.25 * side  # off the box's faces
+    box = PeriodicBox(tuple(float(x) for x in sides))
+    positions = box.wrap(positions)
+    n = len(positions)
+    rng = np.random.default_rng(seed)
+    masses = np.ones(n)
+    velocities = maxwell_boltzmann(rng, masses, kT)
+    return State.from_arrays(masses, np.full(n, float(radius)), positions, velocities), box

@@ -44,7 +44,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
-from .errors import ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
+from .errors import BoxShapeError, ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -105,7 +105,7 @@ class Container(Protocol):
 
     def record(self) -> np.ndarray: ...
 
-    def core_params(self) -> dict[str, float]: ...
+    def core_params(self) -> dict: ...
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None: ...
 
@@ -125,7 +125,7 @@ def _positive(value: float, what: str) -> float:
 
 
 def require_periodic(container: Container | None, what: str) -> float:
-    """The box edge of ``container``; :class:`PeriodicBoxRequired` if it is not periodic."""
+    """The box's x side (a cube's edge); :class:`PeriodicBoxRequired` if it is not periodic."""
     if container is None or not container.periodic:
         raise PeriodicBoxRequired(
             f"{what} need a periodic box (spheres in a container do not diffuse freely); "
@@ -251,9 +251,16 @@ class SphericalContainer:
 
         return np.array([self.kind, repr(self.radius)])
 
-    def core_params(self) -> dict[str, float]:
-        """What the compiled core reads: wall radius, periodic edge (0: none), grid span."""
-        return {"wall_radius": self.radius, "box": 0.0, "span": 2.0 * self.radius}
+    def core_params(self) -> dict:
+        """What the compiled core reads: wall radius, periodic edge (0: none), grid span (per axis too)."""
+        span = 2.0 * self.radius
+        return {
+            "wall_radius": self.radius,
+            "box": 0.0,
+            "span": span,
+            "edges": (0.0, 0.0, 0.0),
+            "spans": (span, span, span),
+        }
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
         """Why a sphere at ``p`` of radius ``r`` moving at ``v`` cannot start here, or ``None``."""
@@ -295,55 +302,125 @@ class SphericalContainer:
         return out
 
 
+def _box_sides(length) -> float | tuple[float, ...]:
+    """``length`` as a cube's edge (a float) or a box's sides (a tuple); :class:`BoxShapeError` if neither."""
+    allowed = "give one number (a cube's edge) or three (Lx, Ly, Lz), each finite and > 0"
+    if isinstance(length, (str, bytes)):
+        raise BoxShapeError(f"box sides {length!r}: {allowed}")
+    try:
+        sides = tuple(length)
+    except TypeError:
+        try:
+            return _positive(length, "box length")
+        except ContainerError:
+            raise BoxShapeError(f"box length {length!r}: {allowed}") from None
+    if len(sides) != 3:
+        raise BoxShapeError(f"a box of {len(sides)} sides {sides!r}: {allowed}")
+    out = []
+    for a, x in zip("xyz", sides):
+        try:
+            out.append(_positive(x, f"box side L{a}"))
+        except ContainerError:
+            raise BoxShapeError(f"box side L{a} = {x!r}: {allowed}") from None
+    if out[0] == out[1] == out[2]:
+        return out[0]  # the cube: one number, the same arithmetic
+    return tuple(out)
+
+
 @dataclass(frozen=True)
 class PeriodicBox:
-    """A periodic cube of edge ``length`` [length] centred on the origin.
+    """A periodic box centred on the origin: a cube of edge ``length``, or sides ``(Lx, Ly, Lz)`` [length].
 
     Pairs collide with their nearest image; total momentum is conserved; the
-    pressure comes from the collision virial.
+    pressure comes from the collision virial.  ``length`` is a float for a
+    cube (three equal sides are the cube) and a tuple for a rectangular
+    box; :attr:`sides` is always the tuple.
 
     Example:
-        >>> PeriodicBox(2.0).volume
-        8.0
+        >>> PeriodicBox(2.0).volume, PeriodicBox((1.0, 2.0, 3.0)).volume
+        (8.0, 6.0)
+        >>> PeriodicBox((2.0, 2.0, 2.0))
+        PeriodicBox(length=2.0)
     """
 
-    length: float
+    length: float | tuple[float, ...]
     periodic: ClassVar[bool] = True
     kind: ClassVar[str] = "PeriodicBox"
     size_field: ClassVar[str] = "box_length"
+    #: the fields of a rectangular box's sides (:meth:`fields`)
+    side_fields: ClassVar[tuple[str, ...]] = ("box_length_x", "box_length_y", "box_length_z")
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "length", _positive(self.length, "box length"))
+        object.__setattr__(self, "length", _box_sides(self.length))
 
     @classmethod
-    def for_packing(cls, n: int, packing: float) -> PeriodicBox:
+    def for_packing(cls, n: int, packing: float, aspect: tuple[float, ...] | None = None) -> PeriodicBox:
         """The box ``n`` spheres of diameter 1 fill to the fraction ``packing``.
+
+        ``aspect``: the sides' proportions (default: a cube).
 
         Example:
             >>> round(PeriodicBox.for_packing(500, 0.3).length, 6)
             9.556139
+            >>> [round(x, 6) for x in PeriodicBox.for_packing(500, 0.3, (1, 1, 2)).sides]
+            [7.584713, 7.584713, 15.169425]
         """
-        return cls((n * math.pi / (6.0 * packing)) ** (1.0 / 3.0))
+        volume = n * math.pi / (6.0 * packing)
+        if aspect is None:
+            return cls(volume ** (1.0 / 3.0))
+        a = [float(x) for x in aspect]
+        if len(a) != 3 or not all(math.isfinite(x) and x > 0 for x in a):
+            raise BoxShapeError(f"aspect {aspect!r}: give three finite numbers > 0")
+        unit = (volume / (a[0] * a[1] * a[2])) ** (1.0 / 3.0)
+        return cls(tuple(unit * x for x in a))
+
+    @property
+    def cube(self) -> bool:
+        """Whether all sides are equal."""
+        return not isinstance(self.length, tuple)
+
+    @property
+    def sides(self) -> tuple[float, ...]:
+        """The sides ``(Lx, Ly, Lz)`` [length]."""
+        if isinstance(self.length, tuple):
+            return self.length
+        return (self.length,) * 3
+
+    @property
+    def dimensions(self) -> int:
+        """The dimension of space: 3."""
+        return len(self.sides)
 
     @property
     def size(self) -> float:
-        """The one number that sets the box: its edge [length]."""
-        return self.length
+        """The one number that sets a cube: its edge; a box's longest side [length]."""
+        return max(self.sides)
+
+    @property
+    def _sides_text(self) -> str:
+        return " x ".join(f"{x:g}" for x in self.sides)
 
     @property
     def label(self) -> str:
         """A short description for titles."""
-        return f"periodic box L = {self.length:g}"
+        if self.cube:
+            return f"periodic box L = {self.size:g}"
+        return f"periodic box {self._sides_text}"
 
     @property
     def description(self) -> str:
         """It in words, for messages and summaries."""
-        return f"periodic box of edge {self.length:g}"
+        if self.cube:
+            return f"periodic box of edge {self.size:g}"
+        return f"periodic box of sides {self._sides_text}"
 
     @property
     def volume(self) -> float:
         """Volume of the box [length^3]."""
-        return self.length**3
+        if self.cube:
+            return self.size**3
+        x, y, z = self.sides
+        return x * y * z
 
     @property
     def wall_area(self) -> float:
@@ -352,41 +429,47 @@ class PeriodicBox:
 
     @property
     def half_width(self) -> float:
-        """Half the edge [length]."""
-        return 0.5 * self.length
+        """Half the longest side (the enclosing cube's) [length]."""
+        return 0.5 * self.size
 
     @property
     def bounding_radius(self) -> float:
-        """Half the cube's diagonal [length]."""
-        return 0.5 * self.length * math.sqrt(3.0)
+        """Half the box's diagonal [length]."""
+        if self.cube:
+            return 0.5 * self.size * math.sqrt(3.0)
+        return 0.5 * math.sqrt(sum(x * x for x in self.sides))
 
     @property
     def gsd_box(self) -> list[float]:
         """GSD's ``configuration/box`` (periodic)."""
-        L = self.length
-        return [L, L, L, 0.0, 0.0, 0.0]
+        return [*self.sides, 0.0, 0.0, 0.0]
+
+    def _edges(self):
+        import numpy as np
+
+        return self.length if self.cube else np.array(self.sides)
 
     def wrap(self, positions: np.ndarray) -> np.ndarray:
-        """Positions moved by whole edges into ``[-L/2, L/2)`` [length]."""
+        """Positions moved by whole sides into ``[-L/2, L/2)`` per axis [length]."""
         import numpy as np
 
         p = np.asarray(positions, dtype=np.float64)
-        L = self.length
+        L = self._edges()
         return p - L * np.floor(p / L + 0.5)
 
     def image_counts(self, positions: np.ndarray) -> np.ndarray:
-        """``(N, 3)`` whole edges :meth:`wrap` takes off each position (its periodic image)."""
+        """``(N, 3)`` whole sides :meth:`wrap` takes off each position (its periodic image)."""
         import numpy as np
 
         p = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
-        return np.floor(p / self.length + 0.5).astype(np.int64)
+        return np.floor(p / self._edges() + 0.5).astype(np.int64)
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``a - b`` to the nearest image [length]."""
         import numpy as np
 
         d = np.asarray(a, dtype=np.float64) - b
-        L = self.length
+        L = self._edges()
         return d - L * np.round(d / L)
 
     def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
@@ -404,18 +487,26 @@ class PeriodicBox:
         return (n * kT + virial / (3.0 * elapsed)) / self.volume
 
     def fields(self) -> dict[str, float]:
-        """Its numbers by name, for GSD logs and XYZ headers."""
-        return {self.size_field: self.length}
+        """Its numbers by name, for GSD logs and XYZ headers (a cube: ``box_length``)."""
+        if self.cube:
+            return {self.size_field: self.size}
+        return dict(zip(self.side_fields, self.sides))
 
     def record(self) -> np.ndarray:
-        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
+        """``[kind, size]`` for checkpoints (:func:`from_record`): ``repr`` of the edge, or the sides."""
         import numpy as np
 
-        return np.array([self.kind, repr(self.length)])
+        if self.cube:
+            return np.array([self.kind, repr(self.length)])
+        return np.array([self.kind, " ".join(repr(x) for x in self.sides)])
 
-    def core_params(self) -> dict[str, float]:
-        """What the compiled core reads: wall radius (0: none), periodic edge, grid span."""
-        return {"wall_radius": 0.0, "box": self.length, "span": self.length}
+    def core_params(self) -> dict:
+        """What the compiled core reads: wall radius (0: none), periodic edge, grid span.
+
+        ``box`` and ``span`` are the x side's; ``edges`` and ``spans`` per axis.
+        """
+        x = self.sides[0]
+        return {"wall_radius": 0.0, "box": x, "span": x, "edges": self.sides, "spans": self.sides}
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
         """``None``: any sphere fits (the engine checks that the box holds three diameters)."""
@@ -427,8 +518,8 @@ class PeriodicBox:
         """Its 12 edges seen along ``right x up``: ``(line (2, 2), dashed)`` pairs [length]."""
         import numpy as np
 
-        h = self.half_width
-        corners = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)])
+        hx, hy, hz = (0.5 * s for s in self.sides)
+        corners = np.array([[x, y, z] for x in (-hx, hx) for y in (-hy, hy) for z in (-hz, hz)])
         return [
             (np.column_stack([corners[[a, b]] @ right, corners[[a, b]] @ up]), False)
             for a in range(8)
@@ -443,7 +534,9 @@ KINDS: dict[str, type[SphericalContainer] | type[PeriodicBox]] = {
 }
 
 
-def as_container(container: Container | float | None = None, box: float | None = None) -> Container:
+def as_container(
+    container: Container | float | None = None, box: float | tuple[float, ...] | None = None
+) -> Container:
     """A container from the object, or from the older floats: a radius or a box edge.
 
     Example:
@@ -466,18 +559,30 @@ def from_record(record: np.ndarray) -> Container:
     kind, size = (str(x) for x in np.asarray(record).tolist())
     if kind not in KINDS:
         raise ContainerError(f"unknown container {kind!r}; known: {', '.join(KINDS)}")
-    return KINDS[kind](float(size))
+    numbers = [float(x) for x in size.split()]
+    if len(numbers) == 1:
+        return KINDS[kind](numbers[0])
+    if kind != PeriodicBox.kind:
+        raise ContainerError(f"a {kind} has one size, not {size!r}")
+    return PeriodicBox(tuple(numbers))
 
 
 def from_fields(fields: dict) -> Container:
     """The container whose :meth:`Container.fields` are among ``fields`` (a GSD log, an XYZ header)."""
     import numpy as np
 
+    def number(key):
+        return float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0])
+
+    for prefix in ("", "hardspheres/"):
+        keys = [prefix + k for k in PeriodicBox.side_fields]
+        if all(k in fields for k in keys):
+            return PeriodicBox(tuple(number(k) for k in keys))
     for cls in KINDS.values():
         for key in (cls.size_field, f"hardspheres/{cls.size_field}"):
             if key in fields:
                 return cls(float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0]))
-    raise ContainerError("no container size found (container_radius or box_length)")
+    raise ContainerError("no container size found (container_radius, box_length or box_length_x/y/z)")
 
 
 #: The densest packing of equal spheres, ``pi / sqrt(18) = 0.74048`` (FCC and

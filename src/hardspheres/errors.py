@@ -20,6 +20,10 @@ class ContainerError(ValueError):
     """A container cannot be built or read back; the message says why."""
 
 
+class BoxShapeError(ContainerError):
+    """A box shape that cannot be simulated (sides, dimension); the message says what is allowed."""
+
+
 class PeriodicBoxRequired(ValueError):
     """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
 

@@ -129,10 +129,12 @@ class Frames:
         return len(self.radii)
 
     @property
-    def box(self) -> float | None:
-        """Edge of the periodic box [length], or ``None`` (not periodic)."""
+    def box(self) -> float | np.ndarray | None:
+        """Edge of the periodic cube, or ``(3,)`` sides of a rectangular box [length]; else ``None``."""
         c = self.container
-        return c.length if c is not None and c.periodic else None  # type: ignore[attr-defined]
+        if c is None or not c.periodic:
+            return None
+        return c.length if c.cube else np.array(c.sides)  # type: ignore[attr-defined]
 
     def unwrapped(self) -> np.ndarray:
         """``(F, N, 3)`` unwrapped centres ``positions + images * box`` [length].

@@ -416,7 +416,7 @@ class Simulation:
             # the images of the stored centres, then of the ones wrapped into the box
             raw = eng.unwrapped_at(t)
             pos = eng.positions_at(t)
-            images = np.rint((raw - pos) / eng.box).astype(np.int64)
+            images = np.rint((raw - pos) / eng.sides).astype(np.int64)
             if unwrapped:
                 pos = raw
         else:

@@ -57,15 +57,17 @@ def configurations(source, box=None):
     from ..state import State
 
     if isinstance(source, Frames):
-        L = require_periodic(PeriodicBox(source.box) if source.box else None, "g(r), S(k) and bond order")
+        require_periodic(source.container if source.box is not None else None, "g(r), S(k) and bond order")
+        L = source.container.length
         return L, np.asarray(source.positions, float), np.asarray(source.radii, float)
     if isinstance(source, Simulation):
-        L = require_periodic(source.container, "g(r), S(k) and bond order")
+        require_periodic(source.container, "g(r), S(k) and bond order")
+        L = source.container.length
         st = source.state()
         return L, st.positions[None], st.radii
     if box is None:
         require_periodic(None, "g(r), S(k) and bond order")
-    L = float(box)
+    L = PeriodicBox(box).length
     if isinstance(source, State):
         return L, source.positions[None], source.radii
     pos = np.asarray(source, float)
@@ -97,6 +99,16 @@ def _local_configurations(source, box=None):
 
 def _wrap(x, L):
     return PeriodicBox(L).wrap(x)
+
+
+def _freud_box(freud, L):
+    """freud's box of a cube's edge or a box's sides ``L``."""
+    return freud.box.Box(*PeriodicBox(L).sides)
+
+
+def _shortest(L):
+    """The shortest side of the box ``L`` (a cube's edge, or the sides) [length]."""
+    return min(PeriodicBox(L).sides)
 
 
 def _contact_distance(radii):
@@ -142,17 +154,17 @@ class RDF(Compute):
         # dr divides sigma exactly (up to rounding), so sigma is a bin edge
         per = max(1, round(sig / self.dr)) if self.dr else 50
         dr = sig / per
-        r_max = min(self.r_max or 5.0 * sig, 0.5 * L * (1.0 - 1e-9))
+        r_max = min(self.r_max or 5.0 * sig, 0.5 * _shortest(L) * (1.0 - 1e-9))
         bins = int(r_max / dr)
         rdf = freud.density.RDF(bins=bins, r_max=bins * dr)
-        fbox = freud.box.Box.cube(L)
+        fbox = _freud_box(freud, L)
         for k, x in enumerate(pos):
             rdf.compute((fbox, _wrap(x, L)), reset=(k == 0))
         self.r = np.asarray(rdf.bin_centers, float).copy()
         self.edges = np.asarray(rdf.bin_edges, float).copy()
         self.g = np.asarray(rdf.rdf, float).copy()
         self.sigma, self.frames, self.n = sig, len(pos), pos.shape[1]
-        self.packing = self.n * np.pi * sig**3 / (6.0 * L**3)
+        self.packing = self.n * np.pi * sig**3 / (6.0 * PeriodicBox(L).volume)
         self._computed = True
         return self
 
@@ -213,9 +225,9 @@ class StructureFactor(Compute):
         L, pos, radii = configurations(source, box)
         sig = 2.0 * float(np.max(radii)) if radii is not None and len(radii) else 1.0
         k_max = self.k_max or 20.0 / sig
-        k_min = np.pi / L if self.k_min is None else self.k_min
+        k_min = np.pi / _shortest(L) if self.k_min is None else self.k_min
         sf = freud.diffraction.StaticStructureFactorDirect(self.bins, k_max, k_min)
-        fbox = freud.box.Box.cube(L)
+        fbox = _freud_box(freud, L)
         for k, x in enumerate(pos):
             sf.compute((fbox, _wrap(x, L)), reset=(k == 0))
         self.k = np.asarray(sf.bin_centers, float).copy()
@@ -292,7 +304,7 @@ class BondOrder(Compute):
         else:
             sig = float(sigma) if sigma is not None else 2.0 * float(np.max(radii))
             neighbors = {"r_max": self.r_max or 1.4 * sig}
-        fbox = freud.box.Box.cube(L)
+        fbox = _freud_box(freud, L)
         st = freud.order.Steinhardt(self.l)
         sl = freud.order.SolidLiquid(
             self.l, q_threshold=self.q_threshold, solid_threshold=self.solid_threshold

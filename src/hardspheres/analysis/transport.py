@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ..containers import PeriodicBox, require_periodic
+from ..containers import require_periodic
 from ..eos import carnahan_starling_contact
 from ..errors import NotComputedError
 from .compute import Compute
@@ -121,7 +121,7 @@ def _trajectory(source, what, positions=True):
 
     if not isinstance(source, Frames):
         raise TypeError(f"{what} need a Frames (a trajectory: read_trajectory or frames_from_simulation)")
-    require_periodic(PeriodicBox(source.box) if source.box else None, what)
+    require_periodic(source.container if source.box is not None else None, what)
     t = np.asarray(source.times, float)
     if len(t) < 3:
         raise ValueError(f"{what}: {len(t)} frames; record at least three")

@@ -192,7 +192,7 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #
 # and for the whole system:
 #
-#   cell_head  int64   (nc^3,)           first sphere of each cell (-1: empty)
+#   cell_head  int64   (ncx ncy ncz,)    first sphere of each cell (-1: empty)
 #   heap       int64   (N,)              the calendar's current bucket: spheres by heap
 #   heap_t, heap_key                     position, with the entry's time and tie key beside
 #   calendar   int64   (NB + 1 + 3N,)    the calendar's later buckets: first sphere of each
@@ -246,7 +246,7 @@ SHELL_COLS = 4
 # columns of `book`
 CHANGES = 0  # collisions and reflections (and kicks) so far: a prediction's stamp
 CELL_X, CELL_Y, CELL_Z = 1, 2, 3  # cell coordinates of its shell centre
-CELL = 4  # cell index, (CELL_Z * nc + CELL_Y) * nc + CELL_X
+CELL = 4  # cell index, (CELL_Z * ncy + CELL_Y) * ncx + CELL_X (nc per axis: C_GRID)
 EVENT_KEY = 5  # tie key of the predicted event (see _key)
 EVENT_KIND = 6  # its kind: REFLECTION, COLLISION or NONE
 PARTNER = 7  # its partner (-1 for a reflection or none)
@@ -285,7 +285,11 @@ F_GROW = 39  # growth: radius_i(t) = R_i (1 + F_GROW t), t from the origin (0: o
 F_SHELL = 40  # neighbour distance over the sum of two reaches (> 1; 1.5 unless the box is small)
 F_HEADROOM = 41  # reach over radius at a build (> 1 while growing: room to grow)
 F_BUCKET_RATE = 42  # the calendar: buckets per unit time (one over a bucket's width)
-N_SCALARS = 43
+# per axis (x, y, z): F_BOX, F_LO and F_W above are the x axis's (F_BOX != 0: periodic)
+F_EDGE = 43  # periodic box side per axis (0 for a spherical container)
+F_LOW = 46  # grid origin (lower corner) per axis
+F_WIDTH = 49  # cell width per axis
+N_SCALARS = 52
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -299,7 +303,8 @@ C_REFRESHED = 7  # predictions made afresh by the window rule (refresh_window)
 C_HEAP_SIZE = 8  # the calendar: entries in the heap (the current bucket)
 C_BUCKET = 9  # the current bucket (floor of time * F_BUCKET_RATE)
 C_QUEUED = 10  # entries in the buckets' lists (not the heap, not the overflow)
-N_COUNTS = 11
+C_GRID = 11  # cells per axis (x, y, z); C_CELLS is the x axis's
+N_COUNTS = 14
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
@@ -639,20 +644,23 @@ def _cell_step(k, o, nc, box):
 
 
 @_inline
-def _block_cell(kx, ky, kz, q, nc, box):
-    """Cell ``q`` (0..26, z slowest) of the 3x3x3 block around cell ``(kx, ky, kz)``; -1: none."""
-    nz, _, zthere = _cell_step(kz, q // 9 - 1, nc, box)
-    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, nc, box)
-    nx, _, xthere = _cell_step(kx, q % 3 - 1, nc, box)
+def _block_cell(kx, ky, kz, q, ncx, ncy, ncz, box):
+    """Cell ``q`` (0..26, z slowest) of the 3x3x3 block around cell ``(kx, ky, kz)``; -1: none.
+
+    ``ncx, ncy, ncz``: cells per axis; ``box`` != 0: periodic.
+    """
+    nz, _, zthere = _cell_step(kz, q // 9 - 1, ncz, box)
+    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, ncy, box)
+    nx, _, xthere = _cell_step(kx, q % 3 - 1, ncx, box)
     if zthere and ythere and xthere:
-        return (nz * nc + ny) * nc + nx
+        return (nz * ncy + ny) * ncx + nx
     return -1
 
 
 @_inline
-def _cell_insert(cell_head, cell_next, cell_prev, book, i, nc):
+def _cell_insert(cell_head, cell_next, cell_prev, book, i, ncx, ncy):
     """Sphere ``i`` into the cell its book names (``CELL_X``, ``CELL_Y``, ``CELL_Z``)."""
-    cell = (book[i, CELL_Z] * nc + book[i, CELL_Y]) * nc + book[i, CELL_X]
+    cell = (book[i, CELL_Z] * ncy + book[i, CELL_Y]) * ncx + book[i, CELL_X]
     book[i, CELL] = cell
     h = cell_head[cell]
     cell_next[i] = h
@@ -678,13 +686,14 @@ def _cell_remove(cell_head, cell_next, cell_prev, book, i):
 
 
 @_inline
-def _crossing(spheres, book, due, scalars, nc, i, t):
+def _crossing(spheres, book, due, scalars, counts, i, t):
     """Store the time sphere ``i`` leaves its cell, from time ``t`` (cell mode)."""
-    lo, w, box = scalars[F_LO], scalars[F_W], scalars[F_BOX]
+    box = scalars[F_BOX]
     dt_i = t - spheres[i, T_OWN]
     best = np.inf
     code = -1
     for ax in range(3):
+        lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         v = spheres[i, VX + ax]
         k = book[i, CELL_X + ax]
         x = spheres[i, X + ax] + v * dt_i
@@ -859,7 +868,7 @@ _IMAGE_STEPS = np.array([[a - 1.0, b - 1.0, c - 1.0] for a in range(3) for b in 
 def _scan_list(spheres, book, due, neighbours, scalars, i):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
-    box = scalars[F_BOX]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
     # exactly 1.0, but not to the compiler: it would otherwise see that the
@@ -874,9 +883,9 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         j = entry >> 5
         code = entry & 31
         # the image of j next to i (periodic box): -1, 0, 1 box edges per axis
-        sx = _IMAGE_STEPS[code, 0] * box
-        sy = _IMAGE_STEPS[code, 1] * box
-        sz = _IMAGE_STEPS[code, 2] * box
+        sx = _IMAGE_STEPS[code, 0] * bx
+        sy = _IMAGE_STEPS[code, 1] * by
+        sz = _IMAGE_STEPS[code, 2] * bz
         best_t, best_key, best_p = _pair(
             spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
         )
@@ -891,30 +900,30 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     axis for the full 27 cells.
     """
     n = spheres.shape[0]
-    nc = counts[C_CELLS]
-    box = scalars[F_BOX]
+    ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
-    one = 1.0 if nc > 0 else 2.0  # (see _scan_list)
+    one = 1.0 if ncx > 0 else 2.0  # (see _scan_list)
     oi = book[i, ORIGIN]
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon
     for qz in range(zhi - zlo + 1):
         oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
-        nz, sz, there = _cell_step(cz0, oz, nc, box)
+        nz, sz, there = _cell_step(cz0, oz, ncz, bz)
         if not there:
             continue
         for qy in range(yhi - ylo + 1):
             oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
-            ny, sy, there = _cell_step(cy0, oy, nc, box)
+            ny, sy, there = _cell_step(cy0, oy, ncy, by)
             if not there:
                 continue
             for ox in range(xlo, xhi + 1):
-                nx, sx, there = _cell_step(cx0, ox, nc, box)
+                nx, sx, there = _cell_step(cx0, ox, ncx, bx)
                 if not there:
                     continue
-                j = cell_head[(nz * nc + ny) * nc + nx]
+                j = cell_head[(nz * ncy + ny) * ncx + nx]
                 while j >= 0:
                     if j != i:
                         best_t, best_key, best_p = _pair(
@@ -985,7 +994,7 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
         _shell_exit(spheres, shells, due, scalars, i, t)
     else:
         _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
-        _crossing(spheres, book, due, scalars, counts[C_CELLS], i, t)
+        _crossing(spheres, book, due, scalars, counts, i, t)
 
 
 @_jit
@@ -1015,11 +1024,11 @@ def _pair_code(scalars, shells, i, j):
     centres); neighbours: shell centres nearer than ``F_SHELL`` times the
     sum of the two reaches (a hair more, for rounding).
     """
-    box = scalars[F_BOX]
-    half = 0.5 * box
     code = 0
     r2 = 0.0
     for ax in range(3):
+        box = scalars[F_EDGE + ax]
+        half = 0.5 * box
         d = shells[i, SHELL_X + ax] - shells[j, SHELL_X + ax]
         k = 0
         if box != 0.0:
@@ -1043,11 +1052,9 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
     edge (the stored centre with it, the image count the other way).
     ``insert``: the sphere is in no cell list yet.
     """
-    box = scalars[F_BOX]
-    lo, w = scalars[F_LO], scalars[F_W]
-    nc = counts[C_CELLS]
     dt = t - spheres[i, T_OWN]
     for ax in range(3):
+        box, lo, w, nc = scalars[F_EDGE + ax], scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
         if box != 0.0:
             if x < lo:
@@ -1062,7 +1069,7 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
         book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
     if not insert:
         _cell_remove(cell_head, cell_next, cell_prev, book, i)
-    _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
+    _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
 
 
 @_inline
@@ -1099,29 +1106,28 @@ def _relist(
     cap = neighbours.shape[1]
     n = spheres.shape[0]
     # the candidates first, into scratch (nothing changes if they do not fit)
-    box = scalars[F_BOX]
-    lo = scalars[F_LO]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
+    lx, ly, lz = scalars[F_LOW], scalars[F_LOW + 1], scalars[F_LOW + 2]
+    ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
     dt = t - spheres[i, T_OWN]
-    cx = _wrapped(spheres[i, X] + spheres[i, VX] * dt, lo, box)
-    cy = _wrapped(spheres[i, Y] + spheres[i, VY] * dt, lo, box)
-    cz = _wrapped(spheres[i, Z] + spheres[i, VZ] * dt, lo, box)
-    nc = counts[C_CELLS]
-    w = scalars[F_W]
-    kx = cell_of(cx, lo, w, nc)
-    ky = cell_of(cy, lo, w, nc)
-    kz = cell_of(cz, lo, w, nc)
+    cx = _wrapped(spheres[i, X] + spheres[i, VX] * dt, lx, bx)
+    cy = _wrapped(spheres[i, Y] + spheres[i, VY] * dt, ly, by)
+    cz = _wrapped(spheres[i, Z] + spheres[i, VZ] * dt, lz, bz)
+    kx = cell_of(cx, lx, scalars[F_WIDTH], ncx)
+    ky = cell_of(cy, ly, scalars[F_WIDTH + 1], ncy)
+    kz = cell_of(cz, lz, scalars[F_WIDTH + 2], ncz)
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
     for q in range(27):
-        cell = _block_cell(kx, ky, kz, q, nc, box)
+        cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx)
         if cell < 0:
             continue
         j = cell_head[cell]
         while j >= 0:
             if j != i:
-                ddx = _nearest(cx - shells[j, SHELL_X], box)
-                ddy = _nearest(cy - shells[j, SHELL_Y], box)
-                ddz = _nearest(cz - shells[j, SHELL_Z], box)
+                ddx = _nearest(cx - shells[j, SHELL_X], bx)
+                ddy = _nearest(cy - shells[j, SHELL_Y], by)
+                ddz = _nearest(cz - shells[j, SHELL_Z], bz)
                 r2 = ddx * ddx + ddy * ddy + ddz * ddz
                 cut = cut0 * (shells[i, REACH] + shells[j, REACH])
                 if r2 < cut * cut:
@@ -1168,19 +1174,17 @@ def build(arrays, per_bucket):
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
     calendar = arrays[16]
     n = spheres.shape[0]
-    nc = counts[C_CELLS]
     cell_head[:] = -1
     t = scalars[F_CLOCK]
     longest = 0
     if scalars[F_SHELL] == 0.0:
         # cells alone
-        lo, w = scalars[F_LO], scalars[F_W]
         for i in range(n):
             _advance(spheres, i, t)
-            book[i, CELL_X] = cell_of(spheres[i, X], lo, w, nc)
-            book[i, CELL_Y] = cell_of(spheres[i, Y], lo, w, nc)
-            book[i, CELL_Z] = cell_of(spheres[i, Z], lo, w, nc)
-            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
+            for ax in range(3):
+                lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
+                book[i, CELL_X + ax] = cell_of(spheres[i, X + ax], lo, w, nc)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
     else:
         longest = _build_lists(
             spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts
@@ -1200,7 +1204,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     Returns the longest list (the lists are only filled up to their width).
     """
     n = spheres.shape[0]
-    nc = counts[C_CELLS]
+    ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
     t = scalars[F_CLOCK]
     grow = scalars[F_GROW]
     box = scalars[F_BOX]
@@ -1212,9 +1216,10 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         if box != 0.0:
             # into the box, whole edges at a time
             for ax in range(3):
-                k = np.floor((spheres[i, X + ax] - scalars[F_LO]) / box)
+                edge = scalars[F_EDGE + ax]
+                k = np.floor((spheres[i, X + ax] - scalars[F_LOW + ax]) / edge)
                 if k != 0.0:
-                    spheres[i, X + ax] -= k * box
+                    spheres[i, X + ax] -= k * edge
                     images[i, ax] += int(k)
         # the reach: the radius now with the growth headroom, and no less than
         # half the largest (a sphere of radius 0 still needs a shell)
@@ -1229,7 +1234,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
         for q in range(27):
-            cell = _block_cell(kx, ky, kz, q, nc, box)
+            cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, box)
             if cell < 0:
                 continue
             j = cell_head[cell]
@@ -1432,6 +1437,7 @@ def run(arrays, until, max_events, max_collisions, record, keep):
     if n == 0:
         return 0, STOP_UNTIL
     box = scalars[F_BOX]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     window = scalars[F_WINDOW]
     cap = rec_t.shape[0]
     done = 0
@@ -1457,19 +1463,19 @@ def run(arrays, until, max_events, max_collisions, record, keep):
             # leaving the cell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not)
             scalars[F_CLOCK] = te
-            nc = counts[C_CELLS]
             code = book[i, CROSS_FACE]
             ax = code >> 1
+            nc = counts[C_GRID + ax]
             step = 1 if (code & 1) else -1
             k = book[i, CELL_X + ax] + step
             if k < 0 or k >= nc:
-                # periodic wrap: shift the stored centre by one box edge
+                # periodic wrap: shift the stored centre by one box side
                 k = (k + nc) % nc
-                spheres[i, X + ax] -= step * box
+                spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
                 images[i, ax] += step
             book[i, CELL_X + ax] = k
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
-            _cell_insert(cell_head, cell_next, cell_prev, book, i, nc)
+            _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
             counts[C_CROSSINGS] += 1
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
@@ -1479,7 +1485,7 @@ def run(arrays, until, max_events, max_collisions, record, keep):
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
             _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
-            _crossing(spheres, book, due, scalars, nc, i, te)
+            _crossing(spheres, book, due, scalars, counts, i, te)
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
@@ -1538,9 +1544,9 @@ def run(arrays, until, max_events, max_collisions, record, keep):
             dz = spheres[a, Z] - spheres[b, Z]
             if box != 0.0:
                 # the partner may be an image across the box
-                dx -= box * np.round(dx / box)
-                dy -= box * np.round(dy / box)
-                dz -= box * np.round(dz / box)
+                dx -= bx * np.round(dx / bx)
+                dy -= by * np.round(dy / by)
+                dz -= bz * np.round(dz / bz)
             dvx = spheres[a, VX] - spheres[b, VX]
             dvy = spheres[a, VY] - spheres[b, VY]
             dvz = spheres[a, VZ] - spheres[b, VZ]
@@ -1665,12 +1671,13 @@ def kick(arrays, i, t, vx, vy, vz):
 
 
 @_jit
-def positions_at(spheres, t, out, box):
-    """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box)."""
+def positions_at(spheres, t, out, edges):
+    """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box; ``edges`` its sides, 0: none)."""
     n = spheres.shape[0]
     for i in range(n):
         dt = t - spheres[i, T_OWN]
         for k in range(3):
+            box = edges[k]
             x = spheres[i, X + k] + spheres[i, VX + k] * dt
             if box != 0.0:
                 x -= box * np.floor(x / box + 0.5)
@@ -1678,13 +1685,13 @@ def positions_at(spheres, t, out, box):
 
 
 @_jit
-def unwrapped_at(spheres, images, t, out, box):
+def unwrapped_at(spheres, images, t, out, edges):
     """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift."""
     n = spheres.shape[0]
     for i in range(n):
         dt = t - spheres[i, T_OWN]
         for k in range(3):
-            out[i, k] = (spheres[i, X + k] + spheres[i, VX + k] * dt) + images[i, k] * box
+            out[i, k] = (spheres[i, X + k] + spheres[i, VX + k] * dt) + images[i, k] * edges[k]
 
 
 @_jit
@@ -1714,14 +1721,17 @@ def rebase(spheres, due, heap_t, scalars):
 
 
 @_jit
-def max_overlap(x, spheres, book, cell_head, cell_next, nc, box, scale):
+def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
     """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
 
     ``x`` are the centres at one time, ``scale`` the radii's factor then
-    (1 without growth); neighbours are found through the engine's cells.
+    (1 without growth); neighbours are found through the engine's cells
+    (``grid`` cells per axis; ``edges`` the box's sides, 0: no box).
     """
     n = x.shape[0]
     worst = 0.0
+    ncx, ncy, ncz = grid[0], grid[1], grid[2]
+    bx, by, bz = edges[0], edges[1], edges[2]
     for i in range(n):
         for oz in range(-1, 2):
             nz = book[i, CELL_Z] + oz
@@ -1729,18 +1739,18 @@ def max_overlap(x, spheres, book, cell_head, cell_next, nc, box, scale):
                 ny = book[i, CELL_Y] + oy
                 for ox in range(-1, 2):
                     nx = book[i, CELL_X] + ox
-                    if box == 0.0 and (nx < 0 or ny < 0 or nz < 0 or nx >= nc or ny >= nc or nz >= nc):
+                    if bx == 0.0 and (nx < 0 or ny < 0 or nz < 0 or nx >= ncx or ny >= ncy or nz >= ncz):
                         continue
-                    j = cell_head[((nz % nc) * nc + (ny % nc)) * nc + (nx % nc)]
+                    j = cell_head[((nz % ncz) * ncy + (ny % ncy)) * ncx + (nx % ncx)]
                     while j >= 0:
                         if j > i:
                             dx = x[i, 0] - x[j, 0]
                             dy = x[i, 1] - x[j, 1]
                             dz = x[i, 2] - x[j, 2]
-                            if box != 0.0:
-                                dx -= box * np.round(dx / box)
-                                dy -= box * np.round(dy / box)
-                                dz -= box * np.round(dz / box)
+                            if bx != 0.0:
+                                dx -= bx * np.round(dx / bx)
+                                dy -= by * np.round(dy / by)
+                                dz -= bz * np.round(dz / bz)
                             sigma = (spheres[i, RADIUS] + spheres[j, RADIUS]) * scale
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from .. import events as _events
 from ..containers import MAX_PACKING, Container, as_container, from_record
 from ..eos import carnahan_starling, collision_rate_from_z
-from ..errors import CheckpointError  # noqa: F401 (re-exported)
+from ..errors import BoxShapeError, CheckpointError  # noqa: F401 (re-exported)
 from ..events import StopReason
 from ..scenario import StuckError
 from ..state import kinetic_energy
@@ -91,7 +91,7 @@ class Engine:
         container: the :class:`~hardspheres.containers.Container`, or the
             radius of a spherical container centred at the origin [length].
         box: instead of ``container``, the edge of a periodic cubic box
-            centred at the origin [length].
+            centred at the origin, or its sides ``(Lx, Ly, Lz)`` [length].
         window: simultaneity window [time]: events less than this after the
             last event happen at its time (the assignment uses 1e-8 s; 0
             means exact times).
@@ -121,7 +121,7 @@ class Engine:
         positions: ArrayLike,
         velocities: ArrayLike,
         container: Container | float | None = None,
-        box: float | None = None,
+        box: float | tuple[float, ...] | None = None,
         window: float = 0.0,
         time: float = 0.0,
         rebase: bool = True,
@@ -224,8 +224,18 @@ class Engine:
     def _inside_at(self, t):
         """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
         out = np.empty((self.n, 3))
-        core.positions_at(self.spheres, t, out, self.scalars[core.F_BOX])
+        core.positions_at(self.spheres, t, out, self._edges)
         return out
+
+    @property
+    def _edges(self):
+        """The box's sides as the core reads them (zeros: no box), a view."""
+        return self.scalars[core.F_EDGE : core.F_EDGE + 3]
+
+    @property
+    def _cells(self):
+        """Cells per axis, a view."""
+        return self.counts[core.C_GRID : core.C_GRID + 3]
 
     def _morton(self, x):
         """The engine's spheres in Morton (Z-curve) order of their places ``x``.
@@ -239,8 +249,8 @@ class Engine:
         """
         n = self.n
         bits = int(min(21, max(1, np.ceil(np.log2(max(n, 2)) / 3.0))))
-        lo = self.scalars[core.F_LO]
-        span = self.scalars[core.F_W] * self.counts[core.C_CELLS]
+        lo = self.scalars[core.F_LOW : core.F_LOW + 3]
+        span = self.scalars[core.F_WIDTH : core.F_WIDTH + 3] * self._cells
         q = np.floor((x - lo) * ((1 << bits) / span))
         q = np.clip(np.nan_to_num(q), 0, (1 << bits) - 1).astype(np.uint64)
         code = (
@@ -326,16 +336,22 @@ class Engine:
 
     @property
     def box(self) -> float | None:
-        """Edge of the periodic box as the core reads it [length], or ``None`` (no box)."""
+        """Edge of the periodic box (the x side) as the core reads it [length], or ``None`` (no box)."""
         box = float(self.scalars[core.F_BOX])
         return box if box else None
+
+    @property
+    def sides(self) -> np.ndarray | None:
+        """``(3,)`` sides of the periodic box as the core reads them [length], or ``None`` (no box)."""
+        return self._edges.copy() if self.scalars[core.F_BOX] else None
 
     def _grid(self, n, headroom=1.0):
         sigma = 2.0 * float(self.radii.max()) * headroom if n else 0.0
         params = self.container.core_params()
-        span, box = params["span"], params["box"]
+        spans, edges = params["spans"], params["edges"]
         self.scalars[core.F_CONTAINER] = params["wall_radius"]
-        self.scalars[core.F_BOX] = box
+        self.scalars[core.F_BOX] = params["box"]
+        box = min(edges)  # (0: no box)
         # neighbour lists in dense fluids (cells at least as wide as the
         # largest neighbour distance, SHELL largest diameters), else cells
         # at least as wide as the largest contact distance; with a small
@@ -346,21 +362,29 @@ class Engine:
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma
-        nc = int(span / (reach * (1.0 + 1e-6))) if sigma > 0.0 else 1
-        nc = max(1, min(nc, int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0))) + 1, 1 << 10))
-        if box and nc < 3:
-            if sigma * 3.0 > box:
-                raise ValueError(
-                    f"periodic box {box:g} is smaller than three largest diameters "
-                    f"({sigma:g}); use a larger box"
-                )
-            nc = 3
+        # cells per axis: at most about 2 N^(1/3) + 1 along the longest side
+        longest = max(spans)
+        for ax, (span, edge) in enumerate(zip(spans, edges)):
+            nc = int(span / (reach * (1.0 + 1e-6))) if sigma > 0.0 else 1
+            most = int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0) * (span / longest))) + 1
+            nc = max(1, min(nc, most, 1 << 10))
+            if edge and nc < 3:
+                if sigma * 3.0 > edge:
+                    raise BoxShapeError(
+                        f"periodic box side {edge:g} is smaller than three largest diameters "
+                        f"({sigma:g}); every side must be at least {3.0 * sigma:g}"
+                    )
+                nc = 3
+            self.counts[core.C_GRID + ax] = nc
+            self.scalars[core.F_EDGE + ax] = edge
+            self.scalars[core.F_LOW + ax] = -0.5 * span
+            self.scalars[core.F_WIDTH + ax] = span / nc
         self.scalars[core.F_SHELL] = shell
         self.scalars[core.F_HEADROOM] = headroom
-        self.counts[core.C_CELLS] = nc
-        self.scalars[core.F_LO] = -0.5 * span
-        self.scalars[core.F_W] = span / nc
-        self.cell_head = np.full(nc**3, -1, np.int64)
+        self.counts[core.C_CELLS] = self.counts[core.C_GRID]
+        self.scalars[core.F_LO] = self.scalars[core.F_LOW]
+        self.scalars[core.F_W] = self.scalars[core.F_WIDTH]
+        self.cell_head = np.full(int(np.prod(self._cells)), -1, np.int64)
 
     def _build(self):
         while True:
@@ -481,13 +505,12 @@ class Engine:
         if not g or self.n == 0:
             return np.inf
         if not self.scalars[core.F_SHELL]:
-            nc = int(self.counts[core.C_CELLS])
-            if nc == 1 and self.box is None:
+            if np.all(self._cells == 1) and self.box is None:
                 return np.inf
             rmax = float(self.radii.max())
             if rmax <= 0.0:
                 return np.inf
-            w = float(self.scalars[core.F_W]) / (1.0 + 1e-6)
+            w = float(np.min(self.scalars[core.F_WIDTH : core.F_WIDTH + 3])) / (1.0 + 1e-6)
             return self.offset + (w / (2.0 * rmax) - 1.0) / g
         r = self.spheres[:, core.RADIUS]  # (the engine's order, as the shells')
         grows = r > 0.0
@@ -613,9 +636,9 @@ class Engine:
                 if self.scalars[core.F_CLOCK] < limit - self.offset:
                     self.scalars[core.F_CLOCK] = limit - self.offset
                 self._rebase()
-                nc = int(self.counts[core.C_CELLS])
+                nc = int(np.prod(self._cells))
                 self._regrid()
-                if int(self.counts[core.C_CELLS]) >= nc and self._grid_limit() <= limit:
+                if int(np.prod(self._cells)) >= nc and self._grid_limit() <= limit:
                     raise ValueError(
                         "the spheres have grown too large for the periodic box (three diameters at least)"
                     )
@@ -661,8 +684,11 @@ class Engine:
         book[order, core.HEAP_POS] = np.arange(n)
         out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
         # the calendar's own counters and width (the last of each) are made anew on restore
-        out["counts"] = self.counts[: core.C_HEAP_SIZE].copy()
-        out["scalars"] = self.scalars[: core.F_BUCKET_RATE].copy()
+        # (the per-axis grid after them; zeros in their place)
+        out["counts"] = self.counts.copy()
+        out["counts"][core.C_HEAP_SIZE : core.C_GRID] = 0
+        out["scalars"] = self.scalars.copy()
+        out["scalars"][core.F_BUCKET_RATE] = 0.0
         # the last two: the core's wall radius and box edge, NaN when absent
         # (files before the container record had only these)
         params = self.container.core_params()
@@ -712,8 +738,11 @@ class Engine:
             if saved_cols <= core.ORIGIN:  # kept in the input order
                 eng.book[:, core.ORIGIN] = np.arange(n)
         eng._set_rank()
-        if eng.counts.shape[0] < core.N_COUNTS:  # saved before the last two counters
-            eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - eng.counts.shape[0], np.int64)])
+        saved_counts = eng.counts.shape[0]
+        if saved_counts < core.N_COUNTS:  # saved before the last counters
+            eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - saved_counts, np.int64)])
+        if saved_counts <= core.C_GRID:  # before the per-axis grid: a cube's
+            eng.counts[core.C_GRID : core.C_GRID + 3] = eng.counts[core.C_CELLS]
         offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -742,6 +771,13 @@ class Engine:
         if saved <= core.F_OFFSET:  # before the frozen-clock streak
             eng.scalars[core.F_OFFSET] = offset
             eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
+        if saved <= core.F_EDGE:  # before the per-axis grid: a cube's
+            eng.scalars[core.F_EDGE : core.F_EDGE + 3] = eng.scalars[core.F_BOX]
+            eng.scalars[core.F_LOW : core.F_LOW + 3] = eng.scalars[core.F_LO]
+            eng.scalars[core.F_WIDTH : core.F_WIDTH + 3] = eng.scalars[core.F_W]
+        edges = np.array(eng.container.core_params()["edges"])
+        if np.any(eng.scalars[core.F_EDGE : core.F_EDGE + 3] != edges):
+            raise CheckpointError("damaged checkpoint: the box's sides disagree with the core's")
         eng.calendar = np.full(core.calendar_size(n), -1, np.int64)
         eng._requeue()
         eng._queue_anew(first=True)
@@ -768,7 +804,7 @@ class Engine:
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
         if self._rank is None:
-            core.positions_at(self.spheres, t - self.offset, out, self.scalars[core.F_BOX])
+            core.positions_at(self.spheres, t - self.offset, out, self._edges)
         else:
             out[self.order] = self._inside_at(t - self.offset)
         return out
@@ -783,10 +819,10 @@ class Engine:
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
         if self._rank is None:
-            core.unwrapped_at(self.spheres, self._images, t - self.offset, out, self.scalars[core.F_BOX])
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, out, self._edges)
         else:
             inside = np.empty((self.n, 3))
-            core.unwrapped_at(self.spheres, self._images, t - self.offset, inside, self.scalars[core.F_BOX])
+            core.unwrapped_at(self.spheres, self._images, t - self.offset, inside, self._edges)
             out[self.order] = inside
         return out
 
@@ -854,8 +890,8 @@ class Engine:
                 self.book,
                 self.cell_head,
                 self.cell_next,
-                int(self.counts[core.C_CELLS]),
-                0.0 if self.box is None else self.box,
+                self._cells,
+                self._edges,
                 scale,
             )
         )
@@ -968,10 +1004,12 @@ def check_arrays(data):
     if counts.dtype != np.int64 or counts.ndim != 1 or not core.C_SERIAL < counts.shape[0] <= core.N_COUNTS:
         _bad(f"'counts' is {counts.dtype}{list(counts.shape)}, expected int64[{core.N_COUNTS}]")
     meta = _array(data, "meta", np.float64, (5,))
-    nc = int(counts[core.C_CELLS])
-    if not 1 <= nc <= 1 << 10:
-        _bad(f"{nc} cells per axis")
-    cell_head = _array(data, "cell_head", np.int64, (nc**3,))
+    grid = counts[core.C_GRID : core.C_GRID + 3] if counts.shape[0] > core.C_GRID + 2 else counts[[0, 0, 0]]
+    if not np.all((grid >= 1) & (grid <= 1 << 10)):
+        _bad(f"{grid.tolist()} cells per axis")
+    if grid[0] != counts[core.C_CELLS]:
+        _bad("the cells per axis disagree")
+    cell_head = _array(data, "cell_head", np.int64, (int(np.prod(grid)),))
     # the physical state
     if not np.all(np.isfinite(masses) & (masses > 0)):
         _bad("a masses is not a finite number > 0")
@@ -1002,9 +1040,9 @@ def check_arrays(data):
     ids = np.arange(n)
     # cells: coordinates in the grid, and each cell's list holds exactly its spheres
     cxyz = book[:, core.CELL_X : core.CELL_Z + 1]
-    if np.any((cxyz < 0) | (cxyz >= nc)):
+    if np.any((cxyz < 0) | (cxyz >= grid[None, :])):
         _bad("a cell coordinate outside the grid")
-    if np.any(book[:, core.CELL] != (cxyz[:, 2] * nc + cxyz[:, 1]) * nc + cxyz[:, 0]):
+    if np.any(book[:, core.CELL] != (cxyz[:, 2] * grid[1] + cxyz[:, 1]) * grid[0] + cxyz[:, 0]):
         _bad("a cell index disagrees with its coordinates")
     for name, a in (("cell_head", cell_head), ("cell_next", cell_next), ("cell_prev", cell_prev)):
         if np.any((a < -1) | (a >= n)):

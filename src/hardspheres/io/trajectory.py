@@ -391,15 +391,14 @@ class XYZWriter(_FrameWriter):
 
     def _write_frame(self, sim, state, events):
         c = sim.container
-        side = 2.0 * c.half_width
+        x, y, z = c.gsd_box[:3]  # (a spherical container: its enclosing cube)
         pbc = "T T T" if c.periodic else "F F F"
         size = " ".join(f"{k}={v!r}" for k, v in c.fields().items())
-        h = side / 2.0
         images = state.images
         props = _XYZ_PROPS + (_XYZ_IMAGE if images is not None else "")
         header = (
-            f'{state.n}\nLattice="{side!r} 0 0 0 {side!r} 0 0 0 {side!r}" '
-            f'Origin="{-h!r} {-h!r} {-h!r}" pbc="{pbc}" Properties={props} '
+            f'{state.n}\nLattice="{x!r} 0 0 0 {y!r} 0 0 0 {z!r}" '
+            f'Origin="{-x / 2.0!r} {-y / 2.0!r} {-z / 2.0!r}" pbc="{pbc}" Properties={props} '
             f"Time={state.time!r} {size} "
             f'run_end="{self._run_end[0]!r} {self._run_end[1]!r}"\n'
         )
