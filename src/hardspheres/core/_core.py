@@ -1437,7 +1437,6 @@ def run(arrays, until, max_events, max_collisions, record, keep):
     if n == 0:
         return 0, STOP_UNTIL
     box = scalars[F_BOX]
-    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     window = scalars[F_WINDOW]
     cap = rec_t.shape[0]
     done = 0
@@ -1544,6 +1543,8 @@ def run(arrays, until, max_events, max_collisions, record, keep):
             dz = spheres[a, Z] - spheres[b, Z]
             if box != 0.0:
                 # the partner may be an image across the box
+                # (the sides read here: kept out of the loop's registers)
+                bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
                 dx -= bx * np.round(dx / bx)
                 dy -= by * np.round(dy / by)
                 dz -= bz * np.round(dz / bz)
