@@ -343,9 +343,6 @@ def random_arrays(
     return masses, radii, positions, velocities
 
 
-#: Close packing of equal spheres (FCC and HCP): pi / sqrt(18).
-CLOSE_PACKING = float(np.pi / np.sqrt(18.0))
-
 # the lattices' cells: sides in nearest-neighbour distances, and sites in fractions of them
 _CELLS = {
     # the cubic cell of FCC, side sqrt(2) neighbour distances
@@ -396,12 +393,12 @@ def crystal(
         raise BuildError(f"cells {cells!r}: give three whole numbers >= 1") from None
     if k.shape != (3,) or np.any(k < 1):
         raise BuildError(f"cells {cells!r}: give three whole numbers >= 1")
-    if not (0.0 < packing <= CLOSE_PACKING):
-        raise BuildError(f"packing fraction must be in (0, {CLOSE_PACKING:.6f}] for a crystal, got {packing}")
+    if not (0.0 < packing <= MAX_PACKING):
+        raise BuildError(f"packing fraction must be in (0, {MAX_PACKING:.6f}] for a crystal, got {packing}")
     if not (radius > 0.0 and np.isfinite(radius)):
         raise BuildError(f"radius must be a finite number > 0, got {radius}")
     unit, base = _CELLS[lattice]
-    a = 2.0 * radius * (CLOSE_PACKING / packing) ** (1.0 / 3.0)  # neighbour distance
+    a = 2.0 * radius * (MAX_PACKING / packing) ** (1.0 / 3.0)  # neighbour distance
     side = unit * a
     idx = np.stack(np.meshgrid(*(np.arange(x) for x in k), indexing="ij"), axis=-1).reshape(-1, 1, 3)
     frac = (idx + base[None, :, :]).reshape(-1, 3)
