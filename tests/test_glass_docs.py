@@ -30,9 +30,9 @@ def test_the_glass_former_example_runs():
         [
             ("n, phi = 500, 0.56", "n, phi = 100, 0.45"),
             ("10_000 * n", "20 * n"),
-            ("every=100, per_decade=8, until=1000", "every=2, per_decade=8, until=10"),
+            ("every=10, per_decade=8, until=1000", "every=2, per_decade=8, until=10"),
             ("sim.time + 1000", "sim.time + 10"),
-            ("origin_every=100", "origin_every=2"),
+            ("origin_every=10", "origin_every=2"),
         ],
     )
     assert 0 < s["tau"] < 10 and s["chi4_peak"] > 0 and len(s["alpha2"]) == len(s["fs"].t)

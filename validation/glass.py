@@ -9,7 +9,8 @@ F_s(k, t) at k = 2 pi / sigma_mean (sigma_mean = 1.2), tau_alpha (F_s =
 1/e), alpha_2, and chi_4 of the overlap (a = 0.3), and D from the MSD.
 Units: the small diameter, the mass, kT.
 
-    python3 validation/glass.py --n 1000 --phi 0.50 0.54 0.56 0.57 0.58 --until 1000
+    python3 validation/glass.py --n 500 --phi 0.50 0.55 0.58 --until 1000 --every 10 \
+        --origins 100 --equilibrate 10000 --json C.json
 """
 
 import argparse
@@ -115,32 +116,7 @@ def main():
         if args.json:
             with open(args.json, "w") as fh:
                 json.dump(out, fh)
-    rows = [o["row"] for o in out if math.isfinite(o["row"]["tau_alpha"])]
-    if len(rows) >= 3:
-        phi = np.array([r["phi"] for r in rows])
-        tau = np.array([r["tau_alpha"] for r in rows])
-        # Vogel-Fulcher-like: tau = tau0 exp(A / (phi0 - phi)); and MCT: tau ~ (phi_c - phi)^-gamma
-        from scipy.optimize import curve_fit
-
-        try:
-            p, cov = curve_fit(
-                lambda x, l0, A, p0: l0 + A / (p0 - x), phi, np.log(tau), p0=(0.0, 1.0, 0.64), maxfev=20000
-            )
-            print(f"VFT fit: phi_0 = {p[2]:.4f} +- {math.sqrt(cov[2, 2]):.4f}, A = {p[1]:.3f}")
-        except Exception as e:  # noqa: BLE001
-            print("VFT fit failed:", e)
-        try:
-            p, cov = curve_fit(
-                lambda x, l0, g, pc: l0 - g * np.log(pc - x),
-                phi,
-                np.log(tau),
-                p0=(0.0, 2.5, 0.6),
-                bounds=([-50, 0.1, phi.max() + 1e-4], [50, 10, 0.7]),
-                maxfev=20000,
-            )
-            print(f"MCT fit: phi_c = {p[2]:.4f} +- {math.sqrt(cov[2, 2]):.4f}, gamma = {p[1]:.3f}")
-        except Exception as e:  # noqa: BLE001
-            print("MCT fit failed:", e)
+    print("fits of tau_alpha(phi): python3 validation/glass_fit.py on the JSON files (--json)")
 
 
 if __name__ == "__main__":
