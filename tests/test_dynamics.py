@@ -242,3 +242,26 @@ def test_plots_return_axes(fluid):
     ):
         ax = obj.compute(fr).plot()
         assert ax.get_xlabel()
+
+
+def test_rectangular_box_and_a_gsd_path_read_a_frame_at_a_time(tmp_path):
+    """PeriodicBox((Lx, Ly, Lz)): per-axis unwrapping; a .gsd path gives what its Frames give."""
+    pytest.importorskip("gsd")
+    box = hs.PeriodicBox((6.0, 7.0, 9.0))
+    sim = hs.Simulation(hs.random_spheres(80, 0.2, box=(6.0, 7.0, 9.0), seed=3), box)
+    path = tmp_path / "run.gsd"
+    sim.writers.append(hs.GSDWriter(path, every=0.1))
+    sim.run(until=3.0)
+    sim.writers[-1].detach()
+    fr = hs.read_trajectory(path)
+    assert np.abs(fr.images).max() >= 1  # some crossed the box
+    lengths = np.array([6.0, 7.0, 9.0])
+    x = fr.positions + fr.images * lengths
+    a = SelfIntermediate(k=2 * np.pi, lags=[0.5, 2.0]).compute(str(path))
+    b = SelfIntermediate(k=2 * np.pi, lags=[0.5, 2.0]).compute(x, box=lengths, times=fr.times)
+    c = SelfIntermediate(k=2 * np.pi, lags=[0.5, 2.0]).compute(fr)
+    np.testing.assert_allclose(a.F, b.F, rtol=1e-12)
+    np.testing.assert_allclose(c.F, b.F, rtol=1e-12)
+    with pytest.raises(ValueError, match="below 2 pi / L"):
+        SelfIntermediate(k=2 * np.pi / 10.0).compute(fr)  # below 2 pi / 9, the longest side
+    SelfIntermediate(k=2 * np.pi / 8.0, lags=[0.5]).compute(fr)  # above it: allowed

@@ -26,7 +26,9 @@ default ``2 pi / L``, the lattice spacing), at most ``max_vectors`` of them
 (a seeded, fixed choice), as :class:`CollectiveIntermediate` must (the
 density ``rho_k`` is only periodic for lattice vectors).  Below ``2 pi / L``
 there is no lattice vector, and displacements of the order of the box
-are not those of an infinite system: ``k < 2 pi / L`` is refused.
+are not those of an infinite system: ``k < 2 pi / L`` is refused (``L``
+the longest side of a rectangular box, :attr:`PeriodicBox.sides
+<hardspheres.containers.PeriodicBox.sides>`).
 
 **Lags and origins.** Frames may be equally spaced, log-spaced from one
 origin (:class:`hardspheres.writers.LogSpaced`) or log-spaced from many
@@ -94,11 +96,12 @@ class _Source:
         return self._get(int(f))
 
 
-def _lengths(container, dim):
-    lengths = getattr(container, "lengths", None)
-    if lengths is not None:
-        return np.asarray(lengths, float).reshape(-1)
-    return np.full(dim, float(container.length))
+def box_sides(container, dim):
+    """The box's sides ``(d,)``: ``sides`` (rectangular boxes), else the cube's ``length``."""
+    sides = getattr(container, "sides", None)
+    if sides is None:
+        sides = container.length
+    return np.broadcast_to(np.asarray(sides, float).reshape(-1), (dim,)).copy()
 
 
 def _source(source, what, box=None, times=None):
@@ -123,7 +126,7 @@ def _source(source, what, box=None, times=None):
             )
         pos, img = source.positions, source.images
         dim = pos.shape[-1]
-        lengths = _lengths(c, dim)
+        lengths = box_sides(c, dim)
         return _Source(
             source.times,
             lengths,
@@ -165,7 +168,7 @@ def _gsd_source(path, what):
         raise PeriodicBoxRequired(f"{what} need image counts; {path} has none")
     n = int(first.particles.N)
     dim = int(getattr(first.configuration, "dimensions", 3) or 3)
-    lengths = _lengths(container, dim)
+    lengths = box_sides(container, dim)
     # times from the per-frame log (one small read per frame)
     times = np.array(
         [float(traj.read_frame(f).log["hardspheres/time"][0]) for f in range(len(traj))]
@@ -791,6 +794,7 @@ __all__ = [
     "Overlap",
     "SelfIntermediate",
     "VanHove",
+    "box_sides",
     "lattice_vectors",
     "log_lags",
 ]

@@ -61,8 +61,8 @@ def _packing(source, box=None, radii=None):
             )
         st = source.state()
         pos, rad = st.positions, st.radii
-        lengths = getattr(c, "lengths", None)
-        box = c.length if lengths is None else lengths
+        sides = getattr(c, "sides", None)
+        box = c.length if sides is None else sides
     elif isinstance(source, State):
         pos, rad = source.positions, source.radii
     else:

@@ -555,8 +555,9 @@ def plot_contacts(sim, path, per_sphere=200, *, size=SIZE, dpi=100):
 
     st = sim.state()
     dim = st.positions.shape[1]
-    lengths = getattr(sim.container, "lengths", None)
-    box = np.full(dim, sim.container.length) if lengths is None else np.asarray(lengths, float)
+    from ..analysis.dynamics import box_sides
+
+    box = box_sides(sim.container, dim)
     _, h = near_pairs(st.positions, st.radii, box, 0.5)
     h = np.sort(h[h > 0])
     fig = _figure(size, dpi)
