@@ -60,6 +60,10 @@ def mean_free_time_from_z(z, sigma=1.0, kT=1.0, mass=1.0, dim=3):
     """
     if not z > 1:
         raise ValueError(f"Z must be > 1 (a gas with collisions), got {z!r}")
+    if dim == 3:  # the 3-D relation's home
+        from ..eos import collision_rate_from_z
+
+        return float(1.0 / collision_rate_from_z(z, sigma, kT, mass))
     return float(sigma * math.sqrt(math.pi * mass / kT) / (2.0 * dim * (z - 1.0)))
 
 
