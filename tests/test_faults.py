@@ -440,7 +440,7 @@ def test_unreadable_checkpoints_one_line(tmp_path, content):
 def test_checkpoint_has_format_and_version(tmp_path):
     small_sim().save(tmp_path / "c.npz")
     with np.load(tmp_path / "c.npz") as z:
-        assert str(z["format"]) == "hardspheres-checkpoint" and int(z["version"]) == 1
+        assert str(z["format"]) == "hardspheres-checkpoint" and int(z["version"]) == 2
 
 
 # ---- 11. library input -------------------------------------------------------------------

@@ -14,7 +14,8 @@ import hardspheres as hs
 from hardspheres.builders import random_spheres
 from hardspheres.core import _core as core
 from hardspheres.core import engine as engine_module
-from hardspheres.core.engine import CheckpointError, Engine, check_arrays
+from hardspheres.core.checkpoint import check_arrays
+from hardspheres.core.engine import CheckpointError, Engine
 
 
 def _pair(n, phi, box, window, growth, reorder, seed=3):

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import math
 import os
-import zipfile
 from collections.abc import Iterator, Sequence
 from typing import NamedTuple
 
@@ -29,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .containers import Container, as_container, require_periodic
+from .core import checkpoint
 from .core.engine import CheckpointError, Engine
 from .core.warmup import ensure_compiled
 from .events import KIND_LABELS, KindLabel, StopReason
@@ -44,8 +44,6 @@ KINDS = KIND_LABELS
 
 #: What :meth:`Simulation.save` writes in its ``format`` array, and the
 #: version of the layout; :meth:`Simulation.load` refuses anything else.
-CHECKPOINT_FORMAT = "hardspheres-checkpoint"
-CHECKPOINT_VERSION = 1
 
 
 class Event(NamedTuple):
@@ -447,8 +445,8 @@ class Simulation:
         """
         th = self.thermostat
         arrays: dict[str, np.ndarray] = {
-            "format": np.array(CHECKPOINT_FORMAT),
-            "version": np.array(CHECKPOINT_VERSION),
+            "format": np.array(checkpoint.FORMAT),
+            "version": np.array(checkpoint.VERSION),
             "names": np.array(self.names, dtype=str).reshape(-1),
             **self.observables.checkpoint(),
             "clock": np.array(self._clock),
@@ -470,12 +468,14 @@ class Simulation:
                 version, is truncated or damaged (one line says which).
             OSError: the file cannot be read.
         """
-        data = _read_checkpoint(path)
+        data = checkpoint.read(path)
         if "container" not in data:
             raise CheckpointError(f"{path}: damaged checkpoint: no valid container")
         sim = cls.__new__(cls)
         names = data.pop("names", None)
-        obs_arrays = {k: data.pop(k) for k in ("obs", "obs_samples", "obs_every") if k in data}
+        obs_arrays: dict[str, np.ndarray] = {
+            k: data.pop(k) for k in ("obs", "obs_samples", "obs_every") if k in data
+        }
         mark = obs_arrays.get("obs")
         clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
@@ -529,46 +529,6 @@ def _compiled():
     if not _WARM:
         _WARM = True
         ensure_compiled()
-
-
-def _read_checkpoint(path):
-    """The arrays of a checkpoint file, after checking its format and version."""
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            if not hasattr(z, "files"):
-                raise ValueError("a bare .npy array")
-            data = {k: z[k] for k in z.files}
-    except OSError as e:
-        if isinstance(e, (FileNotFoundError, PermissionError, IsADirectoryError)):
-            raise
-        raise CheckpointError(f"{path}: not a readable checkpoint ({_why(e)})") from None
-    except (ValueError, EOFError, zipfile.BadZipFile, KeyError, RuntimeError) as e:
-        raise CheckpointError(f"{path}: not a checkpoint, or truncated or damaged ({_why(e)})") from None
-    fmt = data.pop("format", None)
-    version = data.pop("version", None)
-    if fmt is None or fmt.shape != () or str(fmt) != CHECKPOINT_FORMAT:
-        raise CheckpointError(
-            f"{path}: not a hardspheres checkpoint (no format "
-            f"{CHECKPOINT_FORMAT!r}); give a file written by "
-            "--checkpoint or Simulation.save"
-        )
-    if (
-        version is None
-        or version.shape != ()
-        or version.dtype.kind not in "iu"
-        or (int(version) != CHECKPOINT_VERSION)
-    ):
-        raise CheckpointError(
-            f"{path}: checkpoint version {version} is not "
-            f"{CHECKPOINT_VERSION}, the one this hardspheres reads"
-        )
-    return data
-
-
-def _why(err):
-    """A short reason from an exception: its first line, cut to 80 characters."""
-    text = (str(err).splitlines() or [type(err).__name__])[0]
-    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def _number(x, what, expected, minimum=-math.inf):

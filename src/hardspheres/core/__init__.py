@@ -11,6 +11,8 @@ record, a checkpoint's arrays).  It imports only the terms below it
 Modules:
     _core: the numba kernels and the one compiled event loop.
     engine: :class:`~hardspheres.core.engine.Engine`, the Python face of the loop.
+    checkpoint: the checkpoint format and version, the checks of every array
+        before the core sees it, and the migrations of older layouts.
     reference: the pure-Python brute-force engine the compiled one must equal bit for bit.
     warmup: compiles the core once (announced on stderr) when numba's cache is cold.
     bench: collisions per second of one system (the ``bench`` command prints them).

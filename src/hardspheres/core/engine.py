@@ -21,6 +21,7 @@ from ..events import StopReason
 from ..scenario import StuckError
 from ..state import kinetic_energy
 from . import _core as core
+from . import checkpoint
 
 #: Default number of events the core records per call.
 CHUNK = 1 << 14
@@ -678,7 +679,7 @@ class Engine:
         """
         out = {k: getattr(self, _INTERNAL.get(k, k)) for k in self._SAVED}
         n = self.n
-        t, key = _entries(self.due, self.book, n)
+        t, key = checkpoint.calendar_entries(self.due, self.book, n)
         order = np.lexsort((key, t))
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
@@ -710,39 +711,21 @@ class Engine:
     def restore(cls, data: dict[str, np.ndarray]) -> Engine:
         """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state.
 
-        Every array is checked first (:func:`check_arrays`): the compiled
+        Every array is checked first (:func:`hardspheres.core.checkpoint.check_arrays`): the compiled
         core trusts its indices, so a damaged file must not reach it.
 
         Raises:
             CheckpointError: an array is missing or inconsistent.
         """
-        data = _current_names(data)
-        check_arrays(data)
+        data = checkpoint.current_names(data)
+        checkpoint.check_arrays(data)  # the saved layout as it is, before any migration
+        data, kinetic_sums_missing = checkpoint.migrate(data)
         eng = cls.__new__(cls)
         n = len(data["masses"])
         for k in cls._SAVED:
-            if k == "images" and k not in data:  # checkpoints from before image counts
-                data = dict(data, images=np.zeros((n, 3), np.int64))
-            if k == "shells" and k not in data:  # from before the lists: cells alone
-                data = dict(
-                    data, shells=np.zeros((n, core.SHELL_COLS)), neighbours=np.zeros((n, 0), np.int32)
-                )
             setattr(eng, _INTERNAL.get(k, k), np.array(data[k]))
-        every, since_reorder = data["reorder"].tolist() if "reorder" in data else (0.0, 0.0)
-        eng._reorder_every, eng._since_reorder = every, int(since_reorder)
-        if eng.book.shape[1] < core.BOOK_COLS:  # from before the lists' column or the input index
-            saved_cols = eng.book.shape[1]
-            eng.book = np.concatenate(
-                [eng.book, np.zeros((n, core.BOOK_COLS - saved_cols), np.int64)], axis=1
-            )
-            if saved_cols <= core.ORIGIN:  # kept in the input order
-                eng.book[:, core.ORIGIN] = np.arange(n)
+        eng._reorder_every, eng._since_reorder = data["reorder"][0], int(data["reorder"][1])
         eng._set_rank()
-        saved_counts = eng.counts.shape[0]
-        if saved_counts < core.N_COUNTS:  # saved before the last counters
-            eng.counts = np.concatenate([eng.counts, np.zeros(core.N_COUNTS - saved_counts, np.int64)])
-        if saved_counts <= core.C_GRID:  # before the per-axis grid: a cube's
-            eng.counts[core.C_GRID : core.C_GRID + 3] = eng.counts[core.C_CELLS]
         offset, since, rebase_on, radius, box = data["meta"].tolist()
         eng.offset = offset
         eng._since_rebase = int(since)
@@ -762,19 +745,8 @@ class Engine:
             eng.container = as_container(None if np.isnan(radius) else radius, None if np.isnan(box) else box)
         eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
         eng._event_buffers = _events.empty_buffers(CHUNK)
-        saved = eng.scalars.shape[0]
-        if saved < core.N_SCALARS:  # checkpoints from before the last scalars
-            eng.scalars = np.concatenate([eng.scalars, np.zeros(core.N_SCALARS - saved)])
-        if saved <= core.F_T_KIN:  # before the transport tallies
-            eng.scalars[core.F_T_KIN] = eng.scalars[core.F_CLOCK]
+        if kinetic_sums_missing:  # a checkpoint from before the transport tallies
             eng._kinetic_sums()
-        if saved <= core.F_OFFSET:  # before the frozen-clock streak
-            eng.scalars[core.F_OFFSET] = offset
-            eng.scalars[core.F_STREAK] = eng.scalars[core.F_CLOCK]
-        if saved <= core.F_EDGE:  # before the per-axis grid: a cube's
-            eng.scalars[core.F_EDGE : core.F_EDGE + 3] = eng.scalars[core.F_BOX]
-            eng.scalars[core.F_LOW : core.F_LOW + 3] = eng.scalars[core.F_LO]
-            eng.scalars[core.F_WIDTH : core.F_WIDTH + 3] = eng.scalars[core.F_W]
         edges = np.array(eng.container.core_params()["edges"])
         if np.any(eng.scalars[core.F_EDGE : core.F_EDGE + 3] != edges):
             raise CheckpointError("damaged checkpoint: the box's sides disagree with the core's")
@@ -903,233 +875,3 @@ class Engine:
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(kinetic_energy(self.masses, self.velocities))
-
-
-# ---- checking a checkpoint ------------------------------------------------------
-#: The arrays' names in checkpoints written before they were named for what they hold.
-_OLD_NAMES = {
-    "mass": "masses",
-    "S": "spheres",
-    "K": "book",
-    "T": "due",
-    "nxt": "cell_next",
-    "prv": "cell_prev",
-    "HT": "heap_t",
-    "HKEY": "heap_key",
-    "f": "scalars",
-    "c": "counts",
-    "head": "cell_head",
-    "img": "images",
-}
-
-
-def _current_names(data):
-    """``data`` with the arrays of an older checkpoint under today's names."""
-    if not any(k in data for k in _OLD_NAMES):
-        return data
-    return {_OLD_NAMES.get(k, k): v for k, v in data.items()}
-
-
-def _bad(what):
-    raise CheckpointError(f"damaged checkpoint: {what}")
-
-
-def _array(data, key, dtype, shape):
-    if key not in data:
-        _bad(f"no array {key!r}")
-    a = np.asarray(data[key])
-    if a.dtype != dtype or a.shape != shape:
-        _bad(f"{key!r} is {a.dtype}{list(a.shape)}, expected {np.dtype(dtype)}{list(shape)}")
-    return a
-
-
-def check_arrays(data):
-    """Check :meth:`Engine.checkpoint`'s arrays before the compiled core sees them.
-
-    Everything the core indexes with is checked (heap, cell lists, partners,
-    cell coordinates, counts), and everything it computes with is finite
-    where it must be, so that a damaged or crafted file is refused rather
-    than crashing the interpreter or running on NaNs.  O(N).
-
-    Args:
-        data: mapping of array name to array, as :meth:`Engine.checkpoint`
-            returns it (or as read back from a file).
-
-    Raises:
-        CheckpointError: naming the first problem found.
-    """
-    data = _current_names(data)
-    masses = np.asarray(data.get("masses", np.zeros((0, 0))))
-    if masses.ndim != 1:
-        _bad("'masses' is not a list of masses")
-    n = masses.shape[0]
-    _array(data, "masses", np.float64, (n,))
-    spheres = _array(data, "spheres", np.float64, (n, core.SPHERE_COLS))
-    book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
-    if "book" not in data:
-        _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in (
-        (n, core.BOOK_COLS),
-        (n, core.ORIGIN),
-        (n, core.NEIGHBOURS),
-    ):
-        # (13 columns: from before the engine's own order; 12: before the neighbour lists)
-        _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
-    due = _array(data, "due", np.float64, (n, core.DUE_COLS))
-    cell_next = _array(data, "cell_next", np.int64, (n,))
-    cell_prev = _array(data, "cell_prev", np.int64, (n,))
-    heap = _array(data, "heap", np.int64, (n,))
-    heap_t = _array(data, "heap_t", np.float64, (n,))
-    heap_key = _array(data, "heap_key", np.int64, (n,))
-    scalars = np.asarray(data.get("scalars", np.zeros(0)))
-    if (
-        scalars.dtype != np.float64
-        or scalars.ndim != 1
-        or not core.F_WINDOW < scalars.shape[0] <= core.N_SCALARS
-    ):
-        _bad(f"'scalars' is {scalars.dtype}{list(scalars.shape)}, expected float64[{core.N_SCALARS}]")
-    if "images" in data:  # periodic image counts, where the core keeps them
-        _array(data, "images", np.int64, (n, 3))
-    # the engine's order of the spheres: the input index of each (before it, the input order)
-    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n, dtype=np.int64)
-    if not np.array_equal(np.sort(order), np.arange(n)):
-        _bad("the spheres' input indices are not a permutation of the spheres")
-    if "reorder" in data:
-        every, since = _array(data, "reorder", np.float64, (2,)).tolist()
-        if not (np.isfinite(every) and every >= 0 and np.isfinite(since) and 0 <= since < 2**62):
-            _bad("the reordering's interval or count is not a finite number >= 0")
-    if "counts" not in data:
-        _bad("no array 'counts'")
-    counts = np.asarray(data["counts"])
-    if counts.dtype != np.int64 or counts.ndim != 1 or not core.C_SERIAL < counts.shape[0] <= core.N_COUNTS:
-        _bad(f"'counts' is {counts.dtype}{list(counts.shape)}, expected int64[{core.N_COUNTS}]")
-    meta = _array(data, "meta", np.float64, (5,))
-    grid = counts[core.C_GRID : core.C_GRID + 3] if counts.shape[0] > core.C_GRID + 2 else counts[[0, 0, 0]]
-    if not np.all((grid >= 1) & (grid <= 1 << 10)):
-        _bad(f"{grid.tolist()} cells per axis")
-    if grid[0] != counts[core.C_CELLS]:
-        _bad("the cells per axis disagree")
-    cell_head = _array(data, "cell_head", np.int64, (int(np.prod(grid)),))
-    # the physical state
-    if not np.all(np.isfinite(masses) & (masses > 0)):
-        _bad("a masses is not a finite number > 0")
-    if not np.all(np.isfinite(spheres)):
-        _bad("a position, velocity, time or radius is not finite")
-    if np.any(spheres[:, core.RADIUS] < 0):
-        _bad("a negative radius")
-    if np.any(np.isnan(due)) or np.any(np.isnan(heap_t)):
-        _bad("a predicted time is NaN")
-    if not np.all(np.isfinite(scalars)) or scalars[core.F_W] <= 0 or scalars[core.F_WINDOW] < 0:
-        _bad("the scalars (clock, grid, window) are not finite and positive where needed")
-    if np.any(counts < 0):
-        _bad("a negative counter")
-    offset, since, rebase_on, container, box = meta.tolist()
-    if not (np.isfinite(offset) and np.isfinite(since) and since >= 0):
-        _bad("the time origin is not finite")
-    if np.isnan(container) == np.isnan(box):
-        _bad("neither or both of container and box")
-    size = box if np.isnan(container) else container
-    if not (np.isfinite(size) and size > 0):
-        _bad("the container size is not a finite number > 0")
-    if (scalars[core.F_BOX] if np.isnan(container) else scalars[core.F_CONTAINER]) != size:
-        _bad("the container size disagrees with the core's")
-    if n == 0:
-        if np.any(cell_head != -1):
-            _bad("cells hold spheres that do not exist")
-        return
-    ids = np.arange(n)
-    # cells: coordinates in the grid, and each cell's list holds exactly its spheres
-    cxyz = book[:, core.CELL_X : core.CELL_Z + 1]
-    if np.any((cxyz < 0) | (cxyz >= grid[None, :])):
-        _bad("a cell coordinate outside the grid")
-    if np.any(book[:, core.CELL] != (cxyz[:, 2] * grid[1] + cxyz[:, 1]) * grid[0] + cxyz[:, 0]):
-        _bad("a cell index disagrees with its coordinates")
-    for name, a in (("cell_head", cell_head), ("cell_next", cell_next), ("cell_prev", cell_prev)):
-        if np.any((a < -1) | (a >= n)):
-            _bad(f"{name!r} points outside the spheres")
-    seen = np.zeros(n, bool)
-    for cell in np.nonzero(cell_head >= 0)[0].tolist():
-        j, before = int(cell_head[cell]), -1
-        while j >= 0:
-            if seen[j] or book[j, core.CELL] != cell or cell_prev[j] != before:
-                _bad("the cell lists are inconsistent")
-            seen[j] = True
-            before, j = j, int(cell_next[j])
-    if not np.all(seen):
-        _bad("a sphere is in no cell list")
-    # the calendar: a heap over all spheres, each entry its sphere's earlier event
-    if not np.array_equal(np.sort(heap), ids) or np.any(book[heap, core.HEAP_POS] != ids):
-        _bad("the event calendar is not a permutation of the spheres")
-    kind, partner = book[:, core.EVENT_KIND], book[:, core.PARTNER]
-    coll = kind == core.COLLISION
-    if np.any(~np.isin(kind, (core.REFLECTION, core.COLLISION, core.NONE))):
-        _bad("an unknown event kind")
-    if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
-        _bad("a collision partner outside the spheres")
-    # (tie keys are on the input indices)
-    mine, theirs = order, order[np.where(coll, partner, ids)]
-    lo, hi = np.minimum(mine, theirs), np.maximum(mine, theirs)
-    key = np.where(
-        coll,
-        _key(core.COLLISION, lo, hi, n),
-        np.where(kind == core.REFLECTION, _key(core.REFLECTION, mine, -1, n), _key(core.NONE, n, n - 1, n)),
-    )
-    if np.any(book[:, core.EVENT_KEY] != key):
-        _bad("an event key disagrees with its event")
-    shell = scalars[core.F_SHELL] if scalars.shape[0] > core.F_SHELL else 0.0
-    if shell:  # neighbour lists
-        if not shell > 1.0:
-            _bad("the shell factor is not > 1")
-        if "neighbours" not in data or book.shape[1] <= core.NEIGHBOURS:
-            _bad("no neighbour lists")
-        _check_lists(data, book, n)
-    else:  # cells
-        code = book[:, core.CROSS_FACE]
-        if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):
-            _bad("an unknown cell crossing")
-    entry_t, entry_key = _entries(due, book, n)
-    pos = book[:, core.HEAP_POS]
-    if np.any(heap_t[pos] != entry_t) or np.any(heap_key[pos] != entry_key):
-        _bad("the event calendar disagrees with the predictions")
-    k = np.arange(1, n)
-    p = (k - 1) >> 1
-    if np.any((heap_t[k] < heap_t[p]) | ((heap_t[k] == heap_t[p]) & (heap_key[k] < heap_key[p]))):
-        _bad("the event calendar is out of order")
-
-
-def _entries(due, book, n):
-    """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
-    order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n)
-    cross_key = _key(core.CROSSING, order, -1, n)
-    key = book[:, core.EVENT_KEY]
-    ev_t, cr_t = due[:, core.EVENT_T], due[:, core.CROSS_T]
-    first = (cr_t < ev_t) | ((cr_t == ev_t) & (cross_key < key))
-    return np.where(first, cr_t, ev_t), np.where(first, cross_key, key)
-
-
-def _check_lists(data, book, n):
-    """The shells and neighbour lists: finite, in range, symmetric."""
-    shells = _array(data, "shells", np.float64, (n, core.SHELL_COLS))
-    neighbours = np.asarray(data["neighbours"])
-    if neighbours.dtype != np.int32 or neighbours.ndim != 2 or neighbours.shape[0] != n:
-        _bad(f"'neighbours' is {neighbours.dtype}{list(neighbours.shape)}, expected int32[{n}, k]")
-    if not np.all(np.isfinite(shells)) or np.any(shells[:, core.REACH] < 0):
-        _bad("a shell is not finite")
-    length = book[:, core.NEIGHBOURS]
-    if np.any((length < 0) | (length > neighbours.shape[1])):
-        _bad("a neighbour list longer than its row")
-    rows = np.repeat(np.arange(n), length)
-    used = np.arange(neighbours.shape[1])[None, :] < length[:, None]
-    entries = neighbours[used].astype(np.int64)
-    j, code = entries >> 5, entries & 31
-    if np.any((j < 0) | (j >= n) | (j == rows) | (code > 26)):
-        _bad("a neighbour outside the spheres")
-    there = np.sort(rows * n + j)
-    back = np.sort(j * n + rows)
-    if not np.array_equal(there, back) or np.any(np.diff(there) == 0):
-        _bad("the neighbour lists are not symmetric")
-
-
-def _key(kind, a, b, n):
-    """The core's tie key, on arrays (its Python source, not a second copy)."""
-    return core._key.py_func(kind, a, b, n)
