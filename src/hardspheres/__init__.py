@@ -9,9 +9,12 @@ Example:
     1.0
 """
 
+from __future__ import annotations
+
 import importlib
 import sys
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from .containers import BoxShapeError, Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
 from .errors import BuildError, CheckpointError, FileInUseError, StudyError, TruncatedTrajectory
@@ -70,13 +73,13 @@ _LAZY = {
 }
 
 
-def _frames_html(frames):
+def _frames_html(frames: Frames) -> str:
     from .viz.viewer import notebook_html
 
     return notebook_html(frames)
 
 
-def _simulation_html(sim):
+def _simulation_html(sim: Simulation) -> str:
     """A simulation as the viewer shows it: its spheres now, one frame."""
     from .frames import Frames
     from .viz.viewer import notebook_html
@@ -95,10 +98,10 @@ def _simulation_html(sim):
     return notebook_html(frames, title=title)
 
 
-def _quietly(to_html):
+def _quietly(to_html: Callable[[Any], str]) -> Callable[[object], str | None]:
     """A display formatter that falls back to the plain repr instead of raising."""
 
-    def html(obj):
+    def html(obj: object) -> str | None:
         try:
             return to_html(obj)
         except Exception:  # a picture is never worth a traceback in the cell
@@ -107,7 +110,7 @@ def _quietly(to_html):
     return html
 
 
-def _register_notebook_display(shell=None):
+def _register_notebook_display(shell: Any = None) -> None:
     """Show Simulation, Frames and trajectories as the interactive viewer in Jupyter.
 
     Called on import: when IPython is running, its ``text/html`` formatter
@@ -131,7 +134,7 @@ def _register_notebook_display(shell=None):
 _register_notebook_display()
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     if name == "__version__":  # looked up on first use: the program starts faster
         from .version import package_version
 
@@ -141,7 +144,7 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def __dir__():
+def __dir__() -> list[str]:
     """Every public name, loaded or not (``dir(hs)``, ``help(hs)`` and tab completion see them)."""
     return sorted(set(globals()) | set(__all__))
 

@@ -17,9 +17,15 @@ Example:
     (True, 1.0)
 """
 
-from typing import NamedTuple
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 #: Fewest blocks a level may have to be used for the error bar.
 MIN_BLOCKS = 16
@@ -50,7 +56,7 @@ class Blocking(NamedTuple):
     sems: np.ndarray
     sem_errors: np.ndarray
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """The estimate against the blocking level, with the chosen one marked; returns Axes."""
         import matplotlib.pyplot as plt
 
@@ -64,7 +70,7 @@ class Blocking(NamedTuple):
         return ax
 
 
-def blocking(x, min_blocks=MIN_BLOCKS):
+def blocking(x: ArrayLike, min_blocks: int = MIN_BLOCKS) -> Blocking:
     """Mean and standard error of a correlated series by Flyvbjerg-Petersen blocking.
 
     At level ``k`` the series has been pair-averaged ``k`` times (an odd last
@@ -86,17 +92,19 @@ def blocking(x, min_blocks=MIN_BLOCKS):
     if x.size < 2:
         raise ValueError(f"{x.size} samples: an error bar needs at least two; run longer")
     mean = float(np.mean(x))
-    sems, errs, counts = [], [], []
+    sem_list: list[float] = []
+    err_list: list[float] = []
+    count_list: list[int] = []
     y = x
     while y.size >= 2:
         n = y.size
         s = float(np.sqrt(np.var(y) / (n - 1)))
-        sems.append(s)
-        errs.append(s / np.sqrt(2.0 * (n - 1)))
-        counts.append(n)
+        sem_list.append(s)
+        err_list.append(s / np.sqrt(2.0 * (n - 1)))
+        count_list.append(n)
         m = n // 2
         y = 0.5 * (y[0 : 2 * m : 2] + y[1 : 2 * m : 2])
-    sems, errs, counts = np.array(sems), np.array(errs), np.array(counts)
+    sems, errs, counts = np.array(sem_list), np.array(err_list), np.array(count_list)
     usable = np.nonzero(counts >= min(min_blocks, counts[0]))[0]
     last = int(usable[-1])
     level, converged = None, False

@@ -27,8 +27,10 @@ The two accurate ones agree with each other to about 1e-4 for
 """
 
 import math
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 # Hansen-Goos (2016), Table I: coefficients of the polynomial in phi, highest
 # power (7) first, and the prefactor of the logarithm.
@@ -51,14 +53,14 @@ _KLM = (
 )
 
 
-def _phi(phi):
+def _phi(phi: ArrayLike) -> np.ndarray:
     phi = np.asarray(phi, dtype=float)
     if np.any((phi < 0.0) | (phi >= 1.0)):
         raise ValueError("packing fraction phi must be in [0, 1)")
     return phi
 
 
-def carnahan_starling(phi):
+def carnahan_starling(phi: ArrayLike) -> np.ndarray:
     """Carnahan-Starling ``Z = (1 + phi + phi^2 - phi^3) / (1 - phi)^3``.
 
     N. F. Carnahan and K. E. Starling, J. Chem. Phys. 51, 635 (1969).
@@ -77,7 +79,7 @@ def carnahan_starling(phi):
     return (1.0 + phi + phi * phi - phi**3) / (1.0 - phi) ** 3
 
 
-def carnahan_starling_contact(phi):
+def carnahan_starling_contact(phi: ArrayLike) -> np.ndarray:
     """Carnahan-Starling contact value ``g(sigma+) = (1 - phi/2) / (1 - phi)^3``.
 
     The radial distribution at contact that makes the virial route give
@@ -91,7 +93,7 @@ def carnahan_starling_contact(phi):
     return (1.0 - 0.5 * phi) / (1.0 - phi) ** 3
 
 
-def collision_rate_from_z(z, sigma=1.0, kT=1.0, mass=1.0):
+def collision_rate_from_z(z: float, sigma: float = 1.0, kT: float = 1.0, mass: float = 1.0) -> float:
     """Collisions per sphere per unit time of equal hard spheres with pressure ``Z``.
 
     ``nu = 6 (Z - 1) sqrt(kT / (pi m)) / sigma``: exact for hard spheres, since
@@ -107,7 +109,7 @@ def collision_rate_from_z(z, sigma=1.0, kT=1.0, mass=1.0):
     return 6.0 * (z - 1.0) * math.sqrt(kT / (math.pi * mass)) / sigma
 
 
-def hansen_goos(phi):
+def hansen_goos(phi: ArrayLike) -> np.ndarray:
     """Hansen-Goos equation of state of the hard-sphere fluid.
 
     H. Hansen-Goos, "Communication: Non-linear fits to the hard-sphere
@@ -142,7 +144,7 @@ def hansen_goos(phi):
     return np.where(small, 1.0 + 4.0 * phi, z)
 
 
-def kolafa(phi):
+def kolafa(phi: ArrayLike) -> np.ndarray:
     """Kolafa-Labik-Malijevsky (KLM) equation of state of the hard-sphere fluid.
 
     J. Kolafa, S. Labik and A. Malijevsky, "Accurate equation of state of
@@ -186,7 +188,9 @@ def kolafa(phi):
 # ---- mixtures ----------------------------------------------------------------------
 
 
-def _measures(phi, diameters, fractions):
+def _measures(
+    phi: ArrayLike, diameters: ArrayLike, fractions: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The bulk fundamental measures ``n0..n3`` of a mixture at packing ``phi``.
 
     ``n0 = rho``, ``n1 = rho <R>``, ``n2 = 4 pi rho <R^2>``, ``n3 = phi``
@@ -204,7 +208,7 @@ def _measures(phi, diameters, fractions):
     return rho, rho * np.sum(x * r), 4.0 * np.pi * rho * np.sum(x * r**2), phi
 
 
-def bmcsl(phi, diameters, fractions):
+def bmcsl(phi: ArrayLike, diameters: ArrayLike, fractions: ArrayLike) -> np.ndarray:
     """Boublik-Mansoori-Carnahan-Starling-Leland (BMCSL) Z of a hard-sphere mixture.
 
     T. Boublik, J. Chem. Phys. 53, 471 (1970); G. A. Mansoori, N. F.
@@ -236,7 +240,7 @@ def bmcsl(phi, diameters, fractions):
     return (n0 / g + n1 * n2 / g**2 + n2**3 * (3.0 - n3) / (36.0 * np.pi * g**3)) / n0
 
 
-def hansen_goos_roth(phi, diameters, fractions):
+def hansen_goos_roth(phi: ArrayLike, diameters: ArrayLike, fractions: ArrayLike) -> np.ndarray:
     """Hansen-Goos & Roth's Z of a hard-sphere mixture (a "CS" generalization).
 
     H. Hansen-Goos and R. Roth, J. Chem. Phys. 124, 154506 (2006): a
@@ -281,7 +285,12 @@ def hansen_goos_roth(phi, diameters, fractions):
     ) / n0
 
 
-def santos_yuste_haro(phi, diameters, fractions, pure=kolafa):
+def santos_yuste_haro(
+    phi: ArrayLike,
+    diameters: ArrayLike,
+    fractions: ArrayLike,
+    pure: Callable[[ArrayLike], np.ndarray] = kolafa,
+) -> np.ndarray:
     """Santos, Yuste & Lopez de Haro's Z of a hard-sphere mixture from a one-component Z.
 
     A. Santos, S. B. Yuste and M. Lopez de Haro, "Equation of state of a

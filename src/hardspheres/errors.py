@@ -9,6 +9,10 @@ This module imports nothing of hardspheres but :mod:`hardspheres.messages`:
 any module may raise these.
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+
 from .messages import quote
 
 
@@ -47,7 +51,7 @@ class ScenarioError(ValueError):
         line: 1-based input line the problem is on, or ``None``.
     """
 
-    def __init__(self, message, line=None):
+    def __init__(self, message: str, line: int | None = None) -> None:
         self.line = line
         super().__init__(f"line {line}: {message}" if line is not None else message)
 
@@ -68,7 +72,7 @@ class StuckError(ScenarioError):
         sphere: index of a sphere involved (the one at the wall).
     """
 
-    def __init__(self, reason, time, sphere, names=None):
+    def __init__(self, reason: str, time: float, sphere: int, names: Sequence[str] | None = None) -> None:
         self.reason, self.time, self.sphere = reason, time, sphere
         who = quote(names[sphere]) if names is not None else f"#{sphere}"
         if reason == "sliding":
@@ -87,7 +91,7 @@ class StuckError(ScenarioError):
             )
         super().__init__(message)
 
-    def named(self, names):
+    def named(self, names: Sequence[str]) -> StuckError:
         """The same error, naming the sphere by ``names``."""
         return StuckError(self.reason, self.time, self.sphere, names)
 

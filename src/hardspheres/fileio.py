@@ -22,11 +22,15 @@ Errors: an :class:`OSError` raised while writing carries the target's name
 line naming the file.
 """
 
+from __future__ import annotations
+
 import contextlib
 import errno
 import os
 import stat
 import tempfile
+from collections.abc import Iterator
+from typing import IO, Any, Literal
 
 try:  # POSIX; Windows has no flock: writes stay atomic, but unlocked
     import fcntl
@@ -37,7 +41,7 @@ from .errors import FileInUseError  # noqa: F401 (re-exported)
 from .messages import oserror_line
 
 
-def _special(path):
+def _special(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` exists and is not a regular file or folder (``/dev/null``, a FIFO)."""
     try:
         mode = os.stat(path).st_mode
@@ -46,7 +50,7 @@ def _special(path):
     return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
-def _lock_name(path):
+def _lock_name(path: str | os.PathLike[str]) -> str:
     head, tail = os.path.split(os.path.abspath(path))
     return os.path.join(head, f".{tail}.lock")
 
@@ -67,7 +71,7 @@ class PathLock:
             folder (``filename`` is ``path``).
     """
 
-    def __init__(self, path):
+    def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = os.fspath(path)
         self.lock_path = _lock_name(self.path)
         self._fd = None
@@ -109,11 +113,11 @@ class PathLock:
             os.write(fd, f"{os.getpid()}\n".encode())
 
     @property
-    def held(self):
+    def held(self) -> bool:
         """Whether the lock is still held."""
         return self._fd is not None
 
-    def release(self):
+    def release(self) -> None:
         """Release the lock and remove the lock file (idempotent)."""
         if self._fd is not None:
             with contextlib.suppress(OSError):
@@ -121,18 +125,18 @@ class PathLock:
             os.close(self._fd)
             self._fd = None
 
-    def __enter__(self):
+    def __enter__(self) -> PathLock:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         self.release()
         return False
 
-    def __del__(self):
+    def __del__(self) -> None:
         self.release()
 
 
-def _read_pid(fd):
+def _read_pid(fd: int) -> str:
     try:
         data = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
     except OSError:
@@ -140,7 +144,7 @@ def _read_pid(fd):
     return data if data.isdigit() else ""
 
 
-def _mode_for(path):
+def _mode_for(path: str | os.PathLike[str]) -> int:
     """Permissions the new file gets: the old file's, else 0666 less the umask."""
     try:
         return os.stat(path).st_mode & 0o7777
@@ -150,7 +154,7 @@ def _mode_for(path):
         return 0o666 & ~mask
 
 
-def _named(err, path):
+def _named(err: BaseException, path: str | os.PathLike[str]) -> OSError:
     """``err`` as the same kind of OSError, naming ``path``."""
     if isinstance(err, OSError) and err.errno is not None:
         return type(err)(err.errno, err.strerror, path)
@@ -158,7 +162,7 @@ def _named(err, path):
 
 
 @contextlib.contextmanager
-def atomic_path(path, lock=True):
+def atomic_path(path: str | os.PathLike[str], lock: bool = True) -> Iterator[str]:
     """A temporary file name to write ``path`` through; renamed on success.
 
     The temporary is in the target's folder (so the rename is atomic), has
@@ -214,7 +218,9 @@ def atomic_path(path, lock=True):
 
 
 @contextlib.contextmanager
-def atomic_write(path, mode="wb", lock=True, **open_args):
+def atomic_write(
+    path: str | os.PathLike[str], mode: str = "wb", lock: bool = True, **open_args: Any
+) -> Iterator[IO[Any]]:
     """Open a temporary for writing ``path``; it replaces ``path`` on success.
 
     As :func:`atomic_path`, with the file opened (``mode`` ``"wb"`` or
@@ -235,7 +241,7 @@ def atomic_write(path, mode="wb", lock=True, **open_args):
             fh.flush()
 
 
-def _fsync(path):
+def _fsync(path: str | os.PathLike[str]) -> None:
     """Flush ``path`` (a file or a folder) to the disk; raises :class:`OSError`."""
     fd = os.open(path, os.O_RDONLY)
     try:
@@ -244,7 +250,7 @@ def _fsync(path):
         os.close(fd)
 
 
-def _sync_folder(folder):
+def _sync_folder(folder: str | os.PathLike[str]) -> None:
     """Make a rename in ``folder`` durable (best effort)."""
     with contextlib.suppress(OSError):
         _fsync(folder)

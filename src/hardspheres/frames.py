@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .containers import Container, as_container
 from .events import as_events, empty_events, from_columns
@@ -52,22 +53,22 @@ class Frames:
 
     def __init__(
         self,
-        times,
-        positions,
-        velocities,
-        radii,
-        masses,
+        times: ArrayLike,
+        positions: ArrayLike,
+        velocities: ArrayLike,
+        radii: ArrayLike,
+        masses: ArrayLike,
         names: Sequence[str],
         container: Container | float | None = None,
         box: float | None = None,
         events: np.ndarray | None = None,
         *,
-        event_times=None,
-        event_kinds=None,
-        event_i=None,
-        event_j=None,
+        event_times: ArrayLike | None = None,
+        event_kinds: ArrayLike | None = None,
+        event_i: ArrayLike | None = None,
+        event_j: ArrayLike | None = None,
         images: np.ndarray | None = None,
-    ):
+    ) -> None:
         self.times = np.asarray(times, dtype=np.float64)
         self.positions = np.asarray(positions, dtype=np.float64)
         self.velocities = np.asarray(velocities, dtype=np.float64)
@@ -77,7 +78,7 @@ class Frames:
         self.container: Container | None = (
             None if container is None and box is None else as_container(container, box)
         )
-        columns = {
+        columns: dict[str, Any] = {
             k: v
             for k, v in (("time", event_times), ("kind", event_kinds), ("i", event_i), ("j", event_j))
             if v is not None
@@ -97,7 +98,7 @@ class Frames:
         where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
         return f"Frames(n={self.n}, frames={len(times)}{span}{where}, events={len(self.events)})"
 
-    def replace(self, **changes) -> Frames:
+    def replace(self, **changes: Any) -> Frames:
         """A copy with some attributes replaced (as ``dataclasses.replace`` did).
 
         Example:
@@ -181,7 +182,7 @@ class Frames:
         """``(F, 3)`` total momentum of each frame [mass*length/time]."""
         return np.einsum("n,fnk->fk", self.masses, self.velocities)
 
-    def wrapped_positions(self, keep=slice(None)) -> np.ndarray:
+    def wrapped_positions(self, keep: slice | int | np.ndarray = slice(None)) -> np.ndarray:
         """Positions of the frames ``keep``, wrapped into a periodic box [length]."""
         pos = self.positions[keep]
         return pos if self.container is None else self.container.wrap(pos)
@@ -208,7 +209,9 @@ class Frames:
         return e if np.isfinite(e) and e > 0 else 1.0
 
 
-def frame_indices(n_frames, n_spheres, max_frames=600, max_values=12_000_000):
+def frame_indices(
+    n_frames: int, n_spheres: int, max_frames: int = 600, max_values: int = 12_000_000
+) -> np.ndarray:
     """Indices of the frames the viewer keeps: evenly spaced, first and last kept.
 
     At most ``max_frames`` frames, and at most ``max_values`` embedded numbers
@@ -226,7 +229,7 @@ def frame_indices(n_frames, n_spheres, max_frames=600, max_values=12_000_000):
     return even_indices(n_frames, max(cap, min(2, n_frames)))
 
 
-def even_indices(n, most):
+def even_indices(n: int, most: int) -> np.ndarray:
     """Indices of at most ``most`` of ``n`` items, evenly spaced: all of them if
     ``n <= most``, else the first, the last and evenly between (rounded).
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .state import kinetic_energy
 
@@ -56,7 +57,7 @@ def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 
     return v
 
 
-def speed_density(v, kT: float, m: float):
+def speed_density(v: ArrayLike, kT: float, m: float) -> np.ndarray:
     """Density of speeds ``v`` [length/time] for mass ``m`` at ``kT`` [time/length].
 
     ``f(v) = 4 pi v^2 (m / (2 pi kT))^{3/2} exp(-m v^2 / (2 kT))``.
@@ -65,13 +66,13 @@ def speed_density(v, kT: float, m: float):
     return 4.0 * np.pi * v**2 * (m / (2.0 * np.pi * kT)) ** 1.5 * np.exp(-m * v**2 / (2.0 * kT))
 
 
-def reduced_density(x):
+def reduced_density(x: ArrayLike) -> np.ndarray:
     """Density of ``x = v sqrt(m / kT)`` (dimensionless), any masses: ``sqrt(2/pi) x^2 exp(-x^2 / 2)``."""
     x = np.asarray(x, dtype=float)
     return math.sqrt(2.0 / math.pi) * x**2 * np.exp(-0.5 * x**2)
 
 
-def speed_cdf(v, kT: float = 1.0, m: float = 1.0):
+def speed_cdf(v: ArrayLike, kT: float = 1.0, m: float = 1.0) -> np.ndarray:
     """Cumulative distribution of speeds ``v`` [length/time] for mass ``m`` at ``kT``."""
     a = math.sqrt(kT / m)
     x = np.asarray(v) / a
@@ -84,7 +85,7 @@ def speed_cdf(v, kT: float = 1.0, m: float = 1.0):
 KS_MEAN = math.sqrt(math.pi / 2.0) * math.log(2.0)
 
 
-def ks_distance(speeds, kT=1.0, m=1.0):
+def ks_distance(speeds: ArrayLike, kT: float = 1.0, m: float = 1.0) -> float:
     """Largest gap between the speeds' empirical CDF and Maxwell-Boltzmann's."""
     s = np.sort(np.asarray(speeds))
     n = len(s)

@@ -11,7 +11,7 @@ as a short, harmless line; every OSError shown to a user goes through
 QUOTE_LIMIT = 40
 
 
-def quote(text, limit=QUOTE_LIMIT):
+def quote(text: object, limit: int = QUOTE_LIMIT) -> str:
     """``text`` quoted for a message: at most ``limit`` characters, control bytes escaped.
 
     Example:
@@ -28,7 +28,7 @@ def quote(text, limit=QUOTE_LIMIT):
     return f"{text[:limit]!r}... ({len(text)} characters)"
 
 
-def oserror_line(err, path=None):
+def oserror_line(err: OSError, path: object = None) -> str:
     """One line for an :class:`OSError`: the file it is about, then the reason.
 
     Args:

@@ -111,7 +111,7 @@ class Progress:
         self._text = self.line(done, events, label)
         self._show()
 
-    def _show(self):
+    def _show(self) -> None:
         text = self._text
         pad = max(0, self.width - len(text))
         self.width = len(text) + pad  # what the terminal line holds now

@@ -4,8 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from .scenario import Scenario
 
 
 def kinetic_energy(masses: np.ndarray, velocities: np.ndarray) -> np.ndarray:
@@ -56,7 +61,13 @@ class State:
 
     @classmethod
     def from_arrays(
-        cls, masses, radii, positions, velocities, names: Sequence[str] | None = None, time: float = 0.0
+        cls,
+        masses: ArrayLike,
+        radii: ArrayLike,
+        positions: ArrayLike,
+        velocities: ArrayLike,
+        names: Sequence[str] | None = None,
+        time: float = 0.0,
     ) -> State:
         """Build a state from array-likes, naming spheres ``s0, s1, ...`` if unnamed.
 
@@ -96,7 +107,7 @@ class State:
         state.time = float(state.time)
         return state
 
-    def check(self):
+    def check(self) -> None:
         """Check that the state can be simulated.
 
         Raises:
@@ -121,7 +132,7 @@ class State:
         if len(self.names) != n:
             raise ScenarioError(f"{len(self.names)} names for {n} spheres; give one per sphere")
 
-        def refuse(values, ok, what):
+        def refuse(values: np.ndarray, ok: np.ndarray, what: str) -> None:
             bad = np.nonzero(~ok)[0]
             if len(bad):
                 i = int(bad[0])
@@ -134,7 +145,7 @@ class State:
         refuse(r, np.isfinite(r) & (r >= 0), "radius must be a finite number >= 0")
         refuse(self.positions, np.all(np.isfinite(self.positions), axis=1), "position must be finite")
         refuse(self.velocities, np.all(np.isfinite(self.velocities), axis=1), "velocity must be finite")
-        seen = {}
+        seen: dict[str, int] = {}
         for i, name in enumerate(self.names):
             if name in seen:
                 raise ScenarioError(
@@ -149,7 +160,7 @@ class State:
             raise ScenarioError(f"time must be a finite number, got {self.time!r}")
 
     @classmethod
-    def from_scenario(cls, scn):
+    def from_scenario(cls, scn: Scenario) -> State:
         """From a parsed :class:`hardspheres.scenario.Scenario`."""
         return cls.from_arrays(
             scn.masses,
@@ -191,6 +202,6 @@ class State:
         return "".join(rows)
 
 
-def _first_line(err):
+def _first_line(err: BaseException) -> str:
     text = (str(err).splitlines() or [type(err).__name__])[0]
     return text if len(text) <= 80 else text[:77] + "..."

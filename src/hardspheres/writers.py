@@ -46,6 +46,7 @@ if TYPE_CHECKING:
 
     from .containers import Container
     from .core.engine import Engine
+    from .state import State
 
 
 class SimulationView(Protocol):
@@ -67,6 +68,17 @@ class SimulationView(Protocol):
 
     @property
     def time(self) -> float: ...
+
+    @property
+    def counters(self) -> dict[str, int]: ...
+
+    @property
+    def names(self) -> list[str]: ...
+
+    @property
+    def run_end(self) -> float: ...
+
+    def state(self, time: float | None = None, unwrapped: bool = False) -> State: ...
 
 
 @runtime_checkable
@@ -99,8 +111,10 @@ class Writer(Protocol):
         wants_events: whether :meth:`observe` is called.
     """
 
-    next_time: float
     wants_events: bool
+
+    @property
+    def next_time(self) -> float: ...
 
     def attach(self, sim: SimulationView) -> None:
         """Called as each run starts (a writer attached before keeps its schedule)."""
@@ -137,7 +151,7 @@ class Periodic(_ByTime):
         period: time between writes [time], > 0.
     """
 
-    def __init__(self, period: float):
+    def __init__(self, period: float) -> None:
         self.period = _positive_time(period, "every")
         self._t0 = 0.0
         self._count = 0
@@ -169,7 +183,7 @@ class LogSpaced(_ByTime):
         factor: float | None = None,
         per_decade: int | None = None,
         until: float = math.inf,
-    ):
+    ) -> None:
         self.first = _positive_time(first, "first")
         if (factor is None) == (per_decade is None):
             raise ValueError("give exactly one of factor and per_decade")
@@ -230,7 +244,7 @@ class LogOrigins(_ByTime):
         factor: float | None = None,
         per_decade: int | None = None,
         until: float | None = None,
-    ):
+    ) -> None:
         self.every = _positive_time(every, "every")
         until = self.every if until is None else _positive_time(until, "until")
         self._log = LogSpaced(first, factor=factor, per_decade=per_decade, until=until)
@@ -273,7 +287,7 @@ class AtTimes(_ByTime):
         times: absolute times [time], finite.
     """
 
-    def __init__(self, times: Iterable[float]):
+    def __init__(self, times: Iterable[float]) -> None:
         self.times = sorted(float(t) for t in times)
         if not all(math.isfinite(t) for t in self.times):
             raise ValueError("times must be finite")
@@ -299,7 +313,7 @@ class EveryCollisions:
         k: collisions between writes, >= 1.
     """
 
-    def __init__(self, k: int):
+    def __init__(self, k: int) -> None:
         if int(k) != k or k < 1:
             raise ValueError(f"k must be a whole number >= 1, got {k!r}")
         self.k = int(k)
