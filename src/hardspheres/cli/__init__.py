@@ -13,11 +13,15 @@ and ``bench``.  The ``spheres`` program starts without numpy: this module,
 :mod:`hardspheres.errors` and :mod:`hardspheres.io.report` import none.
 """
 
+from __future__ import annotations
+
 import io
 import math
 import os
 import signal
 import sys
+from collections.abc import Callable, Sequence
+from typing import IO
 
 from ..errors import UsageError  # noqa: F401 (re-exported)
 from ..io.report import PROMPT
@@ -50,7 +54,7 @@ Bad input exits 1 with one line on stderr.  More: the hardspheres command.
 FORMATS = ("text", "jsonl")
 
 
-def _positive_number(token, what, allow_zero, limit=math.inf):
+def _positive_number(token: str, what: str, allow_zero: bool, limit: float = math.inf) -> float:
     x = plain_float(token)
     if x is None or not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
@@ -60,7 +64,7 @@ def _positive_number(token, what, allow_zero, limit=math.inf):
     return x
 
 
-def parse_spheres_args(argv):
+def parse_spheres_args(argv: Sequence[str]) -> tuple[float, float, str]:
     """``(container_radius, end_time, format)`` from the arguments of ``spheres``.
 
     Two positional arguments, and optionally ``--format text|jsonl``
@@ -97,7 +101,7 @@ def parse_spheres_args(argv):
     )
 
 
-def _help_or_version(argv, stdout):
+def _help_or_version(argv: Sequence[str], stdout: IO[str]) -> bool:
     """Answer ``--help``/``-h`` or ``--version`` (only as the sole argument); True if done."""
     if len(argv) != 1 or argv[0] not in ("-h", "--help", "--version"):
         return False
@@ -111,7 +115,7 @@ def _help_or_version(argv, stdout):
     return True
 
 
-def run_spheres(argv, stdin, stdout):
+def run_spheres(argv: Sequence[str], stdin: IO[bytes], stdout: IO[str]) -> int:
     """The assignment's program on given streams; returns the exit status."""
     if _help_or_version(list(argv), stdout):
         return 0
@@ -142,7 +146,7 @@ def run_spheres(argv, stdin, stdout):
     return 0
 
 
-def _stdout_name():
+def _stdout_name() -> str:
     """What stdout is, for a message: ``stdout`` and its file where the OS says."""
     try:
         target = os.readlink(f"/proc/self/fd/{sys.stdout.fileno()}")
@@ -151,7 +155,7 @@ def _stdout_name():
     return f"stdout ({target})" if target.startswith("/") else "stdout"
 
 
-def _drop_stdout():
+def _drop_stdout() -> None:
     """Point stdout at /dev/null, so Python's flush at exit does not fail again."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -160,7 +164,7 @@ def _drop_stdout():
         pass
 
 
-def _checked_stdout():
+def _checked_stdout() -> None:
     """Make every byte written to stdout count, or fail.
 
     With ``PYTHONUNBUFFERED`` (or ``-u``) stdout's text layer writes to the
@@ -175,12 +179,12 @@ def _checked_stdout():
             io.BufferedWriter(raw),
             encoding=out.encoding,
             errors=out.errors,
-            line_buffering=out.line_buffering,
+            line_buffering=bool(out.line_buffering),
             write_through=True,
         )
 
 
-def _guarded(main, prog):
+def _guarded(main: Callable[[], int], prog: str) -> int:
     """Run ``main()`` mapping Ctrl-C to 130 and a closed stdout to a quiet exit.
 
     stdout is flushed and checked here: a write that fails (a full disk:
@@ -210,14 +214,14 @@ def _guarded(main, prog):
     return status
 
 
-def spheres_main(argv=None):
+def spheres_main(argv: Sequence[str] | None = None) -> None:
     """Entry point of the ``spheres`` console script."""
     argv = sys.argv[1:] if argv is None else argv
     _checked_stdout()
     sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout), "spheres"))
 
 
-def hardspheres_main(argv=None):
+def hardspheres_main(argv: Sequence[str] | None = None) -> None:
     """Entry point of the ``hardspheres`` console script (subcommands)."""
     from .commands import main
 

@@ -9,19 +9,26 @@ reports are identical;
 ``HARDSPHERES_ENGINE=reference|compiled`` forces one (the tests do).
 """
 
+from __future__ import annotations
+
 import importlib.util
 import os
+from typing import IO, TYPE_CHECKING
 
 from ..core.reference import SIMULTANEOUS, Reference
 from ..io.report import JSONLReport, TextReport
 from ..scenario import StuckError
+
+if TYPE_CHECKING:
+    from ..core.engine import Engine
+    from ..scenario import Scenario
 
 #: Up to this many spheres the reference loop runs (its O(N^2) prediction
 #: per event costs less than loading the compiled core).
 SMALL = 24
 
 
-def compiled_available():
+def compiled_available() -> bool:
     """Whether numpy and numba can be imported (looked up, not imported)."""
     for name in ("numpy", "numba"):
         try:
@@ -32,7 +39,7 @@ def compiled_available():
     return True
 
 
-def choose_engine(n):
+def choose_engine(n: int) -> str:
     """``"reference"`` or ``"compiled"`` for ``n`` spheres.
 
     The compiled core for more than :data:`SMALL` spheres, if numpy and
@@ -45,7 +52,7 @@ def choose_engine(n):
     return "reference" if n <= SMALL or not compiled_available() else "compiled"
 
 
-def write_report(scn, container, end, out, fmt="text"):
+def write_report(scn: Scenario, container: float, end: float, out: IO[str], fmt: str = "text") -> None:
     """Simulate ``scn`` in a sphere of radius ``container`` until ``end``, writing the report.
 
     ``fmt`` is ``"text"`` (the assignment's layout) or ``"jsonl"``.
@@ -60,14 +67,17 @@ def write_report(scn, container, end, out, fmt="text"):
         raise e.named(scn.names) from None
 
 
-def _write_events(scn, container, end, out, fmt):
+def _write_events(scn: Scenario, container: float, end: float, out: IO[str], fmt: str) -> None:
     rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
     rep.initial(container, end, scn.positions, scn.velocities)
+    engine: type[Reference] | type[Engine]
     if choose_engine(len(scn)) == "reference":
         engine = Reference
     else:
-        from ..core.engine import Engine as engine
+        from ..core.engine import Engine
         from ..core.warmup import ensure_compiled
+
+        engine = Engine
 
         ensure_compiled()  # says so on stderr, once, when the cache is cold
     eng = engine(

@@ -1,12 +1,19 @@
 """``hardspheres bench``: the collisions per second of one system, printed."""
 
+from __future__ import annotations
+
+import argparse
 import json
+from typing import TYPE_CHECKING, Any
 
 from ..core.bench import bench
 from .options import compile_first, count, packing, ratio, warmup, whole
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def main(n, packing, collisions, **kw):
+
+def main(n: int, packing: float, collisions: int, **kw: Any) -> dict[str, Any]:
     """Print the figures, the JSON object last."""
     res = bench(n, packing, collisions, **kw)
     ens = res["enskog_collision_rate"]
@@ -38,7 +45,7 @@ def main(n, packing, collisions, **kw):
     return res
 
 
-def add_parser(sub):
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("bench", help="measure collisions per second")
     p.add_argument("--n", type=whole(2), required=True, help="number of spheres (>= 2)")
@@ -67,7 +74,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     compile_first()
     main(

@@ -5,7 +5,11 @@ library that are the user's to fix (:class:`ValueError` and its kin) print
 as one line on stderr with exit status 1.
 """
 
+from __future__ import annotations
+
+import argparse
 import sys
+from collections.abc import Sequence
 
 from ..messages import oserror_line
 from . import bench, compress, generate, plot, render, run, sweep, validate, view
@@ -15,7 +19,7 @@ from .options import Parser, one_line, version_action
 SUBCOMMANDS = (generate, compress, bench, run, sweep, validate, view, render, plot)
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     """The ``hardspheres`` parser, each subcommand added by its own module."""
     p = Parser(prog="hardspheres", description="Exact event-driven simulation of perfectly elastic spheres.")
     p.add_argument("--version", action="version", version=version_action())
@@ -25,7 +29,7 @@ def build_parser():
     return p
 
 
-def main(argv):
+def main(argv: Sequence[str]) -> int:
     """Run ``hardspheres ARGV``; returns the exit status."""
     args = build_parser().parse_args(argv)
     try:

@@ -5,8 +5,13 @@ The compression itself is :func:`hardspheres.dense.compress` (and
 bar, the command's checks and its one-line report.
 """
 
+from __future__ import annotations
+
+import argparse
 import math
 import sys
+from collections.abc import Callable
+from typing import TYPE_CHECKING, TextIO
 
 from ..builders import random_spheres
 from ..containers import PeriodicBox, SphericalContainer
@@ -17,8 +22,18 @@ from ..simulation import Simulation
 from .options import positive, where_args, whole
 from .source import starting_simulation
 
+if TYPE_CHECKING:
+    from ..state import State
+    from .options import Subcommands
 
-def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled=None):
+
+def compression_progress(
+    phi0: float,
+    packing: float | None = None,
+    pressure: float | None = None,
+    stream: TextIO | None = None,
+    enabled: bool | None = None,
+) -> tuple[Progress, Callable[[float, float, int], None]]:
     """A progress bar (on a terminal) and the ``progress`` callback of :func:`compress`.
 
     The bar shows the packing fraction, the reduced pressure ``Z`` and the
@@ -32,7 +47,7 @@ def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled
     """
     bar = Progress(1.0, stream=stream, enabled=enabled, unit="collisions")
 
-    def show(phi, z, coll):
+    def show(phi: float, z: float, coll: int) -> None:
         if packing is not None and packing > phi0:
             done = (phi - phi0) / (packing - phi0)
         elif pressure is not None and pressure > 1 and z > 1:
@@ -44,23 +59,23 @@ def compression_progress(phi0, packing=None, pressure=None, stream=None, enabled
     return bar, show
 
 
-def start_packing(packing):
+def start_packing(packing: float) -> float:
     """The packing :func:`generate_compressed` starts from (a lattice melt)."""
     return min(packing * 0.9, 0.2)
 
 
 def generate_compressed(
-    n,
-    packing,
-    container=None,
-    box=None,
-    seed=0,
-    rate=0.01,
-    radius_ratio=1.0,
-    mass_ratio=1.0,
-    kT=1.0,
-    progress=None,
-):
+    n: int,
+    packing: float,
+    container: float | None = None,
+    box: float | None = None,
+    seed: int = 0,
+    rate: float = 0.01,
+    radius_ratio: float = 1.0,
+    mass_ratio: float = 1.0,
+    kT: float = 1.0,
+    progress: Callable[[float, float, int], None] | None = None,
+) -> State:
     """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
 
     The spheres start on random FCC sites at packing :func:`start_packing`
@@ -81,6 +96,7 @@ def generate_compressed(
         state = random_spheres(
             n, start, container=container, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
         )
+        assert container is not None  # random_spheres refused neither container nor box
         sim = Simulation(state, SphericalContainer(container))
     names = list(state.names)
     if n > 1:
@@ -97,7 +113,7 @@ def generate_compressed(
     return out
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """``hardspheres compress``; returns the exit status."""
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
@@ -113,9 +129,9 @@ def run(args):
         if target <= phi0:
             raise CompressionError(f"--packing {target:g} is not above the scenario's packing {phi0:.6g}")
     progress, show = compression_progress(phi0, target, args.pressure)
-    history = []
+    history: list[tuple[float, float]] = []
 
-    def record(phi, z, coll):
+    def record(phi: float, z: float, coll: int) -> None:
         history.append((phi, z))
         show(phi, z, coll)
 
@@ -149,7 +165,7 @@ def run(args):
     return 0
 
 
-def jamming_line(sim, history, pressure):
+def jamming_line(sim: Simulation, history: list[tuple[float, float]], pressure: float) -> str:
     """The report's jamming line: z and rattlers (Z >= 1e3) and phi_J from the compression's (phi, Z)."""
     from ..analysis.jamming import CONTACT_GAPS_Z, summarize_packing
 
@@ -175,7 +191,7 @@ def jamming_line(sim, history, pressure):
     return "jamming: " + "; ".join(parts)
 
 
-def add_parser(sub):
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "compress",

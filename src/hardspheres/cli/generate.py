@@ -1,11 +1,18 @@
 """``hardspheres generate``: a scenario of N spheres at a packing fraction, on stdout."""
 
+from __future__ import annotations
+
+import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from .options import count, packing, positive, ratio, where_args, whole
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def add_parser(sub):
+
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
     p.add_argument("--n", type=whole(1), required=True, help="number of spheres (>= 1)")
@@ -38,7 +45,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     from ..builders import random_spheres
 

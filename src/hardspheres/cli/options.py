@@ -5,9 +5,13 @@ names what is allowed; :class:`Parser` turns it into one line on stderr and
 exit status 1 (``hardspheres run: argument --n: ...``).
 """
 
+from __future__ import annotations
+
 import argparse
 import re
 import sys
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn, Protocol
 
 from ..containers import MAX_PACKING
 from ..messages import QUOTE_LIMIT, quote
@@ -17,16 +21,22 @@ MOVIES = (".gif", ".mp4", ".m4v", ".mov", ".mkv", ".webm")
 STILLS = (".png", ".pdf", ".svg")
 
 
+class Subcommands(Protocol):
+    """What each subcommand's ``add_parser`` is given: the ``hardspheres`` parser's subparsers."""
+
+    def add_parser(self, name: str, **kwargs: Any) -> argparse.ArgumentParser: ...
+
+
 class Parser(argparse.ArgumentParser):
     """argparse with one-line errors: ``hardspheres run: argument --n: ...``."""
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         # argparse echoes arguments as 'text': cut long ones (a 10 MB argument)
         message = re.sub(r"'([^']{%d})[^']+'" % QUOTE_LIMIT, r"'\1'...", message)
         raise SystemExit(f"{self.prog}: {message} (see {self.prog} --help)")
 
 
-def number(text):
+def number(text: str) -> float:
     """``float(text)`` for a plain decimal number (:func:`~hardspheres.scenario.plain_float`), else NaN."""
     import math
 
@@ -36,7 +46,7 @@ def number(text):
     return math.nan if x is None else x
 
 
-def positive(text):
+def positive(text: str) -> float:
     import math
 
     x = number(text)
@@ -45,19 +55,19 @@ def positive(text):
     return x
 
 
-def ratio(text):
+def ratio(text: str) -> float:
     x = positive(text)
     if x < 1.0:
         raise argparse.ArgumentTypeError(f"must be a number >= 1, got {quote(text)}")
     return x
 
 
-def whole(lowest, highest=None):
+def whole(lowest: int, highest: int | None = None) -> Callable[[str], int]:
     """A whole number in ``[lowest, highest]``; integral floats as physicists type them
     (``1e5``, ``2.0``) are accepted."""
     import math
 
-    def parse(text):
+    def parse(text: str) -> int:
         x = number(text)
         bound = f">= {lowest}" if highest is None else f"from {lowest} to {highest}"
         if not math.isfinite(x) or x != math.floor(x) or x < lowest or (highest is not None and x > highest):
@@ -73,7 +83,7 @@ def whole(lowest, highest=None):
 count = whole(0)
 
 
-def packing(text):
+def packing(text: str) -> float:
     import math
 
     x = number(text)
@@ -84,7 +94,7 @@ def packing(text):
     return x
 
 
-def warmup(text):
+def warmup(text: str) -> float | None:
     """``auto`` or collisions per sphere (a finite number >= 0)."""
     import math
 
@@ -96,7 +106,7 @@ def warmup(text):
     return x
 
 
-def packings(text):
+def packings(text: str) -> list[float]:
     """Comma-separated packing fractions, every one checked before any is run."""
     values = []
     for part in text.split(","):
@@ -110,7 +120,7 @@ def packings(text):
     return values
 
 
-def finite(text):
+def finite(text: str) -> float:
     import math
 
     x = number(text)
@@ -119,7 +129,7 @@ def finite(text):
     return x
 
 
-def size(text):
+def size(text: str) -> tuple[int, int]:
     """``WIDTHxHEIGHT`` in pixels."""
     w, _, h = text.lower().partition("x")
     try:
@@ -133,32 +143,32 @@ def size(text):
     return size
 
 
-def suffix(path):
+def suffix(path: str) -> str:
     import os
 
     return os.path.splitext(path)[1].lower()
 
 
-def require_suffix(option, path, allowed, what):
+def require_suffix(option: str, path: str, allowed: Sequence[str], what: str) -> None:
     """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
     if suffix(path) not in allowed:
         got = suffix(path) or "no extension"
         raise ValueError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} (got {got})")
 
 
-def note(text):
+def note(text: str) -> None:
     """A one-line note on stderr (not an error)."""
     print(text, file=sys.stderr, flush=True)
 
 
-def compile_first():
+def compile_first() -> None:
     """Compile the event core now if needed (said on stderr), so no timing includes it."""
     from ..core.warmup import ensure_compiled
 
     ensure_compiled()
 
 
-def picture_args(q, output_default, output_help):
+def picture_args(q: argparse.ArgumentParser, output_default: str | None, output_help: str) -> None:
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
     q.add_argument("-o", "--output", default=output_default, help=output_help)
     where_args(q, "scenario: container radius [m]", "scenario: periodic box edge [m]")
@@ -168,20 +178,22 @@ def picture_args(q, output_default, output_help):
     )
 
 
-def where_args(q, container_help, box_help, required=False):
+def where_args(
+    q: argparse.ArgumentParser, container_help: str, box_help: str, required: bool = False
+) -> None:
     """``--container R`` or ``--box L`` (at most one; exactly one if ``required``)."""
     where = q.add_mutually_exclusive_group(required=required)
     where.add_argument("--container", type=positive, help=container_help)
     where.add_argument("--box", type=positive, help=box_help)
 
 
-def size_slice_args(q, size_help, slice_help):
+def size_slice_args(q: argparse.ArgumentParser, size_help: str, slice_help: str) -> None:
     """``--size WIDTHxHEIGHT`` (:func:`size`) and ``--slice Z`` (cut-away plane) of a picture."""
     q.add_argument("--size", type=size, help=size_help)
     q.add_argument("--slice", type=finite, metavar="Z", help=slice_help)
 
 
-def dask_args(q, scheduler_help, serial_help):
+def dask_args(q: argparse.ArgumentParser, scheduler_help: str, serial_help: str) -> None:
     """Where a study runs: ``--scheduler``, ``--workers``, ``--serial``, ``--timeout``."""
     q.add_argument("--scheduler", metavar="tcp://HOST:PORT", help=scheduler_help)
     q.add_argument("--workers", type=count, help="worker processes of the LocalCluster")
@@ -191,12 +203,12 @@ def dask_args(q, scheduler_help, serial_help):
     )
 
 
-def version_action():
+def version_action() -> str:
     from ..version import package_version
 
     return f"%(prog)s {package_version()}"
 
 
-def one_line(err):
+def one_line(err: BaseException) -> str:
     """An error's message on one line (a library's message may hold newlines)."""
     return " ".join(str(err).split("\n"))

@@ -1,10 +1,19 @@
 """``hardspheres plot``: plots of a trajectory, a scenario's run, or a study's tables."""
 
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
 from .options import STILLS, picture_args, positive, require_suffix, suffix
 from .source import TRAJECTORY_SUFFIXES, check_source, frames_from_args, starting_simulation
 
+if TYPE_CHECKING:
+    from ..simulation import Simulation
+    from .options import Subcommands
 
-def add_parser(sub):
+
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "plot",
@@ -42,7 +51,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, STILLS, "a plot")
     from ..viz import plots
@@ -74,7 +83,7 @@ def run(args):
     return 0
 
 
-def _packing_sim(args):
+def _packing_sim(args: argparse.Namespace) -> Simulation:
     """The packing a scenario file holds, in its periodic box (``--box``), for ``plot contacts``."""
 
     if args.box is None or suffix(args.input) in TRAJECTORY_SUFFIXES:

@@ -1,5 +1,10 @@
 """``hardspheres render``: a movie or a still picture of frames, headless."""
 
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
 from .options import (
     MOVIES,
     STILLS,
@@ -13,8 +18,11 @@ from .options import (
 )
 from .source import check_source, frames_from_args
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def add_parser(sub):
+
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "render", help="render an animation (.gif, .mp4) or a still (.png, .pdf, .svg), headless"
@@ -33,7 +41,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, MOVIES + STILLS, "a movie or a still")
     still = suffix(args.output) in STILLS
@@ -59,7 +67,7 @@ def run(args):
     else:
         from ..progress import duration
 
-        def estimate(n_frames, seconds):
+        def estimate(n_frames: int, seconds: float) -> None:
             note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
 
         render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice, on_estimate=estimate)

@@ -16,18 +16,33 @@ deferred (a second Ctrl-C does not lose it), and the exit status is
 disk) ends the run, but the checkpoint is still written.
 """
 
+from __future__ import annotations
+
+import argparse
 import math
 import os
 import shutil
 import signal
 import sys
 import time
+from collections.abc import Callable
+from types import FrameType
+from typing import TYPE_CHECKING, Any, Literal
 
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
 from .options import count, positive, where_args
 from .source import starting_simulation
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..containers import Container
+    from ..io.trajectory import GSDWriter, XYZWriter
+    from ..simulation import Simulation
+    from ..writers import SimulationView, Trigger
+    from .options import Subcommands
 
 #: Signals that stop a run cleanly (checkpoint written).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -61,21 +76,28 @@ class ProgressWriter:
     wants_events = False
     next_collisions = math.inf
 
-    def __init__(self, progress, start, steps=200, trigger=None, first=None):
+    def __init__(
+        self,
+        progress: Progress,
+        start: float,
+        steps: int = 200,
+        trigger: Trigger | None = None,
+        first: Callable[[int, float], None] | None = None,
+    ) -> None:
         from ..writers import Periodic
 
         self.progress = progress
         self.start = start
         self.trigger = trigger if trigger is not None else Periodic(progress.total / steps)
         self.first = first
-        self._events0 = None
+        self._events0: int | None = None
 
     @property
-    def next_time(self):
+    def next_time(self) -> float:
         """When the bar is next redrawn [time] (``inf`` before it is attached)."""
         return self.trigger.next_time if self._events0 is not None else math.inf
 
-    def attach(self, sim):
+    def attach(self, sim: SimulationView) -> None:
         """Start (once): the trigger, from now; the first redraw is a step later."""
         if self._events0 is None:
             self._events0 = _events_so_far(sim)
@@ -83,24 +105,25 @@ class ProgressWriter:
             while self.trigger.next_time <= sim.time:
                 self.trigger.fired()
 
-    def write(self, sim, t):
+    def write(self, sim: SimulationView, t: float) -> None:
         """Redraw the bar at the clock ``t`` [time]."""
         self.trigger.fired()
+        assert self._events0 is not None  # attach() came first
         done = _events_so_far(sim) - self._events0
         if self.first is not None and t > self.start:
             first, self.first = self.first, None
             first(done, t - self.start)
         self.progress.update(t - self.start, done, f"t={t:.6g}")
 
-    def observe(self, events):
+    def observe(self, events: np.ndarray) -> None:
         pass
 
-    def detach(self):
+    def detach(self) -> None:
         """Clear the bar."""
         self.progress.close()
 
 
-def _check_args(args):
+def _check_args(args: argparse.Namespace) -> None:
     """Every argument of ``run`` checked before any work."""
     if args.resume:
         if args.scenario:
@@ -126,7 +149,7 @@ def _check_args(args):
             raise ValueError("--events needs a .gsd trajectory (XYZ files hold no events)")
 
 
-def _writer(args, sim, every):
+def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWriter | XYZWriter:
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
     from ..io.trajectory import GSDWriter, NotAContinuation, XYZWriter
 
@@ -135,6 +158,7 @@ def _writer(args, sim, every):
     if exists and not args.overwrite and not args.resume:
         raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, or another file name")
     append = bool(args.resume) and not args.overwrite
+    writer: GSDWriter | XYZWriter
     if path.lower().endswith(".gsd"):
         writer = GSDWriter(path, every, events=args.events, append=append)
     else:
@@ -158,54 +182,63 @@ class _Stopper:
     never interrupts a save; :attr:`signum` is the first signal received.
     """
 
-    def __init__(self, sim):
+    def __init__(self, sim: Simulation) -> None:
         self.sim = sim
-        self.signum = None
-        self._old = {}
+        self.signum: int | None = None
+        self._old: dict[int, Any] = {}
 
-    def _handle(self, signum, frame):
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.signum is None:
             self.signum = signum
         self.sim.request_stop()
 
-    def __enter__(self):
+    def __enter__(self) -> _Stopper:
         for s in STOP_SIGNALS:
             self._old[s] = signal.signal(s, self._handle)
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         for s, old in self._old.items():
             signal.signal(s, old)
         return False
 
 
-def _events_so_far(sim):
+def _events_so_far(sim: SimulationView) -> int:
     c = sim.counters
     return c["collisions"] + c["reflections"]
 
 
-def estimate_trajectory_bytes(n, frames, events_per_time, duration, with_events):
+def estimate_trajectory_bytes(
+    n: int, frames: int, events_per_time: float, duration: float, with_events: bool
+) -> float:
     """Expected size of a GSD trajectory [bytes]: frames, plus events if stored."""
-    size = frames * (n * _FRAME_BYTES_PER_SPHERE + 200)
+    size: float = frames * (n * _FRAME_BYTES_PER_SPHERE + 200)
     if with_events:
         size += events_per_time * duration * _EVENT_BYTES
     return size
 
 
-def _bytes(x):
+def _bytes(x: float) -> str:
     for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
         if x >= scale:
             return f"{x / scale:.3g} {unit}"
     return f"{x:.0f} bytes"
 
 
-def _warn_size(args, sim, frames, start_time, first_step_events, first_step_time):
+def _warn_size(
+    args: argparse.Namespace,
+    sim: Simulation,
+    frames: int,
+    start_time: float,
+    first_step_events: int,
+    first_step_time: float,
+) -> None:
     """Warn once on stderr when the trajectory will be large (or will not fit)."""
     rate = first_step_events / first_step_time if first_step_time > 0 else 0.0
     size = estimate_trajectory_bytes(sim.n, frames, rate, args.until - start_time, args.events)
     folder = os.path.dirname(os.path.abspath(args.trajectory))
     try:
-        free = shutil.disk_usage(folder).free
+        free: float = shutil.disk_usage(folder).free
     except OSError:
         free = math.inf
     if size > free:
@@ -223,7 +256,7 @@ def _warn_size(args, sim, frames, start_time, first_step_events, first_step_time
         )
 
 
-def _value(summary, key, fmt=".6g"):
+def _value(summary: dict[str, Any], key: str, fmt: str = ".6g") -> str:
     """``mean +- error`` when the observables give an error, else the mean."""
     mean = summary[key]
     err = summary.get(f"{key}_error")
@@ -237,9 +270,11 @@ def _value(summary, key, fmt=".6g"):
     return text
 
 
-def summary_lines(sim, summary, averaged_from, equilibrated):
+def summary_lines(
+    sim: Simulation, summary: dict[str, Any], averaged_from: float, equilibrated: str
+) -> list[str]:
     """The physics lines of the summary, labelled for what they are."""
-    lines = []
+    lines: list[str] = []
     if "pressure" not in summary:
         return lines
     since = f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}" + (
@@ -264,7 +299,7 @@ def summary_lines(sim, summary, averaged_from, equilibrated):
     return lines
 
 
-def _equilibrate(sim, args, progress, start_time):
+def _equilibrate(sim: Simulation, args: argparse.Namespace, progress: Progress, start_time: float) -> str:
     """Run the equilibration the arguments ask for; returns its description or ''."""
     if args.equilibrate is None and args.equilibrate_time is None:
         return ""
@@ -285,7 +320,7 @@ def _equilibrate(sim, args, progress, start_time):
     return f"{what}, to t = {sim.time:.6g}"
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
     sim = starting_simulation(args)
@@ -312,7 +347,7 @@ def run(args):
             lock.release()
 
 
-def _run(args, sim, checkpoint):
+def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> int:
     writer = bar = None
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
@@ -332,7 +367,7 @@ def _run(args, sim, checkpoint):
                 sim.writers.append(writer)
                 frames = int((args.until - start_time) / every) + 1
 
-                def warn(events, elapsed):
+                def warn(events: int, elapsed: float) -> None:
                     _warn_size(args, sim, frames, start_time, events, elapsed)
 
             bar = ProgressWriter(progress, start_time, first=warn)
@@ -403,11 +438,11 @@ def _exit_status(failure, signum, checkpoint):
     return 0
 
 
-def _container_text(container):
+def _container_text(container: Container) -> str:
     return container.description
 
 
-def add_parser(sub):
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
     p.add_argument("scenario", nargs="?", help="scenario file in the assignment's format ('-' for stdin)")

@@ -7,21 +7,30 @@ against the container before the event core is compiled, so bad input is
 refused in one line without waiting for the compiler.
 """
 
+from __future__ import annotations
+
+import argparse
 import sys
 import warnings
+from typing import TYPE_CHECKING
 
 from ..messages import quote
 from .options import compile_first, suffix
 
+if TYPE_CHECKING:
+    from ..containers import Container
+    from ..frames import Frames
+    from ..simulation import Simulation
 
-def container_from(args):
+
+def container_from(args: argparse.Namespace) -> Container:
     """The container ``--container R`` or ``--box L`` names (exactly one is given)."""
     from ..containers import PeriodicBox, SphericalContainer
 
     return SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
 
 
-def starting_simulation(args, scenario=None):
+def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -> Simulation:
     """The simulation a command starts from; the core is compiled after the input is read.
 
     Args:
@@ -60,7 +69,7 @@ def starting_simulation(args, scenario=None):
 TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")
 
 
-def check_source(args):
+def check_source(args: argparse.Namespace) -> None:
     """Check the input's options (trajectory or scenario) before any work."""
     if suffix(args.input) in TRAJECTORY_SUFFIXES:
         given = [
@@ -92,7 +101,7 @@ def check_source(args):
         )
 
 
-def frames_from_args(args):
+def frames_from_args(args: argparse.Namespace) -> Frames:
     """Frames from a trajectory file, or from a scenario run on the spot."""
     from ..io.trajectory import frames_from_simulation, read_trajectory
 

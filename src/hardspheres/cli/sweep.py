@@ -1,13 +1,20 @@
 """``hardspheres sweep``: a study file run on Dask (or here), its tables named on stdout."""
 
+from __future__ import annotations
+
+import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, TextIO
 
 from ..studies import StudyError, connect, load_study, sweep
 from .options import dask_args
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def run(args, stdout=sys.stdout):
+
+def run(args: argparse.Namespace, stdout: TextIO = sys.stdout) -> int:
     """``hardspheres sweep STUDY [--scheduler ADDRESS] [--workers N] [--serial]``."""
     client = None
     if args.scheduler:
@@ -30,7 +37,7 @@ def run(args, stdout=sys.stdout):
     return 0
 
 
-def add_parser(sub):
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "sweep", help="run a study (a parameter grid in a TOML file) on Dask; reruns skip finished tasks"

@@ -1,11 +1,18 @@
 """``hardspheres validate``: the equation of state (or transport) against published values, run as a study."""
 
+from __future__ import annotations
+
+import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from .options import compile_first, count, dask_args, packings, positive, whole
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def add_parser(sub):
+
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "validate",
@@ -68,7 +75,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     from ..studies.validate import PACKINGS, validate, verdict
 
@@ -120,7 +127,7 @@ def run(args):
     return 0
 
 
-def _validate_transport(args):
+def _validate_transport(args: argparse.Namespace) -> int:
     from ..studies.validate import TRANSPORT_PACKINGS, validate_transport
 
     for key in ("collisions", "equilibrate", "seeds", "scheduler", "output"):

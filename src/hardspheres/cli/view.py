@@ -1,10 +1,18 @@
 """``hardspheres view``: a self-contained interactive 3-D viewer page (and a screenshot)."""
 
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
 from .options import picture_args, require_suffix, size_slice_args
 from .source import check_source, frames_from_args
 
+if TYPE_CHECKING:
+    from .options import Subcommands
 
-def add_parser(sub):
+
+def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("view", help="write a self-contained interactive 3-D viewer (HTML)")
     picture_args(p, "viewer.html", "the page to write (.html)")
@@ -29,7 +37,7 @@ def add_parser(sub):
     return p
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, (".html", ".htm"), "the viewer is a web page and")
     if args.screenshot:

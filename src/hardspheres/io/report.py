@@ -5,7 +5,15 @@ Numbers print with ``:g``; the container radius and end time print as
 ``[x, y, z]`` (lists, or numpy arrays, which are converted once per block).
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import IO, TYPE_CHECKING
+
 from ..events import KIND_LABELS, EventKind
+
+if TYPE_CHECKING:
+    import numpy as np
 
 _REFLECTION = int(EventKind.REFLECTION)
 
@@ -42,14 +50,24 @@ class TextReport:
         Here are the events.
     """
 
-    def __init__(self, names, masses, radii, out):
+    def __init__(
+        self,
+        names: Sequence[str],
+        masses: Sequence[float] | np.ndarray,
+        radii: Sequence[float] | np.ndarray,
+        out: IO[str],
+    ) -> None:
         self.names = list(names)
         self.masses = [float(m) for m in masses]
         self.out = out
         self._prefix = [f"{nm} m={m:g} R={r:g} p=(" for nm, m, r in zip(self.names, self.masses, radii)]
-        self._fmt = None
+        self._fmt: str | None = None
 
-    def _block(self, positions, velocities):
+    def _block(
+        self,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> str:
         if hasattr(positions, "shape"):
             return self._block_arrays(positions, velocities)
         parts = []
@@ -65,7 +83,11 @@ class TextReport:
         parts.append(f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n")
         return "".join(parts)
 
-    def _block_arrays(self, positions, velocities):
+    def _block_arrays(
+        self,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> str:
         """The same block from numpy arrays, one formatting call for all lines.
 
         Sums accumulate in input order (``cumsum`` is sequential), so the
@@ -90,14 +112,28 @@ class TextReport:
         pz = float(np.cumsum(m * vz)[-1])
         return self._fmt % tuple(both.ravel().tolist()) + f"energy: {e:g}\nmomentum: ({px:g},{py:g},{pz:g})\n"
 
-    def initial(self, container, end, positions, velocities):
+    def initial(
+        self,
+        container: float,
+        end: float,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> None:
         """The initial conditions, through ``Here are the events.``"""
         self.out.write(
             f"\nHere are the initial conditions.\nuniverse radius {float(container)}\n"
             f"end simulation {float(end)}\n" + self._block(positions, velocities) + "\nHere are the events.\n"
         )
 
-    def event(self, t, kind, i, j, positions, velocities):
+    def event(
+        self,
+        t: float,
+        kind: int,
+        i: int,
+        j: int,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> None:
         """One event: an :class:`~hardspheres.events.EventKind` of ``i`` (and ``j``)."""
         what = (
             f"reflecting {self.names[i]}"
@@ -124,7 +160,13 @@ class JSONLReport:
         '{"time": 1.5, "kind": "reflection", "spheres": ["a"], "p": [[9.0, 0.0, 0.0]], "v": [[-1.0, 0.0, 0.0]]}\n'
     """
 
-    def __init__(self, names, masses, radii, out):
+    def __init__(
+        self,
+        names: Sequence[str],
+        masses: Sequence[float] | np.ndarray,
+        radii: Sequence[float] | np.ndarray,
+        out: IO[str],
+    ) -> None:
         import json
 
         self._dumps = json.dumps
@@ -133,7 +175,13 @@ class JSONLReport:
         self.radii = [float(r) for r in radii]
         self.out = out
 
-    def initial(self, container, end, positions, velocities):
+    def initial(
+        self,
+        container: float,
+        end: float,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> None:
         spheres = [
             {"name": nm, "m": m, "R": r, "p": list(map(float, p)), "v": list(map(float, v))}
             for nm, m, r, p, v in zip(self.names, self.masses, self.radii, positions, velocities)
@@ -145,7 +193,15 @@ class JSONLReport:
             + "\n"
         )
 
-    def event(self, t, kind, i, j, positions, velocities):
+    def event(
+        self,
+        t: float,
+        kind: int,
+        i: int,
+        j: int,
+        positions: Sequence[Sequence[float]] | np.ndarray,
+        velocities: Sequence[Sequence[float]] | np.ndarray,
+    ) -> None:
         who = [i] if kind == _REFLECTION else [i, j]
         self.out.write(
             self._dumps(

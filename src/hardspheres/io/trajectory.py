@@ -48,16 +48,24 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from typing import Any
+from collections.abc import Mapping
+from typing import IO, TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from ..containers import from_fields
+from ..containers import Container, from_fields
 from ..errors import NotAContinuation, TruncatedTrajectory  # noqa: F401 (re-exported)
 from ..events import EVENT_DTYPE, empty_events, from_columns
 from ..fileio import PathLock
 from ..frames import Frames
 from ..writers import Periodic, Trigger, as_trigger
+
+if TYPE_CHECKING:
+    from typing_extensions import Self
+
+    from ..simulation import Simulation
+    from ..state import State
+    from ..writers import SimulationView
 
 _GSD_EVENTS = "hardspheres/events"
 
@@ -116,7 +124,7 @@ class _FrameWriter:
         """The collision count at which the next frame is due (``inf``: not by count)."""
         return self.trigger.next_collisions if self._started else math.inf
 
-    def _open(self):
+    def _open(self) -> None:
         """Lock the file and open it (:meth:`_open_file`), appending if asked and it exists."""
         if self.path is None:
             return
@@ -128,18 +136,26 @@ class _FrameWriter:
             self.close()
             raise
 
-    def _start(self, sim) -> bool:
+    def _open_file(self) -> Any:
+        """Open ``path`` (locked; appending if ``_append``); subclasses that have a file define it."""
+        raise NotImplementedError
+
+    def _write_frame(self, sim: SimulationView, state: State, events: np.ndarray) -> None:
+        """Write one frame: ``state`` and the ``events`` since the last; subclasses define it."""
+        raise NotImplementedError
+
+    def _start(self, sim: SimulationView) -> bool:
         """Get ready for the first frame; returns whether the file continues a run (its last frame is now)."""
         return False
 
-    def _check_open(self):
+    def _check_open(self) -> None:
         if self._closed:
             raise ValueError(
                 f"{type(self).__name__}({self.path or ''!r}) is closed; "
                 "open a new writer to write more frames"
             )
 
-    def attach(self, sim) -> None:
+    def attach(self, sim: SimulationView) -> None:
         """Start (once): open the file, start the trigger, write a frame if it is due now.
 
         Raises:
@@ -159,7 +175,7 @@ class _FrameWriter:
             elif self.trigger.next_time <= sim.time:
                 self._frame(sim, sim.time)
 
-    def write(self, sim, t: float) -> None:
+    def write(self, sim: SimulationView, t: float) -> None:
         """A frame of ``sim`` at ``t`` (its clock) [time]."""
         self._frame(sim, t)
 
@@ -167,16 +183,16 @@ class _FrameWriter:
         """Flush and close the file and release its lock (same as :meth:`close`)."""
         self.close()
 
-    def observe(self, ev):
+    def observe(self, ev: np.ndarray) -> None:
         if len(ev):
             self._events.append(ev)
 
-    def _take_events(self):
+    def _take_events(self) -> np.ndarray:
         out = np.concatenate(self._events) if self._events else empty_events()
         self._events = []
         return out
 
-    def _frame(self, sim, t):
+    def _frame(self, sim: SimulationView, t: float) -> None:
         self._check_open()
         until = self.until if self.until is not None else sim.run_end
         self.trigger.fired()
@@ -192,10 +208,10 @@ class _FrameWriter:
         self._k += 1
         self.last_time = t
 
-    def __enter__(self):
+    def __enter__(self) -> Self:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         self.close()
         return False
 
@@ -222,12 +238,12 @@ class _FrameWriter:
                 self._lock.release()
                 self._lock = None
 
-    def _take_lock(self, path):
+    def _take_lock(self, path: str) -> None:
         """Lock ``path`` for this writer, or raise (:class:`PathLock`)."""
         self._lock = PathLock(os.fspath(path))
 
 
-def _continues(path, last, sim):
+def _continues(path: str, last: dict[str, Any], sim: SimulationView) -> None:
     """Raise unless the frame ``last`` of ``path`` is where ``sim`` is now."""
     same = (
         last["time"] == sim.time
@@ -278,7 +294,7 @@ class GSDWriter(_FrameWriter):
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
 
-    def _open_file(self):
+    def _open_file(self) -> Any:
         try:
             fh = self._hoomd.open(self.path, mode="r+" if self._append else "w", precision="double")
         except (OSError, RuntimeError) as e:
@@ -288,7 +304,7 @@ class GSDWriter(_FrameWriter):
         self._count = len(fh) if self._append else 0
         return fh
 
-    def _start(self, sim):
+    def _start(self, sim: SimulationView) -> bool:
         if not self._append or self._count == 0:
             return False
         try:
@@ -301,7 +317,7 @@ class GSDWriter(_FrameWriter):
         self.last_time = last["time"]
         return True
 
-    def _write_frame(self, sim, state, events):
+    def _write_frame(self, sim: SimulationView, state: State, events: np.ndarray) -> None:
         f = self._hoomd.Frame()
         f.configuration.step = self._count
         c = sim.container
@@ -324,7 +340,7 @@ class GSDWriter(_FrameWriter):
         f.log["hardspheres/time"] = np.array([state.time])
         f.log["hardspheres/run_end"] = np.array(self._run_end)
         if self.wants_events:
-            for name in EVENT_DTYPE.names:
+            for name in EVENT_DTYPE.names or ():
                 f.log[f"{_GSD_EVENTS}/{name}"] = np.ascontiguousarray(events[name])
         self._file.append(f)
         self._file.flush()
@@ -366,10 +382,10 @@ class XYZWriter(_FrameWriter):
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
 
-    def _open_file(self):
+    def _open_file(self) -> IO[str]:
         return open(self.path, "a" if self._append else "w", encoding="utf-8", newline="\n")
 
-    def _start(self, sim):
+    def _start(self, sim: SimulationView) -> bool:
         from ..messages import quote
 
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
@@ -389,7 +405,7 @@ class XYZWriter(_FrameWriter):
         self.last_time = float(old.times[-1])
         return True
 
-    def _write_frame(self, sim, state, events):
+    def _write_frame(self, sim: SimulationView, state: State, events: np.ndarray) -> None:
         c = sim.container
         x, y, z = c.gsd_box[:3]  # (a spherical container: its enclosing cube)
         pbc = "T T T" if c.periodic else "F F F"
@@ -420,13 +436,13 @@ _XYZ_PROPS = "name:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1"
 _XYZ_IMAGE = ":image:I:3"
 
 
-def _gsd_events(log):
+def _gsd_events(log: Mapping[str, Any]) -> np.ndarray | None:
     """A GSD frame's events, or ``None`` if it has none."""
     if f"{_GSD_EVENTS}/time" in log:
         return from_columns(
             **{
                 name: log[f"{_GSD_EVENTS}/{name}"]
-                for name in EVENT_DTYPE.names
+                for name in EVENT_DTYPE.names or ()
                 if f"{_GSD_EVENTS}/{name}" in log
             }
         )
@@ -436,7 +452,7 @@ def _gsd_events(log):
     return None
 
 
-def _concat(blocks):
+def _concat(blocks: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(blocks) if blocks else empty_events()
 
 
@@ -461,7 +477,7 @@ def read_trajectory(path: str | os.PathLike) -> Frames:
     raise ValueError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
 
 
-def _warn_if_cut(path, last_time, run_end):
+def _warn_if_cut(path: str, last_time: float, run_end: Any) -> None:
     """Warn if the run that wrote the last frame had another frame due before its end."""
     try:
         until, due = (float(x) for x in run_end)
@@ -477,7 +493,7 @@ def _warn_if_cut(path, last_time, run_end):
         )
 
 
-def _gsd_last(traj):
+def _gsd_last(traj: Any) -> dict[str, Any]:
     """What :func:`_continues` compares, from the last frame of an open GSD file."""
     first, last = traj[0], traj[len(traj) - 1]
     n = int(first.particles.N)
@@ -492,7 +508,7 @@ def _gsd_last(traj):
     }
 
 
-def _read_gsd(path):
+def _read_gsd(path: str) -> Frames:
     import gsd.hoomd
 
     try:
@@ -541,7 +557,7 @@ def _read_gsd(path):
         )
 
 
-def _xyz_keys(comment):
+def _xyz_keys(comment: str) -> dict[str, str]:
     import shlex
 
     out = {}
@@ -552,10 +568,16 @@ def _xyz_keys(comment):
     return out
 
 
-def _read_xyz(path, check_end=True):
-    times, pos, vel, names, radii, masses, images = [], [], [], None, None, None, []
+def _read_xyz(path: str, check_end: bool = True) -> Frames:
+    times: list[float] = []
+    pos: list[np.ndarray] = []
+    vel: list[np.ndarray] = []
+    images: list[np.ndarray | None] = []
+    names: list[str] | None = None
+    radii: np.ndarray | None = None
+    masses: np.ndarray | None = None
     run_end = None
-    container = None
+    container: Container | None = None
     with open(path, encoding="utf-8") as fh:
         lines = fh.read().split("\n")
     k = 0
@@ -587,6 +609,8 @@ def _read_xyz(path, check_end=True):
         raise ValueError(f"{path}: not an XYZ trajectory of hardspheres (near line {k + 1}: {e})") from None
     if not times:
         raise ValueError(f"{path}: no frames")
+    # set with the first frame
+    assert names is not None and radii is not None and masses is not None and container is not None
     if check_end and run_end is not None and len(run_end) == 2:
         _warn_if_cut(path, times[-1], run_end)
     n = len(names)
@@ -617,11 +641,11 @@ class FrameRecorder(_FrameWriter):
         self._ev: list[np.ndarray] = []
         self._img: list[np.ndarray | None] = []
 
-    def _start(self, sim) -> bool:
+    def _start(self, sim: SimulationView) -> bool:
         self._sim = sim
         return False
 
-    def _write_frame(self, sim, state, events):
+    def _write_frame(self, sim: SimulationView, state: State, events: np.ndarray) -> None:
         self._times.append(state.time)
         self._pos.append(state.positions)
         self._vel.append(state.velocities)
@@ -629,7 +653,7 @@ class FrameRecorder(_FrameWriter):
         self._img.append(state.images)
         self._state = state
 
-    def frames(self):
+    def frames(self) -> Frames:
         """The frames recorded so far."""
         sim, st = self._sim, self._state
         n = st.n
@@ -646,7 +670,7 @@ class FrameRecorder(_FrameWriter):
         )
 
 
-def frames_from_simulation(sim, until: float, every: float) -> Frames:
+def frames_from_simulation(sim: Simulation, until: float, every: float) -> Frames:
     """Run ``sim`` to ``until`` [time], keeping a frame every ``every`` [time].
 
     Returns:
