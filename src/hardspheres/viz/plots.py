@@ -16,19 +16,31 @@ SVG of the same proportions, as the file name's extension says, and returns
 its path.
 """
 
+from __future__ import annotations
+
 import csv
 import math
+import os
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..eos import carnahan_starling, hansen_goos
 from ..maxwell import reduced_density, speed_density
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..frames import Frames
+    from ..simulation import Simulation
+
 SIZE = (960, 720)
 
 
-def _figure(size, dpi):
+def _figure(size: tuple[int, int], dpi: int) -> Figure:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -41,7 +53,7 @@ def _figure(size, dpi):
 FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 
-def _save(fig, path, dpi):
+def _save(fig: Figure, path: str | os.PathLike[str], dpi: int) -> Path:
     """Save in the format the extension names (PNG, or PDF and SVG for papers)."""
     from ..fileio import atomic_write
 
@@ -57,7 +69,9 @@ def _save(fig, path, dpi):
     return path
 
 
-def plot_conservation(frames, path, *, size=SIZE, dpi=100):
+def plot_conservation(
+    frames: Frames, path: str | os.PathLike[str], *, size: tuple[int, int] = SIZE, dpi: int = 100
+) -> Path:
     """Energy and momentum over time, and their deviations from the first frame.
 
     Top: kinetic energy ``E(t)`` and ``(E - E0) / E0``.  Bottom: the total
@@ -131,7 +145,16 @@ def plot_conservation(frames, path, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100):
+def plot_speeds(
+    frames: Frames,
+    path: str | os.PathLike[str],
+    kT: float | None = None,
+    *,
+    start: int = 0,
+    bins: int | None = None,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """Histogram of the speeds over all frames against Maxwell-Boltzmann.
 
     Equal masses ``m``: the density of ``v`` against
@@ -204,7 +227,7 @@ def plot_speeds(frames, path, kT=None, *, start=0, bins=None, size=SIZE, dpi=100
     return _save(fig, path, dpi)
 
 
-def _csv_rows(csv_path, need, hint=""):
+def _csv_rows(csv_path: str | os.PathLike[str], need: Sequence[str], hint: str = "") -> list[dict[str, str]]:
     """The rows of a CSV table (dicts keyed by its header).
 
     Raises:
@@ -224,7 +247,7 @@ def _csv_rows(csv_path, need, hint=""):
     return rows
 
 
-def read_eos_csv(csv_path):
+def read_eos_csv(csv_path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     """Columns of an equation-of-state CSV as float arrays, keyed by header."""
     rows = _csv_rows(csv_path, ("phi", "Z", "Z_err"))
     out = {}
@@ -237,7 +260,13 @@ def read_eos_csv(csv_path):
     return {k: v[order] for k, v in out.items()}
 
 
-def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
+def plot_transport(
+    csv_path: str | os.PathLike[str],
+    path: str | os.PathLike[str],
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """Transport coefficients against published values, from ``validate --transport``'s CSV.
 
     One point per comparison (columns ``quantity,phi,n,value,error,reference,
@@ -274,7 +303,13 @@ def plot_transport(csv_path, path, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
+def plot_eos(
+    csv_path: str | os.PathLike[str],
+    path: str | os.PathLike[str],
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """Compressibility factor ``Z`` against Carnahan-Starling, from a CSV.
 
     The CSV has the columns ``phi,Z,Z_err,Z_CS,rel_diff,gamma,gamma_from_Z,
@@ -335,7 +370,7 @@ def plot_eos(csv_path, path, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def read_table(path):
+def read_table(path: str | os.PathLike[str]) -> Any:
     """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
     import pandas as pd
 
@@ -351,7 +386,15 @@ def read_table(path):
         raise ValueError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
 
 
-def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
+def plot_sweep(
+    table: Any,
+    path: str | os.PathLike[str],
+    x: str = "packing",
+    y: str = "Z",
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """A study's observable ``y`` against the parameter ``x``, with error bars.
 
     ``table`` is a study's ``results.parquet`` (one row per run: averaged
@@ -431,7 +474,7 @@ def plot_sweep(table, path, x="packing", y="Z", *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def _eos_reference(ax, dx, top):
+def _eos_reference(ax: Axes, dx: Axes, top: float) -> None:
     """Hansen-Goos (solid) and Carnahan-Starling (dashed) up to ``top``, and CS / HG - 1 on ``dx``."""
     grid = np.linspace(0.0, min(0.55, top * 1.05 + 0.01), 300)
     ax.plot(grid, hansen_goos(grid), color="C3", lw=1.5, label="Hansen-Goos (2016)")
@@ -446,7 +489,7 @@ def _eos_reference(ax, dx, top):
     )
 
 
-def _seeds_note(df):
+def _seeds_note(df: Any) -> str:
     """``, K seeds per point`` (or a range) for a summary table's title."""
     seeds = df["seeds"] if "seeds" in df.columns else None
     if seeds is None:
@@ -456,7 +499,9 @@ def _seeds_note(df):
     return f", {int(seeds.iloc[0])} seeds per point"
 
 
-def plot_gr(frames, path, *, size=SIZE, dpi=100):
+def plot_gr(
+    frames: Frames, path: str | os.PathLike[str], *, size: tuple[int, int] = SIZE, dpi: int = 100
+) -> Path:
     """g(r) of a periodic-box trajectory, averaged over its frames, with g(sigma) and Z.
 
     Uses :class:`hardspheres.analysis.structure.RDF` (freud).  Returns ``path``.
@@ -481,7 +526,9 @@ def plot_gr(frames, path, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def plot_msd(frames, path, *, size=SIZE, dpi=100):
+def plot_msd(
+    frames: Frames, path: str | os.PathLike[str], *, size: tuple[int, int] = SIZE, dpi: int = 100
+) -> Path:
     """Mean squared displacement of a periodic-box trajectory (all origins), with D.
 
     Uses :class:`hardspheres.analysis.transport.MSD` (freud) on the unwrapped
@@ -498,12 +545,19 @@ def plot_msd(frames, path, *, size=SIZE, dpi=100):
 
 
 # ---- glasses and jamming (hardspheres.analysis.dynamics, .jamming) ----------------------
-def _mean_diameter(frames):
+def _mean_diameter(frames: Frames) -> float:
     r = np.asarray(getattr(frames, "radii", None) if frames is not None else [], float)
     return 2.0 * float(r.mean()) if r.size else 1.0
 
 
-def plot_fs(frames, path, k=None, *, size=SIZE, dpi=100):
+def plot_fs(
+    frames: Frames,
+    path: str | os.PathLike[str],
+    k: float | None = None,
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """F_s(k, t) of a periodic-box trajectory with tau_alpha marked; ``k`` default ``2 pi / sigma``.
 
     Uses :class:`hardspheres.analysis.dynamics.SelfIntermediate` (sigma the
@@ -524,7 +578,14 @@ def plot_fs(frames, path, k=None, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def plot_chi4(frames, path, a=None, *, size=SIZE, dpi=100):
+def plot_chi4(
+    frames: Frames,
+    path: str | os.PathLike[str],
+    a: float | None = None,
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """chi_4(t) = N var Q(t) of a periodic-box trajectory, with its peak; ``a`` default 0.3 sigma.
 
     Uses :class:`hardspheres.analysis.dynamics.Overlap`.  Returns ``path``.
@@ -540,7 +601,14 @@ def plot_chi4(frames, path, a=None, *, size=SIZE, dpi=100):
     return _save(fig, path, dpi)
 
 
-def plot_contacts(sim, path, per_sphere=200, *, size=SIZE, dpi=100):
+def plot_contacts(
+    sim: Simulation,
+    path: str | os.PathLike[str],
+    per_sphere: int = 200,
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+) -> Path:
     """A packing's contacts: the cumulative Z(h) against the gap h, and P(f) of its contact forces.
 
     Left: twice the pairs with gap below h per sphere (a plateau at z near

@@ -16,17 +16,28 @@ the packing fraction and the time.  The default sizes suit 16:9 slides.  No
 display is needed: the figure is drawn by Agg and never shown.
 """
 
+from __future__ import annotations
+
+import os
 import shutil
 import time as _time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..frames import frame_indices
 from ..progress import Progress, duration
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
-def _writer(path, fps, dpi):
+    from ..frames import Frames
+
+
+def _writer(path: Path, fps: int, dpi: int) -> Any:
     from matplotlib import animation
 
     suffix = path.suffix.lower()
@@ -49,7 +60,9 @@ def _writer(path, fps, dpi):
 AZIMUTH, ELEVATION = -60.0, 22.0
 
 
-def _camera(azimuth=AZIMUTH, elevation=ELEVATION):
+def _camera(
+    azimuth: float = AZIMUTH, elevation: float = ELEVATION
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Unit vectors ``(right, up, towards_camera)`` of an orthographic view, z up."""
     a, e = np.radians(azimuth), np.radians(elevation)
     d = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
@@ -58,7 +71,7 @@ def _camera(azimuth=AZIMUTH, elevation=ELEVATION):
     return right, np.cross(d, right), d
 
 
-def packing_fraction(frames):
+def packing_fraction(frames: Frames) -> float | None:
     """Volume fraction the spheres fill in the container or box (``None`` in open space)."""
     if frames.container is None:
         return None
@@ -67,15 +80,23 @@ def packing_fraction(frames):
     return of_radii(frames.radii, frames.container)
 
 
-def _draw_container(ax, frames, right, up, cut):
+def _draw_container(ax: Axes, frames: Frames, right: np.ndarray, up: np.ndarray, cut: float | None) -> None:
     if frames.container is None:
         return
-    style = dict(color="0.45", linewidth=0.8, alpha=0.6)
+    style: dict[str, Any] = dict(color="0.45", linewidth=0.8, alpha=0.6)
     for line, dashed in frames.container.outline(right, up, cut):
         ax.plot(line[:, 0], line[:, 1], **(dict(style, linestyle="--") if dashed else style))
 
 
-def _scene(frames, size, keep, color_by, title, dpi, cut=None):
+def _scene(
+    frames: Frames,
+    size: tuple[int, int],
+    keep: np.ndarray,
+    color_by: str,
+    title: str | None,
+    dpi: int,
+    cut: float | None = None,
+) -> tuple[Figure, Callable[[int], None]]:
     """The figure a movie or a still draws, and ``show(f)`` that puts frame ``keep[f]`` on it.
 
     Spheres are shaded disks (a dark rim, the body, a highlight towards the
@@ -102,7 +123,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     FigureCanvasAgg(fig)
     side = 0.94 * min(height, 0.8 * width)  # the square drawing area [pixels]
     x0 = max(0.0, 0.5 * (width - side) - 0.04 * width)
-    ax = fig.add_axes([x0 / width, 0.5 * (1 - side / height), side / width, side / height])
+    ax = fig.add_axes((x0 / width, 0.5 * (1 - side / height), side / width, side / height))
     ax.set_xlim(-extent, extent)
     ax.set_ylim(-extent, extent)
     ax.set_aspect("equal", adjustable="box")
@@ -119,14 +140,14 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     shift, scale = (0.0, 0.08, 0.3), (1.0, 0.8, 0.3)
     sc = ax.scatter(np.zeros(0), np.zeros(0), linewidths=0)
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
-    cax = fig.add_axes([(x0 + side) / width + 0.03, 0.2, 0.018, 0.6])
+    cax = fig.add_axes(((x0 + side) / width + 0.03, 0.2, 0.018, 0.6))
     fig.colorbar(sm, cax=cax, label=label)
     header, caption = _caption(frames, n, cut, title)
     label_t = fig.text(
         0.015, 0.975, "", va="top", ha="left", family="monospace", fontsize=max(9, round(height / 48))
     )
 
-    def show(f):
+    def show(f: int) -> None:
         p = pos[f]
         visible = np.ones(n, bool) if cut is None else p[:, 2] <= cut
         order = np.nonzero(visible)[0]
@@ -145,7 +166,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
         rgba[2::3, :3] = 0.45 * base[order] + 0.55
         rgba[2::3, 3] = 0.75
         sc.set_offsets(xy)
-        sc.set_facecolors(rgba)
+        sc.set_facecolors(rgba)  # type: ignore[attr-defined]  # an alias the stubs leave out
         sizes = np.empty(3 * k)
         for layer in range(3):
             sizes[layer::3] = (scale[layer] * diameter[order]) ** 2
@@ -155,7 +176,7 @@ def _scene(frames, size, keep, color_by, title, dpi, cut=None):
     return fig, show
 
 
-def _caption(frames, n, cut, title):
+def _caption(frames: Frames, n: int, cut: float | None, title: str | None) -> tuple[str, str]:
     """``(header, caption)`` of a picture: the title, then N, the packing fraction and the cut."""
     phi = packing_fraction(frames)
     caption = f"N = {n}" + (f", phi = {phi:.3g}" if phi is not None else "")
@@ -164,7 +185,7 @@ def _caption(frames, n, cut, title):
     return (f"{title}\n" if title else ""), caption
 
 
-def _colour_scale(color_by, speeds, masses):
+def _colour_scale(color_by: str, speeds: np.ndarray, masses: np.ndarray) -> tuple[Any, np.ndarray, str]:
     """``(norm, values, label)``: the spheres' colours by speed (to its 99.5th percentile) or by mass."""
     from matplotlib import colors
 
@@ -176,7 +197,7 @@ def _colour_scale(color_by, speeds, masses):
     return colors.Normalize(lo, hi if hi > lo else lo + 1.0), np.broadcast_to(masses, speeds.shape), "mass"
 
 
-def _check(size, color_by, what):
+def _check(size: tuple[int, int], color_by: str, what: str) -> None:
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
         raise ValueError(f"{what}: bad size {size}")
@@ -184,7 +205,7 @@ def _check(size, color_by, what):
         raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
 
 
-def _check_movie(path, fps, size, color_by):
+def _check_movie(path: Path, fps: int, size: tuple[int, int], color_by: str) -> None:
     """Refuse a movie's arguments before any work (one line naming the argument)."""
     _check(size, color_by, "render_movie")
     width, height = (int(s) for s in size)
@@ -195,19 +216,19 @@ def _check_movie(path, fps, size, color_by):
 
 
 def render_movie(
-    frames,
-    path,
-    fps=20,
-    size=(960, 540),
-    progress=True,
+    frames: Frames,
+    path: str | os.PathLike[str],
+    fps: int = 20,
+    size: tuple[int, int] = (960, 540),
+    progress: bool = True,
     *,
-    max_frames=None,
-    color_by="speed",
-    title=None,
-    dpi=100,
-    cut=None,
-    on_estimate=None,
-):
+    max_frames: int | None = None,
+    color_by: str = "speed",
+    title: str | None = None,
+    dpi: int = 100,
+    cut: float | None = None,
+    on_estimate: Callable[[int, float], None] | None = None,
+) -> Path:
     """Render ``frames`` to a movie file and return ``path``.
 
     Args:
@@ -246,7 +267,7 @@ def render_movie(
 
     bar = Progress(len(keep), enabled=None if progress else False, unit="frames", every=0.1)
     start = _time.monotonic()
-    first_done = None
+    first_done = start  # when the first frame is done (set then)
     try:
         from ..fileio import atomic_path
 
@@ -278,8 +299,16 @@ STILLS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 
 def render_still(
-    frames, path, time=None, size=(1280, 720), *, color_by="speed", title=None, dpi=100, cut=None
-):
+    frames: Frames,
+    path: str | os.PathLike[str],
+    time: float | None = None,
+    size: tuple[int, int] = (1280, 720),
+    *,
+    color_by: str = "speed",
+    title: str | None = None,
+    dpi: int = 100,
+    cut: float | None = None,
+) -> Path:
     """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a picture.
 
     Args:

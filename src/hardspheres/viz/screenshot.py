@@ -8,6 +8,9 @@
     screenshot("run.html", "run.png")
 """
 
+from __future__ import annotations
+
+import os
 from pathlib import Path
 
 # Headless Chromium as Debian ships it (software WebGL through SwiftShader);
@@ -27,7 +30,7 @@ CHROMIUM_ARGS = [
 ]
 
 
-def find_chromium():
+def find_chromium() -> str | None:
     """Path of a Chromium executable (``/usr/bin/chromium`` or on PATH), or ``None``."""
     import os
     import shutil
@@ -37,7 +40,13 @@ def find_chromium():
     return shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def screenshot(html_path, png_path, size=(960, 640), play_seconds=1.0, timeout=60.0):
+def screenshot(
+    html_path: str | os.PathLike[str],
+    png_path: str | os.PathLike[str],
+    size: tuple[int, int] = (960, 640),
+    play_seconds: float = 1.0,
+    timeout: float = 60.0,
+) -> str | os.PathLike[str]:
     """Open a viewer page in headless Chromium, play it a while, save a PNG of the page.
 
     Args:

@@ -32,39 +32,47 @@ draws it) is ``hardspheres/viz/_static/viewer.html``, a template whose
 ``__TITLE__``, ``__JS__`` and ``__DATA__`` this module fills in.
 """
 
+from __future__ import annotations
+
 import base64
 import html
 import json
+import os
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from ..events import EventKind
 from ..frames import even_indices, frame_indices
+
+if TYPE_CHECKING:
+    from ..frames import Frames
 
 _STATIC = ("three.core.min.js", "three.module.min.js", "OrbitControls.js")
 _CORE_SPECIFIER = '"./three.core.min.js"'
 
 
-def _b64(array, dtype):
+def _b64(array: ArrayLike, dtype: DTypeLike) -> str:
     """Base64 of ``array`` as contiguous little-endian ``dtype``."""
     return base64.b64encode(
         np.ascontiguousarray(array, dtype=np.dtype(dtype).newbyteorder("<")).tobytes()
     ).decode("ascii")
 
 
-def _script_json(obj):
+def _script_json(obj: Any) -> str:
     """JSON safe inside a ``<script>`` element (no ``<`` at all)."""
     return json.dumps(obj, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
 
 
-def _static(name):
+def _static(name: str) -> str:
     """Text of the packaged file ``hardspheres/viz/_static/NAME``."""
     return (resources.files("hardspheres.viz") / "_static").joinpath(name).read_text(encoding="utf-8")
 
 
-def _vendored_js():
+def _vendored_js() -> dict[str, str]:
     """The three vendored scripts, keyed ``core``, ``module``, ``orbit``."""
     folder = resources.files("hardspheres.viz") / "_static"
     core, module, orbit = (folder.joinpath(name).read_text(encoding="utf-8") for name in _STATIC)
@@ -73,7 +81,7 @@ def _vendored_js():
     return {"core": core, "module": module, "orbit": orbit}
 
 
-def _round_up(x, digits=2):
+def _round_up(x: float, digits: int = 2) -> float:
     """``x > 0`` rounded up to ``digits`` significant figures (a colour bar's top label)."""
     scale = 10.0 ** (np.floor(np.log10(x)) - (digits - 1))
     return float(f"{np.ceil(x / scale - 1e-9) * scale:.{digits}g}")
@@ -87,7 +95,7 @@ COLOR_BY = ("speed", "mass", "q6")
 Q6_RANGE = (0.25, 0.6)
 
 
-def _q6(frames, positions):
+def _q6(frames: Frames, positions: np.ndarray) -> np.ndarray:
     """Steinhardt q6 of each sphere in each frame ``(F, N)``, 12 nearest neighbours (freud).
 
     ``positions`` are the embedded frames' (wrapped into a periodic box).  In
@@ -108,7 +116,15 @@ def _q6(frames, positions):
     return order.compute(positions, box=width).qs
 
 
-def _payload(frames, title, max_frames, max_values, max_events, color_by, cut=None):
+def _payload(
+    frames: Frames,
+    title: str | None,
+    max_frames: int,
+    max_values: int,
+    max_events: int,
+    color_by: str,
+    cut: float | None = None,
+) -> dict[str, Any]:
     times = np.asarray(frames.times, dtype=np.float64)
     pos = np.asarray(frames.positions, dtype=np.float64)
     vel = np.asarray(frames.velocities, dtype=np.float64)
@@ -219,16 +235,16 @@ def _speed_max(speeds):
 
 
 def write_viewer(
-    frames,
-    path,
-    title=None,
-    max_frames=600,
+    frames: Frames,
+    path: str | os.PathLike[str],
+    title: str | None = None,
+    max_frames: int = 600,
     *,
-    color_by="speed",
-    max_values=12_000_000,
-    max_events=200_000,
-    cut=None,
-):
+    color_by: str = "speed",
+    max_values: int = 12_000_000,
+    max_events: int = 200_000,
+    cut: float | None = None,
+) -> Path:
     """Write an interactive, self-contained HTML viewer of ``frames``.
 
     Args:
