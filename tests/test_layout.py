@@ -313,3 +313,14 @@ def test_every_exception_and_warning_lives_in_errors_py():
                 if any(b.endswith(("Error", "Warning", "Exception")) for b in bases | {node.name}):
                     elsewhere.append(f"{name}.{node.name}")
     assert elsewhere == [] and {"ScenarioError", "CheckpointError", "TruncatedTrajectory"} <= defined
+
+
+def test_no_function_over_80_lines_unless_its_docstring_says_why():
+    long = []
+    for name, path in modules().items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                lines = node.end_lineno - node.lineno + 1
+                if lines > 80 and "Longer than 80 lines" not in (ast.get_docstring(node) or ""):
+                    long.append(f"{name}.{node.name}: {lines} lines")
+    assert long == []

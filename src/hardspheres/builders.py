@@ -271,6 +271,8 @@ def random_arrays(
     memory in proportion to N (120-190 bytes per sphere at the peak, the
     lattice included).  Same arguments, same spheres for the same seed.
 
+    Longer than 80 lines with this docstring (about 65 of code).
+
     Returns:
         ``(masses, radii, positions, velocities)``: ``(N,)`` [mass], ``(N,)``
         [length], ``(N, 3)`` [length], ``(N, 3)`` [length/time].

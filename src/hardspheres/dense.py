@@ -80,7 +80,10 @@ def _kT(sim):
 
 
 def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None, progress=None):
-    """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`."""
+    """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`.
+
+    Longer than 80 lines: the compression loop (growth, the kT rescale, Z
+    and the stopping tests) shares its running sums; its checks come first."""
     eng = sim.engine
     if eng.window > 0.0:
         raise CompressionError("compress: not with a simultaneity window (window=0)")

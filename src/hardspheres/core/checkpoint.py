@@ -175,7 +175,17 @@ def check_arrays(data):
     if grid[0] != counts[core.C_CELLS]:
         _bad("the cells per axis disagree")
     cell_head = _array(data, "cell_head", np.int64, (int(np.prod(grid)),))
-    # the physical state
+    _check_state(masses, spheres, due, heap_t, scalars, counts, meta)
+    if n == 0:
+        if np.any(cell_head != -1):
+            _bad("cells hold spheres that do not exist")
+        return
+    _check_cells(book, grid, cell_head, cell_next, cell_prev, n)
+    _check_calendar(data, book, due, heap, heap_t, heap_key, scalars, order, n)
+
+
+def _check_state(masses, spheres, due, heap_t, scalars, counts, meta):
+    """The physical state and the core's numbers: finite, positive where they must be."""
     if not np.all(np.isfinite(masses) & (masses > 0)):
         _bad("a masses is not a finite number > 0")
     if not np.all(np.isfinite(spheres)):
@@ -198,12 +208,10 @@ def check_arrays(data):
         _bad("the container size is not a finite number > 0")
     if (scalars[core.F_BOX] if np.isnan(container) else scalars[core.F_CONTAINER]) != size:
         _bad("the container size disagrees with the core's")
-    if n == 0:
-        if np.any(cell_head != -1):
-            _bad("cells hold spheres that do not exist")
-        return
-    ids = np.arange(n)
-    # cells: coordinates in the grid, and each cell's list holds exactly its spheres
+
+
+def _check_cells(book, grid, cell_head, cell_next, cell_prev, n):
+    """The cells: coordinates in the grid, and each cell's list holds exactly its spheres."""
     cxyz = book[:, core.CELL_X : core.CELL_Z + 1]
     if np.any((cxyz < 0) | (cxyz >= grid[None, :])):
         _bad("a cell coordinate outside the grid")
@@ -222,7 +230,11 @@ def check_arrays(data):
             before, j = j, int(cell_next[j])
     if not np.all(seen):
         _bad("a sphere is in no cell list")
-    # the calendar: a heap over all spheres, each entry its sphere's earlier event
+
+
+def _check_calendar(data, book, due, heap, heap_t, heap_key, scalars, order, n):
+    """The calendar: a heap over all spheres, each entry its sphere's earlier event (or crossing)."""
+    ids = np.arange(n)
     if not np.array_equal(np.sort(heap), ids) or np.any(book[heap, core.HEAP_POS] != ids):
         _bad("the event calendar is not a permutation of the spheres")
     kind, partner = book[:, core.EVENT_KIND], book[:, core.PARTNER]

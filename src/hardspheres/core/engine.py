@@ -567,6 +567,10 @@ class Engine:
     ) -> np.ndarray:
         """Process events up to time ``until`` or a count limit.
 
+        Longer than 80 lines with this docstring (under 80 of code): the
+        loop around the core's calls keeps the calendar's requeue schedule,
+        the rebase and the record in the order the core needs them.
+
         Args:
             until: absolute time [time]; events after it are left pending.
             events: stop after this many collisions and reflections.

@@ -173,6 +173,9 @@ def observable_names():
 def parse_study(data, source=None, base=None):
     """Check a study (a dict, as from TOML) and return it complete with defaults.
 
+    Longer than 80 lines: one check per key, in the order the module's
+    documentation lists the keys, each a few lines.
+
     Args:
         data: the study's keys (see the module's documentation).
         source: name of the file it came from, for messages.
@@ -412,6 +415,11 @@ def run_task(task):
     not depend on when checkpoints were taken.  This is what a Dask worker
     runs; a task whose row file exists returns it without running.
 
+    Longer than 80 lines: the task's life in the order it happens (resume or
+    build, equilibrate, the blocks with their checkpoints, the row), whose
+    steps share the resumable progress record; split, each piece would pass
+    the whole record around.
+
     Returns:
         The row: a dict of the grid parameters, the run's length, each
         observable's mean over blocks and its standard error (``NAME_err``).
@@ -616,6 +624,8 @@ def _describe(task):
 
 def sweep(spec, client=None, *, serial=False, workers=None, out=None):
     """Run a study: every task not yet finished, then write and return the results.
+
+    Longer than 80 lines with this docstring (about 60 of code).
 
     Args:
         spec: a study file (path), or a dict of its keys (a relative
