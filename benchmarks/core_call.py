@@ -26,7 +26,7 @@ e = sim._engine
 now = float(e.scalars[_core.F_CLOCK])
 big = 10**9
 if hasattr(_core, "ARRAYS"):
-    rec = e._rec
+    rec = e._event_buffers
     if "--named" in sys.argv:
         import collections
 
@@ -60,7 +60,7 @@ else:
     )
 
     def call():
-        return _core.run(*args, now, big, big, *e._rec)
+        return _core.run(*args, now, big, big, *e._event_buffers)
 
     call_fresh = call
 assert call() == (0, 0)

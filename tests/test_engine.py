@@ -393,7 +393,7 @@ def _counting(fn, calls):
 
 @pytest.mark.parametrize("packing", [0.1, 0.45])  # cells, neighbour lists
 def test_no_record_same_events_and_not_limited_by_the_buffer(packing):
-    """``run(..., keep=False)`` writes every event to one row: the same
+    """``run(..., record=False)`` writes every event to one row: the same
     dynamics bit for bit as a recorded run, and more events in one call than
     the record holds."""
     from hardspheres.events import StopReason

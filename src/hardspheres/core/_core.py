@@ -1387,14 +1387,14 @@ def kinetic_sums(spheres, masses, scalars):
 
 
 @_jit
-def run(arrays, until, max_events, max_collisions, record, keep):
+def run(arrays, until, max_events, max_collisions, buffers, record):
     """Process events in order until one of the limits.
 
     Longer than 80 lines: the event loop, kept as one compiled function
     with its helpers inlined into it (benchmarks/README.md measures that);
     it is split only where an A/B shows no loss.
 
-    ``arrays`` is the tuple of the engine's arrays in :data:`ARRAYS`'s order; ``record`` the tuple of
+    ``arrays`` is the tuple of the engine's arrays in :data:`ARRAYS`'s order; ``buffers`` the tuple of
     :func:`hardspheres.events.empty_buffers` (``rec_t, rec_kind, rec_i,
     rec_j, rec_imp, rec_dp``, one row per event).
 
@@ -1406,7 +1406,7 @@ def run(arrays, until, max_events, max_collisions, record, keep):
 
     Stops before the first event after ``until``, after ``max_events``
     collisions and reflections, or after ``max_collisions`` collisions,
-    whichever comes first.  If ``keep``, up to ``len(rec_t)`` collisions
+    whichever comes first.  If ``record``, up to ``len(rec_t)`` collisions
     and reflections are recorded (time, kind, i, j, impulse magnitude), and
     the run also stops when the record is full; if not, every event is
     written to the record's first row (a caller that wants no record does
@@ -1436,7 +1436,7 @@ def run(arrays, until, max_events, max_collisions, record, keep):
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
     calendar = arrays[16]
-    rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = record
+    rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = buffers
     n = spheres.shape[0]
     if n == 0:
         return 0, STOP_UNTIL
@@ -1451,9 +1451,9 @@ def run(arrays, until, max_events, max_collisions, record, keep):
             return done, STOP_MAX_EVENTS
         if counts[C_COLLISIONS] - coll0 >= max_collisions:
             return done, STOP_MAX_COLLISIONS
-        if keep and done >= cap:
+        if record and done >= cap:
             return done, STOP_RECORD_FULL
-        row = done if keep else 0
+        row = done if record else 0
         i = heap[0]
         te = heap_t[0]
         if not te <= until or te == np.inf:  # NaN `until` too
