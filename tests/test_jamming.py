@@ -145,3 +145,27 @@ def test_bad_arguments_are_refused_naming_them():
         Contacts().z  # noqa: B018
     with pytest.raises(NotComputedError):
         JammingPoint().plot()
+
+
+def test_force_exponent_without_bucklers_drops_the_forces_on_spheres_with_d_plus_one_contacts():
+    rng = np.random.default_rng(2)
+    n = 4000
+    pairs = np.stack([np.arange(n), (np.arange(n) + 1) % n], 1)
+
+    class Forces:
+        _need = staticmethod(lambda: None)
+        forces = rng.uniform(0, 1, n) ** (1 / 1.42)
+
+    Forces.pairs = pairs
+
+    class Net:
+        _need = staticmethod(lambda: None)
+        dim = 3
+        rattler = np.zeros(n, bool)
+        contacts = np.where(np.arange(n) < 100, 4, 6)  # spheres 0-99: d + 1 contacts
+
+    _, _, all_used = force_exponent(Forces(), Net(), f_max=100.0)
+    _, _, kept = force_exponent(Forces(), Net(), f_max=100.0, without_bucklers=True)
+    assert all_used == n and kept == n - 101  # pairs (i, i + 1) touching spheres 0..99
+    with pytest.raises(ValueError, match="without_bucklers: pass contacts"):
+        force_exponent(Forces(), without_bucklers=True)

@@ -298,7 +298,7 @@ class Contacts(Compute):
         return ax
 
 
-def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3):
+def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3, without_bucklers=False):
     """``theta`` of ``P(f) ~ f^theta`` at small ``f / <f>``, in ``(f_min, f_max]``.
 
     Args:
@@ -306,6 +306,10 @@ def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3):
         contacts: a computed :class:`Contacts` of the same packing: only the
             forces between non-rattlers are used (as Charbonneau et al. do).
         f_min, f_max: the range of ``f / <f>`` fitted.
+        without_bucklers: also leave out the forces on spheres with exactly
+            ``d + 1`` contacts in ``contacts``'s network (the candidates for
+            bucklers, whose weak forces are localized rather than extended;
+            needs ``contacts``).
 
     Maximum likelihood of a power-law density on the range, bootstrap error
     (200 resamples, seed 0).
@@ -318,8 +322,13 @@ def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3):
     if contacts is not None:
         contacts._need()
         p = forces.pairs
-        keep = ~(contacts.rattler[p[:, 0]] | contacts.rattler[p[:, 1]])
+        drop = contacts.rattler
+        if without_bucklers:
+            drop = drop | (contacts.contacts == contacts.dim + 1)
+        keep = ~(drop[p[:, 0]] | drop[p[:, 1]])
         f = f[keep]
+    elif without_bucklers:
+        raise ValueError("without_bucklers: pass contacts (the network that says who has d + 1 contacts)")
     if len(f) == 0:
         raise ValueError("forces: no contact forces between non-rattlers")
     x = f / f.mean()
