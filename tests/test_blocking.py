@@ -113,3 +113,23 @@ def test_unknown_average_is_named():
     sim.run(collisions=200)
     with pytest.raises(ValueError, match="choose one of pressure"):
         sim.observables.estimate("pressure_xy_typo")
+
+
+def test_z_is_the_name_and_compressibility_its_alias(make_sim):
+    """Issue 29 item 4: obs.estimate("Z") raised while the study files use "Z";
+    in a sphere the summary did not say that its Z is the wall's PV/NkT."""
+    import hardspheres as hs
+
+    box = hs.PeriodicBox.for_packing(108, 0.2)
+    sim = hs.Simulation(hs.random_spheres(108, 0.2, box, seed=2), box)
+    obs = sim.run(collisions=2000).observables.reset()
+    sim.run(collisions=8000)
+    z = obs.estimate("Z")
+    assert z.mean == obs.Z() == obs.compressibility() == obs.estimate("compressibility").mean
+    assert np.array_equal(obs.blocks("Z"), obs.blocks("compressibility"))
+    s = obs.summary()
+    assert s["Z"] == s["compressibility"] == z.mean and s["Z_route"] == "virial" and "Z_note" not in s
+    with pytest.raises(ValueError, match="choose one of pressure, Z"):
+        obs.estimate("kappa")
+    s = make_sim(n=30, packing=0.2).run(collisions=500).observables.summary()
+    assert s["Z_route"] == "wall" and "surface term" in s["Z_note"]

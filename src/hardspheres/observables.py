@@ -42,7 +42,7 @@ class Observables:
         >>> state = hs.random_spheres(500, 0.2, box=20.0, seed=1)
         >>> sim = hs.Simulation(state, hs.PeriodicBox(20.0))
         >>> obs = sim.run(collisions=5000).observables.reset()
-        >>> z = sim.run(collisions=20000).observables.compressibility()
+        >>> z = sim.run(collisions=20000).observables.Z()
         >>> abs(z / 2.406 - 1.0) < 0.05  # Carnahan-Starling at packing 0.2
         True
     """
@@ -206,7 +206,7 @@ class Observables:
             p = cont.pressure(n, kT, dt, d[..., _WALL], d[..., _VIRIAL])
             z = p * cont.volume / (n * kT)
             rate = 2.0 * d[..., _COLL] / (n * dt)
-            out = {"pressure": p, "compressibility": z, "collision_rate": rate}
+            out = {"pressure": p, "Z": z, "collision_rate": rate}
             if d.shape[-1] > _HEAT_K.stop - 1:
                 ptensor = (d[..., _VIR_T] + d[..., _KIN_T]) / (dt[..., None] * cont.volume)
                 for q, name in enumerate(_TENSOR):
@@ -214,6 +214,7 @@ class Observables:
         return out
 
     def _whole(self, name):
+        name = ALIASES.get(name, name)
         d = np.array(self._delta())
         if not d[_T] > 0:
             raise NoMeasurementError("no time has passed since reset(); run first")
@@ -225,12 +226,17 @@ class Observables:
     def blocks(self, name):
         """``(n_blocks,)`` the values of ``name`` over each block of equal length.
 
-        ``name`` is one of ``"pressure"``, ``"compressibility"``,
+        ``name`` is one of ``"pressure"``, ``"Z"`` (alias
+        ``"compressibility"``),
         ``"collision_rate"``, and in a periodic box ``"pressure_xx"``
         ... ``"pressure_yz"`` (the components of :meth:`pressure_tensor`).
         """
         s = np.array(self._samples)
-        return self._measured(np.diff(s, axis=0))[name]
+        values = self._measured(np.diff(s, axis=0))
+        name = ALIASES.get(name, name)
+        if name not in values:
+            raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
+        return values[name]
 
     def estimate(self, name):
         """Mean over the whole time since :meth:`reset` and its blocking error.
@@ -309,9 +315,17 @@ class Observables:
             raise ValueError(f"kind {kind!r}: use 'momentum' or 'energy'")
         return s[:, _T], m
 
-    def compressibility(self):
-        """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial)."""
-        return self._whole("compressibility")
+    def Z(self) -> float:  # noqa: N802 (the physicists' name)
+        """``Z = P V / (N kT)`` since :meth:`reset` (periodic box: from the virial).
+
+        In a spherical container it is the *wall's* ``P V / (N kT)``, which
+        includes a surface term (not the bulk Z): :meth:`summary` marks it.
+        """
+        return self._whole("Z")
+
+    def compressibility(self) -> float:
+        """The old name of :meth:`Z` (the compressibility *factor*, not kappa_T)."""
+        return self.Z()
 
     def collision_rate(self) -> float:
         """Collisions per sphere per unit time [1/time] (each collision counts for both)."""
@@ -345,7 +359,11 @@ class Observables:
         Each time average ``x`` comes with ``x_error``, its standard error
         from blocking (``nan`` if fewer than two blocks were sampled), and
         ``x_converged``, whether the blocking reached a plateau (if not,
-        the error is a lower bound: run longer).
+        the error is a lower bound: run longer).  ``Z`` (also under its old
+        name ``compressibility``) comes with ``Z_route``: ``"virial"`` in a
+        periodic box (the bulk Z), ``"wall"`` in a spherical container,
+        where it is the wall's ``P V / (N kT)`` and ``Z_note`` says that it
+        includes a surface term.
         """
         out = {
             "time": self._sim.time,
@@ -355,17 +373,29 @@ class Observables:
             "sample_interval": self.every,
         }
         if self.elapsed > 0:
-            for name in ("pressure", "compressibility", "collision_rate"):
+            for name in ("pressure", "Z", "collision_rate"):
                 est = self.estimate(name)
                 out[name] = est.mean
                 out[f"{name}_error"] = est.sem
                 out[f"{name}_converged"] = est.converged
+            wall = self._sim.container.wall_area > 0
+            out["Z_route"] = "wall" if wall else "virial"
+            if wall:
+                out["Z_note"] = (
+                    "wall pressure of a finite sphere: it includes a surface term, so it is not the bulk Z"
+                )
+            for key in ("", "_error", "_converged"):  # the old name, kept
+                out[f"compressibility{key}"] = out[f"Z{key}"]
             rate, rate_err = out["collision_rate"], out["collision_rate_error"]
             out.update(mean_free_time=self.mean_free_time(), mean_free_path=self.mean_free_path())
             rel = rate_err / rate if rate > 0 else np.nan
             out["mean_free_time_error"] = out["mean_free_time"] * rel
             out["mean_free_path_error"] = out["mean_free_path"] * rel
         return out
+
+
+#: Old names of the time averages: ``estimate("compressibility")`` is ``estimate("Z")``.
+ALIASES = {"compressibility": "Z"}
 
 
 def _unknown_error(mean):

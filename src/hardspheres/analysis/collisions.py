@@ -180,7 +180,7 @@ class FreeFlights(Compute):
         The mean free time against the exact one from the pressure::
 
             obs = sim.observables
-            FreeFlights().compute(rec).mean, mean_free_time_from_z(obs.compressibility())
+            FreeFlights().compute(rec).mean, mean_free_time_from_z(obs.Z())
     """
 
     _results = ("flights", "mean", "mean_error", "flight_mean", "per_sphere", "rate", "t", "density")

@@ -184,10 +184,14 @@ class RDF(Compute):
         coef, cov = np.polyfit(x, self.g[sel], 2, cov=True)
         return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
 
-    def compressibility(self):
+    def Z(self):  # noqa: N802 (the physicists' name)
         """``Z = 1 + 4 phi g(sigma)`` (equal spheres), with its error from the contact fit."""
         g, err = self.contact_value()
         return 1.0 + 4.0 * self.packing * g, 4.0 * self.packing * err
+
+    def compressibility(self):
+        """The old name of :meth:`Z` (the compressibility factor, not kappa_T)."""
+        return self.Z()
 
     def plot(self, ax=None):
         """g(r) against r / sigma; returns the Axes."""

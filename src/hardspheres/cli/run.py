@@ -287,13 +287,13 @@ def summary_lines(
     if sim.container.wall_area > 0:
         lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
         lines.append(
-            f"PV/NkT {_value(summary, 'compressibility')} (wall pressure of a finite "
+            f"PV/NkT {_value(summary, 'Z')} (wall pressure of a finite "
             "sphere: it includes a surface term, so it is not the bulk Z; use --box "
             "for bulk)"
         )
     else:
         lines.append(f"pressure {_value(summary, 'pressure')} (virial), {kT}")
-        lines.append(f"Z = PV/NkT {_value(summary, 'compressibility')}")
+        lines.append(f"Z = PV/NkT {_value(summary, 'Z')}")
     lines.append(f"collision rate {_value(summary, 'collision_rate')} per sphere per unit time")
     lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
     return lines

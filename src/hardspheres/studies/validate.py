@@ -454,7 +454,7 @@ def transport_point(phi, n, duration, seed=1, every=None, equilibrate=50):
     sim.run(until=sim.time + duration)
     sim.writers.remove(rec)
     frames = rec.frames()
-    z = obs.estimate("compressibility")
+    z = obs.estimate("Z")
     rate = obs.estimate("collision_rate")
     D, D_err = MSD().compute(frames).diffusion()
     eta, eta_err = ShearViscosity().compute(sim).value()

@@ -513,7 +513,7 @@ def plot_gr(
     ax = rdf.plot(fig.add_subplot())
     try:
         g, err = rdf.contact_value()
-        z, z_err = rdf.compressibility()
+        z, z_err = rdf.Z()
         ax.plot(
             [1.0],
             [g],
