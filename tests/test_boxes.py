@@ -22,7 +22,7 @@ from hardspheres.core.engine import Engine
 @pytest.mark.parametrize(
     "sides,why",
     [
-        ((1.0, 2.0), "2 sides"),
+        ((1.0,), "1 sides"),
         ((1.0, 2.0, 3.0, 4.0), "4 sides"),
         ((1.0, 0.0, 3.0), "Ly = 0.0"),
         ((1.0, -2.0, 3.0), "Ly = -2.0"),

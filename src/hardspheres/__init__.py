@@ -16,7 +16,14 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from .containers import BoxShapeError, Container, PeriodicBox, PeriodicBoxRequired, SphericalContainer
+from .containers import (
+    BoxShapeError,
+    CircularContainer,
+    Container,
+    PeriodicBox,
+    PeriodicBoxRequired,
+    SphericalContainer,
+)
 from .errors import BuildError, CheckpointError, FileInUseError, StudyError, TruncatedTrajectory
 from .events import EventKind, StopReason
 from .scenario import Scenario, ScenarioError, parse_scenario
@@ -153,6 +160,7 @@ __all__ = [
     "BondOrder",
     "BoxShapeError",
     "BuildError",
+    "CircularContainer",
     "CheckpointError",
     "CollectiveIntermediate",
     "ContactForces",

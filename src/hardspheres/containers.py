@@ -75,6 +75,9 @@ class Container(Protocol):
     def description(self) -> str: ...
 
     @property
+    def dimensions(self) -> int: ...
+
+    @property
     def volume(self) -> float: ...
 
     @property
@@ -151,6 +154,7 @@ class SphericalContainer:
     #: The name in files (:meth:`record`) and its size's field (:meth:`fields`).
     kind: ClassVar[str] = "SphericalContainer"
     size_field: ClassVar[str] = "container_radius"
+    dimensions: ClassVar[int] = 3
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", _positive(self.radius, "container radius"))
@@ -304,7 +308,7 @@ class SphericalContainer:
 
 def _box_sides(length) -> float | tuple[float, ...]:
     """``length`` as a cube's edge (a float) or a box's sides (a tuple); :class:`BoxShapeError` if neither."""
-    allowed = "give one number (a cube's edge) or three (Lx, Ly, Lz), each finite and > 0"
+    allowed = "give one number (a cube's edge), three (Lx, Ly, Lz) or two (Lx, Ly: 2-D), each finite and > 0"
     if isinstance(length, (str, bytes)):
         raise BoxShapeError(f"box sides {length!r}: {allowed}")
     try:
@@ -314,15 +318,15 @@ def _box_sides(length) -> float | tuple[float, ...]:
             return _positive(length, "box length")
         except ContainerError:
             raise BoxShapeError(f"box length {length!r}: {allowed}") from None
-    if len(sides) != 3:
-        raise BoxShapeError(f"a box of {len(sides)} sides {sides!r}: {allowed}")
+    if len(sides) not in (2, 3):
+        raise BoxShapeError(f"a box of {len(sides)} sides {sides!r} (dimension {len(sides)}): {allowed}")
     out = []
     for a, x in zip("xyz", sides):
         try:
             out.append(_positive(x, f"box side L{a}"))
         except ContainerError:
             raise BoxShapeError(f"box side L{a} = {x!r}: {allowed}") from None
-    if out[0] == out[1] == out[2]:
+    if len(out) == 3 and out[0] == out[1] == out[2]:
         return out[0]  # the cube: one number, the same arithmetic
     return tuple(out)
 
@@ -376,7 +380,7 @@ class PeriodicBox:
 
     @property
     def cube(self) -> bool:
-        """Whether all sides are equal."""
+        """Whether it is a cube (three equal sides)."""
         return not isinstance(self.length, tuple)
 
     @property
@@ -388,7 +392,7 @@ class PeriodicBox:
 
     @property
     def dimensions(self) -> int:
-        """The dimension of space: 3."""
+        """The dimension of space: 3, or 2 for ``(Lx, Ly)``."""
         return len(self.sides)
 
     @property
@@ -416,11 +420,10 @@ class PeriodicBox:
 
     @property
     def volume(self) -> float:
-        """Volume of the box [length^3]."""
+        """Volume of the box [length^3] (in 2-D its area [length^2])."""
         if self.cube:
             return self.size**3
-        x, y, z = self.sides
-        return x * y * z
+        return math.prod(self.sides)
 
     @property
     def wall_area(self) -> float:
@@ -441,8 +444,8 @@ class PeriodicBox:
 
     @property
     def gsd_box(self) -> list[float]:
-        """GSD's ``configuration/box`` (periodic)."""
-        return [*self.sides, 0.0, 0.0, 0.0]
+        """GSD's ``configuration/box`` (periodic; in 2-D ``Lz = 0``, as HOOMD writes it)."""
+        return [*self.sides, 0.0, 0.0, 0.0] if self.dimensions == 3 else [*self.sides, 0.0, 0.0, 0.0, 0.0]
 
     def _edges(self):
         import numpy as np
@@ -461,7 +464,7 @@ class PeriodicBox:
         """``(N, 3)`` whole sides :meth:`wrap` takes off each position (its periodic image)."""
         import numpy as np
 
-        p = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+        p = np.asarray(positions, dtype=np.float64).reshape(-1, self.dimensions)
         return np.floor(p / self._edges() + 0.5).astype(np.int64)
 
     def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -476,21 +479,22 @@ class PeriodicBox:
         """``(N,)`` all False: nothing is outside a periodic box."""
         import numpy as np
 
-        return np.zeros(np.asarray(positions).reshape(-1, 3).shape[0], dtype=bool)
+        return np.zeros(np.asarray(positions).reshape(-1, self.dimensions).shape[0], dtype=bool)
 
     def degrees_of_freedom(self, n: int) -> int:
-        """``3 N - 3``: total momentum is conserved (``3 N`` for one sphere)."""
-        return 3 * n - 3 if n > 1 else 3 * n
+        """``d N - d``: total momentum is conserved (``d N`` for one sphere)."""
+        d = self.dimensions
+        return d * n - d if n > 1 else d * n
 
     def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
-        """``(N kT + W / (3 t)) / V`` with ``W`` the collision virial [energy/length^3]."""
-        return (n * kT + virial / (3.0 * elapsed)) / self.volume
+        """``(N kT + W / (d t)) / V`` with ``W`` the collision virial [energy/length^d]."""
+        return (n * kT + virial / (self.dimensions * elapsed)) / self.volume
 
     def fields(self) -> dict[str, float]:
         """Its numbers by name, for GSD logs and XYZ headers (a cube: ``box_length``)."""
         if self.cube:
             return {self.size_field: self.size}
-        return dict(zip(self.side_fields, self.sides))
+        return dict(zip(self.side_fields, self.sides))  # (2-D: x and y)
 
     def record(self) -> np.ndarray:
         """``[kind, size]`` for checkpoints (:func:`from_record`): ``repr`` of the edge, or the sides."""
@@ -506,6 +510,9 @@ class PeriodicBox:
         ``box`` and ``span`` are the x side's; ``edges`` and ``spans`` per axis.
         """
         x = self.sides[0]
+        if self.dimensions == 2:  # one layer of cells along z, not periodic (the core keeps z = 0)
+            sides = self.sides
+            return {"wall_radius": 0.0, "box": x, "span": x, "edges": (*sides, 0.0), "spans": (*sides, 1.0)}
         return {"wall_radius": 0.0, "box": x, "span": x, "edges": self.sides, "spans": self.sides}
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
@@ -515,10 +522,17 @@ class PeriodicBox:
     def outline(
         self, right: np.ndarray, up: np.ndarray, cut: float | None = None
     ) -> list[tuple[np.ndarray, bool]]:
-        """Its 12 edges seen along ``right x up``: ``(line (2, 2), dashed)`` pairs [length]."""
+        """Its 12 edges (4 in 2-D) seen along ``right x up``: ``(line (2, 2), dashed)`` pairs [length]."""
         import numpy as np
 
-        hx, hy, hz = (0.5 * s for s in self.sides)
+        if self.dimensions == 2:
+            hx, hy = (0.5 * x for x in self.sides)
+            ring = np.array([[-hx, -hy, 0.0], [hx, -hy, 0.0], [hx, hy, 0.0], [-hx, hy, 0.0]])
+            return [
+                (np.column_stack([edge @ right[:3], edge @ up[:3]]), False)
+                for edge in (ring[[k, (k + 1) % 4]] for k in range(4))
+            ]
+        hx, hy, hz = (0.5 * x for x in self.sides)
         corners = np.array([[x, y, z] for x in (-hx, hx) for y in (-hy, hy) for z in (-hz, hz)])
         return [
             (np.column_stack([corners[[a, b]] @ right, corners[[a, b]] @ up]), False)
@@ -528,9 +542,161 @@ class PeriodicBox:
         ]
 
 
+@dataclass(frozen=True)
+class CircularContainer:
+    """A hard circular wall of radius ``radius`` [length] centred on the origin: 2-D.
+
+    The 2-D analogue of :class:`SphericalContainer`: disks reflect off the
+    wall.  Its "volume" is the area ``pi R^2``, its "wall area" the
+    perimeter ``2 pi R``, and the pressure the momentum the wall receives
+    per unit length and time [energy/length^2].  That wall pressure is not
+    the bulk pressure: a curved hard wall carries a line tension (the
+    wall's surface excess), so it differs from the bulk's by a term of
+    order ``1 / R`` (``p_wall = p_bulk + gamma / R``, gamma the line
+    tension; e.g. Urrutia, J. Chem. Phys. 133, 104503 (2010), for hard
+    disks in a circle): compare with bulk equations of state in large
+    circles only, or use a :class:`PeriodicBox`.
+
+    Example:
+        >>> c = CircularContainer(2.0)
+        >>> round(c.volume, 4), c.degrees_of_freedom(10), c.dimensions
+        (12.5664, 20, 2)
+    """
+
+    radius: float
+    periodic: ClassVar[bool] = False
+    kind: ClassVar[str] = "CircularContainer"
+    size_field: ClassVar[str] = "circle_radius"
+    dimensions: ClassVar[int] = 2
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "radius", _positive(self.radius, "circle radius"))
+
+    @classmethod
+    def for_packing(cls, n: int, packing: float) -> CircularContainer:
+        """The circle ``n`` disks of diameter 1 fill to the area fraction ``packing``."""
+        return cls(math.sqrt(n / (4.0 * packing)))
+
+    @property
+    def size(self) -> float:
+        """Its radius [length]."""
+        return self.radius
+
+    @property
+    def label(self) -> str:
+        """A short description for titles."""
+        return f"circular container R = {self.radius:g}"
+
+    @property
+    def description(self) -> str:
+        """It in words, for messages and summaries."""
+        return f"circular container of radius {self.radius:g}"
+
+    @property
+    def volume(self) -> float:
+        """Area enclosed [length^2]."""
+        return math.pi * self.radius**2
+
+    @property
+    def wall_area(self) -> float:
+        """Length of the wall [length]."""
+        return 2.0 * math.pi * self.radius
+
+    area = wall_area
+
+    @property
+    def half_width(self) -> float:
+        """Half the side of the square that encloses it [length]."""
+        return self.radius
+
+    @property
+    def bounding_radius(self) -> float:
+        """Radius of the circle that encloses it [length]."""
+        return self.radius
+
+    @property
+    def gsd_box(self) -> list[float]:
+        """GSD's ``configuration/box``: the enclosing square, ``Lz = 0`` (2-D; not periodic)."""
+        side = 2.0 * self.radius
+        return [side, side, 0.0, 0.0, 0.0, 0.0]
+
+    def wrap(self, positions: np.ndarray) -> np.ndarray:
+        """Positions as they are [length]."""
+        import numpy as np
+
+        return np.asarray(positions, dtype=np.float64)
+
+    def image_counts(self, positions: np.ndarray) -> np.ndarray:
+        """``(N, 2)`` zeros: no periodic images."""
+        import numpy as np
+
+        return np.zeros(np.asarray(positions).reshape(-1, 2).shape, np.int64)
+
+    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``a - b`` [length]."""
+        import numpy as np
+
+        return np.asarray(a, dtype=np.float64) - b
+
+    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
+        """``(N,)`` True for disks poking out of the wall by more than ``tol`` of its radius."""
+        import numpy as np
+
+        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 2), axis=1) + radii
+        return reach > self.radius * (1.0 + tol)
+
+    def degrees_of_freedom(self, n: int) -> int:
+        """``2 N``: the wall takes up momentum."""
+        return 2 * n
+
+    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
+        """Momentum delivered to the wall per unit length and time [energy/length^2] (see the class)."""
+        return wall_impulse / (self.wall_area * elapsed)
+
+    def fields(self) -> dict[str, float]:
+        """Its numbers by name, for GSD logs and XYZ headers."""
+        return {self.size_field: self.radius}
+
+    def record(self) -> np.ndarray:
+        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
+        import numpy as np
+
+        return np.array([self.kind, repr(self.radius)])
+
+    def core_params(self) -> dict:
+        """What the compiled core reads: the wall, no box, the grid (one layer along z: z = 0)."""
+        span = 2.0 * self.radius
+        return {
+            "wall_radius": self.radius,
+            "box": 0.0,
+            "span": span,
+            "edges": (0.0, 0.0, 0.0),
+            "spans": (span, span, 1.0),
+        }
+
+    def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
+        """Why a disk at ``p`` of radius ``r`` moving at ``v`` cannot start here, or ``None``."""
+        reach = math.sqrt(p[0] * p[0] + p[1] * p[1]) + r
+        if reach > self.radius + TOUCH_TOL * self.radius:
+            return f"is not wholly inside the container: |p| + R = {reach:g} > {self.radius:g}"
+        if r >= self.radius and (v[0] or v[1]):
+            return "fills the container and cannot move; give it zero velocity or a smaller radius"
+        return None
+
+    def outline(
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+    ) -> list[tuple[np.ndarray, bool]]:
+        """The circle, seen along ``right x up`` [length]."""
+        import numpy as np
+
+        u = np.linspace(0, 2 * np.pi, 181)
+        ring = np.column_stack([self.radius * np.cos(u), self.radius * np.sin(u), np.zeros_like(u)])
+        return [(np.column_stack([ring @ right[:3], ring @ up[:3]]), False)]
+
+
 #: The containers by :attr:`kind` (files name them so).
-KINDS: dict[str, type[SphericalContainer] | type[PeriodicBox]] = {
-    c.kind: c for c in (SphericalContainer, PeriodicBox)
+KINDS: dict[str, type[SphericalContainer] | type[PeriodicBox] | type[CircularContainer]] = {
+    c.kind: c for c in (SphericalContainer, PeriodicBox, CircularContainer)
 }
 
 
@@ -575,14 +741,17 @@ def from_fields(fields: dict) -> Container:
         return float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0])
 
     for prefix in ("", "hardspheres/"):
-        keys = [prefix + k for k in PeriodicBox.side_fields]
-        if all(k in fields for k in keys):
-            return PeriodicBox(tuple(number(k) for k in keys))
+        for d in (3, 2):
+            keys = [prefix + k for k in PeriodicBox.side_fields[:d]]
+            if all(k in fields for k in keys):
+                return PeriodicBox(tuple(number(k) for k in keys))
     for cls in KINDS.values():
         for key in (cls.size_field, f"hardspheres/{cls.size_field}"):
             if key in fields:
                 return cls(float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0]))
-    raise ContainerError("no container size found (container_radius, box_length or box_length_x/y/z)")
+    raise ContainerError(
+        "no container size found (container_radius, circle_radius, box_length or box_length_x/y[/z])"
+    )
 
 
 #: The densest packing of equal spheres, ``pi / sqrt(18) = 0.74048`` (FCC and

@@ -644,14 +644,15 @@ def _cell_step(k, o, nc, box):
 
 
 @_inline
-def _block_cell(kx, ky, kz, q, ncx, ncy, ncz, box):
+def _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz):
     """Cell ``q`` (0..26, z slowest) of the 3x3x3 block around cell ``(kx, ky, kz)``; -1: none.
 
-    ``ncx, ncy, ncz``: cells per axis; ``box`` != 0: periodic.
+    ``ncx, ncy, ncz``: cells per axis; ``bx, by, bz`` != 0: periodic along
+    that axis (in 2-D, z is one layer of cells, not periodic: 9 cells).
     """
-    nz, _, zthere = _cell_step(kz, q // 9 - 1, ncz, box)
-    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, ncy, box)
-    nx, _, xthere = _cell_step(kx, q % 3 - 1, ncx, box)
+    nz, _, zthere = _cell_step(kz, q // 9 - 1, ncz, bz)
+    ny, _, ythere = _cell_step(ky, (q // 3) % 3 - 1, ncy, by)
+    nx, _, xthere = _cell_step(kx, q % 3 - 1, ncx, bx)
     if zthere and ythere and xthere:
         return (nz * ncy + ny) * ncx + nx
     return -1
@@ -1119,7 +1120,7 @@ def _relist(
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
     for q in range(27):
-        cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx)
+        cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
         if cell < 0:
             continue
         j = cell_head[cell]
@@ -1205,6 +1206,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     """
     n = spheres.shape[0]
     ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     t = scalars[F_CLOCK]
     grow = scalars[F_GROW]
     box = scalars[F_BOX]
@@ -1217,6 +1219,8 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
             # into the box, whole edges at a time
             for ax in range(3):
                 edge = scalars[F_EDGE + ax]
+                if edge == 0.0:
+                    continue  # (2-D: z is not periodic)
                 k = np.floor((spheres[i, X + ax] - scalars[F_LOW + ax]) / edge)
                 if k != 0.0:
                     spheres[i, X + ax] -= k * edge
@@ -1234,7 +1238,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
         for q in range(27):
-            cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, box)
+            cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
             if cell < 0:
                 continue
             j = cell_head[cell]
@@ -1551,7 +1555,8 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
                 dx -= bx * np.round(dx / bx)
                 dy -= by * np.round(dy / by)
-                dz -= bz * np.round(dz / bz)
+                if bz != 0.0:  # (2-D: z is not periodic, and 0)
+                    dz -= bz * np.round(dz / bz)
             dvx = spheres[a, VX] - spheres[b, VX]
             dvy = spheres[a, VY] - spheres[b, VY]
             dvz = spheres[a, VZ] - spheres[b, VZ]
@@ -1738,7 +1743,7 @@ def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
     ncx, ncy, ncz = grid[0], grid[1], grid[2]
     bx, by, bz = edges[0], edges[1], edges[2]
     for i in range(n):
-        for oz in range(-1, 2):
+        for oz in range(-1 if ncz > 1 else 0, 2 if ncz > 1 else 1):
             nz = book[i, CELL_Z] + oz
             for oy in range(-1, 2):
                 ny = book[i, CELL_Y] + oy
@@ -1755,7 +1760,8 @@ def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
                             if bx != 0.0:
                                 dx -= bx * np.round(dx / bx)
                                 dy -= by * np.round(dy / by)
-                                dz -= bz * np.round(dz / bz)
+                                if bz != 0.0:
+                                    dz -= bz * np.round(dz / bz)
                             sigma = (spheres[i, RADIUS] + spheres[j, RADIUS]) * scale
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma

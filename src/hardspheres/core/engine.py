@@ -41,6 +41,8 @@ SHELL = 1.5
 #: dense fluids, where spheres rattle in their cages, and cost at low density,
 #: where spheres leave their shells more often than they collide).
 LISTS_FROM = 0.35
+#: The same for disks (area fraction); an estimate, not measured yet.
+LISTS_FROM_2D = 0.5
 
 
 #: Room to grow while growing: the cells and lists are made for radii this
@@ -131,10 +133,11 @@ class Engine:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
         n = self._masses.shape[0]
-        # one 64-byte row per sphere: x y z vx vy vz t_own radius
+        d = self.dimensions
+        # one 64-byte row per sphere: x y z vx vy vz t_own radius (in 2-D z = vz = 0)
         self.spheres = np.zeros((n, core.SPHERE_COLS))
-        self.spheres[:, core.X : core.Z + 1] = np.asarray(positions, dtype=np.float64).reshape(n, 3)
-        self.spheres[:, core.VX : core.VZ + 1] = np.asarray(velocities, dtype=np.float64).reshape(n, 3)
+        self.spheres[:, core.X : core.X + d] = _columns(positions, n, d, "positions")
+        self.spheres[:, core.VX : core.VX + d] = _columns(velocities, n, d, "velocities")
         self.spheres[:, core.RADIUS] = np.asarray(radii, dtype=np.float64).reshape(n)
         self.book = np.zeros((n, core.BOOK_COLS), np.int64)
         self.due = np.zeros((n, core.DUE_COLS))
@@ -179,6 +182,11 @@ class Engine:
         return self._masses.shape[0]
 
     @property
+    def dimensions(self) -> int:
+        """The dimension of space, ``d`` (the container's): 2 or 3."""
+        return int(getattr(self.container, "dimensions", 3))
+
+    @property
     def order(self) -> np.ndarray:
         """``(N,)`` int64: the input index of the engine's sphere ``i`` (a view: do not write)."""
         return self.book[:, core.ORIGIN]
@@ -204,17 +212,19 @@ class Engine:
 
     @property
     def images(self) -> np.ndarray:
-        """``(N, 3)`` int64: each sphere's crossings of the periodic box per axis (a copy to write back)."""
-        return self._shown(self._images)
+        """``(N, d)`` int64: each sphere's crossings of the periodic box per axis (a copy to write back)."""
+        d = self.dimensions
+        return self._shown(self._images if d == 3 else self._images[:, :d])
 
     @images.setter
     def images(self, value):
-        self._images[:] = np.asarray(value, dtype=np.int64).reshape(-1, 3)[self.order]
+        d = self.dimensions
+        self._images[:, :d] = np.asarray(value, dtype=np.int64).reshape(-1, d)[self.order]
 
     @property
     def velocities(self) -> np.ndarray:
-        """``(N, 3)`` velocities now [length/time] (do not write)."""
-        return self._shown(self.spheres[:, core.VX : core.VZ + 1])
+        """``(N, d)`` velocities now [length/time] (do not write)."""
+        return self._shown(self.spheres[:, core.VX : core.VX + self.dimensions])
 
     @property
     def radii(self) -> np.ndarray:
@@ -357,18 +367,20 @@ class Engine:
         # largest neighbour distance, SHELL largest diameters), else cells
         # at least as wide as the largest contact distance; with a small
         # relative margin for rounding, and a few cells per sphere at most
-        volume = self.container.volume
-        phi = float(np.sum(self.radii**3)) * (4.0 / 3.0) * np.pi / volume if n else 0.0
-        shell = SHELL if phi >= LISTS_FROM else 0.0
+        phi = self._packing(self.radii) if n else 0.0
+        shell = SHELL if phi >= (LISTS_FROM if self.dimensions == 3 else LISTS_FROM_2D) else 0.0
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma
         # cells per axis: at most about 2 N^(1/3) + 1 along the longest side
-        longest = max(spans)
+        d = self.dimensions
+        longest = max(spans[:d])
         for ax, (span, edge) in enumerate(zip(spans, edges)):
             nc = int(span / (reach * (1.0 + 1e-6))) if sigma > 0.0 else 1
-            most = int(np.ceil(2.0 * max(n, 1) ** (1.0 / 3.0) * (span / longest))) + 1
-            nc = max(1, min(nc, most, 1 << 10))
+            most = int(np.ceil(2.0 * max(n, 1) ** (1.0 / d) * (span / longest))) + 1
+            nc = max(1, min(nc, most, 1 << 10 if d == 3 else 1 << 15))
+            if ax >= d:
+                nc = 1  # 2-D: one layer of cells along z (the 9 cells around a disk's)
             if edge and nc < 3:
                 if sigma * 3.0 > edge:
                     raise BoxShapeError(
@@ -470,6 +482,12 @@ class Engine:
         self._grid(self.n, self._headroom())
         self._build()
 
+    def _packing(self, radii):
+        """Packing fraction of spheres of ``radii`` (area fraction in 2-D)."""
+        if self.dimensions == 2:
+            return float(np.sum(radii**2)) * np.pi / self.container.volume
+        return float(np.sum(radii**3)) * (4.0 / 3.0) * np.pi / self.container.volume
+
     def _headroom(self):
         """Room to grow for the cells and lists made now (reach over radius; 1 without growth).
 
@@ -487,12 +505,17 @@ class Engine:
         if not g or self.n == 0:
             return 1.0
         r = self.radii_at()
-        phi = float(np.sum(r**3)) * (4.0 / 3.0 * np.pi) / self.container.volume
-        phi = min(phi, MAX_PACKING)
-        z = float(carnahan_starling(phi))
+        d = self.dimensions
+        phi = self._packing(r)
+        if d == 3:
+            z = float(carnahan_starling(min(phi, MAX_PACKING)))
+        else:  # Henderson's hard-disk equation of state: an estimate, for the rate only
+            phi = min(phi, 0.89)
+            z = (1.0 + phi * phi / 8.0) / (1.0 - phi) ** 2
         m = float(np.mean(self.masses))
-        kt = float(np.sum(self.masses * np.sum(self.velocities**2, axis=1))) / (3.0 * self.n)
+        kt = float(np.sum(self.masses * np.sum(self.velocities**2, axis=1))) / (d * self.n)
         sigma = 2.0 * float(np.mean(r))
+        # (in 2-D Enskog's rate is (Z - 1) sqrt(pi kT / m) / sigma: the 3-D formula's order of magnitude)
         nu = collision_rate_from_z(z, sigma, kt, m) if sigma > 0.0 and m > 0.0 else 0.0
         room = np.sqrt(8.0 * g / nu) if nu > 0.0 else np.inf
         return 1.0 + min(max(room, HEADROOM_MIN - 1.0), HEADROOM_MAX - 1.0)
@@ -549,11 +572,14 @@ class Engine:
         self._build()
 
     def kick(self, i, t, velocity):
-        """Sphere ``i`` takes ``velocity`` at absolute time ``t`` (not before the clock)."""
+        """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``."""
         t = float(t) - self.offset
         if t < self.scalars[core.F_CLOCK]:
             raise ValueError("a kick cannot be before the clock")
-        vx, vy, vz = (float(x) for x in velocity)
+        v = [float(x) for x in velocity]
+        if len(v) != self.dimensions:
+            raise BoxShapeError(f"a velocity of {len(v)} components in {self.dimensions}-D space")
+        vx, vy, vz = (v + [0.0])[:3]
         i = int(i)
         core.kick(self.arrays, i if self._rank is None else int(self._rank[i]), t, vx, vy, vz)
 
@@ -762,12 +788,18 @@ class Engine:
 
     # ---- state ------------------------------------------------------------
     def positions_at(self, t: float | None = None, out: np.ndarray | None = None, spheres=None) -> np.ndarray:
-        """Centres of all spheres at absolute time ``t`` (default: now) [length].
+        """``(N, d)`` centres of all spheres at absolute time ``t`` (default: now) [length].
 
         In a periodic box the centres are wrapped into the box.  With
         ``spheres`` (indices), only their rows of ``out`` are filled (the
         same bits), in time independent of the number of spheres.
         """
+        if self.dimensions == 3:
+            return self._positions_at(t, out, spheres)
+        return _planar(self._positions_at(t, None, spheres), out, spheres, self.n)
+
+    def _positions_at(self, t, out, spheres):
+        """:meth:`positions_at` with three columns (in 2-D the last is 0)."""
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
         if spheres is not None and self.box is None:
@@ -786,12 +818,17 @@ class Engine:
         return out
 
     def unwrapped_at(self, t=None, out=None):
-        """Unwrapped centres at absolute time ``t`` (default: now) [length].
+        """``(N, d)`` unwrapped centres at absolute time ``t`` (default: now) [length].
 
         Periodic box: the centre in the box plus ``images * box``, with
         :attr:`img` the exact count of box crossings of each sphere; in a
         spherical container the same as :meth:`positions_at`.
         """
+        if self.dimensions == 3:
+            return self._unwrapped_at(t, out)
+        return _planar(self._unwrapped_at(t, None), out, None, self.n)
+
+    def _unwrapped_at(self, t, out):
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
         if self._rank is None:
@@ -879,3 +916,24 @@ class Engine:
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
         return float(kinetic_energy(self.masses, self.velocities))
+
+
+def _planar(full, out, spheres, n):
+    """The first two columns of ``full`` (2-D), into ``out`` if given (only rows ``spheres``)."""
+    if out is None:
+        out = np.empty((n, 2))
+    rows = slice(None) if spheres is None else list(spheres)
+    out[rows] = full[rows, :2]
+    return out
+
+
+def _columns(a, n, d, what):
+    """``a`` as ``(n, d)`` float64; :class:`BoxShapeError` if it has another number of components."""
+    a = np.asarray(a, dtype=np.float64)
+    if a.size != n * d or (a.ndim == 2 and a.shape[1] != d):
+        width = a.shape[-1] if a.ndim >= 1 and a.size else "?"
+        raise BoxShapeError(
+            f"{what} have {width} components but the container is {d}-D: give ({n}, {d}) arrays "
+            "(2-D containers: PeriodicBox((Lx, Ly)), CircularContainer; 3-D: the others)"
+        )
+    return a.reshape(n, d)

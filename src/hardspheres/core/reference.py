@@ -49,6 +49,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..containers import Container, as_container
+from ..errors import BoxShapeError
 from ..events import EventKind, StopReason
 from ..physics import (
     FROZEN_RELATIVE,
@@ -167,6 +168,14 @@ def apply_event(kind, i, j, p, v, masses):
     return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2
 
 
+def _row(row, d, what):
+    """A centre or velocity as ``[x, y, z]`` floats (``z = 0`` in 2-D); ValueError if not ``d`` numbers."""
+    out = [float(x) for x in row]
+    if len(out) != d:
+        raise BoxShapeError(f"{what} have {len(out)} components but the container is {d}-D; give {d}")
+    return out + [0.0] if d == 2 else out
+
+
 class Reference:
     """Exact event-driven dynamics of hard spheres, by brute force, in pure Python.
 
@@ -218,10 +227,13 @@ class Reference:
             )
         self.container: Container = where
         self._wall = where.core_params()["wall_radius"]
+        #: the dimension of space (the container's); in 2-D each centre and
+        #: velocity is kept as ``[x, y, 0.0]``: the same kernels, z terms exactly 0
+        self.dimensions = d = int(getattr(where, "dimensions", 3))
         self.masses = [float(m) for m in masses]
         self._radii = [float(r) for r in radii]
-        self._p = [[float(x) for x in row] for row in positions]
-        self._v = [[float(x) for x in row] for row in velocities]
+        self._p = [_row(row, d, "positions") for row in positions]
+        self._v = [_row(row, d, "velocities") for row in velocities]
         n = len(self.masses)
         if not len(self._radii) == len(self._p) == len(self._v) == n:
             raise ValueError(
@@ -246,7 +258,9 @@ class Reference:
 
     @property
     def velocities(self) -> list[list[float]]:
-        """``N`` velocities now [length/time] (the loop's own lists: do not write)."""
+        """``N`` velocities now [length/time] (in 3-D the loop's own lists: do not write)."""
+        if self.dimensions == 2:
+            return [v[:2] for v in self._v]
         return self._v
 
     @property
@@ -304,7 +318,10 @@ class Reference:
         for k in range(len(p)) if spheres is None else spheres:
             pk, vk = p[k], v[k]
             dt = t - tloc[k]
-            out[k] = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt, pk[2] + vk[2] * dt]
+            if self.dimensions == 2:
+                out[k] = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt]
+            else:
+                out[k] = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt, pk[2] + vk[2] * dt]
         return out
 
     def kinetic_energy(self) -> float:
