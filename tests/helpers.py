@@ -22,11 +22,15 @@ from hardspheres.frames import Frames
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: The environment of the commands run: this tree's ``src`` first on PYTHONPATH.
+#: Where the package the tests import lives: this tree's ``src``, or the
+#: site-packages of an installed wheel (``.ci/run`` tests the wheel too).
+PACKAGE_ROOT = Path(hs.__file__).resolve().parents[1]
+
+#: The environment of the commands run: that package first on PYTHONPATH.
 ENV = {
     **os.environ,
     "PYTHONPATH": os.pathsep.join(
-        [str(ROOT / "src")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+        [str(PACKAGE_ROOT)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
     ),
 }
 

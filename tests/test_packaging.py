@@ -39,3 +39,37 @@ def test_imports_and_runs_without_fcntl_and_resource(tmp_path):
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().endswith("True")
+
+
+def test_package_data_is_installed():
+    """py.typed and the viewer's page and three.js ship with the package (``.ci/run`` runs this
+    against the built wheel, outside the checkout)."""
+    from importlib import resources
+
+    import hardspheres
+
+    root = resources.files(hardspheres)
+    assert root.joinpath("py.typed").is_file()
+    static = root.joinpath("viz", "_static")
+    for name in ("viewer.html", "three.module.min.js", "three.core.min.js", "OrbitControls.js", "LICENSE"):
+        assert static.joinpath(name).is_file(), name
+
+
+def test_extras_split_the_user_from_the_test_stack():
+    """A user installs the library with GSD and plots without pytest (pyproject.toml's extras)."""
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+    from pathlib import Path
+
+    meta = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())["project"]
+    extras = meta["optional-dependencies"]
+    for user in ("io", "plot", "analysis", "sweep", "view", "notebook", "all"):
+        assert not any(dep.startswith(("pytest", "hypothesis", "ruff", "mypy")) for dep in extras[user]), user
+    assert any(d.startswith("gsd") for d in extras["io"]) and any(
+        d.startswith("matplotlib") for d in extras["plot"]
+    )
+    assert {"Programming Language :: Python :: 3", "Operating System :: Microsoft :: Windows"} <= set(
+        meta["classifiers"]
+    )

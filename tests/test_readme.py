@@ -10,11 +10,13 @@ ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 
 
-def test_readme_python_example_runs(tmp_path, monkeypatch):
+def test_readme_python_example_runs(tmp_path, monkeypatch, capsys):
     block = re.search(r"```python\n(.*?)```", README, re.S).group(1)
+    assert len(block.strip().splitlines()) <= 16  # the "15-line example"
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
-    assert (tmp_path / "run.npz").exists()
+    assert (tmp_path / "run.npz").exists() and (tmp_path / "run.gsd").exists()
+    assert re.search(r"Z = \d\.\d{3} \+- 0\.\d{3}; Hansen-Goos: 3\.984", capsys.readouterr().out)
 
 
 def test_readme_first_command_output():
@@ -55,3 +57,36 @@ def test_architecture_names_every_module():
     }
     assert modules - named == set(), "modules docs/architecture.md does not name"
     assert named - modules == set(), "docs/architecture.md names modules that do not exist"
+
+
+def test_readme_is_a_front_page():
+    """At most about 200 lines; the venv step; links that resolve; nothing from outside the repository."""
+    assert len(README.splitlines()) <= 200
+    assert "python3 -m venv .venv" in README.split("```sh", 1)[1].split("```", 1)[0]
+    assert "../shared" not in README  # a user's clone has no ../shared
+    assert "FSmallenburg/EDMD" in README  # where the anchor's sources are
+    links = re.findall(r"\]\(([^)#]+)\)", README)
+    local = [link for link in links if "://" not in link]
+    assert len(local) >= 20
+    missing = [link for link in local if not (ROOT / link).exists()]
+    assert missing == [], missing
+    layout = re.search(r"## Layout\n(.*?)(\n## |\Z)", README, re.S).group(1)
+    assert "docs/architecture.md" in layout and (ROOT / "docs" / "architecture.md").exists()
+
+
+def test_readme_speed_figures_are_recorded_runs():
+    """Every figure README's Speed section quotes is in benchmarks/README.md's table of that run."""
+    speed = re.search(r"## Speed\n(.*?)\n## ", README, re.S).group(1)
+    bench = (ROOT / "benchmarks" / "README.md").read_text()
+    run = re.search(r"## Side by side with the anchor \(moved from README.md.*?\n(.*?)\n## ", bench, re.S)
+    assert run, "benchmarks/README.md lost the run README quotes"
+    text = run.group(1)
+    assert "2026-11-27" in speed and "2026-11-27" in text and "dee121a" in speed and "dee121a" in text
+    table = re.search(r"Run 5, 01:13-01:21 UTC.*?\n\n(\|.*?)\n\n", text, re.S).group(1)
+    rows = {tuple(c.strip() for c in line.strip("|").split("|"))[:2]: line for line in table.splitlines()}
+    quoted = {("1e4", "0.1"): "1.00", ("1e4", "0.3"): "1.24", ("1e4", "0.45"): "0.77",
+              ("1e5", "0.3"): "0.96", ("1e6", "0.3"): "0.85"}  # fmt: skip
+    for key, ratio in quoted.items():
+        assert ratio in speed
+        box_ratio = rows[key].strip("|").split("|")[6].strip()
+        assert box_ratio == ratio, (key, box_ratio, ratio)
