@@ -102,8 +102,8 @@ napoleon_google_docstring = True
 napoleon_numpy_docstring = False
 napoleon_use_rtype = False
 napoleon_use_ivar = True
-# the subpackages list their modules in a "Modules:" section
-napoleon_custom_sections = [("Modules", "params_style")]
+# the subpackages list their modules in a "Modules:" section, the checkpoint its "Versions:"
+napoleon_custom_sections = [("Modules", "params_style"), ("Versions", "params_style")]
 # names the docstrings use as plain words or that live outside the package
 nitpicky = False
 suppress_warnings = ["myst.header", "autosummary.import_cycle"]
