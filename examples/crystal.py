@@ -16,6 +16,6 @@ for step in range(2 if quick else 10):
     sim.run(collisions=20_000 if quick else 200_000)
     order = hs.BondOrder(num_neighbors=12).compute(sim)
     print(
-        f"{sim.counters['collisions']:>9} collisions: Z = {obs.compressibility():.2f}, "
+        f"{sim.counters['collisions']:>9} collisions: Z = {obs.Z():.2f}, "
         f"mean q6 = {order.mean_q:.3f}, crystal-like {order.crystal_fraction:.0%}"
     )

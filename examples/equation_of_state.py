@@ -24,7 +24,7 @@ for phi in packings:
     sim.run(collisions=30 * n)
     obs = sim.observables.reset(every=0.2)
     sim.run(collisions=measured * n)
-    z = obs.estimate("compressibility")
+    z = obs.estimate("Z")
     rows.append((phi, z.mean, z.sem))
     hg = float(eos.hansen_goos(phi))
     print(f"phi = {phi:.2f}: Z = {z.mean:.4f} +- {z.sem:.4f}, Hansen-Goos {hg:.4f}")
