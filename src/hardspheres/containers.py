@@ -47,7 +47,12 @@ from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 from .errors import BoxShapeError, ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
+    from typing import TypeVar
+
     import numpy as np
+
+    #: A tally or a time: one number, or an array of them (the observables' blocks).
+    _Tally = TypeVar("_Tally", float, np.ndarray)
 
 #: Relative tolerance for "touching within rounding": two spheres overlap only
 #: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
@@ -102,7 +107,9 @@ class Container(Protocol):
 
     def degrees_of_freedom(self, n: int) -> int: ...
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float: ...
+    def pressure(
+        self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally
+    ) -> _Tally: ...
 
     def fields(self) -> dict[str, float]: ...
 
@@ -241,7 +248,7 @@ class SphericalContainer:
         """``3 N``: the wall takes up momentum, so none is conserved."""
         return 3 * n
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
+    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
         """Momentum delivered to the wall per unit area and time [energy/length^3]."""
         return wall_impulse / (self.wall_area * elapsed)
 
@@ -486,7 +493,7 @@ class PeriodicBox:
         d = self.dimensions
         return d * n - d if n > 1 else d * n
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
+    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
         """``(N kT + W / (d t)) / V`` with ``W`` the collision virial [energy/length^d]."""
         return (n * kT + virial / (self.dimensions * elapsed)) / self.volume
 
@@ -649,7 +656,7 @@ class CircularContainer:
         """``2 N``: the wall takes up momentum."""
         return 2 * n
 
-    def pressure(self, n: int, kT: float, elapsed: float, wall_impulse: float, virial: float) -> float:
+    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
         """Momentum delivered to the wall per unit length and time [energy/length^2] (see the class)."""
         return wall_impulse / (self.wall_area * elapsed)
 

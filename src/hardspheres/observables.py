@@ -13,6 +13,7 @@ events, so sampling stays cheap in small systems.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -63,7 +64,7 @@ class Observables:
         self._sim = sim
         self.reset(every)
 
-    def _now(self):
+    def _now(self) -> tuple[float, ...]:
         eng = self._sim.engine
         c = eng.counters
         t = float(self._sim.time)
@@ -104,7 +105,7 @@ class Observables:
         self.next_sample = self._mark[_T] + self.every
         return self
 
-    def _auto_every(self):
+    def _auto_every(self) -> float:
         sim = self._sim
         n = sim.n
         v2 = float(np.mean(np.sum(sim.engine.velocities**2, axis=1))) if n else 0.0
@@ -173,11 +174,11 @@ class Observables:
         self.next_sample = self._samples[-1][_T] + self.every
 
     @property
-    def n_blocks(self):
+    def n_blocks(self) -> int:
         """Number of complete blocks sampled since :meth:`reset`."""
         return len(self._samples) - 1
 
-    def _delta(self):
+    def _delta(self) -> tuple[float, ...]:
         now = self._now()
         return tuple(a - b for a, b in zip(now, self._mark))
 
@@ -186,7 +187,7 @@ class Observables:
         """Time averaged over [time]."""
         return self._delta()[0]
 
-    def _dof(self):
+    def _dof(self) -> int:
         return self._sim.container.degrees_of_freedom(self._sim.n)
 
     def temperature(self) -> float:
@@ -197,7 +198,7 @@ class Observables:
         """
         return 2.0 * self._sim.engine.kinetic_energy() / max(self._dof(), 1)
 
-    def _measured(self, d):
+    def _measured(self, d: np.ndarray) -> dict[str, np.ndarray]:
         """The observables from tally differences ``d`` (columns as a sample; rows: blocks)."""
         dt = d[..., _T]
         cont = self._sim.container
@@ -213,7 +214,7 @@ class Observables:
                     out[f"pressure_{name}"] = ptensor[..., q]
         return out
 
-    def _whole(self, name):
+    def _whole(self, name: str) -> float:
         name = ALIASES.get(name, name)
         d = np.array(self._delta())
         if not d[_T] > 0:
@@ -223,7 +224,7 @@ class Observables:
             raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
         return float(values[name])
 
-    def blocks(self, name):
+    def blocks(self, name: str) -> np.ndarray:
         """``(n_blocks,)`` the values of ``name`` over each block of equal length.
 
         ``name`` is one of ``"pressure"``, ``"Z"`` (alias
@@ -238,7 +239,7 @@ class Observables:
             raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
         return values[name]
 
-    def estimate(self, name):
+    def estimate(self, name: str) -> Blocking:
         """Mean over the whole time since :meth:`reset` and its blocking error.
 
         Returns:
@@ -257,11 +258,11 @@ class Observables:
             return _unknown_error(mean)
         return blocking(x)._replace(mean=mean)
 
-    def error(self, name):
+    def error(self, name: str) -> float:
         """Standard error of ``name``'s average (``nan`` with fewer than two blocks)."""
         return self.estimate(name).sem
 
-    def pressure(self):
+    def pressure(self) -> float:
         """Pressure [energy/length^3] averaged since :meth:`reset`.
 
         Spherical container: momentum delivered to the wall per unit area
@@ -270,7 +271,7 @@ class Observables:
         """
         return self._whole("pressure")
 
-    def pressure_tensor(self):
+    def pressure_tensor(self) -> np.ndarray:
         """``(3, 3)`` pressure tensor [energy/length^3] averaged since :meth:`reset` (periodic box).
 
         ``P = (int sum m v v dt + sum r_ij dp_i) / (t V)``: the kinetic part
@@ -291,7 +292,7 @@ class Observables:
             p[a, b] = p[b, a] = self._whole(f"pressure_{name}")
         return p
 
-    def helfand_moments(self, kind):
+    def helfand_moments(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand.
 
         Args:
@@ -353,7 +354,7 @@ class Observables:
         speeds = np.linalg.norm(self._sim.engine.velocities, axis=1)
         return np.histogram(speeds, bins=bins, range=range)
 
-    def summary(self):
+    def summary(self) -> dict[str, Any]:
         """Dict of the observables (averages over the time since reset).
 
         Each time average ``x`` comes with ``x_error``, its standard error
@@ -365,7 +366,7 @@ class Observables:
         where it is the wall's ``P V / (N kT)`` and ``Z_note`` says that it
         includes a surface term.
         """
-        out = {
+        out: dict[str, Any] = {
             "time": self._sim.time,
             "elapsed": self.elapsed,
             "temperature": self.temperature(),
@@ -398,5 +399,5 @@ class Observables:
 ALIASES = {"compressibility": "Z"}
 
 
-def _unknown_error(mean):
+def _unknown_error(mean: float) -> Blocking:
     return Blocking(mean, math.nan, 0, 0, False, np.zeros(0), np.zeros(0))

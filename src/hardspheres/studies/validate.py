@@ -17,12 +17,16 @@ Standard errors come from block averages (20 blocks per run), pooled over
 the runs when there are several seeds.
 """
 
+from __future__ import annotations
+
 import contextlib
 import csv
 import math
 import os
 import tempfile
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
+from typing import Any, TextIO
 
 import numpy as np
 
@@ -57,7 +61,15 @@ class Row:
     seeds: int
 
 
-def _study(packings, n, equilibrate, collisions, blocks, seeds, folder):
+def _study(
+    packings: Sequence[float],
+    n: int,
+    equilibrate: float,
+    collisions: int,
+    blocks: int,
+    seeds: Iterable[int],
+    folder: str,
+) -> dict[str, Any]:
     return {
         "output": folder,
         "container": "box",
@@ -71,7 +83,7 @@ def _study(packings, n, equilibrate, collisions, blocks, seeds, folder):
     }
 
 
-def _rows(df, n, collisions):
+def _rows(df: Any, n: int, collisions: int) -> list[Row]:
     from . import summarize
 
     rows = []
@@ -107,7 +119,9 @@ def _rows(df, n, collisions):
     return rows
 
 
-def eos_point(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
+def eos_point(
+    phi: float, n: int = 4000, equilibrate: int = 200, collisions: int = 500, blocks: int = 20, seed: int = 0
+) -> Row:
     """Run equal spheres at packing ``phi`` here and measure Z, Gamma and the speeds.
 
     One task of the validation study, run in this process.
@@ -132,21 +146,21 @@ def eos_point(phi, n=4000, equilibrate=200, collisions=500, blocks=20, seed=0):
 
 
 def validate(
-    packings=PACKINGS,
-    csv_path=None,
-    out=None,
-    n=4000,
-    equilibrate=200,
-    collisions=500,
-    blocks=20,
-    seed=0,
-    seeds=1,
-    client=None,
-    serial=False,
-    workers=None,
-    folder=None,
-    progress=None,
-):
+    packings: Sequence[float] = PACKINGS,
+    csv_path: str | os.PathLike[str] | None = None,
+    out: TextIO | None = None,
+    n: int = 4000,
+    equilibrate: int = 200,
+    collisions: int = 500,
+    blocks: int = 20,
+    seed: int = 0,
+    seeds: int = 1,
+    client: Any = None,
+    serial: bool = False,
+    workers: int | None = None,
+    folder: str | os.PathLike[str] | None = None,
+    progress: TextIO | None = None,
+) -> list[Row]:
     """Measure every packing fraction as a study, print the table, write the CSV.
 
     Args:
@@ -169,6 +183,7 @@ def validate(
 
     seed_list = range(seed, seed + seeds)
     # the study's folder: the one given (kept), else a temporary one (removed after)
+    place: contextlib.AbstractContextManager[str]
     if folder is None:
         place = tempfile.TemporaryDirectory()
     else:
@@ -202,7 +217,7 @@ def validate(
     return rows
 
 
-def _write_csv(path, records):
+def _write_csv(path: str | os.PathLike[str], records: Sequence[Any]) -> None:
     """Dataclass records as a CSV table (a header of their fields), written atomically."""
     from ..fileio import atomic_write
 
@@ -213,7 +228,7 @@ def _write_csv(path, records):
             w.writerow(asdict(r))
 
 
-def verdict(rows, bar=3.0):
+def verdict(rows: Sequence[Row], bar: float = 3.0) -> list[str]:
     """Two lines: the largest z-scores and relative errors, and whether every Z passed.
 
     Z passes when it is within ``bar`` standard errors of both Hansen-Goos
@@ -324,7 +339,7 @@ HEYES_CASS_D = (
 #: mean free time 0.13031 and D = 0.247, "Taken from Lue 2005"
 #: (doi:10.1063/1.1834498, as DynamO cites it).  Lue's values
 #: have no error bar there: half a unit of the last digit is used.
-DYNAMO_RHO05 = {
+DYNAMO_RHO05: dict[str, Any] = {
     "n": 1372,
     "rho": 0.5,
     "eta": (0.58, 0.06),
@@ -343,7 +358,7 @@ _LUE = "Lue (2005), doi:10.1063/1.1834498, via DynamO's hardsphere_test.cpp, N =
 TRANSPORT_PACKINGS = (0.5 * math.pi / 6.0, 0.3, 0.45)
 
 
-def _interpolate(table, x):
+def _interpolate(table: Sequence[tuple[float, float]], x: float) -> tuple[float, float]:
     """``(value, error)`` of a table of ``(x, y)`` at ``x``: a cubic in ``log y`` through the
     four nearest points, the error its difference from the quadratic through three (on a
     tabulated ``x``: the value, error 0)."""
@@ -361,7 +376,7 @@ def _interpolate(table, x):
     return float(cubic), float(abs(cubic - quad))
 
 
-def published_diffusion(phi):
+def published_diffusion(phi: float) -> list[tuple[float, float, str]]:
     """Published self-diffusion of the infinite hard-sphere fluid at packing ``phi``.
 
     Returns:
@@ -410,7 +425,9 @@ class TransportRow:
     seconds: float
 
 
-def transport_point(phi, n, duration, seed=1, every=None, equilibrate=50):
+def transport_point(
+    phi: float, n: int, duration: float, seed: int = 1, every: float | None = None, equilibrate: int = 50
+) -> TransportRow:
     """Run ``n`` equal spheres at packing ``phi`` in a periodic box and measure transport.
 
     Equilibrates ``equilibrate`` collisions per sphere from the lattice, then
@@ -440,6 +457,7 @@ def transport_point(phi, n, duration, seed=1, every=None, equilibrate=50):
     t0 = _time.perf_counter()
     box = PeriodicBox.for_packing(n, phi)
     L = box.length
+    assert isinstance(L, float)  # for_packing makes a cube: one edge
     sim = Simulation(random_spheres(n, phi, box, seed=seed), box)
     obs = sim.observables
     sim.run(collisions=equilibrate * n)
@@ -501,7 +519,17 @@ class TransportScore:
     source: str
 
 
-def _score(quantity, row, value, error, ref, ref_err, source, rel_bar, z_bar):
+def _score(
+    quantity: str,
+    row: TransportRow,
+    value: float,
+    error: float,
+    ref: float,
+    ref_err: float,
+    source: str,
+    rel_bar: float,
+    z_bar: float,
+) -> TransportScore:
     comb = math.hypot(error, ref_err)
     z = (value - ref) / comb if comb > 0 else math.inf
     rel = value / ref - 1.0
@@ -520,7 +548,9 @@ def _score(quantity, row, value, error, ref, ref_err, source, rel_bar, z_bar):
     )
 
 
-def score_transport(rows, rel_bar=0.02, z_bar=2.0):
+def score_transport(
+    rows: Sequence[TransportRow], rel_bar: float = 0.02, z_bar: float = 2.0
+) -> list[TransportScore]:
     """Score transport measurements against the published values they can be compared with.
 
     * ``D_inf`` (Yeh-Hummer, from the largest N at each packing) against
@@ -542,7 +572,7 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
         [('Pieprzyk et al.', 0.014), ('Heyes & Cass', 0.019)]
     """
     out = []
-    biggest = {}
+    biggest: dict[float, TransportRow] = {}
     for r in rows:
         if r.phi not in biggest or r.n > biggest[r.phi].n:
             biggest[r.phi] = r
@@ -558,11 +588,12 @@ def score_transport(rows, rel_bar=0.02, z_bar=2.0):
                 ("eta", r.eta, r.eta_err, _DYNAMO),
                 ("lambda", r.lam, r.lam_err, _DYNAMO),
             ):
-                out.append(_score(q, r, value, err, *ref[q], source, rel_bar, z_bar))
+                ref_value, ref_err = ref[q]
+                out.append(_score(q, r, value, err, ref_value, ref_err, source, rel_bar, z_bar))
     return out
 
 
-def transport_table(rows, out):
+def transport_table(rows: Sequence[TransportRow], out: TextIO) -> None:
     """Print the measurements, with the Enskog ratios, as a markdown table."""
     from ..analysis.transport import enskog
 
@@ -586,7 +617,7 @@ def transport_table(rows, out):
         )
 
 
-def score_table(scores, out):
+def score_table(scores: Sequence[TransportScore], out: TextIO) -> str:
     """Print the scores as a markdown table and return the verdict line."""
     print("| quantity | phi | N | measured | published | z | rel. diff. | pass | source |", file=out)
     print("|---|---|---|---|---|---|---|---|---|", file=out)
@@ -609,7 +640,7 @@ def score_table(scores, out):
     return line
 
 
-def line_extrapolations(rows):
+def line_extrapolations(rows: Sequence[TransportRow]) -> list[str]:
     """Lines: D_inf from a weighted straight line in 1/L through the sizes at each packing.
 
     The cross-check of Yeh-Hummer's slope ``-xi kT / (6 pi eta)``: the two
@@ -638,8 +669,14 @@ def line_extrapolations(rows):
 
 
 def validate_transport(
-    packings=TRANSPORT_PACKINGS, sizes=(500, 1372), duration=None, seed=1, out=None, csv_path=None, workers=1
-):
+    packings: Sequence[float] = TRANSPORT_PACKINGS,
+    sizes: Sequence[int] = (500, 1372),
+    duration: float | dict[float, float] | None = None,
+    seed: int = 1,
+    out: TextIO | None = None,
+    csv_path: str | os.PathLike[str] | None = None,
+    workers: int = 1,
+) -> tuple[list[TransportRow], list[TransportScore]]:
     """Measure transport at each packing and size, score against the literature, write CSV.
 
     Args:
@@ -658,7 +695,7 @@ def validate_transport(
     """
     from ..eos import kolafa
 
-    jobs = []
+    jobs: list[tuple[float, int, float, int]] = []
     for phi in packings:
         if isinstance(duration, dict):
             t = duration[phi]
@@ -686,6 +723,6 @@ def validate_transport(
     return rows, scores
 
 
-def _run_transport_job(job):
+def _run_transport_job(job: tuple[float, int, float, int]) -> TransportRow:
     phi, n, t, seed = job
     return transport_point(phi, n, t, seed=seed)
