@@ -483,3 +483,13 @@ def test_empty_scenario_is_refused(tmp_path):
     ):
         assert_one_line(hs_cmd(*args, cwd=tmp_path), "empty.txt", "no spheres")
     assert not (tmp_path / "e.html").exists()
+
+
+def test_one_sphere_alone_gets_no_advice_that_cannot_help(tmp_path):
+    """Issue 29 item 8: "mean free path inf (error unknown: run longer)" for a
+    sphere alone in a box, which can never collide."""
+    (tmp_path / "a.txt").write_text("1 0.5 0 0 0 1 0.3 0.2 a\n")
+    done = hs_cmd("run", "a.txt", "--box", 4, "--until", 100, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    text = done.stdout + done.stderr
+    assert "run longer" not in text and "one sphere: it never collides" in text

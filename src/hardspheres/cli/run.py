@@ -294,6 +294,11 @@ def summary_lines(
     else:
         lines.append(f"pressure {_value(summary, 'pressure')} (virial), {kT}")
         lines.append(f"Z = PV/NkT {_value(summary, 'Z')}")
+    if sim.n < 2:
+        # no advice that cannot help: a sphere alone never collides (issue 29)
+        lines.append("collision rate 0 per sphere per unit time (one sphere: it never collides)")
+        lines.append("mean free path inf (one sphere: it never collides)")
+        return lines
     lines.append(f"collision rate {_value(summary, 'collision_rate')} per sphere per unit time")
     lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
     return lines
