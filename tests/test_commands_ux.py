@@ -493,3 +493,26 @@ def test_one_sphere_alone_gets_no_advice_that_cannot_help(tmp_path):
     assert done.returncode == 0, done.stderr
     text = done.stdout + done.stderr
     assert "run longer" not in text and "one sphere: it never collides" in text
+
+
+def test_summaries_say_only_what_happened(tmp_path):
+    """Issue 29 item 5: every run without --equilibrate said its averages
+    "include the melting of a lattice start", also after --resume."""
+    (tmp_path / "s.txt").write_text(
+        "".join(
+            f"1 0.3 {x} {y} 0 {0.1 * x} {-0.1 * y} 0.5 s{x}{y}\n" for x in range(-2, 3) for y in range(-2, 3)
+        )
+    )
+    first = hs_cmd("run", "s.txt", "--box", 6, "--until", 5, "--checkpoint", "c.npz", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    out = first.stdout + first.stderr
+    assert "melting" not in out and "not equilibrated in this run" in out
+    again = hs_cmd("run", "--resume", "c.npz", "--until", 10, cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    out = again.stdout + again.stderr
+    assert "from the resumed checkpoint on" in out and "lattice" not in out
+    traj = hs_cmd(
+        "run", "s.txt", "--box", 6, "--until", 50, "--equilibrate", 5, "--trajectory", "t.gsd", cwd=tmp_path
+    )
+    assert traj.returncode == 0, traj.stderr
+    assert "they include the equilibration" in traj.stdout + traj.stderr

@@ -271,7 +271,7 @@ def _value(summary: dict[str, Any], key: str, fmt: str = ".6g") -> str:
 
 
 def summary_lines(
-    sim: Simulation, summary: dict[str, Any], averaged_from: float, equilibrated: str
+    sim: Simulation, summary: dict[str, Any], averaged_from: float, equilibrated: str, resumed: bool = False
 ) -> list[str]:
     """The physics lines of the summary, labelled for what they are."""
     lines: list[str] = []
@@ -280,7 +280,10 @@ def summary_lines(
     since = f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}" + (
         f" (after equilibrating: {equilibrated})"
         if equilibrated
-        else " (from the start, which includes the melting of a lattice start; see --equilibrate)"
+        else " (from the resumed checkpoint on; not equilibrated in this run)"
+        if resumed
+        else " (from the start, not equilibrated in this run: a start far from equilibrium, "
+        "such as a lattice, is in them; see --equilibrate)"
     )
     lines.append(since)
     kT = f"kT {summary['temperature']:.6g}"
@@ -416,7 +419,12 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         f"{c1['reflections'] - c0['reflections']} reflections",
         f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)",
     ]
-    lines += summary_lines(sim, summary, averaged_from, equilibrated)
+    lines += summary_lines(sim, summary, averaged_from, equilibrated, resumed=bool(args.resume))
+    if args.trajectory and equilibrated:
+        lines.append(
+            f"trajectory: frames from t = {start_time:.6g}, so they include the equilibration "
+            f"(averages start at t = {averaged_from:.6g})"
+        )
     if e1 == 0:
         lines.append("all spheres at rest: no pressure or rates")
     lines.append(
