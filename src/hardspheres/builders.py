@@ -291,6 +291,8 @@ def random_arrays(
         where = as_container(container, box)
     except ValueError as e:
         raise BuildError(str(e)) from None
+    if getattr(where, "dimensions", 3) == 2:
+        return _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT)
     if not (0.0 < packing < MAX_PACKING):
         raise BuildError(f"packing fraction must be in (0, {MAX_PACKING:.4f}), got {packing}")
     if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
@@ -412,4 +414,133 @@ def crystal(
     rng = np.random.default_rng(seed)
     masses = np.ones(n)
     velocities = maxwell_boltzmann(rng, masses, kT)
+    return State.from_arrays(masses, np.full(n, float(radius)), positions, velocities), box
+
+
+#: The densest packing of equal disks (the triangular lattice): pi / (2 sqrt 3) = 0.9069.
+MAX_PACKING_2D = float(np.pi / (2.0 * np.sqrt(3.0)))
+
+#: Random disks are built up to this area fraction (a random subset of a
+#: triangular lattice's sites; denser: compress, or the hexagonal crystal).
+RANDOM_DISKS_MAX = 0.72
+
+
+def _triangular(kx, ky, ax, ay, shift):
+    """``kx`` by ``ky`` sites, rows ``ay`` apart, odd rows shifted by half of ``ax``, minus ``shift``."""
+    j, i = np.divmod(np.arange(kx * ky), kx)
+    return np.column_stack([(i + 0.5 * (j % 2)) * ax, j * ay]) - shift
+
+
+def _disk_sites(n, where, rmax):
+    """Sites of a triangular lattice for ``n`` disks of largest radius ``rmax``, about 2 per disk.
+
+    A periodic box: whole rows (an even number) tiling it, their spacing as
+    near the triangular lattice's as the box allows; a circle: the lattice
+    inside ``R - rmax``.  ``None`` if fewer than ``n`` sites fit without
+    two disks touching.
+    """
+    a_min = 2.0 * rmax * (1.0 + 1e-9)
+    if where.periodic:
+        lx, ly = where.sides
+        most = max(1, int(lx / a_min)) * max(2, 2 * int(ly / (a_min * np.sqrt(3.0))))
+        m = _target_sites(n, max(most, n))
+        kx = max(1, int(round(np.sqrt(m * np.sqrt(3.0) * lx / (2.0 * ly)))))
+        ky = max(2, 2 * int(np.ceil(m / kx / 2.0)))
+        while kx * ky >= n:
+            ax, ay = lx / kx, ly / ky
+            if min(ax, np.hypot(0.5 * ax, ay)) >= a_min:
+                return _triangular(kx, ky, ax, ay, np.array([0.5 * lx - 0.25 * ax, 0.5 * ly - 0.5 * ay]))
+            # too close along one way: fewer sites that way
+            if ax < np.hypot(0.5 * ax, ay):
+                kx -= 1
+            else:
+                ky -= 2
+        return None
+    reach = where.radius - rmax
+    if reach <= 0.0:
+        return None if n else np.zeros((0, 2))
+    a = max(a_min, np.sqrt(2.0 * np.pi * reach * reach / (np.sqrt(3.0) * max(2 * n, 1))))
+    while True:
+        k = int(reach / a) + 2
+        sites = _triangular(
+            2 * k + 1,
+            2 * k + 2,
+            a,
+            a * np.sqrt(3.0) / 2.0,
+            np.array([k * a, (k + 1) * a * np.sqrt(3.0) / 2.0]),
+        )
+        sites = sites[np.linalg.norm(sites, axis=1) <= reach * (1.0 - 1e-12)]
+        if len(sites) >= n:
+            return sites
+        if a <= a_min:
+            return None
+        a = max(a_min, a * 0.97)
+
+
+def _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT):
+    """:func:`random_arrays` in 2-D: disks on a random subset of a triangular lattice's sites."""
+    if not (0.0 < packing <= RANDOM_DISKS_MAX):
+        raise BuildError(
+            f"area fraction must be in (0, {RANDOM_DISKS_MAX}] for random disks, got {packing}; "
+            "denser: compress, or crystal('hexagonal', ...)"
+        )
+    if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
+        raise BuildError("radius and mass ratios must be >= 1")
+    rng = np.random.default_rng(seed)
+    rel = _radii(rng, n, radius_ratio)
+    radii = rel * np.sqrt(packing * where.volume / (np.pi * np.sum(rel**2))) if n else rel
+    rmax = float(radii.max()) if n else 0.0
+    if where.periodic and n and 6.0 * rmax > min(where.sides):
+        raise BuildError(
+            f"a periodic box must be at least three largest diameters wide ({6.0 * rmax:.3g}), "
+            f"not {min(where.sides):g}: lower the packing or raise N"
+        )
+    sites = _disk_sites(n, where, rmax) if n else np.zeros((0, 2))
+    if sites is None:
+        raise BuildError(
+            f"no triangular lattice holds {n} disks at area fraction {packing} in this container; "
+            "lower the packing or the radius ratio, or change the box's shape"
+        )
+    chosen = np.sort(rng.choice(len(sites), size=n, replace=False)) if n else np.zeros(0, int)
+    positions = where.wrap(sites[chosen])
+    masses = np.ones(n) if mass_ratio == 1.0 else np.exp(rng.uniform(0.0, np.log(mass_ratio), n))
+    velocities = maxwell_boltzmann(rng, masses, kT, dimensions=2)
+    return masses, radii, positions, velocities
+
+
+def hexagonal(
+    cells: tuple[int, int], packing: float, radius: float = 0.5, kT: float = 1.0, seed: int | None = 0
+) -> tuple[State, Container]:
+    """A perfect hexagonal (triangular) crystal of disks filling a periodic 2-D box.
+
+    ``cells = (nx, ny)``: ``nx`` disks per row, ``ny`` rows (even); the box
+    is ``nx a`` by ``ny a sqrt(3)/2`` for neighbours ``a`` apart, so
+    ``nx = ny`` gives the ``sqrt(3)/2`` box the crystal needs.
+
+    Example:
+        >>> s, box = hexagonal((4, 4), 0.7)
+        >>> s.n, round(box.sides[1] / box.sides[0], 6)
+        (16, 0.866025)
+    """
+    from .containers import PeriodicBox
+
+    try:
+        nx, ny = (int(c) for c in cells)
+    except (TypeError, ValueError):
+        raise BuildError(f"cells {cells!r}: give two whole numbers, the second even") from None
+    if nx < 1 or ny < 2 or ny % 2:
+        raise BuildError(f"cells {cells!r}: give two whole numbers >= 1, the second even (rows pair up)")
+    if not (0.0 < packing <= MAX_PACKING_2D):
+        raise BuildError(f"area fraction must be in (0, {MAX_PACKING_2D:.6f}] for a crystal, got {packing}")
+    if not (radius > 0.0 and np.isfinite(radius)):
+        raise BuildError(f"radius must be a finite number > 0, got {radius}")
+    a = 2.0 * radius * np.sqrt(MAX_PACKING_2D / packing)
+    ay = a * np.sqrt(3.0) / 2.0
+    box = PeriodicBox((nx * a, ny * ay))
+    positions = box.wrap(
+        _triangular(nx, ny, a, ay, np.array([0.5 * nx * a - 0.25 * a, 0.5 * ny * ay - 0.5 * ay]))
+    )
+    n = nx * ny
+    masses = np.ones(n)
+    velocities = maxwell_boltzmann(np.random.default_rng(seed), masses, kT, dimensions=2)
     return State.from_arrays(masses, np.full(n, float(radius)), positions, velocities), box

@@ -777,4 +777,6 @@ def packing_fraction(radii, container) -> float:
     import numpy as np
 
     r = np.asarray(radii, dtype=np.float64)
+    if getattr(container, "dimensions", 3) == 2:  # disks: the area fraction
+        return float(math.pi * np.sum(r**2) / container.volume)
     return float(4.0 / 3.0 * math.pi * np.sum(r**3) / container.volume)

@@ -24,7 +24,9 @@ from numpy.typing import ArrayLike
 from .state import kinetic_energy
 
 
-def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 1.0) -> np.ndarray:
+def maxwell_boltzmann(
+    rng: np.random.Generator, masses: np.ndarray, kT: float = 1.0, dimensions: int = 3
+) -> np.ndarray:
     """Velocities drawn at temperature ``kT`` [energy], total momentum zero.
 
     The draw is rescaled so that the kinetic energy is exactly
@@ -35,8 +37,10 @@ def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 
         masses: ``(N,)`` [mass].
         kT: temperature [energy].
 
+        dimensions: ``d``, 3 or 2 (disks).
+
     Returns:
-        ``(N, 3)`` velocities [length/time].
+        ``(N, d)`` velocities [length/time] (kinetic energy ``d/2 (N - 1) kT``).
 
     Raises:
         BuildError: ``kT`` is not a finite number >= 0.
@@ -46,12 +50,13 @@ def maxwell_boltzmann(rng: np.random.Generator, masses: np.ndarray, kT: float = 
 
         raise BuildError(f"kT must be a finite number >= 0 [energy], got {kT!r}")
     n = len(masses)
-    v = rng.normal(size=(n, 3)) * np.sqrt(kT / masses)[:, None]
+    d = int(dimensions)
+    v = rng.normal(size=(n, d)) * np.sqrt(kT / masses)[:, None]
     if n > 1:
         v -= (masses @ v) / masses.sum()
         ke = kinetic_energy(masses, v)
         if ke > 0:
-            v *= np.sqrt(1.5 * (n - 1) * kT / ke)
+            v *= np.sqrt(0.5 * d * (n - 1) * kT / ke)
     else:
         v[:] = 0.0
     return v

@@ -272,7 +272,10 @@ class Observables:
         return self._whole("pressure")
 
     def pressure_tensor(self) -> np.ndarray:
-        """``(3, 3)`` pressure tensor [energy/length^3] averaged since :meth:`reset` (periodic box).
+        """``(d, d)`` pressure tensor [energy/length^d] averaged since :meth:`reset` (periodic box).
+
+        In 2-D (disks) the ``xx``, ``yy`` and ``xy`` components: its trace
+        over two is the mechanical pressure ``(E_kin + W / 2t) / A``.
 
         ``P = (int sum m v v dt + sum r_ij dp_i) / (t V)``: the kinetic part
         integrated exactly between collisions and the collisional virial
@@ -290,7 +293,8 @@ class Observables:
         for q, name in enumerate(_TENSOR):
             a, b = _PAIRS[q]
             p[a, b] = p[b, a] = self._whole(f"pressure_{name}")
-        return p
+        d = getattr(self._sim.container, "dimensions", 3)
+        return p[:d, :d].copy() if d != 3 else p
 
     def helfand_moments(self, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """Sampled Helfand moments since :meth:`reset` (periodic box), for Einstein-Helfand.

@@ -120,7 +120,7 @@ class Simulation:
         # the unwrapped centres (positions + images * L) are kept in a periodic box
         images = container.image_counts(state.positions)
         if state.images is not None:
-            images += np.asarray(state.images, dtype=np.int64).reshape(-1, 3)
+            images += np.asarray(state.images, dtype=np.int64).reshape(images.shape)
         _compiled()
         self._engine = Engine(
             state.masses,

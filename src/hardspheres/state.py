@@ -59,6 +59,12 @@ class State:
     time: float = 0.0
     images: np.ndarray | None = None
 
+    @property
+    def dimensions(self) -> int:
+        """The dimension of space, ``d``: the positions' columns (2 for disks, else 3)."""
+        p = np.asarray(self.positions)
+        return 2 if p.ndim == 2 and p.shape[1] == 2 else 3
+
     @classmethod
     def from_arrays(
         cls,
@@ -89,7 +95,9 @@ class State:
             raise ScenarioError(
                 f"masses, radii, positions and velocities must be numbers ({_first_line(e)})"
             ) from None
-        for what, a, shape in zip(("radii", "positions", "velocities"), arrays, ((n,), (n, 3), (n, 3))):
+        # the dimension from the positions' columns: 3, or 2 for disks
+        d = 2 if arrays[1].ndim == 2 and arrays[1].shape[1] == 2 and arrays[1].shape[0] == n else 3
+        for what, a, shape in zip(("radii", "positions", "velocities"), arrays, ((n,), (n, d), (n, d))):
             if a.size != int(np.prod(shape)):
                 raise ScenarioError(f"{what} has shape {list(a.shape)} for {n} masses; give {list(shape)}")
         names = [f"s{i}" for i in range(n)] if names is None else [str(x) for x in names]
@@ -98,8 +106,8 @@ class State:
         state = cls(
             masses,
             arrays[0].reshape(n),
-            arrays[1].reshape(n, 3).copy(),
-            arrays[2].reshape(n, 3).copy(),
+            arrays[1].reshape(n, d).copy(),
+            arrays[2].reshape(n, d).copy(),
             names,
             time,
         )
@@ -124,8 +132,8 @@ class State:
         for what, a, shape in (
             ("masses", self.masses, (n,)),
             ("radii", self.radii, (n,)),
-            ("positions", self.positions, (n, 3)),
-            ("velocities", self.velocities, (n, 3)),
+            ("positions", self.positions, (n, self.dimensions)),
+            ("velocities", self.velocities, (n, self.dimensions)),
         ):
             if np.shape(a) != shape:
                 raise ScenarioError(f"{what} has shape {list(np.shape(a))}, expected {list(shape)}")

@@ -353,8 +353,8 @@ class Engine:
 
     @property
     def sides(self) -> np.ndarray | None:
-        """``(3,)`` sides of the periodic box as the core reads them [length], or ``None`` (no box)."""
-        return self._edges.copy() if self.scalars[core.F_BOX] else None
+        """``(d,)`` sides of the periodic box as the core reads them [length], or ``None`` (no box)."""
+        return self._edges[: self.dimensions].copy() if self.scalars[core.F_BOX] else None
 
     def _grid(self, n, headroom=1.0):
         sigma = 2.0 * float(self.radii.max()) * headroom if n else 0.0

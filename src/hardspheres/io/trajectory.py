@@ -325,10 +325,12 @@ class GSDWriter(_FrameWriter):
         for key, value in c.fields().items():
             f.log[f"hardspheres/{key}"] = np.array([value])
         f.particles.N = state.n
-        f.particles.position = state.positions
-        f.particles.velocity = state.velocities
+        if getattr(c, "dimensions", 3) == 2:  # as HOOMD writes 2-D: dimensions 2, z = 0, Lz = 0
+            f.configuration.dimensions = 2
+        f.particles.position = _three(state.positions)
+        f.particles.velocity = _three(state.velocities)
         if state.images is not None:
-            f.particles.image = state.images.astype(np.int32)
+            f.particles.image = _three(state.images).astype(np.int32)
             if self._count == 0:  # marks files that carry images (all zero is not stored)
                 f.log["hardspheres/images"] = np.array([1], np.int8)
         if self._count == 0:
@@ -421,11 +423,13 @@ class XYZWriter(_FrameWriter):
         fh = self._file
         fh.write(header)
         if state.n:
-            nums = np.column_stack([state.positions, state.velocities, state.radii, state.masses])
+            x, v = _three(state.positions), _three(state.velocities)
+            nums = np.column_stack([x, v, state.radii, state.masses])
             rows = ("%.17g " * 8).rstrip()
             lines = [f"{name} {rows % tuple(r)}" for name, r in zip(state.names, nums.tolist())]
             if images is not None:
-                lines = [f"{line} {a} {b} {c}" for line, (a, b, c) in zip(lines, np.asarray(images).tolist())]
+                rows3 = _three(np.asarray(images)).astype(np.int64).tolist()
+                lines = [f"{line} {a} {b} {c}" for line, (a, b, c) in zip(lines, rows3)]
             fh.write("\n".join(lines))
             fh.write("\n")
         fh.flush()
@@ -540,17 +544,18 @@ def _read_gsd(path: str) -> Frames:
             run_end = f.log.get("hardspheres/run_end")
         if run_end is not None and len(run_end) == 2:
             _warn_if_cut(path, times[-1], run_end)
+        d = getattr(container, "dimensions", 3)
         return Frames(
             np.array(times),
-            np.array(pos).reshape(-1, n, 3),
-            np.array(vel).reshape(-1, n, 3),
+            np.array(pos).reshape(-1, n, 3)[..., :d],
+            np.array(vel).reshape(-1, n, 3)[..., :d],
             np.asarray(first.particles.diameter, np.float64) / 2.0,
             np.asarray(first.particles.mass, np.float64).copy(),
             names,
             container=container,
             events=_concat(events),
             images=(
-                np.array(images).reshape(-1, n, 3)
+                np.array(images).reshape(-1, n, 3)[..., :d]
                 if container.periodic and "hardspheres/images" in log
                 else None
             ),
@@ -615,16 +620,25 @@ def _read_xyz(path: str, check_end: bool = True) -> Frames:
         _warn_if_cut(path, times[-1], run_end)
     n = len(names)
     has_images = container.periodic and all(im is not None for im in images)
+    d = getattr(container, "dimensions", 3)
     return Frames(
         np.array(times),
-        np.array(pos).reshape(-1, n, 3),
-        np.array(vel).reshape(-1, n, 3),
+        np.array(pos).reshape(-1, n, 3)[..., :d],
+        np.array(vel).reshape(-1, n, 3)[..., :d],
         radii,
         masses,
         names,
         container=container,
-        images=np.array(images).reshape(-1, n, 3) if has_images else None,
+        images=np.array(images).reshape(-1, n, 3)[..., :d] if has_images else None,
     )
+
+
+def _three(a):
+    """``(N, d)`` rows as ``(N, 3)`` (2-D: z = 0), as GSD and XYZ hold them."""
+    a = np.asarray(a)
+    if a.ndim == 2 and a.shape[1] == 2:
+        return np.column_stack([a, np.zeros(len(a), a.dtype)])
+    return a
 
 
 # ---- in memory -------------------------------------------------------------------
@@ -656,17 +670,17 @@ class FrameRecorder(_FrameWriter):
     def frames(self) -> Frames:
         """The frames recorded so far."""
         sim, st = self._sim, self._state
-        n = st.n
+        n, d = st.n, getattr(sim.container, "dimensions", 3)
         return Frames(
             np.array(self._times),
-            np.array(self._pos).reshape(-1, n, 3),
-            np.array(self._vel).reshape(-1, n, 3),
+            np.array(self._pos).reshape(-1, n, d),
+            np.array(self._vel).reshape(-1, n, d),
             st.radii.copy(),
             st.masses.copy(),
             list(st.names),
             container=sim.container,
             events=_concat(self._ev),
-            images=(np.array(self._img).reshape(-1, n, 3) if sim.container.periodic else None),
+            images=(np.array(self._img).reshape(-1, n, d) if sim.container.periodic else None),
         )
 
 
