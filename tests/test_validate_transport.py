@@ -169,3 +169,14 @@ def test_plot_transport_refuses_another_csv(tmp_path):
     assert r.returncode == 1 and "missing column(s) quantity" in r.stderr
     assert "validate --transport" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "t.png").exists()
+
+
+def test_mean_free_time_is_scored_against_the_equation_of_state():
+    """Issue 29 item 7: scored against Lue's 0.13031 +- 0.000005, an error no
+    source gives; now sqrt(pi)/(6 (Z - 1)) with KLM (0.130170), error t/N."""
+    r = _row(RHO05, 1372, 0.265, 0.003, mean_free_time=0.13019, mean_free_time_err=1e-4)
+    (s,) = [x for x in score_transport([r]) if x.quantity == "mean_free_time"]
+    assert round(s.reference, 6) == 0.13017 and s.reference_error == pytest.approx(0.13017 / 1372, rel=1e-4)
+    assert "Kolafa" in s.source and "1372" not in s.source and s.passed
+    (d,) = [x for x in score_transport([r]) if x.quantity == "D"]
+    assert d.reference_error == pytest.approx(0.06 * 0.247) and "no published error" in d.source

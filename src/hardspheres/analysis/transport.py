@@ -447,7 +447,9 @@ class _EinsteinHelfand(_Blocked):
         times used before was biased at packing 0.45: 3.03 +- 0.03 against
         3.20 +- 0.07 from 20 to 100, N = 500, t = 3000; the stress
         correlations there decay past 25 mean free times.)  The window is kept in :attr:`window` and
-        whether a plateau was found in :attr:`plateau`.
+        whether a plateau was found in :attr:`plateau` (``False`` also when
+        segments shorter than 50 mean free times leave only the fixed window
+        of 5 to 25 mean free times, unchecked).
 
         Returns ``(value, error)``; the error from the spread over
         ``blocks`` segments of the run.
@@ -486,7 +488,6 @@ class _EinsteinHelfand(_Blocked):
                 self.t, self.msd, tseg, [_msd_fft(self._g[s]) for s in segs], starts, 5.0
             )
         except ValueError:
-            seg_mft = tseg[-1] / mft
             if step > 5.0 * mft / 8.0:
                 merged = getattr(self, "_merges", 0)
                 why = (
@@ -500,10 +501,11 @@ class _EinsteinHelfand(_Blocked):
                     "observables.reset(every=T, max_samples=M) with T about a mean free time and "
                     "M above the run's length over T"
                 ) from None
-            raise ValueError(
-                f"a segment of the run ({len(segs)} blocks) is {seg_mft:.3g} mean free times long; "
-                "the fit needs at least 50: run longer or use fewer blocks"
-            ) from None
+            # segments too short for the plateau test (under 50 mean free
+            # times): the fixed window, 5 to 25 mean free times, unchecked
+            v, err = self.value(5.0 * mft, 25.0 * mft)
+            self.plateau = False
+            return v, err
         self.window, self.plateau = window, plateau
         return v * self._scale, err * self._scale
 
