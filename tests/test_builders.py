@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 import hardspheres as hs
 from hardspheres import builders
 from hardspheres.builders import BuildError, random_arrays
+from helpers import hs_cmd
 
 
 def _where(n, packing, box, radius_ratio=1.0):
@@ -146,3 +147,18 @@ def test_impossible_packing_is_refused_in_one_line():
     with pytest.raises(BuildError) as e:
         random_arrays(5000, 0.7, where, seed=1)
     assert "\n" not in str(e.value) and "lower the packing" in str(e.value)
+
+
+def test_oversized_n_is_refused_before_allocating():
+    """Issue 29 item 8: --n 1e10 ended in numpy's 33-line "Unable to allocate
+    74.5 GiB" traceback; now one line saying what fits in this machine."""
+    from hardspheres.builders import BuildError, machine_memory, random_arrays
+
+    mem = machine_memory()
+    n = int(mem // 190 * 2)
+    with pytest.raises(BuildError, match="GiB.*at most about") as e:
+        random_arrays(n, 0.3, 20.0)
+    assert "\n" not in str(e.value)
+    done = hs_cmd("generate", "--n", "1e10", "--container", 20, "--packing", 0.3)
+    assert done.returncode == 1 and done.stderr.count("\n") == 1 and "at most about" in done.stderr
+    assert "Traceback" not in done.stderr

@@ -255,6 +255,32 @@ def random_spheres(
     return State.from_arrays(masses, radii, positions, velocities)
 
 
+#: Bytes per sphere at the builder's peak (the lattice included), and a
+#: run's: the engine's arrays, event calendar and cells or lists.
+BUILD_BYTES_PER_SPHERE = 190
+
+
+def machine_memory() -> int | None:
+    """This machine's physical memory [bytes], or ``None`` where it cannot be read."""
+    import os
+
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def _check_memory(n: int) -> None:
+    """Refuse, before allocating, ``n`` spheres that cannot fit in this machine's memory."""
+    mem = machine_memory()
+    need = BUILD_BYTES_PER_SPHERE * n
+    if mem is not None and need > mem:
+        raise BuildError(
+            f"n = {n:.3g} spheres need about {need / 2**30:.3g} GiB to build, and this machine has "
+            f"{mem / 2**30:.3g} GiB: at most about {mem // BUILD_BYTES_PER_SPHERE:.2g} spheres fit"
+        )
+
+
 def random_arrays(
     n: int,
     packing: float,
@@ -287,6 +313,7 @@ def random_arrays(
     if not (isinstance(n, (int, np.integer)) and n >= 0):
         raise BuildError(f"n must be a whole number >= 0, got {n!r}")
     n = int(n)
+    _check_memory(n)
     try:
         where = as_container(container, box)
     except ValueError as e:
