@@ -462,3 +462,23 @@ def test_many_spheres_without_numpy_run_the_pure_python_engine(tmp_path):
     )
     assert with_numpy.returncode == 0
     assert without.stdout == with_numpy.stdout and without.stdout.count(b"time of event") > 10
+
+
+def test_endless_input_stops_at_the_first_bad_line():
+    """Issue 29 item 8: ``yes | spheres 10 1`` read all of stdin before line 1
+    and ended in a MemoryError (or took all memory)."""
+    yes = subprocess.Popen(["yes"], stdout=subprocess.PIPE)
+    try:
+        done = subprocess.run(
+            [sys.executable, "spheres.py", "10", "1"],
+            stdin=yes.stdout,
+            capture_output=True,
+            cwd=ROOT,
+            timeout=60,
+        )
+    finally:
+        yes.kill()
+        yes.wait()
+    assert done.returncode == 1
+    err = done.stderr.decode()
+    assert err.count("\n") == 1 and "line 1" in err and "Traceback" not in err

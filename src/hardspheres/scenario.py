@@ -14,6 +14,7 @@ Pure Python (no numpy), so that the assignment's program starts fast.
 
 import math
 from dataclasses import dataclass, field
+from typing import IO
 
 from .containers import TOUCH_TOL
 from .errors import ScenarioError, StuckError  # noqa: F401 (re-exported)
@@ -94,8 +95,27 @@ def _decode(data):
         ) from None
 
 
-def parse_scenario(data: str | bytes) -> Scenario:
-    """Parse scenario text (``str`` or UTF-8 ``bytes``) into a :class:`Scenario`.
+def _stream_lines(stream):
+    """``(line number, text)`` of a stream's lines, read one at a time (UTF-8 if bytes)."""
+    for lineno, raw in enumerate(stream, start=1):
+        if isinstance(raw, str):
+            yield lineno, raw.removeprefix("\ufeff") if lineno == 1 else raw
+            continue
+        if lineno == 1:
+            raw = raw.removeprefix(b"\xef\xbb\xbf")  # a BOM from Windows editors
+        try:
+            yield lineno, raw.decode("utf-8")
+        except UnicodeDecodeError as e:
+            raise ScenarioError(
+                f"input is not UTF-8 text (byte 0x{raw[e.start]:02x}); save the scenario as UTF-8", lineno
+            ) from None
+
+
+def parse_scenario(data: str | bytes | IO) -> Scenario:
+    """Parse scenario text (``str`` or UTF-8 ``bytes``, or a stream of them) into a :class:`Scenario`.
+
+    A stream is read a line at a time, and reading stops at the first bad
+    line (endless input, ``yes | spheres 10 1``, is refused at line 1).
 
     Raises:
         ScenarioError: a line without exactly nine fields, a field that is
@@ -108,10 +128,13 @@ def parse_scenario(data: str | bytes) -> Scenario:
         >>> s.names, s.lines
         (['one', 'two'], [1, 3])
     """
-    text = _decode(data)
+    if hasattr(data, "readline"):
+        lines = _stream_lines(data)
+    else:
+        lines = enumerate(_decode(data).split("\n"), start=1)
     scn = Scenario()
     seen: dict[str, int] = {}
-    for lineno, line in enumerate(text.split("\n"), start=1):
+    for lineno, line in lines:
         tokens = line.split()
         if not tokens:
             continue

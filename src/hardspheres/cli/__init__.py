@@ -128,7 +128,7 @@ def run_spheres(argv: Sequence[str], stdin: IO[bytes], stdout: IO[str]) -> int:
         stdout.flush()
     try:
         container, end, fmt = parse_spheres_args(argv)
-        scn = parse_scenario(stdin.read())
+        scn = parse_scenario(stdin)  # a line at a time: stops at the first bad line
         check_scenario(scn, container)
     except (UsageError, ScenarioError) as e:
         hint = f" ({USAGE})" if isinstance(e, UsageError) else ""
