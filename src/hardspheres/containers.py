@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 
 from .errors import BoxShapeError, ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
 
@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from typing import TypeVar
 
     import numpy as np
+    from numpy.typing import ArrayLike
 
     #: A tally or a time: one number, or an array of them (the observables' blocks).
     _Tally = TypeVar("_Tally", float, np.ndarray)
@@ -313,7 +314,7 @@ class SphericalContainer:
         return out
 
 
-def _box_sides(length) -> float | tuple[float, ...]:
+def _box_sides(length: Any) -> float | tuple[float, ...]:  # anything a user gives: checked here
     """``length`` as a cube's edge (a float) or a box's sides (a tuple); :class:`BoxShapeError` if neither."""
     allowed = "give one number (a cube's edge), three (Lx, Ly, Lz) or two (Lx, Ly: 2-D), each finite and > 0"
     if isinstance(length, (str, bytes)):
@@ -454,7 +455,7 @@ class PeriodicBox:
         """GSD's ``configuration/box`` (periodic; in 2-D ``Lz = 0``, as HOOMD writes it)."""
         return [*self.sides, 0.0, 0.0, 0.0] if self.dimensions == 3 else [*self.sides, 0.0, 0.0, 0.0, 0.0]
 
-    def _edges(self):
+    def _edges(self) -> float | tuple[float, ...] | np.ndarray:
         import numpy as np
 
         return self.length if self.cube else np.array(self.sides)
@@ -744,7 +745,7 @@ def from_fields(fields: dict) -> Container:
     """The container whose :meth:`Container.fields` are among ``fields`` (a GSD log, an XYZ header)."""
     import numpy as np
 
-    def number(key):
+    def number(key: str) -> float:
         return float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0])
 
     for prefix in ("", "hardspheres/"):
@@ -767,7 +768,7 @@ def from_fields(fields: dict) -> Container:
 MAX_PACKING = math.pi / math.sqrt(18.0)
 
 
-def packing_fraction(radii, container) -> float:
+def packing_fraction(radii: ArrayLike, container: Container) -> float:
     """Fraction of the container's volume the spheres of ``radii`` fill.
 
     Example:

@@ -104,7 +104,7 @@ class KindLabel(str):
 
     __hash__ = str.__hash__
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type[KindLabel], tuple[str]]:
         return (KindLabel, (str(self),))
 
 

@@ -438,7 +438,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     return _exit_status(failure, signum, checkpoint)
 
 
-def _exit_status(failure, signum, checkpoint):
+def _exit_status(failure: OSError | None, signum: int | None, checkpoint: str | None) -> int:
     """The run's exit status, saying on stderr why it is not 0 (and how to resume)."""
     resume = f"; resume with --resume {checkpoint}" if checkpoint else ""
     if failure is not None:

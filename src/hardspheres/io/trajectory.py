@@ -52,6 +52,7 @@ from collections.abc import Mapping
 from typing import IO, TYPE_CHECKING, Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..containers import Container, from_fields
 from ..errors import NotAContinuation, TruncatedTrajectory  # noqa: F401 (re-exported)
@@ -423,8 +424,8 @@ class XYZWriter(_FrameWriter):
         fh = self._file
         fh.write(header)
         if state.n:
-            x, v = _three(state.positions), _three(state.velocities)
-            nums = np.column_stack([x, v, state.radii, state.masses])
+            p3, v3 = _three(state.positions), _three(state.velocities)
+            nums = np.column_stack([p3, v3, state.radii, state.masses])
             rows = ("%.17g " * 8).rstrip()
             lines = [f"{name} {rows % tuple(r)}" for name, r in zip(state.names, nums.tolist())]
             if images is not None:
@@ -633,7 +634,7 @@ def _read_xyz(path: str, check_end: bool = True) -> Frames:
     )
 
 
-def _three(a):
+def _three(a: ArrayLike) -> np.ndarray:
     """``(N, d)`` rows as ``(N, 3)`` (2-D: z = 0), as GSD and XYZ hold them."""
     a = np.asarray(a)
     if a.ndim == 2 and a.shape[1] == 2:

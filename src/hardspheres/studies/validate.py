@@ -359,7 +359,7 @@ _LUE = (
 _KLM = "sqrt(pi)/(6 (Z - 1)) with Z from Kolafa-Labik-Malijevsky (N -> inf; error: a 1/N finite-size bound)"
 
 
-def mean_free_time_from_eos(phi, n):
+def mean_free_time_from_eos(phi: float, n: int) -> tuple[float, float]:
     """The mean free time of the infinite fluid from its equation of state, and a finite-N error.
 
     ``t = sqrt(pi) / (6 (Z - 1))`` [sigma sqrt(m/kT)] is exact for hard

@@ -416,6 +416,10 @@ def plot_sweep(
 
     Raises:
         ValueError: a column missing (the message lists those present).
+
+    Longer than 80 lines: the table's checks, the series and the reference
+    curves share one figure's axes, and the annotated signature takes a line
+    per parameter.
     """
     from ..studies import GRID, measured, summarize
 

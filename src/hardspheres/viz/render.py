@@ -103,6 +103,10 @@ def _scene(
     light at the upper left) drawn far to near in an orthographic view, so
     nearer spheres hide farther ones.  ``cut`` keeps only the spheres whose
     centre has ``z <= cut`` (a cut-away that shows the inside).
+
+    Longer than 80 lines: the figure and the ``show`` closure that draws on
+    it share their arrays and artists, and its annotated signature takes a
+    line per parameter.
     """
     from matplotlib import cm, colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg

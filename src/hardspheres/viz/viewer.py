@@ -194,7 +194,7 @@ def _payload(
     }
 
 
-def _events(frames, t, n, max_events):
+def _events(frames: Frames, t: np.ndarray, n: int, max_events: int) -> dict[str, Any]:
     """The page's events: those between the first and last frame shown, in time order, at most ``max_events``."""
     et = np.asarray(frames.event_times, dtype=np.float64).reshape(-1)
     ek = np.asarray(frames.event_kinds).reshape(-1).astype(np.uint8)
@@ -225,7 +225,7 @@ def _events(frames, t, n, max_events):
     }
 
 
-def _speed_max(speeds):
+def _speed_max(speeds: np.ndarray) -> float:
     """The top of the speed colour scale: the 99.5th percentile, rounded up."""
     finite_speeds = speeds[np.isfinite(speeds)]
     speed_max = float(np.percentile(finite_speeds, 99.5)) if finite_speeds.size else 1.0
@@ -290,15 +290,15 @@ def write_viewer(
 
 
 def viewer_page(
-    frames,
-    title=None,
-    max_frames=600,
+    frames: Frames,
+    title: str | None = None,
+    max_frames: int = 600,
     *,
-    color_by="speed",
-    max_values=12_000_000,
-    max_events=200_000,
-    cut=None,
-):
+    color_by: str = "speed",
+    max_values: int = 12_000_000,
+    max_events: int = 200_000,
+    cut: float | None = None,
+) -> str:
     """The viewer's self-contained HTML page of ``frames``, as text (what :func:`write_viewer` writes).
 
     Arguments as for :func:`write_viewer`.
@@ -320,7 +320,14 @@ NOTEBOOK_FRAMES = 200
 NOTEBOOK_VALUES = 2_000_000
 
 
-def notebook_html(frames, title=None, height=480, *, max_frames=NOTEBOOK_FRAMES, color_by="speed"):
+def notebook_html(
+    frames: Frames,
+    title: str | None = None,
+    height: int = 480,
+    *,
+    max_frames: int = NOTEBOOK_FRAMES,
+    color_by: str = "speed",
+) -> str:
     """The viewer for a notebook cell: the same self-contained page in an ``<iframe srcdoc>``.
 
     It needs no server and no network (three.js is inside the page), so it
