@@ -162,3 +162,31 @@ def test_oversized_n_is_refused_before_allocating():
     done = hs_cmd("generate", "--n", "1e10", "--container", 20, "--packing", 0.3)
     assert done.returncode == 1 and done.stderr.count("\n") == 1 and "at most about" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_binary_mixture_and_the_uniform_ratio_named_for_what_it_is():
+    """Issue 29 item 4: radius_ratio meant uniform polydispersity (only --help said
+    so), and the commonest mixture, two sizes at a number fraction, had no builder."""
+    s = hs.random_spheres(200, 0.3, box=12.0, seed=3, binary=(1.4, 0.25))
+    r = np.sort(np.unique(np.round(s.radii, 12)))
+    assert len(r) == 2 and r[1] / r[0] == pytest.approx(1.4) and np.sum(s.radii > r[0] * 1.2) == 50
+    assert float(np.sum(4 / 3 * np.pi * s.radii**3)) / 12.0**3 == pytest.approx(0.3)
+    d = cKDTree((s.positions + 6.0) % 12.0, boxsize=12.0).query_pairs(2 * r[1])
+    assert all(
+        np.linalg.norm(((s.positions[i] - s.positions[j]) + 6) % 12 - 6) >= s.radii[i] + s.radii[j]
+        for i, j in d
+    )
+    new = hs.random_spheres(50, 0.2, box=10.0, seed=1, uniform_radius_ratio=2.0)
+    old = hs.random_spheres(50, 0.2, box=10.0, seed=1, radius_ratio=2.0)
+    assert np.array_equal(new.radii, old.radii) and np.array_equal(new.positions, old.positions)
+    for kw in ({"binary": (0.5, 0.5)}, {"binary": (2.0, 1.5)}, {"binary": (2.0, 0.5), "radius_ratio": 2.0}):
+        with pytest.raises(BuildError):
+            hs.random_spheres(20, 0.2, box=10.0, **kw)
+    done = hs_cmd("generate", "--n", 40, "--box", 8, "--packing", 0.2, "--binary", 1.4, 0.5)
+    assert done.returncode == 0, done.stderr
+    radii = sorted({line.split()[1] for line in done.stdout.splitlines() if line.strip()})
+    assert len(radii) == 2
+    assert (
+        hs_cmd("generate", "--n", 40, "--box", 8, "--packing", 0.2, "--uniform-radius-ratio", 2).returncode
+        == 0
+    )

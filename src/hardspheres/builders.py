@@ -220,6 +220,9 @@ def random_spheres(
     radius_ratio: float = 1.0,
     mass_ratio: float = 1.0,
     kT: float = 1.0,
+    *,
+    uniform_radius_ratio: float | None = None,
+    binary: tuple[float, float] | None = None,
 ) -> State:
     """N non-overlapping spheres filling the fraction ``packing`` of a container.
 
@@ -230,8 +233,13 @@ def random_spheres(
             radius of a spherical container [length]), or
         box: the edge of a periodic cubic box, or its sides ``(Lx, Ly, Lz)`` [length].
         seed: random seed (same seed, same scenario).
-        radius_ratio: largest over smallest radius; radii are uniform in
-            between (1 = equal spheres).
+        uniform_radius_ratio: largest over smallest radius, radii uniform
+            in between (uniform polydispersity; 1 = equal spheres).
+        radius_ratio: the old name of ``uniform_radius_ratio``, kept.
+        binary: ``(size_ratio, fraction)``: a binary mixture, the large
+            spheres ``size_ratio`` times the small ones' radius and
+            ``round(fraction n)`` of them in number (at random places).
+            Not with a uniform radius ratio.
         mass_ratio: largest over smallest mass; masses are log-uniform in
             between (1 = all masses 1) [mass].
         kT: temperature of the Maxwell-Boltzmann velocities [energy].
@@ -250,7 +258,16 @@ def random_spheres(
         (100, 0.3)
     """
     masses, radii, positions, velocities = random_arrays(
-        n, packing, container, box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
+        n,
+        packing,
+        container,
+        box,
+        seed=seed,
+        radius_ratio=radius_ratio,
+        mass_ratio=mass_ratio,
+        kT=kT,
+        uniform_radius_ratio=uniform_radius_ratio,
+        binary=binary,
     )
     return State.from_arrays(masses, radii, positions, velocities)
 
@@ -290,6 +307,9 @@ def random_arrays(
     radius_ratio: float = 1.0,
     mass_ratio: float = 1.0,
     kT: float = 1.0,
+    *,
+    uniform_radius_ratio: float | None = None,
+    binary: tuple[float, float] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`random_spheres` as bare arrays, without names or a :class:`State`.
 
@@ -314,11 +334,28 @@ def random_arrays(
         raise BuildError(f"n must be a whole number >= 0, got {n!r}")
     n = int(n)
     _check_memory(n)
+    if uniform_radius_ratio is not None:
+        if radius_ratio != 1.0:
+            raise BuildError("give uniform_radius_ratio or its old name radius_ratio, not both")
+        radius_ratio = uniform_radius_ratio
+    if binary is not None:
+        try:
+            size_ratio, fraction = (float(x) for x in binary)
+        except (TypeError, ValueError):
+            raise BuildError(f"binary must be (size_ratio, fraction), got {binary!r}") from None
+        if not (size_ratio >= 1.0 and np.isfinite(size_ratio) and 0.0 <= fraction <= 1.0):
+            raise BuildError(
+                f"binary: size ratio >= 1 and number fraction in [0, 1], got {size_ratio:g}, {fraction:g}"
+            )
+        if radius_ratio != 1.0:
+            raise BuildError("give a binary mixture or a uniform radius ratio, not both")
     try:
         where = as_container(container, box)
     except ValueError as e:
         raise BuildError(str(e)) from None
     if getattr(where, "dimensions", 3) == 2:
+        if binary is not None:
+            raise BuildError("binary mixtures of disks are not built yet: use uniform_radius_ratio")
         return _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT)
     if not (0.0 < packing < MAX_PACKING):
         raise BuildError(f"packing fraction must be in (0, {MAX_PACKING:.4f}), got {packing}")
@@ -326,7 +363,11 @@ def random_arrays(
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
     volume = where.volume
-    rel = _radii(rng, n, radius_ratio)
+    if binary is None:
+        rel = _radii(rng, n, radius_ratio)
+    else:
+        rel = np.ones(n)
+        rel[rng.permutation(n)[: int(round(fraction * n))]] = size_ratio
     scale = (packing * volume / ((4.0 / 3.0) * np.pi * np.sum(rel**3))) ** (1.0 / 3.0)
     radii = rel * scale
     rmax = float(radii.max()) if n else 0.0

@@ -22,7 +22,21 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
     p.add_argument(
-        "--radius-ratio", type=ratio, default=1.0, help="largest over smallest radius (uniform in between)"
+        "--uniform-radius-ratio",
+        "--radius-ratio",
+        dest="radius_ratio",
+        type=ratio,
+        default=1.0,
+        help="largest over smallest radius, radii uniform in between (uniform polydispersity; "
+        "--radius-ratio is its old name)",
+    )
+    p.add_argument(
+        "--binary",
+        nargs=2,
+        type=float,
+        metavar=("SIZE_RATIO", "FRACTION"),
+        help="a binary mixture: large spheres SIZE_RATIO times the small ones' radius, "
+        "FRACTION of them in number",
     )
     p.add_argument(
         "--mass-ratio", type=ratio, default=1.0, help="largest over smallest mass (log-uniform in between)"
@@ -56,6 +70,10 @@ def run(args: argparse.Namespace) -> int:
         radius_ratio=args.radius_ratio,
         mass_ratio=args.mass_ratio,
     )
+    if args.binary is not None:
+        if args.method == "compress":
+            raise ValueError("--binary is built on the lattice: leave out --method compress")
+        common["binary"] = tuple(args.binary)
     if args.method == "compress":
         from .compress import compression_progress, generate_compressed, start_packing
 
