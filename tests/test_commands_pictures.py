@@ -170,24 +170,26 @@ def test_bad_usage_is_one_line(run, args, says):
     assert lines[0].startswith(f"hardspheres {args[0]}: ") and says in lines[0], lines[0]
 
 
+PICTURES = ROOT / "docs" / "guide" / "pictures.md"  # README's Pictures section, moved
+
+
 def _readme_pictures_block():
-    readme = (ROOT / "README.md").read_text()
-    m = re.search(r"## Pictures\n.*?```sh\n(.*?)```", readme, re.S)
-    assert m, "README has no Pictures section with a sh block"
+    m = re.search(r"```sh\n(.*?)```", PICTURES.read_text(), re.S)
+    assert m, "docs/guide/pictures.md has no sh block"
     return m.group(1).strip().splitlines()
 
 
 def test_readme_pictures_are_made_by_make_sh():
     """README's picture commands are make.sh's; the committed PNGs are what they make."""
     script = (ROOT / "docs" / "images" / "make.sh").read_text().splitlines()
-    readme = (ROOT / "README.md").read_text()
+    readme = PICTURES.read_text()
     for line in _readme_pictures_block():
-        assert line in script, f"README line not in docs/images/make.sh: {line}"
+        assert line in script, f"docs/guide/pictures.md line not in docs/images/make.sh: {line}"
     sizes = {"viewer.png": (960, 640), "still.png": (1280, 720), "inside.png": (1280, 720)}
-    shown = re.findall(r"!\[[^\]]*\]\((docs/images/[^)]+\.png)\)", readme)
+    shown = re.findall(r"!\[[^\]]*\]\((\.\./images/[^)]+\.png)\)", readme)
     assert len(shown) >= 4
     for rel in shown:
-        path = ROOT / rel
+        path = (PICTURES.parent / rel).resolve()
         assert path.stat().st_size < 320_000, (rel, path.stat().st_size)
         assert_picture(path, sizes.get(path.name, (960, 720)))
 

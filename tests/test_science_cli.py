@@ -42,11 +42,11 @@ def test_plot_gr_needs_a_periodic_box(tmp_path, capsys):
 
 
 def test_readme_study_runs(tmp_path, monkeypatch):
-    """The README's study, shortened (N = 108, 30 time units)."""
+    """The user guide's study (docs/guide/transport.md, once README's), shortened (N = 108, 30 time units)."""
     import re
     from pathlib import Path
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "transport.md").read_text()
     block = re.search(r"## A study.*?```python\n(.*?)```", readme, re.S).group(1)
     assert len(block.strip().splitlines()) < 20
     block = block.replace("n, phi = 500, 0.3", "n, phi = 108, 0.3")
