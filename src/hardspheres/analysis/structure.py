@@ -283,7 +283,7 @@ class Hexatic(Compute):
         self.bins, self.r_max = int(bins), r_max
 
     def compute(self, source, box=None):
-        """psi6, |Psi6| and g6(r) of ``source``'s configurations (a 2-D periodic box); returns self."""
+        """psi6, ``|Psi6|`` and g6(r) of ``source``'s configurations (a 2-D periodic box); returns self."""
         freud = _freud()
         L, pos, radii = configurations(source, box)
         if PeriodicBox(L).dimensions != 2:
