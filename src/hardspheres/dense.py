@@ -23,16 +23,24 @@ i.e. ``kT/m = 1/3`` in three dimensions; its g is therefore ``rate = 2 g /
 sqrt(1/3) = 2 sqrt(3) g``.
 """
 
+from __future__ import annotations
+
 import json
 import math
-from typing import NamedTuple, Protocol, runtime_checkable
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .containers import MAX_PACKING, packing_fraction  # noqa: F401 (re-exported)
 from .errors import CompressionError  # noqa: F401 (re-exported)
 from .events import StopReason
 from .scenario import StuckError
+from .writers import SimulationView
+
+if TYPE_CHECKING:
+    from .observables import Observables
 
 #: Densest packing of equal spheres (FCC/HCP): :data:`hardspheres.containers.MAX_PACKING`.
 MAX_PACKING_EQUAL = MAX_PACKING
@@ -63,7 +71,14 @@ class CompressResult(NamedTuple):
     jammed: bool
 
 
-def max_packing(radii):
+class ObservedSimulation(SimulationView, Protocol):
+    """What :func:`compress` and the thermostats use of a simulation: a writer's view and its observables."""
+
+    @property
+    def observables(self) -> Observables: ...
+
+
+def max_packing(radii: ArrayLike) -> float:
     """Largest packing the geometry allows, for :func:`compress`'s check.
 
     Equal spheres: ``pi/sqrt(18) = 0.7405`` (Kepler, Hales).  Mixtures can
@@ -75,11 +90,18 @@ def max_packing(radii):
     return 1.0
 
 
-def _kT(sim):
+def _kT(sim: ObservedSimulation) -> float:
     return sim.observables.temperature()
 
 
-def compress(sim, packing=None, rate=1e-3, pressure=DEFAULT_PRESSURE, collisions=None, progress=None):
+def compress(
+    sim: ObservedSimulation,
+    packing: float | None = None,
+    rate: float = 1e-3,
+    pressure: float | None = DEFAULT_PRESSURE,
+    collisions: int | None = None,
+    progress: Callable[[float, float, int], None] | None = None,
+) -> CompressResult:
     """Compress ``sim`` by growing its spheres; see :meth:`Simulation.compress`.
 
     Longer than 80 lines: the compression loop (growth, the kT rescale, Z
@@ -186,10 +208,10 @@ class Thermostat(Protocol):
 
     next_time: float | None
 
-    def attach(self, sim) -> None:
+    def attach(self, sim: ObservedSimulation) -> None:
         """Called as each run starts."""
 
-    def apply(self, sim, t: float) -> None:
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
         """Act on ``sim``'s spheres at time ``t``."""
 
     def state(self) -> str:
@@ -207,22 +229,22 @@ class Andersen:
             same run, and a checkpoint resumes it bit for bit.
     """
 
-    def __init__(self, kT=1.0, rate=0.1, seed=0):
+    def __init__(self, kT: float = 1.0, rate: float = 0.1, seed: int = 0) -> None:
         if not (math.isfinite(kT) and kT > 0):
             raise ValueError(f"kT must be a number > 0, got {kT}")
         if not (math.isfinite(rate) and rate > 0):
             raise ValueError(f"rate must be a number > 0, got {rate}")
         self.kT, self.rate, self.seed = float(kT), float(rate), int(seed)
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
-        self.next_time = None
+        self.next_time: float | None = None
         self.resampled = 0
 
-    def attach(self, sim):
+    def attach(self, sim: ObservedSimulation) -> None:
         """Called as each run starts: schedules the first resampling."""
         if self.next_time is None:
             self.next_time = sim.time + self._rng.exponential(1.0 / (self.rate * sim.n))
 
-    def apply(self, sim, t):
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
         """Resample one sphere's velocity at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         i = int(self._rng.integers(sim.n))
@@ -231,7 +253,7 @@ class Andersen:
         self.resampled += 1
         self.next_time = t + self._rng.exponential(1.0 / (self.rate * sim.n))
 
-    def state(self):
+    def state(self) -> str:
         """JSON text of everything needed to resume exactly."""
         return json.dumps(
             {
@@ -249,20 +271,20 @@ class Andersen:
 class VelocityRescale:
     """Rescale all velocities to ``kT`` every ``interval`` [time]."""
 
-    def __init__(self, kT=1.0, interval=1.0):
+    def __init__(self, kT: float = 1.0, interval: float = 1.0) -> None:
         if not (math.isfinite(kT) and kT > 0):
             raise ValueError(f"kT must be a number > 0, got {kT}")
         if not (math.isfinite(interval) and interval > 0):
             raise ValueError(f"interval must be a number > 0, got {interval}")
         self.kT, self.interval = float(kT), float(interval)
-        self.next_time = None
+        self.next_time: float | None = None
 
-    def attach(self, sim):
+    def attach(self, sim: ObservedSimulation) -> None:
         """Called as each run starts: schedules the first rescale."""
         if self.next_time is None:
             self.next_time = sim.time + self.interval
 
-    def apply(self, sim, t):
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
         """Rescale every velocity at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         eng.move_clock(t)
@@ -271,15 +293,16 @@ class VelocityRescale:
             eng.rescale_velocities(math.sqrt(self.kT / kt))
         self.next_time = t + self.interval
 
-    def state(self):
+    def state(self) -> str:
         return json.dumps(
             {"kind": "rescale", "kT": self.kT, "interval": self.interval, "next_time": self.next_time}
         )
 
 
-def thermostat_from_state(text):
+def thermostat_from_state(text: str) -> Andersen | VelocityRescale:
     """The thermostat :meth:`Andersen.state` or :meth:`VelocityRescale.state` saved."""
     d = json.loads(text)
+    th: Andersen | VelocityRescale
     if d["kind"] == "andersen":
         th = Andersen(d["kT"], d["rate"], d["seed"])
         th._rng.bit_generator.state = d["rng"]

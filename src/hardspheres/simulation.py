@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterator, Sequence
-from typing import NamedTuple
+from collections.abc import Callable, Iterator, Sequence
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +38,9 @@ from .observables import Observables
 from .scenario import TOUCH_TOL, ScenarioError, check_scenario, parse_scenario
 from .state import State
 from .writers import Writer
+
+if TYPE_CHECKING:
+    from .dense import CompressResult, Thermostat
 
 #: Event kind names by number (:class:`~hardspheres.events.EventKind`).
 KINDS = KIND_LABELS
@@ -105,7 +108,7 @@ class Simulation:
     #: :meth:`set_thermostat` sets it.
     thermostat = None
 
-    def __init__(self, state: State, container: Container | float, window: float = 0.0):
+    def __init__(self, state: State, container: Container | float, window: float = 0.0) -> None:
         container = as_container(container)
         state.check()
         window = _number(window, "window", "a finite number >= 0 [time]", minimum=0.0)
@@ -244,7 +247,7 @@ class Simulation:
             ):
                 yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
-    def _chunks(self, until, collisions, events, record):
+    def _chunks(self, until, collisions, events, record):  # not annotated yet: its loop needs narrowing
         if until is None and collisions is None and events is None:
             raise ValueError("give until, collisions or events: the run never ends otherwise")
         if until is None:
@@ -316,7 +319,14 @@ class Simulation:
         self.stop_requested = True
 
     # ---- dense matter ----------------------------------------------------------
-    def compress(self, packing=None, rate=1e-3, pressure=1e3, collisions=None, progress=None):
+    def compress(
+        self,
+        packing: float | None = None,
+        rate: float = 1e-3,
+        pressure: float = 1e3,
+        collisions: int | None = None,
+        progress: Callable[[float, float, int], None] | None = None,
+    ) -> CompressResult:
         """Compress by growing every radius in proportion (Lubachevsky-Stillinger).
 
         Radii grow linearly in time; colliding spheres part faster than
@@ -362,13 +372,13 @@ class Simulation:
             self._clock = max(self._clock, self._engine.time)
 
     @property
-    def packing(self):
+    def packing(self) -> float:
         """Packing fraction now: volume of the spheres over the container's."""
         from .dense import packing_fraction
 
         return packing_fraction(self._engine.radii_at(), self.container)
 
-    def set_thermostat(self, thermostat):
+    def set_thermostat(self, thermostat: Thermostat | None) -> Simulation:
         """Hold the temperature with a thermostat (``None``: NVE, the default).
 
         ``thermostat`` is a :class:`hardspheres.dense.Andersen` or
@@ -518,7 +528,7 @@ class Simulation:
 _WARM = False
 
 
-def _compiled():
+def _compiled() -> None:
     """Compile the event core now if numba's cache is cold (once per process).
 
     :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
@@ -531,7 +541,7 @@ def _compiled():
         ensure_compiled()
 
 
-def _number(x, what, expected, minimum=-math.inf):
+def _number(x: float, what: str, expected: str, minimum: float = -math.inf) -> float:
     """``x`` as a float, or a ValueError saying what was expected."""
     try:
         v = float(x)
@@ -542,7 +552,7 @@ def _number(x, what, expected, minimum=-math.inf):
     return v
 
 
-def _count(x, what):
+def _count(x: float, what: str) -> int:
     """``x`` as an int >= 0, or a ValueError."""
     try:
         v = int(x)
@@ -554,7 +564,7 @@ def _count(x, what):
     return v
 
 
-def _check_inside(state, container):
+def _check_inside(state: State, container: Container) -> None:
     bad = np.nonzero(container.outside(state.positions, state.radii, TOUCH_TOL))[0]
     if len(bad):
         i = int(bad[0])
