@@ -516,3 +516,24 @@ def test_summaries_say_only_what_happened(tmp_path):
     )
     assert traj.returncode == 0, traj.stderr
     assert "they include the equilibration" in traj.stdout + traj.stderr
+
+
+def test_hopeless_trajectory_is_refused_before_the_first_frame(tmp_path):
+    """Issue 29 item 8: --until 1e6 --every 1e-9 poured out frames with no warning
+    (the size estimate waited for the first progress step, 1/200 of the run)."""
+    (tmp_path / "s.txt").write_text("1 0.5 0 0 0 1 0.3 0.2 a\n1 0.5 2 0 0 -1 0.3 0.2 b\n")
+    done = hs_cmd(
+        "run",
+        "s.txt",
+        "--box",
+        10,
+        "--until",
+        "1e6",
+        "--every",
+        "1e-9",
+        "--trajectory",
+        "t.gsd",
+        cwd=tmp_path,
+    )
+    assert done.returncode == 1 and done.stderr.count("\n") == 1 and "larger --every" in done.stderr
+    assert not (tmp_path / "t.gsd").exists()

@@ -355,8 +355,44 @@ def run(args: argparse.Namespace) -> int:
             lock.release()
 
 
+def _check_trajectory_size(args: argparse.Namespace, sim: Simulation) -> None:
+    """Before the first frame: refuse frames that cannot fit on the disk, warn if they are large.
+
+    The frames alone (the events' share is known only once the run has
+    started, and is warned of then).
+    """
+    every = args.every or (args.until - sim.time) / 100.0
+    frames = int((args.until - sim.time) / every) + 1
+    size = estimate_trajectory_bytes(sim.n, frames, 0.0, args.until - sim.time, False)
+    folder = os.path.dirname(os.path.abspath(args.trajectory))
+    try:
+        free: float = shutil.disk_usage(folder).free
+    except OSError:
+        free = math.inf
+    if size > 1000.0 * free:
+        # hopeless: refused before anything is written
+        raise ValueError(
+            f"--trajectory {args.trajectory}: {frames:.3g} frames (--every {every:g}) would take about "
+            f"{_bytes(size)}, and only {_bytes(free)} is free there; use a larger --every"
+        )
+    if size > free:
+        print(
+            f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+            f"but only {_bytes(free)} is free there; use a larger --every",
+            file=sys.stderr,
+        )
+    elif size > LARGE_TRAJECTORY:
+        print(
+            f"hardspheres run: warning: {args.trajectory} will grow to about {_bytes(size)} "
+            f"({frames} frames)",
+            file=sys.stderr,
+        )
+
+
 def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> int:
     writer = bar = None
+    if args.trajectory:
+        _check_trajectory_size(args, sim)
     e0 = sim.state().kinetic_energy()
     c0 = dict(sim.counters)
     failure = None
@@ -376,7 +412,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
                 frames = int((args.until - start_time) / every) + 1
 
                 def warn(events: int, elapsed: float) -> None:
-                    _warn_size(args, sim, frames, start_time, events, elapsed)
+                    if args.events:  # the frames alone were checked before the first
+                        _warn_size(args, sim, frames, start_time, events, elapsed)
 
             bar = ProgressWriter(progress, start_time, first=warn)
             sim.writers.append(bar)
