@@ -54,3 +54,20 @@ def test_readme_study_runs(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
     assert (tmp_path / "gr.png").exists()
+
+
+@pytest.mark.parametrize("what", ["gr", "msd"])
+def test_plot_from_skips_early_frames(trajectory, tmp_path, capsys, monkeypatch, what):
+    """Issue 29 item 5: plot gr|msd could not skip an equilibration the trajectory holds."""
+    from hardspheres.viz import plots
+
+    seen = []
+    real = getattr(plots, f"plot_{what}")
+    monkeypatch.setattr(
+        plots, f"plot_{what}", lambda frames, out, **kw: seen.append(frames) or real(frames, out, **kw)
+    )
+    out = tmp_path / f"{what}.png"
+    assert main(["plot", what, str(trajectory), "-o", str(out), "--from", "12"]) == 0
+    assert seen[0].times[0] >= 12.0 and len(seen[0].times) == pytest.approx(101, abs=1)
+    assert main(["plot", what, str(trajectory), "-o", str(out), "--from", "1e9"]) == 1
+    assert "no frames from t = 1e+09" in capsys.readouterr().err

@@ -98,6 +98,25 @@ class Frames:
         where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
         return f"Frames(n={self.n}, frames={len(times)}{span}{where}, events={len(self.events)})"
 
+    def since(self, t: float) -> Frames:
+        """The frames (and events) at times ``>= t``: e.g. to leave out an equilibration.
+
+        Example:
+            >>> f = Frames([0.0, 1.0, 2.0], np.zeros((3, 1, 3)), np.zeros((3, 1, 3)), [1.0], [1.0], ["a"])
+            >>> f.since(1.0).times.tolist()
+            [1.0, 2.0]
+        """
+        keep = self.times >= t
+        if not keep.any():
+            raise ValueError(f"no frames from t = {t:g} on (the last is at t = {self.times[-1]:g})")
+        return self.replace(
+            times=self.times[keep],
+            positions=self.positions[keep],
+            velocities=self.velocities[keep],
+            events=self.events[self.events["time"] >= t],
+            images=None if self.images is None else self.images[keep],
+        )
+
     def replace(self, **changes: Any) -> Frames:
         """A copy with some attributes replaced (as ``dataclasses.replace`` did).
 

@@ -42,6 +42,15 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "tau_alpha, chi_4(t) of the overlap (periodic box), or a packing's "
         "contacts Z(h) and forces P(f) (a scenario with --box)",
     )
+    p.add_argument(
+        "--from",
+        dest="since",
+        type=float,
+        default=None,
+        metavar="T",
+        help="gr, msd, fs, chi4, conservation, speeds: use only the frames at times >= T "
+        "(e.g. after an equilibration the trajectory includes)",
+    )
     p.add_argument("--k", type=positive, help="fs: wave number [1/m] (default 2 pi / mean diameter)")
     p.add_argument("--a", type=positive, help="chi4: overlap cut-off [m] (default 0.3 mean diameter)")
     picture_args(p, "plot.png", "the plot to write (.png, .pdf, .svg)")
@@ -67,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         check_source(args)
         frames = frames_from_args(args)
+        if args.since is not None:
+            frames = frames.since(args.since)
         if args.what == "conservation":
             plots.plot_conservation(frames, args.output)
         elif args.what == "gr":
