@@ -52,7 +52,9 @@ LAGRANGE_RATIO = 16.0
 MISS_MARGIN = 1e-13
 
 
-def order_one(x, y, z, length, vx, vy, vz, speed):
+def order_one(
+    x: float, y: float, z: float, length: float, vx: float, vy: float, vz: float, speed: float
+) -> tuple[float, float, float, float, float, float, float, float, int]:
     """Lengths and speeds scaled to order 1, each by a power of two (exact).
 
     The quadratics' rare path outside :data:`RANGE_LO`..:data:`RANGE_HI`:
@@ -89,7 +91,7 @@ def order_one(x, y, z, length, vx, vy, vz, speed):
 FROZEN_RELATIVE = 2.0**-30
 
 
-def frozen_limit(n):
+def frozen_limit(n: int) -> int:
     """How many collisions and reflections in a row may leave the clock where it was.
 
     One more stops a run (both engines), counting from the first event of
@@ -104,7 +106,7 @@ def frozen_limit(n):
     return 100_000 + 1000 * n
 
 
-def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
+def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma: float) -> float:
     """Time until two spheres reach contact distance ``sigma``.
 
     Args:
@@ -124,7 +126,9 @@ def pair_time(dx, dy, dz, dvx, dvy, dvz, sigma):
     return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, INF)
 
 
-def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
+def pair_time_within(
+    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma: float, horizon: float
+) -> float:
     """:func:`pair_time`, or ``inf`` early if the pair surely meets after ``horizon``.
 
     The root is at least ``c / (-2 b)``; a pair with ``c > -2 b horizon (1 +
@@ -179,7 +183,7 @@ def pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, horizon):
     return t if shift == 0 else math.ldexp(t, shift)
 
 
-def wall_time(px, py, pz, vx, vy, vz, reach):
+def wall_time(px: float, py: float, pz: float, vx: float, vy: float, vz: float, reach: float) -> float:
     """Time until a sphere's centre reaches distance ``reach`` from the origin.
 
     Args:
@@ -199,7 +203,9 @@ def wall_time(px, py, pz, vx, vy, vz, reach):
     return wall_time_grow(px, py, pz, vx, vy, vz, reach, 0.0)
 
 
-def collide(m1, m2, dx, dy, dz, dvx, dvy, dvz):
+def collide(
+    m1: float, m2: float, dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float
+) -> tuple[float, float]:
     """Velocity changes of an elastic collision (assignment §2.3.1).
 
     Args:
@@ -220,7 +226,7 @@ def collide(m1, m2, dx, dy, dz, dvx, dvy, dvz):
     return 2.0 * m2 / msum * s, 2.0 * m1 / msum * s
 
 
-def reflect(px, py, pz, vx, vy, vz):
+def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float) -> float:
     """Factor of a reflection off the container at centre ``p``.
 
     Returns:
@@ -246,7 +252,9 @@ def reflect(px, py, pz, vx, vy, vz):
 GROW_MARGIN = 1e-9
 
 
-def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
+def pair_time_grow(
+    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, s: float, u: float, horizon: float
+) -> float:
     """Time until two spheres meet while their contact distance grows.
 
     Args:
@@ -328,7 +336,9 @@ def pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s, u, horizon):
     return t if shift == 0 else math.ldexp(t, shift)
 
 
-def wall_time_grow(px, py, pz, vx, vy, vz, reach, w):
+def wall_time_grow(
+    px: float, py: float, pz: float, vx: float, vy: float, vz: float, reach: float, w: float
+) -> float:
     """:func:`wall_time` for a sphere whose radius grows at speed ``w`` [length/time].
 
     ``reach`` [length] is the container radius minus the sphere's radius
@@ -367,7 +377,9 @@ def wall_time_grow(px, py, pz, vx, vy, vz, reach, w):
     return t if shift == 0 else math.ldexp(t, shift)
 
 
-def collide_grow(m1, m2, dx, dy, dz, dvx, dvy, dvz, u):
+def collide_grow(
+    m1: float, m2: float, dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, u: float
+) -> tuple[float, float]:
     """:func:`collide` with the Lubachevsky-Stillinger rule.
 
     The normal relative speed is reflected in the frame of the growing
@@ -394,7 +406,7 @@ def collide_grow(m1, m2, dx, dy, dz, dvx, dvy, dvz, u):
     return 2.0 * m2 / msum * s, 2.0 * m1 / msum * s
 
 
-def reflect_grow(px, py, pz, vx, vy, vz, w):
+def reflect_grow(px: float, py: float, pz: float, vx: float, vy: float, vz: float, w: float) -> float:
     """:func:`reflect` off a wall closing at speed ``w`` relative to the sphere.
 
     The radial speed is reflected in the frame of the wall: the new inward

@@ -12,13 +12,19 @@ must be unique.  :func:`parse_scenario` reads such text and
 Pure Python (no numpy), so that the assignment's program starts fast.
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import IO
+from typing import IO, TYPE_CHECKING, Any
 
 from .containers import TOUCH_TOL
 from .errors import ScenarioError, StuckError  # noqa: F401 (re-exported)
 from .messages import quote
+
+if TYPE_CHECKING:
+    from .containers import Container
 
 #: Largest magnitude of an input number: squares (``|v|^2``, ``|p|^2``) and energies
 #: (``m |v|^2``) of numbers up to this stay finite doubles.
@@ -47,11 +53,11 @@ class Scenario:
     names: list = field(default_factory=list)
     lines: list = field(default_factory=list)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.masses)
 
 
-def plain_float(token):
+def plain_float(token: str) -> float | None:
     """``float(token)`` if ``token`` is a plain decimal number, else ``None``.
 
     ``float()`` also takes digit-group underscores (``1_0``) and non-ASCII
@@ -68,7 +74,7 @@ def plain_float(token):
     return None if "_" in token or not token.isascii() else x
 
 
-def _number(token, what, lineno):
+def _number(token: str, what: str, lineno: int) -> float:
     x = plain_float(token)
     if x is None:
         raise ScenarioError(f"{what} is not a number: {quote(token)}", lineno)
@@ -83,7 +89,7 @@ def _number(token, what, lineno):
     return x
 
 
-def _decode(data):
+def _decode(data: str | bytes) -> str:
     if isinstance(data, str):
         return data.removeprefix("\ufeff")
     try:
@@ -95,7 +101,7 @@ def _decode(data):
         ) from None
 
 
-def _stream_lines(stream):
+def _stream_lines(stream: Any) -> Iterator[tuple[int, str]]:  # a stream of str or bytes
     """``(line number, text)`` of a stream's lines, read one at a time (UTF-8 if bytes)."""
     for lineno, raw in enumerate(stream, start=1):
         if isinstance(raw, str):
@@ -162,7 +168,7 @@ def parse_scenario(data: str | bytes | IO) -> Scenario:
     return scn
 
 
-def check_scenario(scn: Scenario, container) -> None:
+def check_scenario(scn: Scenario, container: Container | float) -> None:
     """Check that every sphere is inside the container and none overlap.
 
     Args:
@@ -193,7 +199,7 @@ def check_scenario(scn: Scenario, container) -> None:
         )
 
 
-def find_overlap(positions, radii):
+def find_overlap(positions: Sequence[Sequence[float]], radii: Sequence[float]) -> tuple[int, int] | None:
     """First overlapping pair ``(i, j)`` with ``i < j`` (by ``j``), or ``None``.
 
     Spheres are hashed into cubic cells as wide as the largest diameter, so
@@ -205,7 +211,7 @@ def find_overlap(positions, radii):
     cell = 2.0 * max(radii)
     if cell == 0.0:
         return None  # point particles never overlap
-    grid = {}
+    grid: dict[tuple[int, int, int], list[int]] = {}
     for j in range(n):
         pj, rj = positions[j], radii[j]
         cx, cy, cz = (math.floor(pj[0] / cell), math.floor(pj[1] / cell), math.floor(pj[2] / cell))

@@ -13,9 +13,12 @@ Example:
     True
 """
 
+from __future__ import annotations
+
 import os
 import sys
 import time
+from typing import TextIO
 
 #: What the first compilation takes on the reference machine [s] (the note quotes it).
 TYPICAL_SECONDS = 25
@@ -24,7 +27,7 @@ TYPICAL_SECONDS = 25
 _ENTRY_POINTS = ("build", "run", "positions_at", "rebase", "max_overlap")
 
 
-def _index_paths():
+def _index_paths() -> list[str]:
     """numba's cache index file of each entry point of the core (those it can name)."""
     from . import _core
 
@@ -39,7 +42,7 @@ def _index_paths():
     return paths
 
 
-def is_cold():
+def is_cold() -> bool:
     """True when numba's on-disk cache lacks part of the compiled core.
 
     Cheap: looks for the cache's index files, compiles nothing.  When numba
@@ -52,7 +55,7 @@ def is_cold():
     return bool(paths) and not all(os.path.exists(p) for p in paths)
 
 
-def _compile():
+def _compile() -> None:
     """Run every entry point of the core once, on two spheres (compiles them)."""
     from ..containers import SphericalContainer
     from .engine import Engine
@@ -69,7 +72,7 @@ def _compile():
     engine.positions_at()
 
 
-def ensure_compiled(quiet=False, stream=None):
+def ensure_compiled(quiet: bool = False, stream: TextIO | None = None) -> float:
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
     Args:
