@@ -379,3 +379,21 @@ def test_readme_study_file_and_plot_command(tmp_path):
     argv = plot_cmd.split()[1:]
     assert hardspheres([str(tmp_path / a) if a.endswith((".parquet", ".png")) else a for a in argv]) == 0
     assert (tmp_path / "eos-study.png").exists()
+
+
+def test_a_deleted_row_is_computed_again(tmp_path, capsys):
+    """Issue 29 item 8: after deleting a finished row the rerun failed with a
+    19-line traceback (progress.json pointed at the checkpoint removed at the end)."""
+    path = tmp_path / "s.toml"
+    path.write_text(TINY_STUDY.replace("seeds = 2", "seeds = 1") + "checkpoint_seconds = 0\n")
+    assert hardspheres(["sweep", str(path), "--serial"]) == 0
+    first = _results(tmp_path / "out").sort_values("key").reset_index(drop=True)
+    for row in (tmp_path / "out" / "rows").glob("*.parquet"):
+        row.unlink()
+    # a folder from before the fix: progress.json left behind, its checkpoint gone
+    task_dir = next((tmp_path / "out" / "tasks").iterdir())
+    (task_dir / "progress.json").write_text(json.dumps({"chunk": 7, "step": 0, "checkpoint": "ck-7-0.npz"}))
+    capsys.readouterr()
+    assert hardspheres(["sweep", str(path), "--serial"]) == 0, capsys.readouterr().err
+    again = _results(tmp_path / "out").sort_values("key").reset_index(drop=True)
+    pd.testing.assert_frame_equal(first, again)

@@ -437,11 +437,17 @@ def run_task(task):
     prog_path = tdir / "progress.json"
     blocks, n = task["blocks"], task["n"]
     eq_chunks = _split(task["equilibrate"] * n / 2, blocks)
+    prog = None
     if prog_path.exists():
         with open(prog_path, encoding="utf-8") as fh:
             prog = json.load(fh)
-        sim = Simulation.load(tdir / prog["checkpoint"])
-    else:
+        if prog.get("checkpoint") and (tdir / prog["checkpoint"]).exists():
+            sim = Simulation.load(tdir / prog["checkpoint"])
+        else:
+            # its checkpoint is gone (a finished task's row deleted, before
+            # progress.json went with it): computed afresh (issue 29)
+            prog = None
+    if prog is None:
         prog = {
             "chunk": 0,
             "step": 0,
@@ -521,6 +527,7 @@ def run_task(task):
     _atomic(row_path, lambda tmp: pd.DataFrame([row]).to_parquet(tmp, index=False))
     for f in tdir.glob("ck-*.npz"):
         f.unlink(missing_ok=True)
+    prog_path.unlink(missing_ok=True)  # done: a deleted row is computed afresh
     return row
 
 
