@@ -397,3 +397,13 @@ def test_a_deleted_row_is_computed_again(tmp_path, capsys):
     assert hardspheres(["sweep", str(path), "--serial"]) == 0, capsys.readouterr().err
     again = _results(tmp_path / "out").sort_values("key").reset_index(drop=True)
     pd.testing.assert_frame_equal(first, again)
+
+
+def test_failing_task_on_a_local_cluster_is_one_line(tmp_path):
+    """Issue 29 item 8: three "distributed.worker - ERROR - Compute Failed"
+    records with tracebacks came before the one-line reason (19 lines)."""
+    (tmp_path / "s.toml").write_text("packing = 0.7\nn = 5\n")
+    done = hs_cmd("sweep", "s.toml", "--workers", 1, cwd=tmp_path, timeout=240)
+    assert done.returncode == 1
+    err = [x for x in done.stderr.splitlines() if x.strip()]
+    assert len(err) == 1 and "Traceback" not in done.stderr, done.stderr

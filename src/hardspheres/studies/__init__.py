@@ -615,7 +615,7 @@ def local_client(workers=None):
         threads_per_worker=1,
         processes=True,
         dashboard_address=":0",
-        silence_logs=logging.ERROR,
+        silence_logs=logging.CRITICAL,  # a failing task is one line (its reason), not worker records
     )
     return Client(cluster)
 
