@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from ..errors import NotComputedError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 
 class Compute:
@@ -17,18 +22,18 @@ class Compute:
     _computed = False
     _results: tuple[str, ...] = ()
 
-    def _need(self):
+    def _need(self) -> None:
         if not self._computed:
             raise NotComputedError(f"{type(self).__name__}: call compute() first")
 
-    def _axes(self, ax):
+    def _axes(self, ax: Axes | None) -> Axes:
         """Where :meth:`plot` draws: ``ax``, or a new figure's axes (results computed first)."""
         self._need()
         import matplotlib.pyplot as plt
 
         return plt.figure().add_subplot() if ax is None else ax
 
-    def __getattr__(self, name):  # only called for attributes not (yet) set
+    def __getattr__(self, name: str) -> Any:  # only called for attributes not (yet) set
         if name in type(self)._results:
             self._need()
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")

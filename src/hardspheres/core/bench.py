@@ -86,7 +86,7 @@ def _rates(eng, c0, t0, n):
     )
 
 
-def settled(prev, last, counts):
+def settled(prev, last, counts) -> bool:
     """True when two blocks' rates agree: within :data:`SETTLE_TOL` or their noise.
 
     Args:
@@ -147,7 +147,7 @@ def warm_up(eng, per_sphere=None):
     return blocks, ok
 
 
-def container_for(n, packing, box=False):
+def container_for(n, packing, box: bool = False):
     """The container (or periodic box) that holds ``n`` spheres of radius 0.5 at ``packing``.
 
     The benchmarks' one sizing rule, so that every script times the same
@@ -162,7 +162,16 @@ def container_for(n, packing, box=False):
     return SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
 
 
-def bench(n, packing, collisions, seed=0, radius_ratio=1.0, mass_ratio=1.0, box=False, warmup=None):
+def bench(
+    n,
+    packing,
+    collisions,
+    seed: int = 0,
+    radius_ratio: float = 1.0,
+    mass_ratio: float = 1.0,
+    box: bool = False,
+    warmup=None,
+):
     """Generate ``n`` spheres, warm them up into a fluid, time ``collisions`` more.
 
     The container (or box) is sized so that the largest sphere has radius

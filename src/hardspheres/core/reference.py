@@ -77,7 +77,15 @@ COLLISION = int(EventKind.COLLISION)
 _NEVER = 1 << 62  # no count limit
 
 
-def next_event(p, v, tloc, radii, wall, clock, window):
+def next_event(
+    p: list[list[float]],
+    v: list[list[float]],
+    tloc: list[float],
+    radii: list[float],
+    wall: float,
+    clock: float,
+    window: float,
+) -> tuple[float, int, int, int]:
     """Earliest event as ``(t, kind, i, j)`` (``j = -1`` for walls).
 
     Args:
@@ -125,7 +133,7 @@ def next_event(p, v, tloc, radii, wall, clock, window):
     return best, best_kind, best_i, best_j
 
 
-def move_sphere(p, v, tloc, i, t):
+def move_sphere(p: list[list[float]], v: list[list[float]], tloc: list[float], i: int, t: float) -> None:
     """Move sphere ``i`` along its line to time ``t`` (its centre and own time change)."""
     pi, vi = p[i], v[i]
     dt = t - tloc[i]
@@ -135,7 +143,9 @@ def move_sphere(p, v, tloc, i, t):
     tloc[i] = t
 
 
-def apply_event(kind, i, j, p, v, masses):
+def apply_event(
+    kind: int, i: int, j: int, p: list[list[float]], v: list[list[float]], masses: list[float]
+) -> tuple[float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
 
     Returns:
@@ -168,7 +178,7 @@ def apply_event(kind, i, j, p, v, masses):
     return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2
 
 
-def _row(row, d, what):
+def _row(row: Sequence[float], d: int, what: str) -> list[float]:
     """A centre or velocity as ``[x, y, z]`` floats (``z = 0`` in 2-D); ValueError if not ``d`` numbers."""
     out = [float(x) for x in row]
     if len(out) != d:
@@ -338,12 +348,12 @@ class Reference:
     _move_sphere = staticmethod(move_sphere)
     _apply_event = staticmethod(apply_event)
 
-    def _next(self):
+    def _next(self) -> tuple[float, int, int, int]:
         return self._next_event(
             self._p, self._v, self._tloc, self._radii, self._wall, self._clock, self._window
         )
 
-    def _process(self, until):
+    def _process(self, until: float) -> tuple[float, int, int, int, float, float, float, float] | None:
         """The next event up to ``until``, processed: ``(t, kind, i, j, impulse, dp..., virial)``.
 
         ``None`` if it is after ``until`` (or there is none).
