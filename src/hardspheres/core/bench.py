@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,6 +31,9 @@ from ..builders import random_arrays
 from ..containers import PeriodicBox, SphericalContainer
 from ..eos import carnahan_starling, collision_rate_from_z
 from .engine import Engine
+
+if TYPE_CHECKING:
+    from ..containers import Container
 
 #: Warm-up block: this many collisions per sphere, and at least :data:`BLOCK_MIN` collisions.
 BLOCK_PER_SPHERE = 2.0
@@ -52,14 +57,14 @@ WARMUP_MAX = 100.0
 WARMUP_MAX_BLOCKS = 10
 
 
-def peak_rss_mb():
+def peak_rss_mb() -> float:
     """Peak resident memory of this process so far [MB] (POSIX: ``resource``; Windows has none)."""
     import resource
 
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def enskog_rate(packing):
+def enskog_rate(packing: float) -> float:
     """Collisions per sphere per unit time of the equal-sphere fluid, Enskog with Carnahan-Starling.
 
     ``24 phi g(sigma) / sigma * sqrt(kT / (pi m))`` with ``g = (1 - phi/2) /
@@ -74,7 +79,7 @@ def enskog_rate(packing):
     return collision_rate_from_z(float(carnahan_starling(packing)))
 
 
-def _rates(eng, c0, t0, n):
+def _rates(eng: Engine, c0: dict[str, int], t0: float, n: int) -> tuple[float, float, dict[str, int]]:
     """Collision and crossing rates per sphere per unit time since counters ``c0`` at ``t0``."""
     c1, dt = eng.counters, eng.time - t0
     if dt <= 0.0:
@@ -86,7 +91,7 @@ def _rates(eng, c0, t0, n):
     )
 
 
-def settled(prev, last, counts) -> bool:
+def settled(prev: Sequence[float], last: Sequence[float], counts: Sequence[int]) -> bool:
     """True when two blocks' rates agree: within :data:`SETTLE_TOL` or their noise.
 
     Args:
@@ -109,7 +114,7 @@ def settled(prev, last, counts) -> bool:
     return True
 
 
-def warm_up(eng, per_sphere=None):
+def warm_up(eng: Engine, per_sphere: float | None = None) -> tuple[list[tuple[float, float, float]], bool]:
     """Run ``eng`` into a fluid, in blocks; say how each block's rates came out.
 
     Args:
@@ -147,7 +152,7 @@ def warm_up(eng, per_sphere=None):
     return blocks, ok
 
 
-def container_for(n, packing, box: bool = False):
+def container_for(n: int, packing: float, box: bool = False) -> Container:
     """The container (or periodic box) that holds ``n`` spheres of radius 0.5 at ``packing``.
 
     The benchmarks' one sizing rule, so that every script times the same
@@ -163,15 +168,15 @@ def container_for(n, packing, box: bool = False):
 
 
 def bench(
-    n,
-    packing,
-    collisions,
+    n: int,
+    packing: float,
+    collisions: int,
     seed: int = 0,
     radius_ratio: float = 1.0,
     mass_ratio: float = 1.0,
     box: bool = False,
-    warmup=None,
-):
+    warmup: float | None = None,
+) -> dict[str, Any]:
     """Generate ``n`` spheres, warm them up into a fluid, time ``collisions`` more.
 
     The container (or box) is sized so that the largest sphere has radius
