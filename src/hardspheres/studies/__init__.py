@@ -607,16 +607,27 @@ def local_client(workers=None):
     """A :class:`distributed.Client` of a new LocalCluster: one single-threaded
     worker process per core (or ``workers``), its dashboard on a free port."""
     import logging
+    import signal
+    import threading
 
     from distributed import Client, LocalCluster
 
-    cluster = LocalCluster(
-        n_workers=workers or os.cpu_count() or 1,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",
-        silence_logs=logging.CRITICAL,  # a failing task is one line (its reason), not worker records
-    )
+    # the workers ignore Ctrl-C (the disposition is inherited): only this
+    # process stops, cancels the tasks and closes the cluster, so Ctrl-C
+    # exits promptly without a traceback from every worker (issue 29)
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(
+            n_workers=workers or os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            silence_logs=logging.CRITICAL,  # a failing task is one line (its reason), not worker records
+        )
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, old)
     return Client(cluster)
 
 
@@ -705,8 +716,8 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
             finally:
                 if own:
                     cluster = client.cluster
-                    client.close()
-                    cluster.close()
+                    client.close(timeout=10)
+                    cluster.close(timeout=10)
     finally:
         if bar is not None and bar.on and done:
             bar.close()
