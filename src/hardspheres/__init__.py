@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
     from .analysis.collisions import ContactForces, EventRecorder, FreeFlights, Recollisions
     from .analysis.dynamics import CollectiveIntermediate, NonGaussian, Overlap, SelfIntermediate, VanHove
     from .analysis.jamming import Contacts, JammingPoint
-    from .analysis.structure import RDF, BondOrder, StructureFactor
+    from .analysis.structure import RDF, BondOrder, Hexatic, StructureFactor
     from .analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity, enskog, yeh_hummer
     from .builders import random_spheres
     from .frames import Frames
