@@ -403,18 +403,9 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     averaged_from = sim.time
     with _Stopper(sim) as stopper:
         try:
-            every = None
-            warn = None
-            if args.trajectory:
-                every = args.every or (args.until - sim.time) / 100.0
-                writer = _writer(args, sim, every)
+            writer, warn = _trajectory_writer(args, sim, start_time)
+            if writer is not None:
                 sim.writers.append(writer)
-                frames = int((args.until - start_time) / every) + 1
-
-                def warn(events: int, elapsed: float) -> None:
-                    if args.events:  # the frames alone were checked before the first
-                        _warn_size(args, sim, frames, start_time, events, elapsed)
-
             bar = ProgressWriter(progress, start_time, first=warn)
             sim.writers.append(bar)
             equilibrated = _equilibrate(sim, args, progress, start_time)
@@ -473,6 +464,21 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
     return _exit_status(failure, signum, checkpoint)
+
+
+def _trajectory_writer(args: argparse.Namespace, sim: Simulation, start_time: float) -> tuple:
+    """The run's trajectory writer (or ``None``) and the size check after the first progress step."""
+    if not args.trajectory:
+        return None, None
+    every = args.every or (args.until - sim.time) / 100.0
+    writer = _writer(args, sim, every)
+    frames = int((args.until - start_time) / every) + 1
+
+    def warn(events: int, elapsed: float) -> None:
+        if args.events:  # the frames alone were checked before the first
+            _warn_size(args, sim, frames, start_time, events, elapsed)
+
+    return writer, warn
 
 
 def _exit_status(failure: OSError | None, signum: int | None, checkpoint: str | None) -> int:
