@@ -9,9 +9,11 @@ every array the compiled core will index or compute with before it sees
 them; :func:`migrate` brings an older layout to today's.
 
 Versions:
-    1: every layout written up to the layout by families (2026-12-01), told
-       apart by their arrays (see :func:`migrate`).
-    2: today's: the arrays :meth:`Engine.checkpoint` writes now, all present.
+
+* 1: every layout written up to the layout by families (2026-12-01), told
+  apart by their arrays (see :func:`migrate`).
+* 2: today's: the arrays :meth:`Engine.checkpoint
+  <hardspheres.core.engine.Engine.checkpoint>` writes now, all present.
 """
 
 from __future__ import annotations
