@@ -36,7 +36,7 @@ LAYERS = (
         "builders",
     ),
     ("core",),  # the exact dynamics: nothing of Simulation, files or commands
-    ("writers", "observables", "dense", "simulation"),  # the run loop a physicist scripts
+    ("writers", "observables", "dense", "barostat", "simulation"),  # the run loop a physicist scripts
     ("io",),
     ("analysis",),
     ("studies",),

@@ -118,3 +118,7 @@ class NotAContinuation(ValueError):
 
 class StudyError(ValueError):
     """A study file or option is wrong, or a task failed; the message says which."""
+
+
+class BarostatError(ValueError):
+    """Constant pressure that cannot be held here (not a periodic box, a bad option); the message says why."""

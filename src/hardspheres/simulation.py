@@ -107,6 +107,9 @@ class Simulation:
     #: Thermostat holding kT (:mod:`hardspheres.dense`), or ``None`` (NVE);
     #: :meth:`set_thermostat` sets it.
     thermostat = None
+    #: Barostat holding the pressure (:mod:`hardspheres.barostat`), or
+    #: ``None`` (constant volume); :meth:`set_barostat` sets it.
+    barostat = None
 
     def __init__(self, state: State, container: Container | float, window: float = 0.0) -> None:
         container = as_container(container)
@@ -118,6 +121,7 @@ class Simulation:
         self.writers: list[Writer] = []
         self.stop_requested = False
         self.thermostat = None
+        self.barostat = None
         self._run_until = math.inf
         _check_inside(state, container)
         # the unwrapped centres (positions + images * L) are kept in a periodic box
@@ -265,6 +269,9 @@ class Simulation:
         th = self.thermostat
         if th is not None:
             th.attach(self)
+        bs = self.barostat
+        if bs is not None:
+            bs.attach(self)
         for w in self.writers:
             w.attach(self)
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
@@ -274,6 +281,8 @@ class Simulation:
         obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self.stop_requested:
             stop = until if th is None else min(until, th.next_time)
+            if bs is not None:
+                stop = min(stop, bs.next_time)
             for w in self.writers:
                 stop = min(stop, w.next_time)
             # the observables sample their tallies (for error bars) on a time grid
@@ -305,6 +314,8 @@ class Simulation:
                     obs.sample()
                 if th is not None and th.next_time <= stop:
                     th.apply(self, th.next_time)
+                if bs is not None and bs.next_time <= stop:
+                    bs.apply(self, bs.next_time)
                 for w in self.writers:
                     if w.next_time <= stop:
                         w.write(self, w.next_time)
@@ -389,6 +400,21 @@ class Simulation:
         self.thermostat = thermostat  # its own slot: it acts before the writers observe
         return self
 
+    def set_barostat(self, barostat):
+        """Hold the pressure with a barostat (``None``: constant volume, the default).
+
+        ``barostat`` is a :class:`hardspheres.barostat.Barostat` (Monte
+        Carlo volume moves between event-driven stretches); it acts after
+        the thermostat and before the writers; checkpoints keep it.
+
+        Raises:
+            BarostatError: not a periodic box, or a simultaneity window.
+        """
+        if barostat is not None:
+            barostat.check(self)
+        self.barostat = barostat
+        return self
+
     # ---- state -----------------------------------------------------------------
     def state(self, time: float | None = None, unwrapped: bool = False) -> State:
         """The spheres at ``time`` (default: the clock) as a :class:`State`.
@@ -463,6 +489,8 @@ class Simulation:
         }
         if th is not None:
             arrays["thermostat"] = np.array(th.state())
+        if self.barostat is not None:
+            arrays["barostat"] = np.array(self.barostat.state())
         arrays.update(self._engine.checkpoint())  # the container's record is the engine's
         with atomic_write(path, "wb", lock=lock) as fh:
             np.savez(fh, **arrays)  # type: ignore[arg-type]
@@ -489,6 +517,7 @@ class Simulation:
         mark = obs_arrays.get("obs")
         clock = data.pop("clock", None)
         th = data.pop("thermostat", None)
+        bs = data.pop("barostat", None)
         try:
             _compiled()
             sim._engine = Engine.restore(data)  # it reads and checks the container
@@ -522,6 +551,14 @@ class Simulation:
                 sim.set_thermostat(thermostat_from_state(str(th)))
             except (ValueError, KeyError, TypeError) as e:
                 raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") from None
+        sim.barostat = None
+        if bs is not None:
+            from .barostat import barostat_from_state
+
+            try:
+                sim.set_barostat(barostat_from_state(str(bs)))
+            except (ValueError, KeyError, TypeError) as e:
+                raise CheckpointError(f"{path}: damaged checkpoint: bad barostat ({e})") from None
         return sim
 
 

@@ -583,6 +583,33 @@ class Engine:
         i = int(i)
         core.kick(self.arrays, i if self._rank is None else int(self._rank[i]), t, vx, vy, vz)
 
+    def rescale_box(self, container, factors):
+        """Put the spheres in ``container``, a periodic box ``factors`` times this one's sides, now.
+
+        Every centre is scaled with the box about its centre (the affine map
+        of a constant-pressure volume move: ``x -> factors * x`` per axis,
+        the images kept, so unwrapped centres scale too); velocities, radii,
+        counters and tallies are kept, and the cells, lists and predictions
+        are made afresh for the new box (exact: the state now is all the
+        dynamics needs).  The caller checks that no pair overlaps after the
+        move (:mod:`hardspheres.barostat` does).
+        """
+        if self.box is None or not container.periodic:
+            raise ValueError("rescale_box: the engine and the new container must be periodic boxes")
+        if self.scalars[core.F_GROW]:
+            raise ValueError("rescale_box: not while the radii grow")
+        scale = np.asarray(factors, dtype=np.float64).reshape(-1)
+        self._rebase()  # every centre at the clock
+        f = self.scalars
+        dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
+        f[core.F_KIN_INT : core.F_KIN_INT + 6] += f[core.F_KIN_T : core.F_KIN_T + 6] * dt
+        f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
+        f[core.F_T_KIN] = f[core.F_CLOCK]
+        self.spheres[:, core.X : core.Z + 1] *= scale
+        self.container = container
+        self._grid(self.n)
+        self._build()
+
     # ---- running ----------------------------------------------------------
     def advance(
         self,

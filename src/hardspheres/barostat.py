@@ -1,0 +1,285 @@
+"""Constant pressure: Monte Carlo volume moves between exact event-driven stretches.
+
+:class:`Barostat` holds the pressure ``P`` of a run in a periodic box.  At
+fixed intervals of time it tries one volume move: every centre is scaled
+with the box (the affine map ``x -> s x``), velocities kept, and the move
+is accepted with the Metropolis probability of the isobaric-isothermal
+ensemble for hard spheres,
+
+    ``min(1, exp(-beta P (V' - V) + (N + 1) ln(V'/V)))``  and no overlap,
+
+where the proposal is a random walk in ``ln V`` (isotropic moves) or in
+``ln L_a`` of one box side (per-axis moves; ``ln L_a' - ln L_a = ln V'/V``,
+the same rule), so the Jacobian adds one to ``N``: Frenkel & Smit,
+*Understanding Molecular Simulation* (2nd ed., Academic Press 2002),
+section 5.4.2 (NPT Monte Carlo; Algorithm 11 and the ``ln V`` variant of
+the acceptance rule, eq. 5.4.13).  A move that makes two spheres overlap is
+rejected (hard spheres: ``U' = infinity``); one that expands every side
+cannot make an overlap and is not checked.  Between moves the spheres run
+exactly (:class:`hardspheres.core.engine.Engine`); the engine is made
+anew for the new box after an accepted move
+(:meth:`~hardspheres.core.engine.Engine.rescale_box`), which is exact: the
+event-driven dynamics needs only the state now.
+
+Why this samples NPT: event-driven runs at fixed volume keep the uniform
+measure over non-overlapping configurations (Liouville's theorem; the
+energy is all kinetic and constant), and the move obeys detailed balance
+with respect to ``exp(-beta P V) V^N`` times that measure; the velocities
+are left alone and enter nothing.  The scheme is the hybrid MD/MC of the
+hard-sphere literature (e.g. Frenkel & Smit, ch. 5.4 and 6.2; the volume
+moves of Eppenga & Frenkel, Mol. Phys. 52, 1303 (1984)).
+
+``beta = 1 / kT``: the thermostat's ``kT`` if the simulation has one, else
+the kinetic temperature when the barostat is first attached (constant in a
+run without a thermostat), or the ``kT`` given.  In reduced units (``kT =
+1``, diameter 1) ``pressure`` is ``beta P sigma^3``.
+
+Deterministic given ``seed`` (numpy's PCG64); :meth:`Barostat.state` is
+saved in checkpoints (:meth:`hardspheres.Simulation.save`), so a resumed
+run makes the same moves bit for bit.  Refused in a spherical container
+(:class:`~hardspheres.errors.BarostatError`).
+
+Example:
+    >>> import hardspheres as hs
+    >>> from hardspheres.barostat import Barostat
+    >>> box = hs.PeriodicBox.for_packing(108, 0.3)
+    >>> sim = hs.Simulation(hs.random_spheres(108, 0.3, box=box.length, seed=1), box)
+    >>> sim.set_barostat(Barostat(pressure=5.0, seed=2)).run(until=2.0).time
+    2.0
+    >>> sim.barostat.attempted > 0, 0.3 < sim.packing < 0.5
+    (True, True)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from .errors import BarostatError
+
+#: Moves per unit of the auto interval: the mean free time of the fluid
+#: (Enskog, from Carnahan-Starling at the packing when first attached)
+#: divided by this.
+MOVES_PER_FREE_TIME = 1.0
+
+#: The default step is this over ``beta P V - N``: squeezing ``ln V`` by
+#: ``d`` makes an overlap with a probability of about ``(beta P V - N) d``
+#: (Eppenga & Frenkel 1984), so steps of this size are accepted about half
+#: the time in dense matter.
+STEP_SCALE = 3.0
+
+_AXES = "xyz"
+
+
+def _sides(container):
+    """The periodic box's sides ``(Lx, Ly, Lz)`` [length]."""
+    sides = getattr(container, "sides", None)
+    if sides is None:
+        return (float(container.length),) * 3
+    return tuple(float(x) for x in sides)
+
+
+def _box_like(container, sides):
+    """A periodic box of the same kind as ``container`` with ``sides``."""
+    cls = type(container)
+    if len(set(sides)) == 1:
+        return cls(sides[0])
+    return cls(tuple(sides))
+
+
+def require_box(container, what="constant pressure"):
+    """:class:`BarostatError` unless ``container`` is a periodic box."""
+    if container is None or not container.periodic:
+        desc = getattr(container, "description", "this container")
+        raise BarostatError(
+            f"{what} needs a periodic box (its volume moves scale the box), not a {desc}; "
+            "simulate in hs.PeriodicBox(L)"
+        )
+
+
+class Barostat:
+    """Hold the pressure with Monte Carlo volume moves (see the module docstring).
+
+    Args:
+        pressure: ``P`` [energy/length^3] (``beta P sigma^3`` with ``kT = 1``
+            and diameter 1), > 0.
+        kT: ``1 / beta`` [energy]; ``None``: the thermostat's, or the
+            kinetic temperature when first attached.
+        every: time between moves [time]; ``None``: the fluid's Enskog mean
+            free time at the packing when first attached, over
+            :data:`MOVES_PER_FREE_TIME`.
+        step: largest change of ``ln V`` (isotropic) or of ``ln L_a`` (per
+            axis) per move; ``None``: ``min(0.5 / sqrt(N), 1 / (beta P V -
+            N))`` when first attached (squeezing by more than about ``1 /
+            (beta P V - N)`` makes an overlap almost surely).
+        axes: ``None`` (isotropic: every side scaled alike), or the sides
+            that move one at a time (a random one per move): ``"xyz"`` lets
+            a crystal relax its shape, ``"z"`` changes only the long side of
+            a slab.  Needs rectangular boxes.
+        seed: seed of the generator: the same seed gives the same run.
+
+    Attributes:
+        attempted: moves tried.
+        accepted: moves accepted.
+        overlaps: moves rejected because two spheres would overlap.
+        next_time: when it next acts [time] (``None`` until attached).
+    """
+
+    def __init__(self, pressure, kT=None, every=None, step=None, axes=None, seed=0):
+        self.pressure = _positive(pressure, "pressure")
+        self.kT = None if kT is None else _positive(kT, "kT")
+        self.every = None if every is None else _positive(every, "every")
+        self.step = None if step is None else _positive(step, "step")
+        if axes is not None:
+            if (
+                not isinstance(axes, str)
+                or not axes
+                or any(a not in _AXES for a in axes)
+                or (len(set(axes)) != len(axes))
+            ):
+                raise BarostatError(
+                    f"axes must be None (isotropic) or distinct letters of 'xyz', got {axes!r}"
+                )
+        self.axes = axes
+        try:
+            self.seed = int(seed)
+            if self.seed != seed or self.seed < 0:
+                raise ValueError
+        except (TypeError, ValueError, OverflowError):
+            raise BarostatError(f"seed must be a whole number >= 0, got {seed!r}") from None
+        self._rng = np.random.Generator(np.random.PCG64(self.seed))
+        self.next_time = None
+        self.attempted = self.accepted = self.overlaps = 0
+
+    def __repr__(self):
+        return (
+            f"Barostat(pressure={self.pressure!r}, kT={self.kT!r}, every={self.every!r}, "
+            f"step={self.step!r}, axes={self.axes!r}, seed={self.seed!r})"
+        )
+
+    @property
+    def acceptance(self) -> float:
+        """Fraction of moves accepted (NaN before any)."""
+        return self.accepted / self.attempted if self.attempted else math.nan
+
+    def check(self, sim):
+        """:class:`BarostatError` if ``sim`` cannot be held at constant pressure."""
+        require_box(sim.container)
+        if sim.engine.window > 0.0:
+            raise BarostatError("barostat: not with a simultaneity window (window=0)")
+        if self.axes is not None and not hasattr(sim.container, "sides"):
+            raise BarostatError(
+                f"axes={self.axes!r}: per-axis moves need rectangular boxes, which this "
+                "hardspheres does not have; use axes=None (isotropic)"
+            )
+        if sim.n < 1:
+            raise BarostatError("barostat: no spheres")
+
+    def attach(self, sim):
+        """Called as each run starts: fixes ``kT``, ``every``, ``step`` (once) and the first move."""
+        self.check(sim)
+        n = sim.n
+        if self.kT is None:
+            th_kT = getattr(sim.thermostat, "kT", None)
+            self.kT = float(th_kT) if th_kT is not None else float(sim.observables.temperature())
+            if not (math.isfinite(self.kT) and self.kT > 0):
+                raise BarostatError("barostat: the spheres are at rest (kT = 0); give them velocities or kT")
+        if self.step is None:
+            bpv = self.pressure * sim.container.volume / self.kT
+            self.step = min(0.5 / math.sqrt(n), STEP_SCALE / max(bpv - n, 1.0))
+        if self.every is None:
+            from .eos import carnahan_starling, collision_rate_from_z
+
+            radii = sim.engine.radii_at()
+            phi = min(float(sim.packing), 0.7)
+            sigma = 2.0 * float(np.mean(radii))
+            m = float(np.mean(sim.engine.masses))
+            z = float(carnahan_starling(phi)) if phi < 0.55 else 3.0 / (1.0 - phi / 0.74048)
+            nu = collision_rate_from_z(z, sigma, self.kT, m) if sigma > 0 else 0.0
+            free = 1.0 / nu if nu > 0 else sigma / math.sqrt(self.kT / m) if sigma > 0 else 1.0
+            self.every = free / MOVES_PER_FREE_TIME
+        if self.next_time is None:
+            self.next_time = sim.time + self.every
+
+    def apply(self, sim, t):
+        """Try one volume move at ``t`` (the simulation calls this at :attr:`next_time`)."""
+        eng = sim.engine
+        eng.move_clock(t)
+        box = sim.container
+        sides = _sides(box)
+        rng = self._rng
+        axis = -1 if self.axes is None else _AXES.index(self.axes[int(rng.integers(len(self.axes)))])
+        u = float(rng.uniform(-self.step, self.step))
+        r = float(rng.random())
+        self.attempted += 1
+        self.next_time = t + self.every
+        if axis < 0:
+            s = math.exp(u / 3.0)
+            factors = [s, s, s]
+        else:
+            factors = [1.0, 1.0, 1.0]
+            factors[axis] = math.exp(u)
+        new = [x * f for x, f in zip(sides, factors)]
+        radii = eng.radii_at()
+        if min(new) < 6.0 * float(radii.max()) * (1.0 + 1e-9):
+            return False  # outside the engine's boxes (three largest diameters a side)
+        v_old = math.prod(sides)
+        v_new = math.prod(new)
+        log_acc = -self.pressure * (v_new - v_old) / self.kT + (sim.n + 1) * math.log(v_new / v_old)
+        if log_acc < 0.0 and not r < math.exp(log_acc):
+            return False
+        if min(factors) < 1.0:
+            from .core.contacts import closest_ratio
+
+            x = eng.positions_at(t) * np.array(factors)
+            if closest_ratio(x, radii, np.array(new)) < 1.0:
+                self.overlaps += 1
+                return False
+        new_box = _box_like(box, new)
+        eng.rescale_box(new_box, factors)
+        sim.container = new_box
+        self.accepted += 1
+        return True
+
+    def state(self):
+        """JSON text from which :func:`barostat_from_state` rebuilds it exactly."""
+        return json.dumps(
+            {
+                "kind": "mc-volume",
+                "pressure": self.pressure,
+                "kT": self.kT,
+                "every": self.every,
+                "step": self.step,
+                "axes": self.axes,
+                "seed": self.seed,
+                "next_time": self.next_time,
+                "attempted": self.attempted,
+                "accepted": self.accepted,
+                "overlaps": self.overlaps,
+                "rng": self._rng.bit_generator.state,
+            }
+        )
+
+
+def barostat_from_state(text):
+    """The barostat :meth:`Barostat.state` saved."""
+    d = json.loads(text)
+    if d.get("kind") != "mc-volume":
+        raise BarostatError(f"unknown barostat {d.get('kind')!r}")
+    b = Barostat(d["pressure"], d["kT"], d["every"], d["step"], d["axes"], d["seed"])
+    b._rng.bit_generator.state = d["rng"]
+    b.next_time = d["next_time"]
+    b.attempted, b.accepted, b.overlaps = int(d["attempted"]), int(d["accepted"]), int(d["overlaps"])
+    return b
+
+
+def _positive(x, what):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        v = math.nan
+    if isinstance(x, bool) or not (math.isfinite(v) and v > 0):
+        raise BarostatError(f"{what} must be a finite number > 0, got {x!r}")
+    return v

@@ -1,0 +1,212 @@
+"""The barostat: Monte Carlo volume moves between event-driven stretches (hardspheres.barostat)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hardspheres as hs
+from hardspheres.barostat import Barostat, barostat_from_state
+from hardspheres.blocking import blocking
+from hardspheres.core.contacts import closest_ratio
+from hardspheres.errors import BarostatError
+
+
+def _two(gap=3.0, L=10.0, v=((0.3, 0.1, 0.0), (-0.3, -0.1, 0.0))):
+    return hs.Simulation.from_arrays(
+        masses=[1.0, 1.0],
+        radii=[0.5, 0.5],
+        positions=[[-0.5 * gap, 0.0, 0.0], [0.5 * gap, 0.0, 0.0]],
+        velocities=v,
+        container=hs.PeriodicBox(L),
+    )
+
+
+def test_one_move_of_two_spheres_follows_the_rule_exactly():
+    # the first move replayed from the same generator: u, r, then the rule by hand
+    seen = set()
+    for seed in range(12):
+        sim = _two()
+        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, seed=seed)
+        sim.set_barostat(bar)
+        before = sim.state().positions
+        sim.run(until=0.5)
+        rng = np.random.Generator(np.random.PCG64(seed))
+        u, r = rng.uniform(-0.4, 0.4), rng.random()
+        L1 = 10.0 * math.exp(u / 3.0)
+        log_acc = -0.01 * (L1**3 - 1000.0) + 3 * math.log(L1**3 / 1000.0)
+        accept = log_acc >= 0.0 or r < math.exp(log_acc)
+        seen.add(accept)
+        assert bar.attempted == 1 and bar.accepted == int(accept)
+        assert sim.container.length == (L1 if accept else 10.0)
+        # the spheres moved freely for 0.5 (no collision), then were scaled with the box
+        expected = (before + 0.5 * np.array([[0.3, 0.1, 0.0], [-0.3, -0.1, 0.0]])) * (
+            L1 / 10.0 if accept else 1.0
+        )
+        np.testing.assert_allclose(sim.state().positions, expected, rtol=1e-14, atol=1e-14)
+    assert seen == {True, False}  # both outcomes were checked
+
+
+def test_a_move_that_makes_an_overlap_is_rejected():
+    # at rest, 1 + 1e-6 diameters apart: squeezing ln V by more than 3e-6 overlaps them
+    sim = _two(gap=1.000001, L=4.0, v=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=1)
+    sim.set_barostat(bar)
+    sim.run(until=200.0)
+    assert bar.attempted == 200
+    assert bar.accepted == 0  # expansions lose against the pressure, squeezes overlap
+    assert bar.overlaps > 50
+    assert sim.container.length == 4.0
+    x = sim.state().positions
+    assert closest_ratio(x, sim.engine.radii_at(), [4.0] * 3) == pytest.approx(1.000001, rel=1e-12)
+
+
+def test_a_squeeze_that_fits_is_accepted_and_leaves_no_overlap():
+    sim = _two(gap=1.05, L=4.0, v=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=3)
+    sim.set_barostat(bar).run(until=400.0)
+    assert 0 < bar.accepted < bar.attempted
+    x = sim.state().positions
+    ratio = closest_ratio(x, sim.engine.radii_at(), [sim.container.length] * 3)
+    assert 1.0 <= ratio < 1.0 + 0.05 / 3  # squeezed to within one step of contact
+
+
+def test_the_volume_is_distributed_as_the_npt_ensemble():
+    # three point-like spheres: no overlaps, so the volume is Gamma(N + 1, beta P)
+    # exactly: mean (N + 1) / (beta P), variance (N + 1) / (beta P)^2.  Fails
+    # with N instead of N + 1 in the ln V random walk's rule (mean 3 / 1.5 = 2).
+    sim = hs.Simulation.from_arrays(
+        masses=[1.0] * 3,
+        radii=[1e-3] * 3,
+        positions=[[0.0, 0.0, 0.0], [0.4, 0.3, 0.1], [-0.2, 0.5, -0.4]],
+        velocities=[[0.5, -0.2, 0.1], [-0.3, 0.4, 0.2], [-0.2, -0.2, -0.3]],
+        container=hs.PeriodicBox(1.5),
+    )
+    bp = 1.5
+    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, seed=7)
+    sim.set_barostat(bar)
+    vols = []
+    for _ in range(12000):
+        sim.run(until=sim.time + 0.01)
+        vols.append(sim.container.volume)
+    v = np.array(vols[500:])
+    b = blocking(v)
+    assert abs(b.mean - 4.0 / bp) < 4.0 * b.sem
+    assert abs(b.mean - 3.0 / bp) > 8.0 * b.sem  # the wrong Jacobian would be seen
+    var = blocking((v - v.mean()) ** 2)
+    assert abs(var.mean - 4.0 / bp**2) < 4.0 * var.sem
+    assert 0.2 < bar.acceptance < 0.9
+
+
+def test_resume_is_bit_for_bit(tmp_path):
+    box = hs.PeriodicBox.for_packing(64, 0.35)
+    state = hs.random_spheres(64, 0.35, box=box.length, seed=4)
+    sim = hs.Simulation(state, box).set_barostat(Barostat(pressure=6.0, seed=5))
+    sim.run(until=1.0)
+    sim.save(tmp_path / "c.npz")
+    sim.run(until=3.0)
+    again = hs.Simulation.load(tmp_path / "c.npz").run(until=3.0)
+    assert again.barostat.state() == sim.barostat.state()
+    assert again.container == sim.container
+    a, b = sim.state(), again.state()
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities)
+    assert np.array_equal(a.images, b.images)
+    assert sim.barostat.accepted > 5
+    assert again.counters == sim.counters
+
+
+def test_the_same_seed_gives_the_same_run():
+    def run(seed):
+        box = hs.PeriodicBox.for_packing(32, 0.3)
+        sim = hs.Simulation(hs.random_spheres(32, 0.3, box=box.length, seed=1), box)
+        sim.set_barostat(Barostat(pressure=4.0, seed=seed)).run(until=2.0)
+        return sim.container.length, sim.state().positions
+
+    (l1, x1), (l2, x2), (l3, _) = run(3), run(3), run(4)
+    assert l1 == l2 and np.array_equal(x1, x2) and l3 != l1
+
+
+def test_rescale_box_scales_the_unwrapped_centres():
+    box = hs.PeriodicBox.for_packing(40, 0.2)
+    sim = hs.Simulation(hs.random_spheres(40, 0.2, box=box.length, seed=2), box)
+    sim.run(until=3.0)
+    eng = sim.engine
+    raw = eng.unwrapped_at()
+    c = eng.counters["collisions"]
+    eng.rescale_box(hs.PeriodicBox(box.length * 1.1), [1.1] * 3)
+    np.testing.assert_allclose(eng.unwrapped_at(), raw * 1.1, rtol=1e-13, atol=1e-12)
+    assert eng.counters["collisions"] == c and eng.container.length == box.length * 1.1
+    with pytest.raises(ValueError):
+        hs.Simulation(hs.random_spheres(5, 0.01, 10.0, seed=1), 10.0).engine.rescale_box(
+            hs.PeriodicBox(3.0), [1.0] * 3
+        )
+
+
+def test_closest_ratio_against_brute_force():
+    rng = np.random.default_rng(5)
+    for n, L in ((2, 3.5), (30, 4.0), (200, 9.0)):
+        x = rng.uniform(-L / 2, L / 2, (n, 3))
+        r = rng.uniform(0.2, 0.5, n) * (L / 9.0 if n == 200 else 1.0)
+        r = np.minimum(r, L / 6.001)
+        d = x[:, None] - x[None]
+        d -= L * np.round(d / L)
+        ratio = np.sqrt((d**2).sum(-1)) / (r[:, None] + r[None])
+        ratio[np.diag_indices(n)] = np.inf
+        brute = ratio.min()
+        got = closest_ratio(x, r, [L, L, L])
+        assert got == brute if brute < 1.0 else got == brute or got == np.inf
+
+
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        ({"pressure": 0.0}, "pressure"),
+        ({"pressure": float("nan")}, "pressure"),
+        ({"pressure": "x"}, "pressure"),
+        ({"pressure": 1.0, "kT": -1.0}, "kT"),
+        ({"pressure": 1.0, "every": 0.0}, "every"),
+        ({"pressure": 1.0, "step": float("inf")}, "step"),
+        ({"pressure": 1.0, "axes": "xw"}, "axes"),
+        ({"pressure": 1.0, "axes": "xx"}, "axes"),
+        ({"pressure": 1.0, "seed": -1}, "seed"),
+        ({"pressure": 1.0, "seed": 1.5}, "seed"),
+    ],
+)
+def test_bad_options_name_the_argument(kwargs, word):
+    with pytest.raises(BarostatError) as e:
+        Barostat(**kwargs)
+    msg = str(e.value)
+    assert word in msg and "\n" not in msg
+
+
+def test_refused_in_a_spherical_container():
+    sim = hs.Simulation(hs.random_spheres(10, 0.1, hs.SphericalContainer(5.0), seed=1), 5.0)
+    with pytest.raises(BarostatError) as e:
+        sim.set_barostat(Barostat(pressure=1.0))
+    assert "periodic box" in str(e.value) and "\n" not in str(e.value)
+    assert isinstance(e.value, ValueError)
+
+
+def test_refused_with_a_window():
+    box = hs.PeriodicBox(6.0)
+    sim = hs.Simulation(hs.random_spheres(10, 0.1, box=6.0, seed=1), box, window=1e-8)
+    with pytest.raises(BarostatError, match="window"):
+        sim.set_barostat(Barostat(pressure=1.0))
+
+
+def test_damaged_barostat_in_a_checkpoint(tmp_path):
+    box = hs.PeriodicBox(6.0)
+    sim = hs.Simulation(hs.random_spheres(10, 0.1, box=6.0, seed=1), box)
+    sim.set_barostat(Barostat(pressure=1.0)).run(until=0.5)
+    sim.save(tmp_path / "c.npz")
+    data = dict(np.load(tmp_path / "c.npz"))
+    data["barostat"] = np.array('{"kind": "mc-volume"}')
+    np.savez(tmp_path / "bad.npz", **data)
+    with pytest.raises(hs.CheckpointError, match="bad barostat"):
+        hs.Simulation.load(tmp_path / "bad.npz")
+
+
+def test_state_round_trips():
+    b = Barostat(pressure=2.5, kT=1.0, every=0.1, step=0.01, seed=9)
+    b2 = barostat_from_state(b.state())
+    assert b2.state() == b.state() and repr(b2) == repr(b)
