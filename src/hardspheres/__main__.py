@@ -1,6 +1,6 @@
 """``python -m hardspheres ...`` is the ``hardspheres`` command."""
 
-from .cli import hardspheres_main
+from .cli.commands import hardspheres_main
 
 if __name__ == "__main__":
     hardspheres_main()

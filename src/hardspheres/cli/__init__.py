@@ -18,7 +18,6 @@ from __future__ import annotations
 import io
 import math
 import os
-import signal
 import sys
 from collections.abc import Callable, Sequence
 from typing import IO
@@ -219,17 +218,3 @@ def spheres_main(argv: Sequence[str] | None = None) -> None:
     argv = sys.argv[1:] if argv is None else argv
     _checked_stdout()
     sys.exit(_guarded(lambda: run_spheres(argv, sys.stdin.buffer, sys.stdout), "spheres"))
-
-
-def hardspheres_main(argv: Sequence[str] | None = None) -> None:
-    """Entry point of the ``hardspheres`` console script (subcommands)."""
-    from .commands import main
-
-    argv = sys.argv[1:] if argv is None else argv
-    _checked_stdout()
-    status = _guarded(lambda: main(argv), "hardspheres")
-    # the command is done (a run's checkpoint written): a late Ctrl-C or
-    # SIGTERM while the interpreter shuts down must not change the status
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, signal.SIG_IGN)
-    sys.exit(status)

@@ -8,11 +8,12 @@ as one line on stderr with exit status 1.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from collections.abc import Sequence
 
 from ..messages import oserror_line
-from . import bench, compress, generate, plot, render, run, sweep, validate, view
+from . import _checked_stdout, _guarded, bench, compress, generate, plot, render, run, sweep, validate, view
 from .options import Parser, one_line, version_action
 
 #: The subcommands, in the order ``--help`` lists them.
@@ -44,3 +45,15 @@ def main(argv: Sequence[str]) -> int:
     except ValueError as e:
         print(f"hardspheres {args.command}: {one_line(e)}", file=sys.stderr)
         return 1
+
+
+def hardspheres_main(argv: Sequence[str] | None = None) -> None:
+    """Entry point of the ``hardspheres`` console script (subcommands)."""
+    argv = sys.argv[1:] if argv is None else argv
+    _checked_stdout()
+    status = _guarded(lambda: main(argv), "hardspheres")
+    # the command is done (a run's checkpoint written): a late Ctrl-C or
+    # SIGTERM while the interpreter shuts down must not change the status
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
+    sys.exit(status)
