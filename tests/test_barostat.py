@@ -210,3 +210,120 @@ def test_state_round_trips():
     b = Barostat(pressure=2.5, kT=1.0, every=0.1, step=0.01, seed=9)
     b2 = barostat_from_state(b.state())
     assert b2.state() == b.state() and repr(b2) == repr(b)
+
+
+def test_one_move_of_one_side_follows_the_rule_exactly():
+    # per-axis moves: the side drawn, u, r, then the same rule with V'/V = L_a'/L_a
+    seen = set()
+    for seed in range(12):
+        sim = _two()
+        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, axes="xz", seed=seed)
+        sim.set_barostat(bar).run(until=0.5)
+        rng = np.random.Generator(np.random.PCG64(seed))
+        axis = "xz"[int(rng.integers(2))]
+        u, r = rng.uniform(-0.4, 0.4), rng.random()
+        la = 10.0 * math.exp(u)
+        log_acc = -0.01 * (100.0 * la - 1000.0) + 3 * math.log(la / 10.0)
+        accept = log_acc >= 0.0 or r < math.exp(log_acc)
+        seen.add((axis, accept))
+        expected = [10.0, 10.0, 10.0]
+        if accept:
+            expected["xyz".index(axis)] = la
+        assert sim.container.sides == pytest.approx(tuple(expected), rel=1e-15)
+        assert bar.accepted == int(accept)
+    assert {a for a, _ in seen} == {"x", "z"} and {b for _, b in seen} == {True, False}
+
+
+def _points(n, container, seed=0):
+    rng = np.random.default_rng(seed)
+    d = container.dimensions
+    return hs.Simulation.from_arrays(
+        masses=[1.0] * n,
+        radii=[1e-3] * n,
+        positions=rng.uniform(-0.4, 0.4, (n, d)) * np.array(container.sides),
+        velocities=rng.normal(size=(n, d)),
+        container=container,
+    )
+
+
+@pytest.mark.parametrize(
+    "container, axes",
+    [
+        (hs.PeriodicBox((1.0, 1.2, 1.5)), "z"),
+        (hs.PeriodicBox((1.2, 1.5)), None),
+        (hs.PeriodicBox((1.2, 1.5)), "x"),
+    ],
+    ids=["slab-z", "disks-isotropic", "disks-x"],
+)
+def test_one_free_side_or_an_area_is_distributed_as_the_npt_ensemble(container, axes):
+    # point-like particles: V (area in 2-D) is Gamma(N + 1, beta P) whether the
+    # whole box scales or one side moves (the others fixed); N + 1 from the ln walk
+    sim = _points(3, container, seed=2)
+    bp = 1.5
+    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, axes=axes, seed=11)
+    sim.set_barostat(bar)
+    vols = []
+    for _ in range(12000):
+        sim.run(until=sim.time + 0.01)
+        vols.append(sim.container.volume)
+    v = np.array(vols[500:])
+    b = blocking(v)
+    assert abs(b.mean - 4.0 / bp) < 4.0 * b.sem
+    assert abs(b.mean - 3.0 / bp) > 8.0 * b.sem
+    if axes == "z":
+        assert sim.container.sides[:2] == (1.0, 1.2)  # the cross-section never moves
+    assert sim.container.dimensions == container.dimensions
+
+
+def test_disks_at_constant_pressure_keep_apart_and_resume(tmp_path):
+    box = hs.PeriodicBox((12.0, 12.0))
+    sim = hs.Simulation(hs.random_spheres(60, 0.4, box, seed=3), box)
+    sim.set_barostat(Barostat(pressure=4.0, axes="xy", seed=1)).run(until=3.0)
+    assert sim.barostat.accepted > 3 and sim.container.sides[0] != sim.container.sides[1]
+    x = sim.state().positions
+    assert x.shape == (60, 2)
+    assert closest_ratio(x, sim.engine.radii_at(), sim.container.sides) >= 1.0
+    sim.save(tmp_path / "d.npz")
+    sim.run(until=5.0)
+    again = hs.Simulation.load(tmp_path / "d.npz").run(until=5.0)
+    assert again.container == sim.container and np.array_equal(again.state().positions, sim.state().positions)
+
+
+def test_a_square_box_stays_two_dimensional():
+    box = hs.PeriodicBox((10.0, 10.0))
+    sim = hs.Simulation(hs.random_spheres(20, 0.2, box, seed=1), box)
+    sim.set_barostat(Barostat(pressure=1.0, every=0.2, seed=2)).run(until=4.0)
+    assert sim.barostat.accepted > 0 and sim.container.dimensions == 2
+    s = sim.container.sides
+    assert s[0] == pytest.approx(s[1], rel=1e-14)
+
+
+def test_closest_ratio_of_disks_against_brute_force():
+    rng = np.random.default_rng(8)
+    L = np.array([9.0, 6.0])
+    x = rng.uniform(-0.5, 0.5, (150, 2)) * L
+    r = rng.uniform(0.1, 0.3, 150)
+    d = x[:, None] - x[None]
+    d -= L * np.round(d / L)
+    ratio = np.sqrt((d**2).sum(-1)) / (r[:, None] + r[None])
+    ratio[np.diag_indices(150)] = np.inf
+    assert closest_ratio(x, r, L) == ratio.min()
+
+
+def test_refused_in_a_circular_container_with_one_line():
+    from hardspheres.containers import CircularContainer
+
+    c = CircularContainer(8.0)
+    sim = hs.Simulation(hs.random_spheres(10, 0.1, c, seed=1), c)
+    with pytest.raises(BarostatError) as e:
+        sim.set_barostat(Barostat(pressure=1.0))
+    msg = str(e.value)
+    assert "periodic box" in msg and "circular" in msg and "\n" not in msg
+
+
+def test_a_z_move_refused_in_two_dimensions():
+    box = hs.PeriodicBox((10.0, 10.0))
+    sim = hs.Simulation(hs.random_spheres(10, 0.1, box, seed=1), box)
+    with pytest.raises(BarostatError) as e:
+        sim.set_barostat(Barostat(pressure=1.0, axes="z"))
+    assert "'xy'" in str(e.value) and "\n" not in str(e.value)

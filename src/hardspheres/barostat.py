@@ -13,7 +13,17 @@ where the proposal is a random walk in ``ln V`` (isotropic moves) or in
 the same rule), so the Jacobian adds one to ``N``: Frenkel & Smit,
 *Understanding Molecular Simulation* (2nd ed., Academic Press 2002),
 section 5.4.2 (NPT Monte Carlo; Algorithm 11 and the ``ln V`` variant of
-the acceptance rule, eq. 5.4.13).  A move that makes two spheres overlap is
+the acceptance rule, eq. 5.4.13).  Per axis: with the sides sampled
+independently, the box's measure is ``dLx dLy dLz = V d(ln Lx) d(ln Ly)
+d(ln Lz)``, so the weight of ``(ln Lx, ln Ly, ln Lz)`` is ``exp(-beta P V)
+V^(N+1)``, and a symmetric step in one ``ln L_a`` (the side drawn at
+random, the others fixed) is accepted by the rule above with ``V'/V =
+L_a'/L_a``: the rectangular-box NPT of Allen & Tildesley, *Computer
+Simulation of Liquids* (2nd ed., OUP 2017), section 4.5, in ``ln L``.  A
+slab that moves only its long side (``axes="z"``) samples the ensemble at
+constant normal pressure and fixed cross-section (``N P_zz A T``), the
+ensemble of direct-coexistence runs.  In 2-D ``V`` is the area and ``P``
+the two-dimensional pressure (``beta P sigma^2``).  A move that makes two spheres overlap is
 rejected (hard spheres: ``U' = infinity``); one that expands every side
 cannot make an overlap and is not checked.  Between moves the spheres run
 exactly (:class:`hardspheres.core.engine.Engine`); the engine is made
@@ -36,8 +46,8 @@ run without a thermostat), or the ``kT`` given.  In reduced units (``kT =
 
 Deterministic given ``seed`` (numpy's PCG64); :meth:`Barostat.state` is
 saved in checkpoints (:meth:`hardspheres.Simulation.save`), so a resumed
-run makes the same moves bit for bit.  Refused in a spherical container
-(:class:`~hardspheres.errors.BarostatError`).
+run makes the same moves bit for bit.  Refused in a spherical or circular
+container (:class:`~hardspheres.errors.BarostatError`).
 
 Example:
     >>> import hardspheres as hs
@@ -74,7 +84,7 @@ _AXES = "xyz"
 
 
 def _sides(container):
-    """The periodic box's sides ``(Lx, Ly, Lz)`` [length]."""
+    """The periodic box's sides ``(Lx, Ly, Lz)``, or ``(Lx, Ly)`` in 2-D [length]."""
     sides = getattr(container, "sides", None)
     if sides is None:
         return (float(container.length),) * 3
@@ -82,11 +92,8 @@ def _sides(container):
 
 
 def _box_like(container, sides):
-    """A periodic box of the same kind as ``container`` with ``sides``."""
-    cls = type(container)
-    if len(set(sides)) == 1:
-        return cls(sides[0])
-    return cls(tuple(sides))
+    """A periodic box of the same kind as ``container`` with ``sides`` (three equal: the cube)."""
+    return type(container)(tuple(sides))
 
 
 def require_box(container, what="constant pressure"):
@@ -95,7 +102,7 @@ def require_box(container, what="constant pressure"):
         desc = getattr(container, "description", "this container")
         raise BarostatError(
             f"{what} needs a periodic box (its volume moves scale the box), not a {desc}; "
-            "simulate in hs.PeriodicBox(L)"
+            "simulate in hs.PeriodicBox(L), or hs.PeriodicBox((Lx, Ly)) for disks"
         )
 
 
@@ -115,9 +122,10 @@ class Barostat:
             N))`` when first attached (squeezing by more than about ``1 /
             (beta P V - N)`` makes an overlap almost surely).
         axes: ``None`` (isotropic: every side scaled alike), or the sides
-            that move one at a time (a random one per move): ``"xyz"`` lets
-            a crystal relax its shape, ``"z"`` changes only the long side of
-            a slab.  Needs rectangular boxes.
+            that move one at a time (a random one per move): ``"xyz"`` (or
+            ``"xy"`` in 2-D) lets a crystal relax its shape, ``"z"`` changes
+            only the long side of a slab along z.  Letters of the box's own
+            axes (``"xy"`` in 2-D).
         seed: seed of the generator: the same seed gives the same run.
 
     Attributes:
@@ -169,10 +177,10 @@ class Barostat:
         require_box(sim.container)
         if sim.engine.window > 0.0:
             raise BarostatError("barostat: not with a simultaneity window (window=0)")
-        if self.axes is not None and not hasattr(sim.container, "sides"):
+        d = len(_sides(sim.container))
+        if self.axes is not None and any(_AXES.index(a) >= d for a in self.axes):
             raise BarostatError(
-                f"axes={self.axes!r}: per-axis moves need rectangular boxes, which this "
-                "hardspheres does not have; use axes=None (isotropic)"
+                f"axes={self.axes!r} in a {d}-D box: use letters of {_AXES[:d]!r} (or None: isotropic)"
             )
         if sim.n < 1:
             raise BarostatError("barostat: no spheres")
@@ -196,8 +204,13 @@ class Barostat:
             phi = min(float(sim.packing), 0.7)
             sigma = 2.0 * float(np.mean(radii))
             m = float(np.mean(sim.engine.masses))
-            z = float(carnahan_starling(phi)) if phi < 0.55 else 3.0 / (1.0 - phi / 0.74048)
-            nu = collision_rate_from_z(z, sigma, self.kT, m) if sigma > 0 else 0.0
+            if len(_sides(sim.container)) == 3:
+                z = float(carnahan_starling(phi)) if phi < 0.55 else 3.0 / (1.0 - phi / 0.74048)
+                nu = collision_rate_from_z(z, sigma, self.kT, m) if sigma > 0 else 0.0
+            else:  # disks: Henderson's Z, and Enskog's rate in 2-D (2/3 of the 3-D formula's)
+                phi = min(phi, 0.88)
+                z = (1.0 + phi * phi / 8.0) / (1.0 - phi) ** 2 if phi < 0.7 else 2.0 / (1.0 - phi / 0.9069)
+                nu = collision_rate_from_z(z, sigma, self.kT, m) * 2.0 / 3.0 if sigma > 0 else 0.0
             free = 1.0 / nu if nu > 0 else sigma / math.sqrt(self.kT / m) if sigma > 0 else 1.0
             self.every = free / MOVES_PER_FREE_TIME
         if self.next_time is None:
@@ -215,11 +228,11 @@ class Barostat:
         r = float(rng.random())
         self.attempted += 1
         self.next_time = t + self.every
+        d = len(sides)
         if axis < 0:
-            s = math.exp(u / 3.0)
-            factors = [s, s, s]
+            factors = [math.exp(u / d)] * d
         else:
-            factors = [1.0, 1.0, 1.0]
+            factors = [1.0] * d
             factors[axis] = math.exp(u)
         new = [x * f for x, f in zip(sides, factors)]
         radii = eng.radii_at()

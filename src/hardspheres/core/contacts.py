@@ -79,18 +79,26 @@ def closest_ratio(positions, radii, sides):
     """Least ``d_ij / (R_i + R_j)`` over pairs in a periodic box of ``sides`` (``inf``: none near).
 
     Args:
-        positions: ``(N, 3)`` centres [length] (any image).
+        positions: ``(N, 3)`` centres [length] (any image), or ``(N, 2)``
+            with two ``sides`` (disks).
         radii: ``(N,)`` [length].
         sides: ``(3,)`` the box's sides [length], each at least three
-            largest diameters (the engine's own bound).
+            largest diameters (the engine's own bound), or ``(2,)`` in 2-D.
 
     Returns:
         The ratio for the closest pair among those nearer than the largest
         contact distance; ``inf`` if no pair is that near.
     """
-    x = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3)
     r = np.ascontiguousarray(radii, dtype=np.float64).reshape(-1)
-    L = np.ascontiguousarray(sides, dtype=np.float64).reshape(3)
+    L = np.asarray(sides, dtype=np.float64).reshape(-1)
+    sigma_max = 2.0 * float(r.max()) if r.size else 0.0
+    if L.size == 2:  # disks: z = 0 in one layer of cells (a side too short for two)
+        x = np.zeros((r.size, 3))
+        x[:, :2] = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        L = np.array([L[0], L[1], 1.5 * sigma_max if sigma_max > 0.0 else 1.0])
+    else:
+        x = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3)
+        L = np.ascontiguousarray(L).reshape(3)
     if x.shape[0] < 2:
         return np.inf
-    return float(_closest(x, r, L, 2.0 * float(r.max())))
+    return float(_closest(x, r, L, sigma_max))

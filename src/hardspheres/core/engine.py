@@ -586,6 +586,8 @@ class Engine:
     def rescale_box(self, container, factors):
         """Put the spheres in ``container``, a periodic box ``factors`` times this one's sides, now.
 
+        ``factors``: one per side (``d`` of them: two in 2-D).
+
         Every centre is scaled with the box about its centre (the affine map
         of a constant-pressure volume move: ``x -> factors * x`` per axis,
         the images kept, so unwrapped centres scale too); velocities, radii,
@@ -598,7 +600,9 @@ class Engine:
             raise ValueError("rescale_box: the engine and the new container must be periodic boxes")
         if self.scalars[core.F_GROW]:
             raise ValueError("rescale_box: not while the radii grow")
-        scale = np.asarray(factors, dtype=np.float64).reshape(-1)
+        scale = np.ones(3)
+        given = np.asarray(factors, dtype=np.float64).reshape(-1)
+        scale[: given.size] = given  # (2-D: two factors; z stays 0)
         self._rebase()  # every centre at the clock
         f = self.scalars
         dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
