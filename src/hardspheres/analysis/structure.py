@@ -22,6 +22,11 @@ Example:
     (0.575, 1.0)
 """
 
+from __future__ import annotations
+
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, cast
+
 import numpy as np
 
 from ..containers import PeriodicBox, require_periodic
@@ -30,8 +35,25 @@ from .compute import Compute
 
 _Computed = Compute  # the name the analyses used before analysis/compute.py
 
+if TYPE_CHECKING:
+    from typing import TypeAlias
 
-def _freud():
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
+
+    from ..frames import Frames
+    from ..simulation import Simulation
+    from ..state import State
+
+    #: What the compute methods accept: frames, a simulation, a state or bare positions.
+    Source: TypeAlias = Frames | Simulation | State | ArrayLike
+    #: A periodic box's edge (a cube) or its sides [length].
+    Edge: TypeAlias = float | tuple[float, ...]
+    #: ``(L, positions (F, N, d), radii (N,) or None)``.
+    Configurations: TypeAlias = tuple[Edge, np.ndarray, np.ndarray | None]
+
+
+def _freud() -> ModuleType:
     try:
         import freud
     except ImportError:  # pragma: no cover - depends on the environment
@@ -39,7 +61,7 @@ def _freud():
     return freud
 
 
-def configurations(source, box=None):
+def configurations(source: Source, box: Edge | None = None) -> Configurations:
     """``(L, positions (F, N, 3), radii (N,))`` from what the compute methods accept.
 
     Args:
@@ -58,23 +80,23 @@ def configurations(source, box=None):
 
     if isinstance(source, Frames):
         require_periodic(source.container if source.box is not None else None, "g(r), S(k) and bond order")
-        L = source.container.length
+        L = cast(PeriodicBox, source.container).length
         return L, np.asarray(source.positions, float), np.asarray(source.radii, float)
     if isinstance(source, Simulation):
         require_periodic(source.container, "g(r), S(k) and bond order")
-        L = source.container.length
+        L = cast(PeriodicBox, source.container).length
         st = source.state()
         return L, st.positions[None], st.radii
     if box is None:
         require_periodic(None, "g(r), S(k) and bond order")
-    L = PeriodicBox(box).length
+    L = PeriodicBox(cast("Edge", box)).length  # None raised above
     if isinstance(source, State):
         return L, source.positions[None], source.radii
     pos = np.asarray(source, float)
     return L, pos.reshape((-1,) + pos.shape[-2:]), None
 
 
-def _local_configurations(source, box=None):
+def _local_configurations(source: Source, box: Edge | None = None) -> Configurations:
     """:func:`configurations`, and for local analyses also a spherical container.
 
     A :class:`hardspheres.Simulation` or :class:`hardspheres.Frames` in a
@@ -97,7 +119,7 @@ def _local_configurations(source, box=None):
     return configurations(source, box)
 
 
-def _wrap(x, L):
+def _wrap(x: np.ndarray, L: Edge) -> np.ndarray:
     """Centres wrapped into the box, as freud takes them: ``(N, 3)`` (2-D: z = 0)."""
     x = PeriodicBox(L).wrap(x)
     if x.shape[-1] == 2:
@@ -105,7 +127,7 @@ def _wrap(x, L):
     return x
 
 
-def _freud_box(freud, L):
+def _freud_box(freud: ModuleType, L: Edge) -> Any:
     """freud's box of a cube's edge or a box's sides ``L`` (two sides: a 2-D box)."""
     sides = PeriodicBox(L).sides
     if len(sides) == 2:
@@ -113,12 +135,12 @@ def _freud_box(freud, L):
     return freud.box.Box(*sides)
 
 
-def _shortest(L):
+def _shortest(L: Edge) -> float:
     """The shortest side of the box ``L`` (a cube's edge, or the sides) [length]."""
     return min(PeriodicBox(L).sides)
 
 
-def _contact_distance(radii):
+def _contact_distance(radii: np.ndarray | None) -> float:
     if radii is None or len(radii) == 0:
         raise ValueError("sphere radii unknown: pass sigma (the contact distance)")
     d = 2.0 * np.asarray(radii)
@@ -145,10 +167,10 @@ class RDF(Compute):
 
     _results = ("r", "g", "edges", "sigma", "frames", "n", "packing")
 
-    def __init__(self, dr=None, r_max=None):
+    def __init__(self, dr: float | None = None, r_max: float | None = None) -> None:
         self.dr, self.r_max = dr, r_max
 
-    def compute(self, source, box=None, sigma=None):
+    def compute(self, source: Source, box: Edge | None = None, sigma: float | None = None) -> RDF:
         """Average g(r) over ``source``'s configurations; returns self.
 
         Args:
@@ -179,7 +201,7 @@ class RDF(Compute):
         self._computed = True
         return self
 
-    def contact_value(self, width=0.1):
+    def contact_value(self, width: float = 0.1) -> tuple[float, float]:
         """g(sigma+): a quadratic fitted to the bins in ``[sigma, sigma (1 + width)]``.
 
         Returns:
@@ -195,16 +217,16 @@ class RDF(Compute):
         coef, cov = np.polyfit(x, self.g[sel], 2, cov=True)
         return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
 
-    def Z(self):  # noqa: N802 (the physicists' name)
+    def Z(self) -> tuple[float, float]:  # noqa: N802 (the physicists' name)
         """``Z = 1 + 4 phi g(sigma)`` (equal spheres), with its error from the contact fit."""
         g, err = self.contact_value()
         return 1.0 + 4.0 * self.packing * g, 4.0 * self.packing * err
 
-    def compressibility(self):
+    def compressibility(self) -> tuple[float, float]:
         """The old name of :meth:`Z` (the compressibility factor, not kappa_T)."""
         return self.Z()
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """g(r) against r / sigma; returns the Axes."""
         ax = self._axes(ax)
         ax.plot(self.r / self.sigma, self.g)
@@ -231,10 +253,10 @@ class StructureFactor(Compute):
 
     _results = ("k", "S", "sigma", "frames")
 
-    def __init__(self, bins=100, k_max=None, k_min=None):
+    def __init__(self, bins: int = 100, k_max: float | None = None, k_min: float | None = None) -> None:
         self.bins, self.k_max, self.k_min = bins, k_max, k_min
 
-    def compute(self, source, box=None):
+    def compute(self, source: Source, box: Edge | None = None) -> StructureFactor:
         """Average S(k) over ``source``'s configurations; returns self."""
         freud = _freud()
         L, pos, radii = configurations(source, box)
@@ -251,7 +273,7 @@ class StructureFactor(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """S(k) against k sigma; returns the Axes."""
         ax = self._axes(ax)
         ax.plot(self.k * self.sigma, self.S)
@@ -279,10 +301,10 @@ class Hexatic(Compute):
 
     _results = ("psi6", "order", "orders", "r", "g6")
 
-    def __init__(self, bins=100, r_max=None):
+    def __init__(self, bins: int = 100, r_max: float | None = None) -> None:
         self.bins, self.r_max = int(bins), r_max
 
-    def compute(self, source, box=None):
+    def compute(self, source: Source, box: Edge | None = None) -> Hexatic:
         """psi6, ``|Psi6|`` and g6(r) of ``source``'s configurations (a 2-D periodic box); returns self."""
         freud = _freud()
         L, pos, radii = configurations(source, box)
@@ -309,7 +331,7 @@ class Hexatic(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """g6(r) on log-log axes; returns the Axes."""
         ax = self._axes(ax)
         ax.loglog(self.r, np.abs(self.g6))
@@ -353,12 +375,12 @@ class BondOrder(Compute):
 
     def __init__(
         self,
-        l=6,  # noqa: E741 (freud's name for the order)
-        r_max=None,
-        q_threshold=0.7,
-        solid_threshold=7,
-        num_neighbors=None,
-    ):
+        l: int = 6,  # noqa: E741 (freud's name for the order)
+        r_max: float | None = None,
+        q_threshold: float = 0.7,
+        solid_threshold: int = 7,
+        num_neighbors: int | None = None,
+    ) -> None:
         if r_max is not None and num_neighbors is not None:
             raise ValueError("BondOrder: give r_max or num_neighbors, not both")
         if num_neighbors is not None and not (
@@ -368,14 +390,15 @@ class BondOrder(Compute):
         self.l, self.r_max, self.num_neighbors = l, r_max, num_neighbors
         self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
 
-    def compute(self, source, box=None, sigma=None):
+    def compute(self, source: Source, box: Edge | None = None, sigma: float | None = None) -> BondOrder:
         """Bond order of each of ``source``'s configurations; returns self."""
         freud = _freud()
         L, pos, radii = _local_configurations(source, box)
         if self.num_neighbors is not None:
-            neighbors = {"num_neighbors": int(self.num_neighbors)}
+            neighbors: dict[str, float] = {"num_neighbors": int(self.num_neighbors)}
         else:
-            sig = float(sigma) if sigma is not None else 2.0 * float(np.max(radii))
+            # radii are None for bare positions: then sigma is needed (float(None) raises)
+            sig = float(sigma) if sigma is not None else 2.0 * float(np.max(cast(np.ndarray, radii)))
             neighbors = {"r_max": self.r_max or 1.4 * sig}
         fbox = _freud_box(freud, L)
         st = freud.order.Steinhardt(self.l)
@@ -400,7 +423,7 @@ class BondOrder(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """Histogram of q_l per sphere; returns the Axes."""
         ax = self._axes(ax)
         ax.hist(self.q, bins=50, range=(0, 1))
