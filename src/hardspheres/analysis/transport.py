@@ -32,7 +32,10 @@ Example:
     True
 """
 
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -41,13 +44,18 @@ from ..eos import carnahan_starling_contact
 from ..errors import NotComputedError
 from .compute import Compute
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from ..frames import Frames
+    from ..simulation import Simulation
+
 #: Yeh-Hummer constant for the cubic box, ``xi`` (the Madelung-like constant of
 #: the periodic Oseen tensor): I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108,
 #: 15873 (2004), Eq. 12.
 XI_CUBIC = 2.837297
 
 
-def yeh_hummer(D, box, eta, kT=1.0):
+def yeh_hummer(D: float, box: float, eta: float, kT: float = 1.0) -> float:
     """Self-diffusion extrapolated to an infinite system: ``D + xi kT / (6 pi eta L)``.
 
     I.-C. Yeh and G. Hummer, J. Phys. Chem. B 108, 15873 (2004): the
@@ -69,7 +77,7 @@ def yeh_hummer(D, box, eta, kT=1.0):
     return D + XI_CUBIC * kT / (6.0 * math.pi * eta * box)
 
 
-def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
+def enskog(packing: float, sigma: float = 1.0, kT: float = 1.0, mass: float = 1.0) -> dict[str, float]:
     """Enskog's transport coefficients of equal hard spheres.
 
     With ``g`` the contact value by Carnahan-Starling, ``(1 - phi/2) /
@@ -111,7 +119,9 @@ def enskog(packing, sigma=1.0, kT=1.0, mass=1.0):
     }
 
 
-def _trajectory(source, what, positions=True):
+def _trajectory(
+    source: Frames, what: str, positions: bool = True
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, float | np.ndarray | None]:
     """``(t (F,), unwrapped positions (F, N, 3), velocities (F, N, 3), L)`` of Frames.
 
     With ``positions=False`` the positions are not unwrapped (``None``): the
@@ -132,7 +142,7 @@ def _trajectory(source, what, positions=True):
     return t - t[0], x, np.asarray(source.velocities, float), source.box
 
 
-def _autocorrelation(x):
+def _autocorrelation(x: np.ndarray) -> np.ndarray:
     """``(F,)`` mean over spheres and axes of ``<x(t0) . x(t0 + t)>`` over all origins t0.
 
     FFT with zero padding (Wiener-Khinchin), divided by the number of
@@ -150,7 +160,7 @@ def _autocorrelation(x):
     return acf / n / (f - np.arange(f))
 
 
-def _segments(f, blocks):
+def _segments(f: int, blocks: int) -> list[slice]:
     size = f // blocks
     return [slice(k * size, (k + 1) * size) for k in range(blocks)]
 
@@ -158,20 +168,28 @@ def _segments(f, blocks):
 class _Blocked(Compute):
     """A compute object whose error bar is the spread over ``blocks`` segments of the run."""
 
-    def __init__(self, blocks=5):
+    def __init__(self, blocks: int = 5) -> None:
         self.blocks = blocks
 
-    def _blocks(self):
+    def _blocks(self) -> tuple[list[slice], np.ndarray]:
         """``(segments, tseg)``: the ``blocks`` slices of the lags ``t``, and one segment's lags."""
         segs = _segments(len(self.t), self.blocks)
         return segs, self.t[: segs[0].stop - segs[0].start]
 
 
-def _line_slope(t, y):
+def _line_slope(t: np.ndarray, y: np.ndarray) -> float:
     return np.polyfit(t, y, 1)[0]
 
 
-def plateau_window(t, curve, tseg, seg_curves, starts, ratio, min_points=8):
+def plateau_window(
+    t: np.ndarray,
+    curve: np.ndarray,
+    tseg: np.ndarray,
+    seg_curves: list[np.ndarray],
+    starts: np.ndarray,
+    ratio: float,
+    min_points: int = 8,
+) -> tuple[float, float, tuple[float, float], bool]:
     """The fit window of a curve that grows linearly after a transient: the plateau test.
 
     Candidate windows ``[t0, ratio t0]`` for ``t0`` in ``starts`` (rising),
@@ -231,25 +249,26 @@ class MSD(_Blocked):
 
     _results = ("t", "msd")
 
-    def compute(self, frames):
+    def compute(self, frames: Frames) -> MSD:
         """MSD of a periodic-box trajectory (equally spaced frames); returns self.
 
         Raises:
             PeriodicBoxRequired: the trajectory is not in a periodic box.
         """
         t, x, _, _ = _trajectory(frames, "mean squared displacements")
+        x = cast(np.ndarray, x)  # positions=True: unwrapped
         self.t, self.msd = t, self._msd(x)
         self._x = x
         self._computed = True
         return self
 
     @staticmethod
-    def _msd(x):
+    def _msd(x: np.ndarray) -> np.ndarray:
         import freud
 
         return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
 
-    def _window(self, t, t_min, t_max):
+    def _window(self, t: np.ndarray, t_min: float | None, t_max: float | None) -> np.ndarray:
         t_max = 0.5 * t[-1] if t_max is None else t_max
         t_min = 0.2 * t[-1] if t_min is None else t_min
         sel = (t >= t_min) & (t <= t_max)
@@ -259,7 +278,7 @@ class MSD(_Blocked):
             )
         return sel
 
-    def diffusion(self, t_min=None, t_max=None):
+    def diffusion(self, t_min: float | None = None, t_max: float | None = None) -> tuple[float, float]:
         """D from a straight line fitted to the MSD for lags in ``[t_min, t_max]``.
 
         The default window is 0.2 to 0.5 of one segment's length (of
@@ -284,7 +303,7 @@ class MSD(_Blocked):
         err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
         return float(D), err
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """MSD against lag time, log-log, with the ballistic and diffusive lines; returns Axes."""
         ax = self._axes(ax)
         ax.loglog(self.t[1:], self.msd[1:], label="MSD")
@@ -307,7 +326,7 @@ class VACF(_Blocked):
 
     _results = ("t", "c")
 
-    def compute(self, frames):
+    def compute(self, frames: Frames) -> VACF:
         """VACF of a periodic-box trajectory (equally spaced frames); returns self."""
         t, _, v, _ = _trajectory(frames, "velocity autocorrelations", positions=False)
         self.t, self._v = t, v
@@ -315,7 +334,7 @@ class VACF(_Blocked):
         self._computed = True
         return self
 
-    def diffusion(self, t_max=None):
+    def diffusion(self, t_max: float | None = None) -> tuple[float, float]:
         """``D = 1/3 int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
 
         C(t) falls steeply over the first mean free time, and the trapezoid
@@ -364,7 +383,7 @@ class VACF(_Blocked):
         err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
         return float(D), err
 
-    def running_diffusion(self):
+    def running_diffusion(self) -> tuple[np.ndarray, np.ndarray]:
         """``(t, D(t))``: ``1/3 int_0^t C dt'`` for every cut ``t`` (trapezoid, as :meth:`diffusion`).
 
         Where it levels off is where the cut may go (see :meth:`diffusion`).
@@ -373,7 +392,7 @@ class VACF(_Blocked):
         steps = 0.5 * (self.c[1:] + self.c[:-1]) * np.diff(self.t)
         return self.t, np.concatenate([[0.0], np.cumsum(steps)]) / 3.0
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """C(t) / C(0) against t; returns Axes."""
         ax = self._axes(ax)
         ax.plot(self.t, self.c / self.c[0])
@@ -383,7 +402,7 @@ class VACF(_Blocked):
         return ax
 
 
-def _msd_fft(x):
+def _msd_fft(x: np.ndarray) -> np.ndarray:
     """``(F,)`` mean over columns of ``<(x(t0 + t) - x(t0))^2>`` over all origins, float64.
 
     The FFT algorithm (V. Calandrini et al., Collection SFN 12, 201 (2011)),
@@ -408,7 +427,7 @@ class _EinsteinHelfand(_Blocked):
     _results = ("t", "msd")
     _kind = ""
 
-    def compute(self, sim):
+    def compute(self, sim: Simulation) -> _EinsteinHelfand:
         """Use the Helfand moments ``sim.observables`` sampled since its reset; returns self.
 
         Raises:
@@ -430,14 +449,15 @@ class _EinsteinHelfand(_Blocked):
         self._scale = self._prefactor(sim)
         self.mean_free_time = obs.mean_free_time()
         self._merges = obs.merges
-        self.window, self.plateau = None, None
+        self.window: tuple[float, float] | None = None
+        self.plateau: bool | None = None
         self._computed = True
         return self
 
-    def _check(self, sim):
+    def _check(self, sim: Simulation) -> None:
         pass
 
-    def value(self, t_min=None, t_max=None):
+    def value(self, t_min: float | None = None, t_max: float | None = None) -> tuple[float, float]:
         """The coefficient from a line fitted to the moment's mean square growth.
 
         Lags in ``[t_min, t_max]``; by default chosen from the data by
@@ -476,7 +496,7 @@ class _EinsteinHelfand(_Blocked):
         self.window, self.plateau = (float(t_lo), float(t_hi)), None
         return float(val), err
 
-    def _auto_value(self, segs, tseg):
+    def _auto_value(self, segs: list[slice], tseg: np.ndarray) -> tuple[float, float]:
         mft = self.mean_free_time
         if not math.isfinite(mft) or mft <= 0:
             raise ValueError("no collisions since the observables' reset: no mean free time to fit over")
@@ -509,7 +529,7 @@ class _EinsteinHelfand(_Blocked):
         self.window, self.plateau = window, plateau
         return v * self._scale, err * self._scale
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """The running coefficient (mean square growth over ``2 t``, scaled) against t; returns Axes."""
         ax = self._axes(ax)
         t = self.t[1:]
@@ -542,7 +562,7 @@ class ShearViscosity(_EinsteinHelfand):
     _kind = "momentum"
 
     @staticmethod
-    def _prefactor(sim):
+    def _prefactor(sim: Simulation) -> float:
         return 1.0 / (2.0 * sim.container.volume * sim.observables.temperature())
 
 
@@ -557,13 +577,13 @@ class ThermalConductivity(_EinsteinHelfand):
 
     _kind = "energy"
 
-    def _check(self, sim):
+    def _check(self, sim: Simulation) -> None:
         m = sim.engine.masses
         if np.ptp(m) > 1e-12 * m.max():
             raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal masses only")
 
     @staticmethod
-    def _prefactor(sim):
+    def _prefactor(sim: Simulation) -> float:
         kT = sim.observables.temperature()
         return 1.0 / (2.0 * sim.container.volume * kT * kT)
 
