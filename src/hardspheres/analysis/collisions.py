@@ -35,6 +35,7 @@ Example:
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -42,8 +43,16 @@ from ..errors import NotComputedError
 from ..events import EventKind, empty_events
 from .compute import Compute
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
-def mean_free_time_from_z(z, sigma=1.0, kT=1.0, mass=1.0, dim=3):
+    from ..frames import Frames
+    from ..writers import SimulationView
+
+
+def mean_free_time_from_z(
+    z: float, sigma: float = 1.0, kT: float = 1.0, mass: float = 1.0, dim: int = 3
+) -> float:
     """The mean free time of equal hard spheres from their reduced pressure ``Z = PV/(NkT)``.
 
     Both the collision rate per sphere and ``Z - 1`` are set by the contact
@@ -81,27 +90,27 @@ class EventRecorder:
     next_time = math.inf
     wants_events = True
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._blocks: list[np.ndarray] = []
         self.t0 = math.nan
         self.t1 = math.nan
         self.n = 0
-        self._sim = None
+        self._sim: SimulationView | None = None
 
-    def attach(self, sim):
+    def attach(self, sim: SimulationView) -> None:
         if math.isnan(self.t0):
             self.t0 = float(sim.time)
         self._sim = sim
         self.n = int(sim.n)
 
-    def write(self, sim, t):
+    def write(self, sim: SimulationView, t: float) -> None:
         pass
 
-    def observe(self, events):
+    def observe(self, events: np.ndarray) -> None:
         if len(events):
             self._blocks.append(np.array(events, copy=True))
 
-    def detach(self):
+    def detach(self) -> None:
         pass
 
     @property
@@ -124,7 +133,7 @@ class EventRecorder:
         return int(np.count_nonzero(self.events["kind"] == EventKind.COLLISION))
 
 
-def _record(source, what):
+def _record(source: EventRecorder | Frames, what: str) -> tuple[np.ndarray, float, int]:
     """``(collision events, duration, n)`` of an :class:`EventRecorder` or Frames (with events)."""
     from ..frames import Frames
 
@@ -146,7 +155,7 @@ def _record(source, what):
     return ev, duration, n
 
 
-def _per_sphere_stream(ev):
+def _per_sphere_stream(ev: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Each collision seen from both spheres, sorted by sphere then time: ``(sphere, time, partner, row)``."""
     sphere = np.concatenate([ev["i"], ev["j"]])
     partner = np.concatenate([ev["j"], ev["i"]])
@@ -185,10 +194,10 @@ class FreeFlights(Compute):
 
     _results = ("flights", "mean", "mean_error", "flight_mean", "per_sphere", "rate", "t", "density")
 
-    def __init__(self, bins=60):
+    def __init__(self, bins: int = 60) -> None:
         self.bins = int(bins)
 
-    def compute(self, source):
+    def compute(self, source: EventRecorder | Frames) -> FreeFlights:
         """Statistics of ``source``'s collisions (an :class:`EventRecorder` or Frames); returns self."""
         ev, duration, n = _record(source, "free-flight statistics")
         sphere, time, _, _ = _per_sphere_stream(ev)
@@ -209,7 +218,7 @@ class FreeFlights(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """The free-flight time distribution (log y) with the exponential of the same mean; returns Axes."""
         ax = self._axes(ax)
         ax.semilogy(self.t, self.density, ".", label="free flights")
@@ -235,7 +244,7 @@ class Recollisions(Compute):
 
     _results = ("intervals", "fraction_repeated", "collisions")
 
-    def compute(self, source):
+    def compute(self, source: EventRecorder | Frames) -> Recollisions:
         """Recollisions in ``source``'s record; returns self."""
         ev, _, n = _record(source, "recollision statistics")
         key = ev["i"].astype(np.int64) * max(n, 1) + ev["j"]
@@ -248,12 +257,12 @@ class Recollisions(Compute):
         self._computed = True
         return self
 
-    def within(self, t):
+    def within(self, t: float) -> float:
         """Fraction of all collisions that are a recollision of the same pair within ``t`` [time]."""
         self._need()
         return float(np.count_nonzero(self.intervals <= t) / self.collisions)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """Fraction of collisions recolliding within t, against t (log); returns Axes."""
         ax = self._axes(ax)
         s = np.sort(self.intervals)
@@ -280,12 +289,12 @@ class ContactForces(Compute):
 
     _results = ("pairs", "forces", "vectors", "counts", "n", "duration")
 
-    def __init__(self, min_collisions=1):
+    def __init__(self, min_collisions: int = 1) -> None:
         if int(min_collisions) != min_collisions or min_collisions < 1:
             raise ValueError(f"min_collisions must be a whole number >= 1, got {min_collisions!r}")
         self.min_collisions = int(min_collisions)
 
-    def compute(self, source):
+    def compute(self, source: EventRecorder | Frames) -> ContactForces:
         """Forces from ``source``'s record (an :class:`EventRecorder` or Frames); returns self."""
         ev, duration, n = _record(source, "contact forces")
         key = ev["i"].astype(np.int64) * max(n, 1) + ev["j"]
@@ -304,7 +313,7 @@ class ContactForces(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """Distribution of f / <f> (log-log); returns Axes."""
         ax = self._axes(ax)
         f = self.forces / self.forces.mean()
