@@ -16,12 +16,17 @@ overlap instead.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .containers import MAX_PACKING, Container, as_container
 from .errors import BuildError  # noqa: F401 (re-exported)
 from .maxwell import maxwell_boltzmann
 from .state import State
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 #: Random placement is tried for up to this many spheres when the lattice does not fit.
 INSERTION_MAX = 500
@@ -32,7 +37,7 @@ INSERTION_MAX = 500
 SITES_PER_SPHERE = 2
 
 
-def _target_sites(n, most):
+def _target_sites(n: int, most: float) -> float:
     """Sites to aim for when ``most`` fit at the contact spacing (``most >= n``).
 
     :data:`SITES_PER_SPHERE` per sphere where the container has room, else
@@ -53,7 +58,7 @@ _SLAB_SITES = 1 << 20
 _BASE = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
 
 
-def _fcc(k, a, index=None):
+def _fcc(k: Any, a: Any, index: np.ndarray | None = None) -> np.ndarray:  # k, a: a number or a triple
     """FCC sites of ``k^3`` cubic cells of edge ``a``, centred on the origin.
 
     Site ``4 c + b`` is corner ``b`` of :data:`_BASE` in cell ``c`` (cells in
@@ -82,7 +87,7 @@ def _fcc(k, a, index=None):
     return sites
 
 
-def _whole_cells(sites):
+def _whole_cells(sites: float) -> int:
     """Fewest cubic FCC cells per edge, ``k``, whose ``4 k^3`` sites number at least ``sites``."""
     k = max(1, int(np.ceil((sites / 4.0) ** (1.0 / 3.0))))
     while 4 * k**3 < sites:
@@ -92,7 +97,7 @@ def _whole_cells(sites):
     return k
 
 
-def _box_lattice(n, side, a_min):
+def _box_lattice(n: int, side: float, a_min: float) -> tuple[int, float]:
     """``(k, edge)``: cells per edge of the periodic box's lattice and their edge.
 
     As few cells as hold :func:`_target_sites`, but no more than fit at the
@@ -104,7 +109,7 @@ def _box_lattice(n, side, a_min):
     return k, (side / k if k >= 1 else 0.0)
 
 
-def _rect_lattice(n, sides, a_min):
+def _rect_lattice(n: int, sides: ArrayLike, a_min: float) -> tuple[tuple[int, ...], tuple[float, ...]]:
     """``(k, edges)``: FCC cells per axis of a rectangular box's lattice and their sides.
 
     As in :func:`_box_lattice`: nearly cubic cells, as few as hold
@@ -125,7 +130,7 @@ def _rect_lattice(n, sides, a_min):
     return tuple(int(x) for x in k), tuple(float(x) for x in sides / k)
 
 
-def _ball_sites(k, a, where, rmax):
+def _ball_sites(k: int, a: float, where: Container, rmax: float) -> np.ndarray:
     """The sites of :func:`_fcc` ``(k, a)`` where a sphere of radius ``rmax`` is inside ``where``.
 
     Made slab by slab of cells, so that memory goes with the sites kept.
@@ -139,7 +144,7 @@ def _ball_sites(k, a, where, rmax):
     return np.concatenate(kept) if kept else np.zeros((0, 3))
 
 
-def _sphere_lattice(n, where, rmax, a_min):
+def _sphere_lattice(n: int, where: Container, rmax: float, a_min: float) -> np.ndarray:
     """Sites for ``n`` spheres of largest radius ``rmax`` in a spherical container.
 
     The spacing starts where the ball of reachable centres holds about
@@ -163,7 +168,9 @@ def _sphere_lattice(n, where, rmax, a_min):
         a = max(a_min, a * shrink)
 
 
-def _insert(rng, radii, container, sweeps=20000):
+def _insert(
+    rng: np.random.Generator, radii: np.ndarray, container: Container, sweeps: int = 20000
+) -> np.ndarray | None:
     """Random positions pushed apart until no two spheres overlap; ``None`` if they jam.
 
     The spheres start at random (inside the container) and every overlapping
@@ -176,7 +183,7 @@ def _insert(rng, radii, container, sweeps=20000):
     params = container.core_params()
     wall = params["wall_radius"]
     if container.periodic:
-        h = container.half_width if container.cube else 0.5 * np.array(container.sides)
+        h = container.half_width if container.cube else 0.5 * np.array(container.sides)  # type: ignore[attr-defined]
         x = rng.uniform(-h, h, (n, 3))
     else:
         reach = wall - grow
@@ -205,7 +212,7 @@ def _insert(rng, radii, container, sweeps=20000):
     return None
 
 
-def _radii(rng, n, ratio):
+def _radii(rng: np.random.Generator, n: int, ratio: float) -> np.ndarray:
     if ratio == 1.0:
         return np.ones(n)
     return rng.uniform(1.0, ratio, n)
@@ -380,7 +387,9 @@ def random_arrays(
         )
     # contact spacing: nearest sites (a / sqrt 2) one largest diameter apart
     a_min = 2.0 * np.sqrt(2.0) * rmax * (1.0 + 1e-9)
-    sites, k, edge = None, 0, 0.0
+    sites: np.ndarray | None = None
+    k: int | tuple[int, ...] = 0
+    edge: float | tuple[float, ...] = 0.0
     if n == 0:
         sites = np.zeros((0, 3))
         count = 0
@@ -493,13 +502,13 @@ MAX_PACKING_2D = float(np.pi / (2.0 * np.sqrt(3.0)))
 RANDOM_DISKS_MAX = 0.72
 
 
-def _triangular(kx, ky, ax, ay, shift):
+def _triangular(kx: int, ky: int, ax: float, ay: float, shift: np.ndarray) -> np.ndarray:
     """``kx`` by ``ky`` sites, rows ``ay`` apart, odd rows shifted by half of ``ax``, minus ``shift``."""
     j, i = np.divmod(np.arange(kx * ky), kx)
     return np.column_stack([(i + 0.5 * (j % 2)) * ax, j * ay]) - shift
 
 
-def _disk_sites(n, where, rmax):
+def _disk_sites(n: int, where: Container, rmax: float) -> np.ndarray | None:
     """Sites of a triangular lattice for ``n`` disks of largest radius ``rmax``, about 2 per disk.
 
     A periodic box: whole rows (an even number) tiling it, their spacing as
@@ -509,7 +518,7 @@ def _disk_sites(n, where, rmax):
     """
     a_min = 2.0 * rmax * (1.0 + 1e-9)
     if where.periodic:
-        lx, ly = where.sides
+        lx, ly = where.sides  # type: ignore[attr-defined]
         most = max(1, int(lx / a_min)) * max(2, 2 * int(ly / (a_min * np.sqrt(3.0))))
         m = _target_sites(n, max(most, n))
         kx = max(1, int(round(np.sqrt(m * np.sqrt(3.0) * lx / (2.0 * ly)))))
@@ -524,7 +533,7 @@ def _disk_sites(n, where, rmax):
             else:
                 ky -= 2
         return None
-    reach = where.radius - rmax
+    reach = where.radius - rmax  # type: ignore[attr-defined]
     if reach <= 0.0:
         return None if n else np.zeros((0, 2))
     a = max(a_min, np.sqrt(2.0 * np.pi * reach * reach / (np.sqrt(3.0) * max(2 * n, 1))))
@@ -545,7 +554,15 @@ def _disk_sites(n, where, rmax):
         a = max(a_min, a * 0.97)
 
 
-def _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT):
+def _random_disks(
+    n: int,
+    packing: float,
+    where: Container,
+    seed: int | None,
+    radius_ratio: float,
+    mass_ratio: float,
+    kT: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`random_arrays` in 2-D: disks on a random subset of a triangular lattice's sites."""
     if not (0.0 < packing <= RANDOM_DISKS_MAX):
         raise BuildError(
@@ -558,10 +575,10 @@ def _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT):
     rel = _radii(rng, n, radius_ratio)
     radii = rel * np.sqrt(packing * where.volume / (np.pi * np.sum(rel**2))) if n else rel
     rmax = float(radii.max()) if n else 0.0
-    if where.periodic and n and 6.0 * rmax > min(where.sides):
+    if where.periodic and n and 6.0 * rmax > min(where.sides):  # type: ignore[attr-defined]
         raise BuildError(
             f"a periodic box must be at least three largest diameters wide ({6.0 * rmax:.3g}), "
-            f"not {min(where.sides):g}: lower the packing or raise N"
+            f"not {min(where.sides):g}: lower the packing or raise N"  # type: ignore[attr-defined]
         )
     sites = _disk_sites(n, where, rmax) if n else np.zeros((0, 2))
     if sites is None:
