@@ -265,3 +265,100 @@ def test_rectangular_box_and_a_gsd_path_read_a_frame_at_a_time(tmp_path):
     with pytest.raises(ValueError, match="below 2 pi / L"):
         SelfIntermediate(k=2 * np.pi / 10.0).compute(fr)  # below 2 pi / 9, the longest side
     SelfIntermediate(k=2 * np.pi / 8.0, lags=[0.5]).compute(fr)  # above it: allowed
+
+
+# ---- two dimensions: disks in PeriodicBox((Lx, Ly)) ------------------------------------
+@pytest.fixture(scope="module")
+def dilute_disks():
+    """A dilute disk gas (area fraction 1e-3) over a small part of its mean free time: no collision."""
+    n = 1000
+    side = math.sqrt(n * math.pi * 0.25 / 1e-3)
+    box = hs.PeriodicBox((side, side))
+    sim = hs.Simulation(hs.random_spheres(n, 1e-3, box, seed=11), box)
+    v = sim.state().velocities.copy()
+    fr = frames_from_simulation(sim, until=2.0, every=0.1)
+    return fr, v, sim.counters["collisions"]
+
+
+def test_disks_free_flight_gives_the_exact_sample_average(dilute_disks):
+    """In 2-D the circle of directions averages exp(i k . dr) to J_0(k r): F_s = (1/N) sum J_0(k v_i t)."""
+    from scipy.special import j0
+
+    fr, v, collisions = dilute_disks
+    assert collisions == 0 and fr.positions.shape[2] == 2
+    k = np.array([2 * np.pi, 5.0])
+    fs = SelfIntermediate(k=k, lags=[0.1, 0.5, 1.0]).compute(fr)
+    speed = np.linalg.norm(v, axis=1)
+    for t, F in zip(fs.t, fs.F):
+        np.testing.assert_allclose(F, [np.mean(j0(kk * speed * t)) for kk in k], rtol=0, atol=1e-12)
+    # the overlap counts the disks that flew less than a: Q = (1/N) #(|v_i| t < a), and with
+    # every origin seeing the same flights, chi_4 = N var Q over origins is 0
+    ov = Overlap(a=0.3, lags=[0.1, 0.5, 1.0], blocks=1).compute(fr)
+    np.testing.assert_allclose(ov.Q, [np.mean(speed * t < 0.3) for t in ov.t], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ov.chi4, 0.0, atol=1e-12)
+
+
+def test_disks_short_times_dilute_gaussian_limit(dilute_disks):
+    """2-D: F_s = exp(-k^2 kT t^2 / 2m), alpha_2 = <r^4> / (2 <r^2>^2) - 1 = 0, Q = 1 - exp(-a^2 m / (2 kT t^2))."""
+    fr, v, _ = dilute_disks
+    kT = float(np.mean(fr.masses[:, None] * v**2))  # the temperature the gas was given (2 N degrees)
+    fs = SelfIntermediate(k=[2 * np.pi, 10.0]).compute(fr)
+    expected = np.exp(-np.outer(fs.t**2, fs.k**2) * kT / 2.0)
+    assert np.all(np.abs(fs.F - expected) <= 4 * fs.particle_error + 1e-12)
+    assert fs.F.min() < 0.2  # the test reached well into the decay
+    ng = NonGaussian().compute(fr)
+    assert ng.dim == 2
+    assert np.all(np.abs(ng.alpha2) <= 4 * ng.alpha2_particle_error)
+    np.testing.assert_allclose(ng.msd, 2 * kT * ng.t**2, rtol=1e-12)  # <v^2> t^2, the same velocities
+    a = 0.3
+    ov = Overlap(a=a).compute(fr)
+    q = 1.0 - np.exp(-(a**2) / (2.0 * kT * ov.t**2))  # the Rayleigh law of 2-D speeds
+    assert np.all(np.abs(ov.Q - q) <= 4 * np.sqrt(q * (1 - q) / fr.n) + 1e-12)
+    # the k-shells are circles: the box's wave vectors of |k| near 2 pi give the same F_s
+    lags = [0.2, 0.5, 1.0]
+    iso = SelfIntermediate(k=2 * np.pi, lags=lags).compute(fr)
+    lat = SelfIntermediate(k=2 * np.pi, shell="lattice", max_vectors=200, lags=lags).compute(fr)
+    assert np.all(np.abs(iso.F - lat.F) <= 5 * np.hypot(iso.particle_error, lat.particle_error))
+
+
+@pytest.fixture(scope="module")
+def disk_fluid():
+    """A disk fluid at area fraction 0.3, 400 disks, over about 200 mean free times."""
+    n, phi = 400, 0.3
+    side = math.sqrt(n * math.pi * 0.25 / phi)
+    box = hs.PeriodicBox((side, side))
+    sim = hs.Simulation(hs.random_spheres(n, phi, box, seed=5), box)
+    sim.run(collisions=5 * n)
+    fr = frames_from_simulation(sim, until=sim.time + 60.0, every=0.25)
+    return fr, side
+
+
+def test_disks_long_times_diffusive_limit(disk_fluid):
+    """2-D, k = 2 pi / L: -d ln F_s / dt = k^2 D at long times, D from the MSD of the same frames (MSD = 4 D t)."""
+    fr, side = disk_fluid
+    msd = hs.MSD(blocks=4).compute(fr)
+    D, D_err = msd.diffusion(t_min=5.0, t_max=15.0)
+    ng = NonGaussian(lags=[5.0, 15.0]).compute(fr)  # the same MSD, here per origin
+    assert D == pytest.approx((ng.msd[1] - ng.msd[0]) / 10.0 / 4.0, rel=0.05)
+    k = 2 * np.pi / side
+    fs = SelfIntermediate(k=k, lags=[10.0, 40.0], blocks=4).compute(fr)
+    F, e = fs.F[:, 0], fs.error[:, 0]
+    slope = -(math.log(F[1]) - math.log(F[0])) / (fs.t[1] - fs.t[0]) / k**2
+    slope_err = math.hypot(e[0] / F[0], e[1] / F[1]) / (fs.t[1] - fs.t[0]) / k**2
+    assert abs(slope - D) <= 4 * math.hypot(slope_err, D_err)
+    assert 0.05 < F[-1] < 0.5  # well into the decay
+
+
+def test_disks_chi4_is_n_times_the_variance_of_q_over_origins(disk_fluid):
+    """chi_4 of simulated disks against Q computed directly from the frames, origin by origin."""
+    fr, side = disk_fluid
+    lags = [0.5, 2.0, 8.0]
+    ov = Overlap(a=0.3, lags=lags, blocks=1).compute(fr)
+    x = fr.positions + fr.images * np.array([side, side])
+    for lag, q, chi, count in zip(ov.t, ov.Q, ov.chi4, ov.origins):
+        step = int(round(lag / 0.25))
+        per = np.mean(np.sum((x[step:] - x[:-step]) ** 2, axis=2) < 0.09, axis=1)
+        assert count == len(per)
+        assert q == pytest.approx(per.mean(), rel=1e-12)
+        assert chi == pytest.approx(fr.n * per.var(), rel=1e-9)
+    assert np.all(ov.chi4 > 0)

@@ -3,11 +3,12 @@
 * :class:`MSD`: the mean squared displacement over all time origins
   (:class:`freud.msd.MSD` in its ``"window"`` mode, FFT-based) of the
   unwrapped positions (exact image counts, :meth:`hardspheres.Frames.unwrapped`),
-  and D from its slope, ``MSD = 6 D t`` at long times.  freud computes in
+  and D from its slope, ``MSD = 2 d D t`` at long times (``6 D t`` in 3-D,
+  ``4 D t`` for disks, which freud is given with z = 0).  freud computes in
   single precision: the MSD carries an absolute error of about 1e-7 of the
   squared unwrapped positions, far below the statistical error of D.
 * :class:`VACF`: the velocity autocorrelation over all time origins and
-  ``D = 1/3 int C(t) dt`` (Green-Kubo), cut where :meth:`VACF.diffusion`
+  ``D = (1/d) int C(t) dt`` (Green-Kubo), cut where :meth:`VACF.diffusion`
   says (at least 150 mean free times in a dense fluid: its long-time tail
   holds ~2% of D).  freud has no VACF; it is the same FFT correlation as its
   MSD, done here with numpy, a chunk of spheres at a time (bounded memory);
@@ -266,6 +267,8 @@ class MSD(_Blocked):
     def _msd(x: np.ndarray) -> np.ndarray:
         import freud
 
+        if x.shape[2] == 2:  # freud takes 3-D positions: disks with z = 0 (the MSD is the same)
+            x = np.concatenate([x, np.zeros(x.shape[:2] + (1,))], axis=2)
         return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
 
     def _window(self, t: np.ndarray, t_min: float | None, t_max: float | None) -> np.ndarray:
@@ -294,12 +297,13 @@ class MSD(_Blocked):
         t_lo = 0.2 * tseg[-1] if t_min is None else t_min
         t_hi = 0.5 * tseg[-1] if t_max is None else t_max
         sel = self._window(self.t, t_lo, t_hi)
-        D = np.polyfit(self.t[sel], self.msd[sel], 1)[0] / 6.0
+        two_d = 2.0 * self._x.shape[2]  # MSD = 2 d D t in d dimensions
+        D = np.polyfit(self.t[sel], self.msd[sel], 1)[0] / two_d
         per = []
         sel_s = self._window(tseg, t_lo, t_hi)
         for s in segs:
             m = self._msd(self._x[s])
-            per.append(np.polyfit(tseg[sel_s], m[sel_s], 1)[0] / 6.0)
+            per.append(np.polyfit(tseg[sel_s], m[sel_s], 1)[0] / two_d)
         err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
         return float(D), err
 
@@ -308,7 +312,8 @@ class MSD(_Blocked):
         ax = self._axes(ax)
         ax.loglog(self.t[1:], self.msd[1:], label="MSD")
         D, _ = self.diffusion()
-        ax.loglog(self.t[1:], 6.0 * D * self.t[1:], "--", label=f"6 D t, D = {D:.4g}")
+        two_d = 2 * self._x.shape[2]
+        ax.loglog(self.t[1:], two_d * D * self.t[1:], "--", label=f"{two_d} D t, D = {D:.4g}")
         ax.set_xlabel("t")
         ax.set_ylabel("mean squared displacement")
         ax.legend()
@@ -335,7 +340,7 @@ class VACF(_Blocked):
         return self
 
     def diffusion(self, t_max: float | None = None) -> tuple[float, float]:
-        """``D = 1/3 int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
+        """``D = (1/d) int_0^t_max C(t) dt`` (trapezoid), default ``t_max`` half a segment.
 
         C(t) falls steeply over the first mean free time, and the trapezoid
         overestimates the integral unless frames resolve that fall: at
@@ -378,19 +383,20 @@ class VACF(_Blocked):
                 f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): use fewer blocks or a longer run"
             )
         k = int(np.searchsorted(self.t, t_max, side="right"))
-        D = np.trapezoid(self.c[:k], self.t[:k]) / 3.0
-        per = [np.trapezoid(_autocorrelation(self._v[s])[:k], tseg[:k]) / 3.0 for s in segs]
+        d = self._v.shape[2]  # C = <v(0) . v(t)> = d D'(t) in d dimensions
+        D = np.trapezoid(self.c[:k], self.t[:k]) / d
+        per = [np.trapezoid(_autocorrelation(self._v[s])[:k], tseg[:k]) / d for s in segs]
         err = float(np.std(per, ddof=1) / math.sqrt(len(per))) if len(per) > 1 else math.nan
         return float(D), err
 
     def running_diffusion(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(t, D(t))``: ``1/3 int_0^t C dt'`` for every cut ``t`` (trapezoid, as :meth:`diffusion`).
+        """``(t, D(t))``: ``(1/d) int_0^t C dt'`` for every cut ``t`` (trapezoid, as :meth:`diffusion`).
 
         Where it levels off is where the cut may go (see :meth:`diffusion`).
         """
         self._need()
         steps = 0.5 * (self.c[1:] + self.c[:-1]) * np.diff(self.t)
-        return self.t, np.concatenate([[0.0], np.cumsum(steps)]) / 3.0
+        return self.t, np.concatenate([[0.0], np.cumsum(steps)]) / self._v.shape[2]
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """C(t) / C(0) against t; returns Axes."""
