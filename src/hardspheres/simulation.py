@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Iterator, Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -40,7 +40,18 @@ from .state import State
 from .writers import Writer
 
 if TYPE_CHECKING:
+    from .barostat import Barostat
     from .dense import CompressResult, Thermostat
+
+    class _Acting(Protocol):
+        """A thermostat or barostat once attached: its next_time is a time, no longer None."""
+
+        next_time: float
+
+        def attach(self, sim: Simulation) -> None: ...
+
+        def apply(self, sim: Simulation, t: float) -> None: ...
+
 
 #: Event kind names by number (:class:`~hardspheres.events.EventKind`).
 KINDS = KIND_LABELS
@@ -106,10 +117,10 @@ class Simulation:
     stop_requested: bool = False
     #: Thermostat holding kT (:mod:`hardspheres.dense`), or ``None`` (NVE);
     #: :meth:`set_thermostat` sets it.
-    thermostat = None
+    thermostat: Thermostat | None = None
     #: Barostat holding the pressure (:mod:`hardspheres.barostat`), or
     #: ``None`` (constant volume); :meth:`set_barostat` sets it.
-    barostat = None
+    barostat: Barostat | None = None
 
     def __init__(self, state: State, container: Container | float, window: float = 0.0) -> None:
         container = as_container(container)
@@ -251,7 +262,9 @@ class Simulation:
             ):
                 yield Event(t, KINDS[k], i, j, imp, tuple(dp))
 
-    def _chunks(self, until, collisions, events, record):  # not annotated yet: its loop needs narrowing
+    def _chunks(
+        self, until: float | None, collisions: int | None, events: int | None, record: bool
+    ) -> Iterator[np.ndarray]:
         if until is None and collisions is None and events is None:
             raise ValueError("give until, collisions or events: the run never ends otherwise")
         if until is None:
@@ -266,10 +279,10 @@ class Simulation:
         ev_left = np.inf if events is None else _count(events, "events")
         eng = self._engine
         self._run_until = until
-        th = self.thermostat
+        th = cast("_Acting | None", self.thermostat)  # attached below
         if th is not None:
             th.attach(self)
-        bs = self.barostat
+        bs = cast("_Acting | None", self.barostat)
         if bs is not None:
             bs.attach(self)
         for w in self.writers:
@@ -277,7 +290,8 @@ class Simulation:
         listeners = [w for w in self.writers if getattr(w, "wants_events", False)]
         yield_events = record  # the caller iterates over the events
         record = record or bool(listeners)
-        by_count = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
+        # the writers with a collision-count trigger (their next_collisions)
+        by_count: list[Any] = [w for w in self.writers if getattr(w, "next_collisions", np.inf) < np.inf]
         obs = self.observables
         while coll_left > 0 and ev_left > 0 and not self.stop_requested:
             stop = until if th is None else min(until, th.next_time)
@@ -289,7 +303,7 @@ class Simulation:
             sampling = obs.next_sample <= stop and not eng.idle
             if sampling:
                 stop = obs.next_sample
-            step = min(ev_left, 1 << 16)
+            step = cast(int, min(ev_left, 1 << 16))  # ev_left is a count or inf
             c0 = eng.counters["collisions"]
             budget = coll_left
             for w in by_count:
@@ -400,7 +414,7 @@ class Simulation:
         self.thermostat = thermostat  # its own slot: it acts before the writers observe
         return self
 
-    def set_barostat(self, barostat):
+    def set_barostat(self, barostat: Barostat | None) -> Simulation:
         """Hold the pressure with a barostat (``None``: constant volume, the default).
 
         ``barostat`` is a :class:`hardspheres.barostat.Barostat` (Monte
