@@ -169,3 +169,122 @@ def test_force_exponent_without_bucklers_drops_the_forces_on_spheres_with_d_plus
     assert all_used == n and kept == n - 101  # pairs (i, i + 1) touching spheres 0..99
     with pytest.raises(ValueError, match="without_bucklers: pass contacts"):
         force_exponent(Forces(), without_bucklers=True)
+
+
+# ---- two dimensions: disks -------------------------------------------------------------
+def _hexagonal_at_contact(nx=8, ny=8):
+    """A triangular crystal of unit disks at contact in its periodic box: ``(positions, box sides)``."""
+    from hardspheres.builders import MAX_PACKING_2D, hexagonal
+
+    s, box = hexagonal((nx, ny), MAX_PACKING_2D)
+    return s.positions, np.array(box.sides)
+
+
+def test_hexagonal_crystal_has_six_contacts_and_a_vacancy_takes_one_from_six():
+    pos, sides = _hexagonal_at_contact()
+    n = len(pos)
+    c = Contacts(tolerance=1e-9).compute(pos, radii=np.full(n, 0.5), box=sides)
+    assert c.dim == 2 and c.z == 6.0 and c.rattler_fraction == 0.0 and len(c.pairs) == 3 * n
+    c = Contacts(tolerance=1e-9).compute(np.delete(pos, 27, axis=0), radii=np.full(n - 1, 0.5), box=sides)
+    assert c.rattler_fraction == 0.0
+    assert np.sort(c.contacts)[:7].tolist() == [5] * 6 + [6]
+    assert c.z == pytest.approx(2 * (3 * n - 6) / (n - 1), rel=1e-15)
+
+
+def test_disk_rattler_rule_is_fewer_than_three_contacts():
+    """d + 1 = 3 in 2-D: a disk left with 3 neighbours of its 6 stays, one left with 2 rattles."""
+    pos, sides = _hexagonal_at_contact()
+    radii = np.full(len(pos), 0.5)
+    full = Contacts(tolerance=1e-9).compute(pos, radii=radii, box=sides)
+    mine = full.pairs[(full.pairs == 27).any(axis=1)]
+    nb = mine.sum(axis=1) - 27
+    assert len(nb) == 6
+    # the six neighbours in order around disk 27: remove alternate ones (3 left, a triangle
+    # that holds it) or four in a row (2 left)
+    d = pos[nb] - pos[27]
+    d -= sides * np.round(d / sides)
+    ring = nb[np.argsort(np.arctan2(d[:, 1], d[:, 0]))]
+    for removed, rattles in ((ring[::2], False), (ring[:4], True)):
+        keep = np.setdiff1d(np.arange(len(pos)), removed)
+        c = Contacts(tolerance=1e-9).compute(pos[keep], radii=radii[keep], box=sides)
+        me = int(np.flatnonzero(keep == 27)[0])
+        assert bool(c.rattler[me]) is rattles
+        assert c.contacts[me] == (0 if rattles else 3)
+        if not rattles:
+            # the 3-D rule (4 contacts needed) on the same network would drop it
+            r3, _ = remove_rattlers(c.pairs, len(c.rattler), 3)
+            assert r3[me]
+
+
+def _binary_disks(n, seed):
+    """50:50 disks of diameters 1.4 : 1 from a fluid at area fraction ~0.25.
+
+    (Largest diameter 0.8: the growth limit the engine sets for disks counts a unit z
+    width of the cells, so disks are kept below diameter 1.)
+    """
+    r_big = 0.4
+    area = 0.5 * n * math.pi * (r_big**2 + (r_big / 1.4) ** 2)
+    side = math.sqrt(area / 0.84)
+    box = hs.PeriodicBox((side, side))
+    s = hs.random_spheres(n, 0.3, box, seed=seed)
+    radii = np.where(np.arange(n) % 2 == 0, 1.0, 1.0 / 1.4) * s.radii.max()  # no larger: no overlap
+    return hs.Simulation.from_arrays(s.masses, radii, s.positions, s.velocities, box)
+
+
+@pytest.fixture(scope="module")
+def jammed_disks():
+    """256 binary disks compressed to Z > 10^6, then 100 collisions per disk at fixed radii."""
+    n = 256
+    sim = _binary_disks(n, seed=1)
+    sim.run(collisions=2 * n)
+    history = []
+    for rate, pressure in ((0.01, 1e3), (1e-3, 1e6)):
+        res = sim.compress(rate=rate, pressure=pressure, progress=lambda p, z, c: history.append((p, z)))
+    v0 = sim.state().velocities.copy()
+    rec = EventRecorder()
+    sim.writers.append(rec)
+    sim.run(collisions=100 * n)
+    return sim, res, np.array(history).T, rec, v0
+
+
+def test_jammed_disks_are_isostatic_after_rattler_removal(jammed_disks):
+    """z = 2 (2 (N' - 1) + 1) / N' (about 4) within 1%, by gaps and by forces; phi_J of the free-volume form."""
+    sim, res, (phi, z), rec, _ = jammed_disks
+    assert res.pressure > 1e6
+    c = Contacts().compute(sim)
+    assert c.dim == 2 and abs(c.z - c.z_isostatic) <= 0.01 * c.z_isostatic
+    assert 0.0 < c.rattler_fraction < 0.15
+    by_force = Contacts().compute(sim, forces=ContactForces().compute(rec))
+    assert abs(by_force.z - by_force.z_isostatic) <= 0.01 * by_force.z_isostatic
+    jp = JammingPoint(dim=2).compute(phi, z)
+    assert res.packing < jp.phi_J < res.packing * (1 + 1e-4)
+    # random close packing of 1:1.4 disks is near 0.84 (O'Hern et al., PRE 68, 011306 (2003))
+    assert 0.82 < jp.phi_J < 0.86 and 1.5 < jp.d_fit < 2.5
+
+
+def test_jammed_disks_contact_forces_balance_exactly(jammed_disks):
+    """The net time-averaged force on each disk times t is its momentum change m (v(t) - v(0))."""
+    sim, _, _, rec, v0 = jammed_disks
+    cf = ContactForces().compute(rec)
+    assert cf.vectors.shape[1] == 2
+    net = np.zeros((sim.n, 2))
+    np.add.at(net, cf.pairs[:, 0], cf.vectors)
+    np.add.at(net, cf.pairs[:, 1], -cf.vectors)
+    dp = sim.state().masses[:, None] * (sim.state().velocities - v0)
+    scale = float(np.abs(cf.vectors).max()) * cf.duration
+    np.testing.assert_allclose(net * cf.duration, dp, rtol=0, atol=1e-9 * scale)
+    # and that change is small against the forces: each disk is held in balance
+    load = np.zeros(sim.n)
+    np.add.at(load, cf.pairs.ravel(), np.repeat(cf.forces, 2))
+    kept = load > 0
+    assert np.median(np.linalg.norm(net[kept], axis=1) / load[kept]) < 0.02
+
+
+def test_jammed_disks_gap_and_force_exponents(jammed_disks):
+    """g(h) and P(f) of disks: power laws fitted, with errors, over the non-rattlers."""
+    sim, _, _, rec, _ = jammed_disks
+    c = Contacts().compute(sim)
+    gamma, g_err, g_used = c.gap_exponent(h_max=0.05)
+    assert g_used >= 10 and 0.0 < gamma < 1.0 and g_err > 0
+    theta, f_err, f_used = force_exponent(ContactForces().compute(rec), c, f_max=0.5)
+    assert f_used >= 50 and -1.0 < theta < 2.0 and f_err > 0

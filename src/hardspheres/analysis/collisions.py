@@ -95,6 +95,8 @@ class EventRecorder:
         self.t0 = math.nan
         self.t1 = math.nan
         self.n = 0
+        #: dimensions of the simulation recorded (the events' ``dp`` always have 3 components)
+        self.dim = 3
         self._sim: SimulationView | None = None
 
     def attach(self, sim: SimulationView) -> None:
@@ -102,6 +104,7 @@ class EventRecorder:
             self.t0 = float(sim.time)
         self._sim = sim
         self.n = int(sim.n)
+        self.dim = int(sim.engine.dimensions)
 
     def write(self, sim: SimulationView, t: float) -> None:
         pass
@@ -153,6 +156,13 @@ def _record(source: EventRecorder | Frames, what: str) -> tuple[np.ndarray, floa
     if not duration > 0:
         raise ValueError(f"{what}: the record spans no time")
     return ev, duration, n
+
+
+def _dimensions(source: EventRecorder | Frames) -> int:
+    """Dimensions of the spheres whose events ``source`` holds (2 for disks: their ``dp`` have z = 0)."""
+    if isinstance(source, EventRecorder):
+        return source.dim
+    return int(np.shape(source.positions)[2])
 
 
 def _per_sphere_stream(ev: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -300,10 +310,8 @@ class ContactForces(Compute):
         key = ev["i"].astype(np.int64) * max(n, 1) + ev["j"]
         uniq, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
         total = np.bincount(inv, weights=ev["impulse"], minlength=len(uniq))
-        dp = np.stack(
-            [np.bincount(inv, weights=ev["dp"][:, c], minlength=len(uniq)) for c in range(ev["dp"].shape[1])],
-            1,
-        )
+        dim = _dimensions(source)
+        dp = np.stack([np.bincount(inv, weights=ev["dp"][:, c], minlength=len(uniq)) for c in range(dim)], 1)
         keep = counts >= self.min_collisions
         self.pairs = np.stack([uniq // n, uniq % n], axis=1)[keep]
         self.forces = total[keep] / duration
