@@ -18,12 +18,18 @@ Versions:
 
 from __future__ import annotations
 
+import os
 import zipfile
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, NoReturn, overload
 
 import numpy as np
 
 from ..errors import CheckpointError
 from . import _core as core
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, DTypeLike
 
 #: The ``format`` array of every checkpoint.
 FORMAT = "hardspheres-checkpoint"
@@ -33,7 +39,7 @@ VERSION = 2
 READS = (1, 2)
 
 
-def read(path) -> dict[str, np.ndarray]:
+def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     """The arrays of a checkpoint file, after checking its format and version (``version`` removed)."""
     try:
         with np.load(path, allow_pickle=False) as z:
@@ -67,7 +73,7 @@ def read(path) -> dict[str, np.ndarray]:
     return data
 
 
-def _why(err):
+def _why(err: BaseException) -> str:
     """A short reason from an exception: its first line, cut to 80 characters."""
     text = (str(err).splitlines() or [type(err).__name__])[0]
     return text if len(text) <= 80 else text[:77] + "..."
@@ -90,18 +96,22 @@ _OLD_NAMES = {
 }
 
 
-def current_names(data):
+@overload
+def current_names(data: dict[str, np.ndarray]) -> dict[str, np.ndarray]: ...
+@overload
+def current_names(data: Mapping[str, np.ndarray]) -> Mapping[str, np.ndarray]: ...
+def current_names(data: Mapping[str, np.ndarray]) -> Mapping[str, np.ndarray]:
     """``data`` with the arrays of an older checkpoint under today's names."""
     if not any(k in data for k in _OLD_NAMES):
         return data
     return {_OLD_NAMES.get(k, k): v for k, v in data.items()}
 
 
-def _bad(what):
+def _bad(what: str) -> NoReturn:
     raise CheckpointError(f"damaged checkpoint: {what}")
 
 
-def _array(data, key, dtype, shape):
+def _array(data: Mapping[str, np.ndarray], key: str, dtype: DTypeLike, shape: tuple[int, ...]) -> np.ndarray:
     if key not in data:
         _bad(f"no array {key!r}")
     a = np.asarray(data[key])
@@ -110,7 +120,7 @@ def _array(data, key, dtype, shape):
     return a
 
 
-def check_arrays(data):
+def check_arrays(data: Mapping[str, np.ndarray]) -> None:
     """Check :meth:`Engine.checkpoint`'s arrays before the compiled core sees them.
 
     Everything the core indexes with is checked (heap, cell lists, partners,
@@ -186,7 +196,15 @@ def check_arrays(data):
     _check_calendar(data, book, due, heap, heap_t, heap_key, scalars, order, n)
 
 
-def _check_state(masses, spheres, due, heap_t, scalars, counts, meta):
+def _check_state(
+    masses: np.ndarray,
+    spheres: np.ndarray,
+    due: np.ndarray,
+    heap_t: np.ndarray,
+    scalars: np.ndarray,
+    counts: np.ndarray,
+    meta: np.ndarray,
+) -> None:
     """The physical state and the core's numbers: finite, positive where they must be."""
     if not np.all(np.isfinite(masses) & (masses > 0)):
         _bad("a masses is not a finite number > 0")
@@ -212,7 +230,14 @@ def _check_state(masses, spheres, due, heap_t, scalars, counts, meta):
         _bad("the container size disagrees with the core's")
 
 
-def _check_cells(book, grid, cell_head, cell_next, cell_prev, n):
+def _check_cells(
+    book: np.ndarray,
+    grid: np.ndarray,
+    cell_head: np.ndarray,
+    cell_next: np.ndarray,
+    cell_prev: np.ndarray,
+    n: int,
+) -> None:
     """The cells: coordinates in the grid, and each cell's list holds exactly its spheres."""
     cxyz = book[:, core.CELL_X : core.CELL_Z + 1]
     if np.any((cxyz < 0) | (cxyz >= grid[None, :])):
@@ -234,7 +259,17 @@ def _check_cells(book, grid, cell_head, cell_next, cell_prev, n):
         _bad("a sphere is in no cell list")
 
 
-def _check_calendar(data, book, due, heap, heap_t, heap_key, scalars, order, n):
+def _check_calendar(
+    data: Mapping[str, np.ndarray],
+    book: np.ndarray,
+    due: np.ndarray,
+    heap: np.ndarray,
+    heap_t: np.ndarray,
+    heap_key: np.ndarray,
+    scalars: np.ndarray,
+    order: np.ndarray,
+    n: int,
+) -> None:
     """The calendar: a heap over all spheres, each entry its sphere's earlier event (or crossing)."""
     ids = np.arange(n)
     if not np.array_equal(np.sort(heap), ids) or np.any(book[heap, core.HEAP_POS] != ids):
@@ -278,7 +313,7 @@ def _check_calendar(data, book, due, heap, heap_t, heap_key, scalars, order, n):
         _bad("the event calendar is out of order")
 
 
-def _check_lists(data, book, n):
+def _check_lists(data: Mapping[str, np.ndarray], book: np.ndarray, n: int) -> None:
     """The shells and neighbour lists: finite, in range, symmetric."""
     shells = _array(data, "shells", np.float64, (n, core.SHELL_COLS))
     neighbours = np.asarray(data["neighbours"])
@@ -350,7 +385,7 @@ def migrate(data: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], bool]:
     return data, saved <= core.F_T_KIN
 
 
-def calendar_entries(due, book, n):
+def calendar_entries(due: np.ndarray, book: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Each sphere's calendar entry: the earlier of its event and its crossing, ``(times, keys)``."""
     order = book[:, core.ORIGIN] if book.shape[1] > core.ORIGIN else np.arange(n)
     cross_key = tie_key(core.CROSSING, order, -1, n)
@@ -360,6 +395,6 @@ def calendar_entries(due, book, n):
     return np.where(first, cr_t, ev_t), np.where(first, cross_key, key)
 
 
-def tie_key(kind, a, b, n):
+def tie_key(kind: int, a: ArrayLike, b: ArrayLike, n: int) -> np.ndarray:
     """The core's tie key, on arrays (its Python source, not a second copy)."""
     return core._key.py_func(kind, a, b, n)
