@@ -18,12 +18,21 @@ Example:
     1.5
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
 
 @numba.njit(cache=True, nogil=True)
-def _closest(x, radii, sides, sigma_max):  # pragma: no cover (compiled)
+def _closest(
+    x: np.ndarray, radii: np.ndarray, sides: np.ndarray, sigma_max: float
+) -> float:  # pragma: no cover (compiled)
     n = x.shape[0]
     nc = np.empty(3, np.int64)
     most = int(np.ceil(2.0 * n ** (1.0 / 3.0))) + 1  # about 8 cells per sphere at most
@@ -75,7 +84,7 @@ def _closest(x, radii, sides, sigma_max):  # pragma: no cover (compiled)
     return best
 
 
-def closest_ratio(positions, radii, sides):
+def closest_ratio(positions: ArrayLike, radii: ArrayLike, sides: ArrayLike) -> float:
     """Least ``d_ij / (R_i + R_j)`` over pairs in a periodic box of ``sides`` (``inf``: none near).
 
     Args:
