@@ -4,6 +4,8 @@
   on the origin; spheres reflect off it.
 * :class:`PeriodicBox`: a cube centred on the origin with periodic
   boundaries and minimum-image collisions, for bulk matter (no walls).
+* :class:`CircularContainer`: the 2-D round wall; it and
+  :class:`SphericalContainer` share their base, :class:`RoundWall`.
 
 A container is one object that every layer passes along (engine,
 simulation, observables, trajectories, frames, pictures); it owns the
@@ -146,7 +148,102 @@ def require_periodic(container: Container | None, what: str) -> float:
 
 
 @dataclass(frozen=True)
-class SphericalContainer:
+class RoundWall:
+    """A hard round wall of radius ``radius`` [length] centred on the origin, in ``dimensions`` (2 or 3).
+
+    What :class:`SphericalContainer` (3-D) and :class:`CircularContainer`
+    (2-D) share: no periodic images, plain differences, the wall's reach,
+    ``d N`` degrees of freedom, the pressure on the wall, the files' fields.
+    Each subclass adds what its dimension sets: volume, wall area, the
+    GSD box, the core's numbers, the start check and the outline.
+    """
+
+    radius: float
+    periodic: ClassVar[bool] = False
+    #: The name in files (:meth:`record`) and its size's field (:meth:`fields`).
+    kind: ClassVar[str]
+    size_field: ClassVar[str]
+    dimensions: ClassVar[int]
+    #: The shape's adjective in words (:attr:`label`, :attr:`description`).
+    shape: ClassVar[str]
+
+    @property
+    def size(self) -> float:
+        """The one number that sets the container: its radius [length]."""
+        return self.radius
+
+    @property
+    def label(self) -> str:
+        """A short description for titles."""
+        return f"{self.shape} container R = {self.radius:g}"
+
+    @property
+    def description(self) -> str:
+        """It in words, for messages and summaries."""
+        return f"{self.shape} container of radius {self.radius:g}"
+
+    @property
+    def half_width(self) -> float:
+        """Half the side of the cube (2-D: square) that encloses it [length]."""
+        return self.radius
+
+    @property
+    def bounding_radius(self) -> float:
+        """Radius of the sphere (2-D: circle) that encloses it [length]."""
+        return self.radius
+
+    def wrap(self, positions: np.ndarray) -> np.ndarray:
+        """Positions as they are (no periodic images) [length]."""
+        import numpy as np
+
+        return np.asarray(positions, dtype=np.float64)
+
+    def image_counts(self, positions: np.ndarray) -> np.ndarray:
+        """``(N, d)`` zeros: no periodic images."""
+        import numpy as np
+
+        return np.zeros(np.asarray(positions).reshape(-1, self.dimensions).shape, np.int64)
+
+    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``a - b`` [length]."""
+        import numpy as np
+
+        return np.asarray(a, dtype=np.float64) - b
+
+    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
+        """``(N,)`` True for spheres (disks) poking out of the wall by more than ``tol`` of its radius."""
+        import numpy as np
+
+        pos = np.asarray(positions, dtype=np.float64).reshape(-1, self.dimensions)
+        reach = np.linalg.norm(pos, axis=1) + radii
+        return reach > self.radius * (1.0 + tol)
+
+    def degrees_of_freedom(self, n: int) -> int:
+        """``d N``: the wall takes up momentum, so none is conserved."""
+        return self.dimensions * n
+
+    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
+        """Momentum delivered to the wall per unit area (2-D: length) and time [energy/length^d]."""
+        return wall_impulse / (self.wall_area * elapsed)
+
+    @property
+    def wall_area(self) -> float:
+        """Area (2-D: length) of the wall [length^(d-1)]: each subclass's own."""
+        raise NotImplementedError
+
+    def fields(self) -> dict[str, float]:
+        """Its numbers by name, for GSD logs and XYZ headers."""
+        return {self.size_field: self.radius}
+
+    def record(self) -> np.ndarray:
+        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
+        import numpy as np
+
+        return np.array([self.kind, repr(self.radius)])
+
+
+@dataclass(frozen=True)
+class SphericalContainer(RoundWall):
     """A hard spherical wall of radius ``radius`` [length] centred on the origin.
 
     Spheres reflect off the wall; the pressure is the momentum the wall
@@ -157,12 +254,10 @@ class SphericalContainer:
         4.18879
     """
 
-    radius: float
-    periodic: ClassVar[bool] = False
-    #: The name in files (:meth:`record`) and its size's field (:meth:`fields`).
     kind: ClassVar[str] = "SphericalContainer"
     size_field: ClassVar[str] = "container_radius"
     dimensions: ClassVar[int] = 3
+    shape: ClassVar[str] = "spherical"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", _positive(self.radius, "container radius"))
@@ -178,21 +273,6 @@ class SphericalContainer:
         return cls((n / (8.0 * packing)) ** (1.0 / 3.0))
 
     @property
-    def size(self) -> float:
-        """The one number that sets the container: its radius [length]."""
-        return self.radius
-
-    @property
-    def label(self) -> str:
-        """A short description for titles."""
-        return f"spherical container R = {self.radius:g}"
-
-    @property
-    def description(self) -> str:
-        """It in words, for messages and summaries."""
-        return f"spherical container of radius {self.radius:g}"
-
-    @property
     def volume(self) -> float:
         """Volume enclosed [length^3]."""
         return 4.0 / 3.0 * math.pi * self.radius**3
@@ -205,63 +285,10 @@ class SphericalContainer:
     area = wall_area
 
     @property
-    def half_width(self) -> float:
-        """Half the edge of the cube that encloses it [length]."""
-        return self.radius
-
-    @property
-    def bounding_radius(self) -> float:
-        """Radius of the sphere that encloses it [length]."""
-        return self.radius
-
-    @property
     def gsd_box(self) -> list[float]:
         """GSD's ``configuration/box``: the enclosing cube (not periodic)."""
         side = 2.0 * self.radius
         return [side, side, side, 0.0, 0.0, 0.0]
-
-    def wrap(self, positions: np.ndarray) -> np.ndarray:
-        """Positions as they are (no periodic images) [length]."""
-        import numpy as np
-
-        return np.asarray(positions, dtype=np.float64)
-
-    def image_counts(self, positions: np.ndarray) -> np.ndarray:
-        """``(N, 3)`` zeros: no periodic images."""
-        import numpy as np
-
-        return np.zeros(np.asarray(positions).reshape(-1, 3).shape, np.int64)
-
-    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """``a - b`` [length]."""
-        import numpy as np
-
-        return np.asarray(a, dtype=np.float64) - b
-
-    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
-        """``(N,)`` True for spheres poking out of the wall by more than ``tol`` of its radius."""
-        import numpy as np
-
-        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 3), axis=1) + radii
-        return reach > self.radius * (1.0 + tol)
-
-    def degrees_of_freedom(self, n: int) -> int:
-        """``3 N``: the wall takes up momentum, so none is conserved."""
-        return 3 * n
-
-    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
-        """Momentum delivered to the wall per unit area and time [energy/length^3]."""
-        return wall_impulse / (self.wall_area * elapsed)
-
-    def fields(self) -> dict[str, float]:
-        """Its numbers by name, for GSD logs and XYZ headers."""
-        return {self.size_field: self.radius}
-
-    def record(self) -> np.ndarray:
-        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
-        import numpy as np
-
-        return np.array([self.kind, repr(self.radius)])
 
     def core_params(self) -> dict:
         """What the compiled core reads: wall radius, periodic edge (0: none), grid span (per axis too)."""
@@ -551,7 +578,7 @@ class PeriodicBox:
 
 
 @dataclass(frozen=True)
-class CircularContainer:
+class CircularContainer(RoundWall):
     """A hard circular wall of radius ``radius`` [length] centred on the origin: 2-D.
 
     The 2-D analogue of :class:`SphericalContainer`: disks reflect off the
@@ -571,11 +598,10 @@ class CircularContainer:
         (12.5664, 20, 2)
     """
 
-    radius: float
-    periodic: ClassVar[bool] = False
     kind: ClassVar[str] = "CircularContainer"
     size_field: ClassVar[str] = "circle_radius"
     dimensions: ClassVar[int] = 2
+    shape: ClassVar[str] = "circular"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", _positive(self.radius, "circle radius"))
@@ -584,21 +610,6 @@ class CircularContainer:
     def for_packing(cls, n: int, packing: float) -> CircularContainer:
         """The circle ``n`` disks of diameter 1 fill to the area fraction ``packing``."""
         return cls(math.sqrt(n / (4.0 * packing)))
-
-    @property
-    def size(self) -> float:
-        """Its radius [length]."""
-        return self.radius
-
-    @property
-    def label(self) -> str:
-        """A short description for titles."""
-        return f"circular container R = {self.radius:g}"
-
-    @property
-    def description(self) -> str:
-        """It in words, for messages and summaries."""
-        return f"circular container of radius {self.radius:g}"
 
     @property
     def volume(self) -> float:
@@ -613,63 +624,10 @@ class CircularContainer:
     area = wall_area
 
     @property
-    def half_width(self) -> float:
-        """Half the side of the square that encloses it [length]."""
-        return self.radius
-
-    @property
-    def bounding_radius(self) -> float:
-        """Radius of the circle that encloses it [length]."""
-        return self.radius
-
-    @property
     def gsd_box(self) -> list[float]:
         """GSD's ``configuration/box``: the enclosing square, ``Lz = 0`` (2-D; not periodic)."""
         side = 2.0 * self.radius
         return [side, side, 0.0, 0.0, 0.0, 0.0]
-
-    def wrap(self, positions: np.ndarray) -> np.ndarray:
-        """Positions as they are [length]."""
-        import numpy as np
-
-        return np.asarray(positions, dtype=np.float64)
-
-    def image_counts(self, positions: np.ndarray) -> np.ndarray:
-        """``(N, 2)`` zeros: no periodic images."""
-        import numpy as np
-
-        return np.zeros(np.asarray(positions).reshape(-1, 2).shape, np.int64)
-
-    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """``a - b`` [length]."""
-        import numpy as np
-
-        return np.asarray(a, dtype=np.float64) - b
-
-    def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
-        """``(N,)`` True for disks poking out of the wall by more than ``tol`` of its radius."""
-        import numpy as np
-
-        reach = np.linalg.norm(np.asarray(positions, dtype=np.float64).reshape(-1, 2), axis=1) + radii
-        return reach > self.radius * (1.0 + tol)
-
-    def degrees_of_freedom(self, n: int) -> int:
-        """``2 N``: the wall takes up momentum."""
-        return 2 * n
-
-    def pressure(self, n: int, kT: float, elapsed: _Tally, wall_impulse: _Tally, virial: _Tally) -> _Tally:
-        """Momentum delivered to the wall per unit length and time [energy/length^2] (see the class)."""
-        return wall_impulse / (self.wall_area * elapsed)
-
-    def fields(self) -> dict[str, float]:
-        """Its numbers by name, for GSD logs and XYZ headers."""
-        return {self.size_field: self.radius}
-
-    def record(self) -> np.ndarray:
-        """``[kind, repr(size)]`` for checkpoints (:func:`from_record`)."""
-        import numpy as np
-
-        return np.array([self.kind, repr(self.radius)])
 
     def core_params(self) -> dict:
         """What the compiled core reads: the wall, no box, the grid (one layer along z: z = 0)."""
