@@ -39,19 +39,34 @@ Example:
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 import numpy as np
 
 from ..errors import NotComputedError, PeriodicBoxRequired
 from .compute import Compute
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
 
-def _packing(source, box=None, radii=None):
+    from ..containers import PeriodicBox
+    from ..simulation import Simulation
+    from ..state import State
+    from .collisions import ContactForces
+
+
+def _packing(
+    source: Simulation | State | ArrayLike,
+    box: float | ArrayLike | None = None,
+    radii: ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(positions (N, d) wrapped into [0, L), radii (N,), lengths (d,))`` of a packing."""
     from ..simulation import Simulation
     from ..state import State
 
+    rad: ArrayLike | None
     if isinstance(source, Simulation):
         c = source.container
         if not c.periodic:
@@ -62,7 +77,7 @@ def _packing(source, box=None, radii=None):
         st = source.state()
         pos, rad = st.positions, st.radii
         sides = getattr(c, "sides", None)
-        box = c.length if sides is None else sides
+        box = cast("PeriodicBox", c).length if sides is None else sides
     elif isinstance(source, State):
         pos, rad = source.positions, source.radii
     else:
@@ -81,7 +96,9 @@ def _packing(source, box=None, radii=None):
     return np.mod(pos, lengths), rad, lengths
 
 
-def near_pairs(positions, radii, lengths, h_max):
+def near_pairs(
+    positions: np.ndarray, radii: np.ndarray, lengths: ArrayLike, h_max: float
+) -> tuple[np.ndarray, np.ndarray]:
     """``(pairs (M, 2), gaps (M,))`` of the pairs with gap ``r/(R_i + R_j) - 1 <= h_max`` (periodic)."""
     from scipy.spatial import cKDTree
 
@@ -103,7 +120,7 @@ def near_pairs(positions, radii, lengths, h_max):
     return pairs[keep][order], h[keep][order]
 
 
-def remove_rattlers(pairs, n, dim):
+def remove_rattlers(pairs: ArrayLike, n: int, dim: int) -> tuple[np.ndarray, np.ndarray]:
     """Non-rattlers: iteratively drop spheres with fewer than ``dim + 1`` contacts.
 
     Returns:
@@ -128,14 +145,16 @@ def remove_rattlers(pairs, n, dim):
         alive &= ~(rattler[pairs[:, 0]] | rattler[pairs[:, 1]])
 
 
-def _bootstrap(samples, fit, reps=200, seed=0):
+def _bootstrap(
+    samples: np.ndarray, fit: Callable[[np.ndarray], float], reps: int = 200, seed: int = 0
+) -> float:
     rng = np.random.default_rng(seed)
     vals = [fit(rng.choice(samples, len(samples), replace=True)) for _ in range(reps)]
     vals = [v for v in vals if math.isfinite(v)]
     return float(np.std(vals, ddof=1)) if len(vals) > 1 else math.nan
 
 
-def power_law_exponent(x, lo, hi):
+def power_law_exponent(x: ArrayLike, lo: float, hi: float) -> float:
     """Maximum-likelihood ``alpha`` of a density ``~ x^(alpha - 1)`` on ``[lo, hi]`` (truncated).
 
     The cumulative count then grows as ``x^alpha``.  The mean
@@ -153,7 +172,7 @@ def power_law_exponent(x, lo, hi):
         return math.nan
     mean_log = float(np.mean(np.log(x / hi)))  # <= 0
 
-    def score(a):
+    def score(a: float) -> float:
         # d/da of the mean log-likelihood of a x^(a-1) / (hi^a - lo^a) (scaled by hi)
         r = lo / hi
         if r <= 0:
@@ -207,13 +226,19 @@ class Contacts(Compute):
         "z_all",
     )
 
-    def __init__(self, tolerance=1e-4, h_max=0.5):
+    def __init__(self, tolerance: float = 1e-4, h_max: float = 0.5) -> None:
         for name, v in (("tolerance", tolerance), ("h_max", h_max)):
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
         self.tolerance, self.h_max = float(tolerance), float(max(h_max, tolerance))
 
-    def compute(self, source, box=None, radii=None, forces=None):
+    def compute(
+        self,
+        source: Simulation | State | ArrayLike,
+        box: float | ArrayLike | None = None,
+        radii: ArrayLike | None = None,
+        forces: ContactForces | None = None,
+    ) -> Contacts:
         """The network of ``source`` (a Simulation, a State with ``box``, or positions, ``radii``, ``box``).
 
         Args:
@@ -245,13 +270,13 @@ class Contacts(Compute):
         self._computed = True
         return self
 
-    def backbone_gaps(self):
+    def backbone_gaps(self) -> np.ndarray:
         """Gaps of the pairs of non-rattlers that are not contacts (``tolerance < h <= h_max``)."""
         self._need()
         both = ~(self.rattler[self.near[:, 0]] | self.rattler[self.near[:, 1]])
         return self.gaps[both & (self.gaps > self.tolerance)]
 
-    def gap_exponent(self, h_min=None, h_max=1e-2):
+    def gap_exponent(self, h_min: float | None = None, h_max: float = 1e-2) -> tuple[float, float, int]:
         """``gamma`` of ``g(h) ~ h^(-gamma)`` among non-rattlers, for gaps in ``(h_min, h_max]``.
 
         Maximum likelihood of a power-law density on that range (the
@@ -276,7 +301,7 @@ class Contacts(Compute):
         err = _bootstrap(used, lambda s: power_law_exponent(s, lo, h_max))
         return 1.0 - alpha, err, len(used)
 
-    def cumulative(self):
+    def cumulative(self) -> tuple[np.ndarray, np.ndarray]:
         """``(h, Z(h))``: twice the pairs of non-rattlers with gap below h, per non-rattler."""
         self._need()
         both = ~(self.rattler[self.near[:, 0]] | self.rattler[self.near[:, 1]])
@@ -284,7 +309,7 @@ class Contacts(Compute):
         kept = max(1, int((~self.rattler).sum()))
         return h, 2.0 * np.arange(1, len(h) + 1) / kept
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """The cumulative ``Z(h) - z`` against h (log-log); returns the Axes."""
         ax = self._axes(ax)
         h, zh = self.cumulative()
@@ -298,7 +323,13 @@ class Contacts(Compute):
         return ax
 
 
-def force_exponent(forces, contacts=None, f_min=0.0, f_max=0.3, without_bucklers=False):
+def force_exponent(
+    forces: ContactForces,
+    contacts: Contacts | None = None,
+    f_min: float = 0.0,
+    f_max: float = 0.3,
+    without_bucklers: bool = False,
+) -> tuple[float, float, int]:
     """``theta`` of ``P(f) ~ f^theta`` at small ``f / <f>``, in ``(f_min, f_max]``.
 
     Args:
@@ -363,10 +394,10 @@ class JammingPoint(Compute):
 
     _results = ("phi_J", "error", "d_fit", "phi_J_free", "points", "phi", "Z")
 
-    def __init__(self, dim=3, z_min=None):
+    def __init__(self, dim: int = 3, z_min: float | None = None) -> None:
         self.dim, self.z_min = int(dim), z_min
 
-    def compute(self, phi, Z):
+    def compute(self, phi: ArrayLike, Z: ArrayLike) -> JammingPoint:
         """Fit to packing fractions ``phi`` and reduced pressures ``Z`` (``compress(progress=...)``'s)."""
         phi, Z = np.asarray(phi, float), np.asarray(Z, float)
         if phi.shape != Z.shape:
@@ -392,7 +423,7 @@ class JammingPoint(Compute):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """``d / Z`` against ``phi`` with the fitted line (zero at phi_J); returns the Axes."""
         ax = self._axes(ax)
         ax.plot(self.phi, self.dim / self.Z, ".", label="compression")
@@ -425,7 +456,12 @@ class PackingSummary(NamedTuple):
 CONTACT_GAPS_Z = (30.0, 100.0)
 
 
-def summarize_packing(sim, phi=(), Z=(), pressure=None):
+def summarize_packing(
+    sim: Simulation,
+    phi: ArrayLike = (),
+    Z: ArrayLike = (),
+    pressure: float | None = None,
+) -> PackingSummary:
     """z, the rattler fraction and phi_J of a compressed packing in a periodic box.
 
     Near jamming the gaps of a sphere to its contacts shrink as ``1 / Z``
