@@ -1,6 +1,7 @@
 """docs/glass.md's examples run (smaller and shorter)."""
 
 import re
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -50,3 +51,19 @@ def test_the_jammed_packing_example_runs():
     c = s["c"]
     assert abs(c.z - c.z_isostatic) < 0.02 * c.z_isostatic
     assert 0 < s["gamma"] < 1
+
+
+def test_the_readme_glass_commands_run(tmp_path):
+    """README's 'Glasses and jamming' commands, 128 spheres: compress prints z, rattlers and phi_J; plots written."""
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    cmds = re.search(r"## Glasses and jamming\n.*?```sh\n(.*?)```", readme, re.S).group(1)
+    out = ""
+    for line in cmds.strip().splitlines():
+        line = line.replace("--n 1000 --box 12", "--n 128 --box 6").replace("--box 12", "--box 6")
+        line = line.replace("--until 50", "--until 5")
+        res = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
+        assert res.returncode == 0, (line, res.stderr)
+        out += res.stdout
+    assert re.search(r"jamming: z = \d\.\d+ to \d\.\d+ after removing .* rattlers .* phi_J = 0\.\d+", out)
+    for png in ("contacts.png", "fs.png", "chi4.png"):
+        assert (tmp_path / png).stat().st_size > 1000
