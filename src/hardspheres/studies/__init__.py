@@ -73,6 +73,7 @@ import json
 import math
 import os
 import time
+import sys
 from pathlib import Path
 
 from ..containers import MAX_PACKING as _MAX_PACKING
@@ -612,23 +613,53 @@ def local_client(workers=None):
 
     from distributed import Client, LocalCluster
 
-    # the workers ignore Ctrl-C (the disposition is inherited): only this
-    # process stops, cancels the tasks and closes the cluster, so Ctrl-C
-    # exits promptly without a traceback from every worker (issue 29)
-    main = threading.current_thread() is threading.main_thread()
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    # Ctrl-C in a terminal signals the whole process group, the workers too.
+    # The workers are started with Ctrl-C ignored (the disposition is
+    # inherited): only this process stops, cancels the tasks and closes the
+    # cluster, without a traceback from every worker.  A Ctrl-C during the
+    # start would be lost with it (the sweep ran on): a sentinel process in
+    # the group, which Ctrl-C ends, tells it came (issue 29)
+    guard = os.name == "posix" and threading.current_thread() is threading.main_thread()
+    sentinel = _ctrl_c_sentinel() if guard else None
+    cluster = None
     try:
-        cluster = LocalCluster(
-            n_workers=workers or os.cpu_count() or 1,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=logging.CRITICAL,  # a failing task is one line (its reason), not worker records
-        )
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN) if guard else None
+        try:
+            cluster = LocalCluster(
+                n_workers=workers or os.cpu_count() or 1,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",
+                silence_logs=logging.CRITICAL,  # a failing task is one line (its reason), not worker records
+            )
+        finally:
+            if guard:
+                signal.signal(signal.SIGINT, old)
+        if sentinel is not None and sentinel.poll() is not None:
+            raise KeyboardInterrupt  # Ctrl-C came while the cluster started
+        return Client(cluster)
+    except BaseException:
+        if cluster is not None:
+            cluster.close(timeout=10)
+        raise
     finally:
-        if main:
-            signal.signal(signal.SIGINT, old)
-    return Client(cluster)
+        if sentinel is not None and sentinel.poll() is None:
+            sentinel.kill()
+            sentinel.wait()
+
+
+def _ctrl_c_sentinel():
+    """A process in this one's group that only Ctrl-C (SIGINT) ends: it tells
+    whether Ctrl-C came while this process ignored it."""
+    import subprocess
+
+    code = "import signal, time; signal.signal(signal.SIGINT, signal.SIG_DFL); time.sleep(86400)"
+    return subprocess.Popen(
+        [sys.executable, "-c", code],
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
 
 
 def _describe(task):
