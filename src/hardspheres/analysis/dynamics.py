@@ -66,11 +66,27 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from ..errors import NotComputedError, PeriodicBoxRequired
 from .compute import Compute
+
+if TYPE_CHECKING:
+    from typing import TypeAlias
+
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
+
+    from ..containers import Container, PeriodicBox
+    from ..frames import Frames
+
+    #: What the correlators accept: Frames, a ``.gsd`` path, or unwrapped positions ``(F, N, d)``.
+    Source: TypeAlias = "Frames | str | os.PathLike[str] | ArrayLike | _Source"
+    #: ``(lag, origins i, frames j)`` for each lag.
+    Plan: TypeAlias = list[tuple[float, np.ndarray, np.ndarray]]
 
 #: ``1/e``: F_s at the alpha-relaxation time.
 INV_E = math.exp(-1.0)
@@ -80,7 +96,15 @@ INV_E = math.exp(-1.0)
 class _Source:
     """Frames one at a time: ``times (F,)``, ``lengths (d,)``, ``unwrapped(f) (N, d)``."""
 
-    def __init__(self, times, lengths, get, radii, masses, n):
+    def __init__(
+        self,
+        times: ArrayLike,
+        lengths: ArrayLike,
+        get: Callable[[int], np.ndarray],
+        radii: ArrayLike | None,
+        masses: ArrayLike | None,
+        n: int,
+    ) -> None:
         self.times = np.asarray(times, float)
         self.lengths = np.asarray(lengths, float)
         self._get = get
@@ -89,22 +113,24 @@ class _Source:
         self.n = int(n)
 
     @property
-    def dim(self):
+    def dim(self) -> int:
         return len(self.lengths)
 
-    def unwrapped(self, f):
+    def unwrapped(self, f: int) -> np.ndarray:
         return self._get(int(f))
 
 
-def box_sides(container, dim):
+def box_sides(container: Container, dim: int) -> np.ndarray:
     """The box's sides ``(d,)``: ``sides`` (rectangular boxes), else the cube's ``length``."""
     sides = getattr(container, "sides", None)
     if sides is None:
-        sides = container.length
+        sides = cast("PeriodicBox", container).length
     return np.broadcast_to(np.asarray(sides, float).reshape(-1), (dim,)).copy()
 
 
-def _source(source, what, box=None, times=None):
+def _source(
+    source: Source, what: str, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+) -> _Source:
     """A :class:`_Source` from Frames, a GSD path, or unwrapped positions ``(F, N, d)``."""
     from ..frames import Frames
 
@@ -146,7 +172,7 @@ def _source(source, what, box=None, times=None):
     return _Source(times, lengths, lambda f: pos[f], None, None, pos.shape[1])
 
 
-def _gsd_source(path, what):
+def _gsd_source(path: str, what: str) -> _Source:
     """Frames of a GSD trajectory read on demand (the file stays open for the object's life)."""
     import gsd.hoomd
 
@@ -176,7 +202,7 @@ def _gsd_source(path, what):
         else [float(traj[f].log["hardspheres/time"][0]) for f in range(len(traj))]
     )
 
-    def get(f):
+    def get(f: int) -> np.ndarray:
         fr = traj[f]
         x = np.asarray(fr.particles.position, float).reshape(n, 3)[:, :dim]
         im = np.asarray(fr.particles.image, np.int64).reshape(n, 3)[:, :dim]
@@ -193,7 +219,7 @@ def _gsd_source(path, what):
 
 
 # ---- lags and origins ---------------------------------------------------------------
-def log_lags(times, per_decade=10):
+def log_lags(times: ArrayLike, per_decade: float = 10) -> np.ndarray:
     """Log-spaced lags of frames at ``times``: about ``per_decade`` per decade.
 
     Each lag is the time from the first frame to another frame (the one
@@ -216,7 +242,7 @@ def log_lags(times, per_decade=10):
     return cand[np.unique(idx)]
 
 
-def _origins(times, origin_every):
+def _origins(times: np.ndarray, origin_every: float | None) -> np.ndarray:
     """Indices of the frames used as time origins: all, or greedily ``origin_every`` apart."""
     if not origin_every:
         return np.arange(len(times))
@@ -231,7 +257,7 @@ def _origins(times, origin_every):
     return np.array(keep, np.int64)
 
 
-def _pairs(times, origins, lag):
+def _pairs(times: np.ndarray, origins: np.ndarray, lag: float) -> tuple[np.ndarray, np.ndarray]:
     """``(i, j)`` frame indices with ``t_j - t_i = lag`` (to 1e-6 of it), ``i`` an origin."""
     t0 = times[origins]
     tol = 1e-6 * lag
@@ -242,7 +268,14 @@ def _pairs(times, origins, lag):
     return origins[ok], jj[ok]
 
 
-def _plan(src, what, lags, per_decade, origin_every, min_frames=2):
+def _plan(
+    src: _Source,
+    what: str,
+    lags: ArrayLike | None,
+    per_decade: float,
+    origin_every: float | None,
+    min_frames: int = 2,
+) -> Plan:
     times = src.times
     if len(times) < min_frames:
         raise ValueError(f"{what}: {len(times)} frame(s); record at least {min_frames}")
@@ -268,7 +301,9 @@ def _plan(src, what, lags, per_decade, origin_every, min_frames=2):
     return plan
 
 
-def _block_stats(values, blocks, stat=np.mean):
+def _block_stats(
+    values: ArrayLike, blocks: int, stat: Callable[..., Any] = np.mean
+) -> tuple[Any, Any]:  # numbers, or arrays per column
     """``(statistic of all, error from the groups' spread)`` of per-origin ``values (O, ...)``."""
     values = np.asarray(values, float)
     whole = stat(values, axis=0)
@@ -279,13 +314,13 @@ def _block_stats(values, blocks, stat=np.mean):
     return whole, np.std(parts, axis=0, ddof=1) / math.sqrt(g)
 
 
-def _sigma(src):
+def _sigma(src: _Source) -> float:
     if src.radii is None or len(src.radii) == 0:
         return 1.0
     return 2.0 * float(np.mean(src.radii))
 
 
-def _check_k(k, lengths, name="k"):
+def _check_k(k: ArrayLike, lengths: np.ndarray, name: str = "k") -> np.ndarray:
     ks = np.atleast_1d(np.asarray(k, float))
     kmin = 2.0 * math.pi / float(np.max(lengths))
     if ks.size == 0 or not np.all(np.isfinite(ks)):
@@ -299,7 +334,9 @@ def _check_k(k, lengths, name="k"):
     return ks
 
 
-def lattice_vectors(k, lengths, dk=None, max_vectors=200, seed=0):
+def lattice_vectors(
+    k: float, lengths: ArrayLike, dk: float | None = None, max_vectors: int = 200, seed: int = 0
+) -> np.ndarray:
     """Wave vectors ``2 pi n / L`` of the box with ``| |q| - k | <= dk / 2``: ``(K, d)``.
 
     Only one of each pair ``q, -q`` is kept (the correlators are real).  At
@@ -333,7 +370,7 @@ def lattice_vectors(k, lengths, dk=None, max_vectors=200, seed=0):
     return q
 
 
-def _phases(x, q, lengths):
+def _phases(x: np.ndarray, q: np.ndarray, lengths: ArrayLike) -> np.ndarray:
     """``exp(i q . x)`` ``(N, V)`` for lattice vectors ``q = 2 pi n / L`` (integer ``n``).
 
     By axes: ``prod_a w_a^(n_a)`` with ``w_a = exp(2 pi i x_a / L_a)``, its
@@ -343,7 +380,7 @@ def _phases(x, q, lengths):
     """
     step = 2.0 * math.pi / np.asarray(lengths, float)
     n = np.rint(q / step).astype(np.int64)
-    out = None
+    out: np.ndarray | None = None
     for a in range(x.shape[1]):
         top = int(np.abs(n[:, a]).max())
         w = np.exp(1j * step[a] * x[:, a])
@@ -354,10 +391,10 @@ def _phases(x, q, lengths):
             pw[:, top - m] = np.conj(pw[:, top + m])
         f = pw[:, n[:, a] + top]
         out = f if out is None else out * f
-    return out
+    return cast(np.ndarray, out)  # x has at least one axis
 
 
-def _isotropic(kr, dim):
+def _isotropic(kr: np.ndarray, dim: int) -> np.ndarray:
     """The average of ``cos(k . dr)`` over directions at ``|k| |dr| = kr``."""
     if dim == 3:
         return np.sinc(kr / math.pi)  # sin(x)/x
@@ -371,20 +408,28 @@ def _isotropic(kr, dim):
 class _Dynamic(Compute):
     """Shared parameters of the correlators: lags, origins and error groups."""
 
-    def __init__(self, lags=None, per_decade=10, origin_every=None, blocks=5):
+    def __init__(
+        self,
+        lags: ArrayLike | None = None,
+        per_decade: float = 10,
+        origin_every: float | None = None,
+        blocks: int = 5,
+    ) -> None:
         if int(blocks) != blocks or blocks < 1:
             raise ValueError(f"blocks must be a whole number >= 1, got {blocks!r}")
         if not (isinstance(per_decade, (int, float)) and per_decade > 0):
             raise ValueError(f"per_decade must be a number > 0, got {per_decade!r}")
         self.lags, self.per_decade, self.origin_every, self.blocks = lags, per_decade, origin_every, blocks
 
-    def _prepare(self, source, what, box=None, times=None):
+    def _prepare(
+        self, source: Source, what: str, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> tuple[_Source, Plan]:
         src = _source(source, what, box, times)
         plan = _plan(src, what, self.lags, self.per_decade, self.origin_every)
         return src, plan
 
     @staticmethod
-    def _displacements(src, i, j):
+    def _displacements(src: _Source, i: np.ndarray, j: np.ndarray) -> Iterator[np.ndarray]:
         """Displacements of the pairs ``(i[m], j[m])``, one ``(N, d)`` at a time (frames cached)."""
         cache: dict[int, np.ndarray] = {}
         for a, b in zip(i.tolist(), j.tolist()):
@@ -394,7 +439,7 @@ class _Dynamic(Compute):
             yield src.unwrapped(b) - cache[a]
 
 
-def _as_k(k):
+def _as_k(k: ArrayLike) -> np.ndarray:
     return np.atleast_1d(np.asarray(k, float))
 
 
@@ -428,21 +473,23 @@ class SelfIntermediate(_Dynamic):
 
     def __init__(
         self,
-        k,
-        shell="isotropic",
-        dk=None,
-        max_vectors=50,
-        lags=None,
-        per_decade=10,
-        origin_every=None,
-        blocks=5,
-    ):
+        k: ArrayLike,
+        shell: str = "isotropic",
+        dk: float | None = None,
+        max_vectors: int = 50,
+        lags: ArrayLike | None = None,
+        per_decade: float = 10,
+        origin_every: float | None = None,
+        blocks: int = 5,
+    ) -> None:
         super().__init__(lags, per_decade, origin_every, blocks)
         if shell not in ("isotropic", "lattice"):
             raise ValueError(f"shell must be 'isotropic' or 'lattice', got {shell!r}")
         self.k_asked, self.shell, self.dk, self.max_vectors = _as_k(k), shell, dk, max_vectors
 
-    def compute(self, source, box=None, times=None):
+    def compute(
+        self, source: Source, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> SelfIntermediate:
         """F_s of ``source``; returns self.
 
         ``source``: :class:`hardspheres.Frames`, the path of a ``.gsd``
@@ -484,7 +531,7 @@ class SelfIntermediate(_Dynamic):
         self._computed = True
         return self
 
-    def tau_alpha(self, level=INV_E, k_index=0):
+    def tau_alpha(self, level: float = INV_E, k_index: int = 0) -> tuple[float, float]:
         """The alpha-relaxation time: the first lag where F_s falls to ``level`` (1/e).
 
         Interpolated linearly in ``log t`` between the lags on either side;
@@ -499,7 +546,7 @@ class SelfIntermediate(_Dynamic):
         self._need()
         return _crossing(self.t, self.F[:, k_index], self.error[:, k_index], level, "F_s")
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """F_s(k, t) against log t, with error bars; returns the Axes."""
         ax = self._axes(ax)
         for c, k in enumerate(self.k):
@@ -512,8 +559,8 @@ class SelfIntermediate(_Dynamic):
         return ax
 
 
-def _crossing(t, f, e, level, what):
-    def cross(y):
+def _crossing(t: np.ndarray, f: np.ndarray, e: np.ndarray, level: float, what: str) -> tuple[float, float]:
+    def cross(y: np.ndarray) -> float:
         below = np.flatnonzero(y <= level)
         if len(below) == 0:
             return math.nan
@@ -551,14 +598,16 @@ class NonGaussian(_Dynamic):
 
     _results = ("t", "msd", "msd_error", "alpha2", "alpha2_error", "alpha2_particle_error", "origins", "dim")
 
-    def compute(self, source, box=None, times=None):
+    def compute(
+        self, source: Source, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> NonGaussian:
         """alpha_2 of ``source`` (as :meth:`SelfIntermediate.compute`); returns self."""
         src, plan = self._prepare(source, "non-Gaussian parameters", box, times)
         d = src.dim
         names = ("msd", "msd_error", "alpha2", "alpha2_error", "origins", "alpha2_particle_error")
         out: dict[str, list] = {k: [] for k in names}
 
-        def alpha(m, axis=0):
+        def alpha(m: ArrayLike, axis: int = 0) -> np.ndarray:
             m = np.asarray(m)
             r2, r4 = np.mean(m[..., 0], axis=axis), np.mean(m[..., 1], axis=axis)
             return d * r4 / ((d + 2) * r2 * r2) - 1.0
@@ -585,7 +634,7 @@ class NonGaussian(_Dynamic):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """alpha_2 against log t; returns the Axes."""
         ax = self._axes(ax)
         ax.errorbar(self.t, self.alpha2, yerr=self.alpha2_error, capsize=2)
@@ -615,11 +664,20 @@ class VanHove(_Dynamic):
 
     _results = ("t", "r", "edges", "G", "P", "dim")
 
-    def __init__(self, bins=100, r_max=None, lags=None, per_decade=4, origin_every=None):
+    def __init__(
+        self,
+        bins: int = 100,
+        r_max: float | None = None,
+        lags: ArrayLike | None = None,
+        per_decade: float = 4,
+        origin_every: float | None = None,
+    ) -> None:
         super().__init__(lags, per_decade, origin_every, 1)
         self.bins, self.r_max = int(bins), r_max
 
-    def compute(self, source, box=None, times=None):
+    def compute(
+        self, source: Source, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> VanHove:
         """G_s of ``source`` (as :meth:`SelfIntermediate.compute`); returns self."""
         src, plan = self._prepare(source, "van Hove functions", box, times)
         d = src.dim
@@ -645,7 +703,7 @@ class VanHove(_Dynamic):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """``S_d r^(d-1) G_s(r, t)`` (the density of ``|dr|``) for each lag; returns the Axes."""
         ax = self._axes(ax)
         for row, t in enumerate(self.t):
@@ -674,17 +732,31 @@ class Overlap(_Dynamic):
 
     _results = ("t", "Q", "Q_error", "chi4", "chi4_error", "origins", "a", "n")
 
-    def __init__(self, a=None, lags=None, per_decade=10, origin_every=None, blocks=5):
+    def __init__(
+        self,
+        a: float | None = None,
+        lags: ArrayLike | None = None,
+        per_decade: float = 10,
+        origin_every: float | None = None,
+        blocks: int = 5,
+    ) -> None:
         super().__init__(lags, per_decade, origin_every, blocks)
         if a is not None and not (math.isfinite(a) and a > 0):
             raise ValueError(f"a must be a finite length > 0, got {a!r}")
         self.a_asked = a
 
-    def compute(self, source, box=None, times=None):
+    def compute(
+        self, source: Source, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> Overlap:
         """Q and chi_4 of ``source`` (as :meth:`SelfIntermediate.compute`); returns self."""
         src, plan = self._prepare(source, "overlaps", box, times)
         a = float(self.a_asked) if self.a_asked is not None else 0.3 * _sigma(src)
         n = src.n
+        Q: list[float]
+        Qe: list[float]
+        C: list[float]
+        Ce: list[float]
+        count: list[float]
         Q, Qe, C, Ce, count = [], [], [], [], []
         for _, i, j in plan:
             per = np.empty(len(i))
@@ -700,7 +772,7 @@ class Overlap(_Dynamic):
         self._computed = True
         return self
 
-    def peak(self):
+    def peak(self) -> tuple[float, float]:
         """``(t*, chi_4(t*))``: the lag where chi_4 is largest (a parabola in log t through the top three)."""
         self._need()
         b = int(np.argmax(self.chi4))
@@ -712,7 +784,7 @@ class Overlap(_Dynamic):
                 return float(math.exp(xs)), float(np.polyval(c, xs))
         return float(self.t[b]), float(self.chi4[b])
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """chi_4 against log t, with error bars; returns the Axes."""
         ax = self._axes(ax)
         ax.errorbar(self.t, self.chi4, yerr=self.chi4_error, capsize=2)
@@ -736,11 +808,22 @@ class CollectiveIntermediate(_Dynamic):
 
     _results = ("t", "k", "F", "error", "normalized", "vectors")
 
-    def __init__(self, k, dk=None, max_vectors=100, lags=None, per_decade=10, origin_every=None, blocks=5):
+    def __init__(
+        self,
+        k: ArrayLike,
+        dk: float | None = None,
+        max_vectors: int = 100,
+        lags: ArrayLike | None = None,
+        per_decade: float = 10,
+        origin_every: float | None = None,
+        blocks: int = 5,
+    ) -> None:
         super().__init__(lags, per_decade, origin_every, blocks)
         self.k_asked, self.dk, self.max_vectors = _as_k(k), dk, max_vectors
 
-    def compute(self, source, box=None, times=None):
+    def compute(
+        self, source: Source, box: float | ArrayLike | None = None, times: ArrayLike | None = None
+    ) -> CollectiveIntermediate:
         """F(k, t) of ``source`` (as :meth:`SelfIntermediate.compute`); returns self."""
         src, plan = self._prepare(source, "intermediate scattering functions", box, times)
         ks = _check_k(self.k_asked, src.lengths)
@@ -752,7 +835,7 @@ class CollectiveIntermediate(_Dynamic):
             rho[f] = _phases(src.unwrapped(f), allv, src.lengths).sum(axis=0)
         n = src.n
 
-        def corr(i, j):
+        def corr(i: np.ndarray, j: np.ndarray) -> np.ndarray:
             c = (rho[j] * np.conj(rho[i])).real / n  # (O, V)
             return np.stack([p.mean(axis=1) for p in np.split(c, split, axis=1)], axis=1)
 
@@ -769,7 +852,7 @@ class CollectiveIntermediate(_Dynamic):
         self._computed = True
         return self
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """F(k, t) / S(k) against log t (lag 0 left out); returns the Axes."""
         ax = self._axes(ax)
         for c, k in enumerate(self.k):
