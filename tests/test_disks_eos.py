@@ -68,3 +68,15 @@ def test_a_disk_fluid_has_kolafa_rottners_z():
     assert err / z < 0.0012
     assert abs(z - ref) < 3.5 * err
     assert abs(z - (1 + phi**2 / 8) / (1 - phi) ** 2) > 3.5 * err
+
+
+def test_disks_compress_to_the_packing_asked():
+    # the growth time to a target packing scales the radii by (phi/phi0)^(1/d):
+    # with 1/3 in 2-D, disks stopped at 0.6725 when asked for 0.712
+    from hardspheres.builders import hexagonal
+
+    _, box = hexagonal((10, 10), 0.712)
+    sim = hs.Simulation(hs.random_spheres(100, 0.6, box, seed=1), box)
+    res = sim.compress(packing=0.712, rate=1e-2, pressure=None)
+    assert res.reason == "packing"
+    assert sim.packing == pytest.approx(0.712, rel=1e-9)

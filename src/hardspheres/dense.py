@@ -140,7 +140,8 @@ def compress(
     speed = 0.5 * rate * vth  # dR_max/dt
     t_target = math.inf
     if packing is not None:
-        t_target = sim.time + ((packing / phi0) ** (1.0 / 3.0) - 1.0) * rmax / speed
+        # radii grow in proportion: the packing goes as R^d (d = 3 spheres, 2 disks)
+        t_target = sim.time + ((packing / phi0) ** (1.0 / sim.container.dimensions) - 1.0) * rmax / speed
     # collisions per sphere between velocity rescales: each collision heats
     # by ~4 rate (relative); a rescale costs about N predictions
     per_sphere = min(8.0, max(0.5, 0.01 / rate))
