@@ -11,6 +11,7 @@ from hardspheres.analysis.jamming import (
     Contacts,
     JammingPoint,
     force_exponent,
+    isostatic_tolerance,
     power_law_exponent,
     remove_rattlers,
 )
@@ -169,6 +170,9 @@ def test_force_exponent_without_bucklers_drops_the_forces_on_spheres_with_d_plus
     assert all_used == n and kept == n - 101  # pairs (i, i + 1) touching spheres 0..99
     with pytest.raises(ValueError, match="without_bucklers: pass contacts"):
         force_exponent(Forces(), without_bucklers=True)
+    Net.pairs = pairs[::2][:, ::-1]  # every other pair, either order: the rest are not contacts
+    _, _, only = force_exponent(Forces(), Net(), f_max=100.0, contacts_only=True)
+    assert only == n // 2
 
 
 # ---- two dimensions: disks -------------------------------------------------------------
@@ -288,3 +292,27 @@ def test_jammed_disks_gap_and_force_exponents(jammed_disks):
     assert g_used >= 10 and 0.0 < gamma < 1.0 and g_err > 0
     theta, f_err, f_used = force_exponent(ContactForces().compute(rec), c, f_max=0.5)
     assert f_used >= 50 and -1.0 < theta < 2.0 and f_err > 0
+
+
+def test_isostatic_tolerance_cuts_the_network_where_it_is_isostatic(jammed_disks):
+    """The smallest gap cut with d (N' - 1) + 1 contacts among the non-rattlers; one gap less is short."""
+    sim, res, _, rec, _ = jammed_disks
+    tol = isostatic_tolerance(sim)
+    c = Contacts(tolerance=tol, h_max=tol).compute(sim)
+    kept = int((~c.rattler).sum())
+    assert int(c.contacts[~c.rattler].sum()) // 2 >= 2 * (kept - 1) + 1
+    below = Contacts(tolerance=tol * (1 - 1e-12), h_max=tol).compute(sim)
+    kept = int((~below.rattler).sum())
+    assert int(below.contacts[~below.rattler].sum()) // 2 < 2 * (kept - 1) + 1
+    assert 1.0 < tol * res.pressure < 1e3  # gaps of order 1 / Z
+    # the forces of the pairs outside that network are left out with contacts_only
+    cf = ContactForces().compute(rec)
+    _, _, every = force_exponent(cf, c, f_max=100.0)
+    _, _, only = force_exponent(cf, c, f_max=100.0, contacts_only=True)
+    net = {tuple(q) for q in c.pairs.tolist()}
+    ours = [tuple(q) in net and not c.rattler[q].any() for q in cf.pairs]
+    assert only == sum(ours) <= every
+    with pytest.raises(ValueError, match="contacts_only: pass contacts"):
+        force_exponent(cf, contacts_only=True)
+    with pytest.raises(ValueError, match="h_max: no gap up to 1e-09"):
+        isostatic_tolerance(sim, h_max=1e-9)
