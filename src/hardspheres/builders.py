@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .containers import MAX_PACKING, Container, as_container
+from .containers import MAX_PACKING_2D as _MAX_PACKING_2D
 from .errors import BuildError  # noqa: F401 (re-exported)
 from .maxwell import maxwell_boltzmann
 from .state import State
@@ -361,9 +362,8 @@ def random_arrays(
     except ValueError as e:
         raise BuildError(str(e)) from None
     if getattr(where, "dimensions", 3) == 2:
-        if binary is not None:
-            raise BuildError("binary mixtures of disks are not built yet: use uniform_radius_ratio")
-        return _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT)
+        pair = None if binary is None else (size_ratio, fraction)
+        return _random_disks(n, packing, where, seed, radius_ratio, mass_ratio, kT, pair)
     if not (0.0 < packing < MAX_PACKING):
         raise BuildError(f"packing fraction must be in (0, {MAX_PACKING:.4f}), got {packing}")
     if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
@@ -494,8 +494,8 @@ def crystal(
     return State.from_arrays(masses, np.full(n, float(radius)), positions, velocities), box
 
 
-#: The densest packing of equal disks (the triangular lattice): pi / (2 sqrt 3) = 0.9069.
-MAX_PACKING_2D = float(np.pi / (2.0 * np.sqrt(3.0)))
+#: The densest packing of equal disks (the triangular lattice): :data:`hardspheres.containers.MAX_PACKING_2D`.
+MAX_PACKING_2D = _MAX_PACKING_2D
 
 #: Random disks are built up to this area fraction (a random subset of a
 #: triangular lattice's sites; denser: compress, or the hexagonal crystal).
@@ -562,8 +562,13 @@ def _random_disks(
     radius_ratio: float,
     mass_ratio: float,
     kT: float,
+    binary: tuple[float, float] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`random_arrays` in 2-D: disks on a random subset of a triangular lattice's sites."""
+    """:func:`random_arrays` in 2-D: disks on a random subset of a triangular lattice's sites.
+
+    ``binary = (size_ratio, fraction)`` as for spheres: ``round(fraction n)``
+    disks (at random) ``size_ratio`` times the others' radius.
+    """
     if not (0.0 < packing <= RANDOM_DISKS_MAX):
         raise BuildError(
             f"area fraction must be in (0, {RANDOM_DISKS_MAX}] for random disks, got {packing}; "
@@ -572,7 +577,11 @@ def _random_disks(
     if not (radius_ratio >= 1.0 and mass_ratio >= 1.0) or not np.isfinite(radius_ratio * mass_ratio):
         raise BuildError("radius and mass ratios must be >= 1")
     rng = np.random.default_rng(seed)
-    rel = _radii(rng, n, radius_ratio)
+    if binary is None:
+        rel = _radii(rng, n, radius_ratio)
+    else:
+        rel = np.ones(n)
+        rel[rng.permutation(n)[: int(round(binary[1] * n))]] = binary[0]
     radii = rel * np.sqrt(packing * where.volume / (np.pi * np.sum(rel**2))) if n else rel
     rmax = float(radii.max()) if n else 0.0
     if where.periodic and n and 6.0 * rmax > min(where.sides):  # type: ignore[attr-defined]

@@ -396,21 +396,26 @@ class PeriodicBox:
     def for_packing(cls, n: int, packing: float, aspect: tuple[float, ...] | None = None) -> PeriodicBox:
         """The box ``n`` spheres of diameter 1 fill to the fraction ``packing``.
 
-        ``aspect``: the sides' proportions (default: a cube).
+        ``aspect``: the sides' proportions (default: a cube); two of them
+        make a 2-D box that ``n`` disks of diameter 1 fill to the area
+        fraction ``packing``.
 
         Example:
             >>> round(PeriodicBox.for_packing(500, 0.3).length, 6)
             9.556139
             >>> [round(x, 6) for x in PeriodicBox.for_packing(500, 0.3, (1, 1, 2)).sides]
             [7.584713, 7.584713, 15.169425]
+            >>> [round(x, 6) for x in PeriodicBox.for_packing(400, 0.7, (1, 3**0.5 / 2)).sides]
+            [22.76463, 19.714748]
         """
-        volume = n * math.pi / (6.0 * packing)
         if aspect is None:
-            return cls(volume ** (1.0 / 3.0))
+            return cls((n * math.pi / (6.0 * packing)) ** (1.0 / 3.0))
         a = [float(x) for x in aspect]
-        if len(a) != 3 or not all(math.isfinite(x) and x > 0 for x in a):
-            raise BoxShapeError(f"aspect {aspect!r}: give three finite numbers > 0")
-        unit = (volume / (a[0] * a[1] * a[2])) ** (1.0 / 3.0)
+        if len(a) not in (2, 3) or not all(math.isfinite(x) and x > 0 for x in a):
+            raise BoxShapeError(f"aspect {aspect!r}: give three (or, for disks, two) finite numbers > 0")
+        d = len(a)
+        volume = n * math.pi / ((6.0 if d == 3 else 4.0) * packing)
+        unit = (volume / math.prod(a)) ** (1.0 / d)
         return cls(tuple(unit * x for x in a))
 
     @property
@@ -546,8 +551,11 @@ class PeriodicBox:
         """
         x = self.sides[0]
         if self.dimensions == 2:  # one layer of cells along z, not periodic (the core keeps z = 0)
+            # that layer as wide as the widest side: the cells' narrowest width, which
+            # bounds growing radii, is then in the plane (a width of 1 stopped growth at diameter 1)
             sides = self.sides
-            return {"wall_radius": 0.0, "box": x, "span": x, "edges": (*sides, 0.0), "spans": (*sides, 1.0)}
+            spans = (*sides, max(sides))
+            return {"wall_radius": 0.0, "box": x, "span": x, "edges": (*sides, 0.0), "spans": spans}
         return {"wall_radius": 0.0, "box": x, "span": x, "edges": self.sides, "spans": self.sides}
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
@@ -630,14 +638,14 @@ class CircularContainer(RoundWall):
         return [side, side, 0.0, 0.0, 0.0, 0.0]
 
     def core_params(self) -> dict:
-        """What the compiled core reads: the wall, no box, the grid (one layer along z: z = 0)."""
+        """What the compiled core reads: the wall, no box, the grid (one layer of cells along z: z = 0)."""
         span = 2.0 * self.radius
         return {
             "wall_radius": self.radius,
             "box": 0.0,
             "span": span,
             "edges": (0.0, 0.0, 0.0),
-            "spans": (span, span, 1.0),
+            "spans": (span, span, span),  # one layer along z, as wide as the circle (see PeriodicBox)
         }
 
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None:
@@ -724,6 +732,10 @@ def from_fields(fields: dict) -> Container:
 #: HCP; Kepler's conjecture, proved by Hales, Ann. Math. 162, 1065 (2005)).
 #: The one home of this constant: every check of a packing fraction uses it.
 MAX_PACKING = math.pi / math.sqrt(18.0)
+
+#: The densest packing of equal disks, the triangular lattice's ``pi / (2 sqrt 3) = 0.9069``
+#: (Thue; Fejes Toth 1940).  The one home of the 2-D constant.
+MAX_PACKING_2D = math.pi / (2.0 * math.sqrt(3.0))
 
 
 def packing_fraction(radii: ArrayLike, container: Container) -> float:

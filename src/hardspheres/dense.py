@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .containers import MAX_PACKING, packing_fraction  # noqa: F401 (re-exported)
+from .containers import MAX_PACKING, MAX_PACKING_2D, packing_fraction  # noqa: F401 (re-exported)
 from .errors import CompressionError  # noqa: F401 (re-exported)
 from .events import StopReason
 from .scenario import StuckError
@@ -78,15 +78,16 @@ class ObservedSimulation(SimulationView, Protocol):
     def observables(self) -> Observables: ...
 
 
-def max_packing(radii: ArrayLike) -> float:
+def max_packing(radii: ArrayLike, dimensions: int = 3) -> float:
     """Largest packing the geometry allows, for :func:`compress`'s check.
 
-    Equal spheres: ``pi/sqrt(18) = 0.7405`` (Kepler, Hales).  Mixtures can
-    pack denser; only the trivial bound 1 is applied to them.
+    Equal spheres: ``pi/sqrt(18) = 0.7405`` (Kepler, Hales); equal disks
+    (``dimensions = 2``): ``pi/(2 sqrt 3) = 0.9069``.  Mixtures can pack
+    denser; only the trivial bound 1 is applied to them.
     """
     r = np.asarray(radii, dtype=np.float64)
     if r.size and np.all(r == r[0]):
-        return MAX_PACKING_EQUAL
+        return MAX_PACKING_2D if dimensions == 2 else MAX_PACKING_EQUAL
     return 1.0
 
 
@@ -123,7 +124,7 @@ def compress(
     radii = eng.radii_at()
     phi0 = packing_fraction(radii, sim.container)
     if packing is not None:
-        top = max_packing(radii)
+        top = max_packing(radii, sim.container.dimensions)
         if not (math.isfinite(packing) and 0 < packing < top):
             raise CompressionError(
                 f"packing {packing:g} is not below {top:.4f}, the densest the geometry allows"
@@ -222,6 +223,12 @@ class Thermostat(Protocol):
 class Andersen:
     """Andersen thermostat: at random times one sphere gets a Maxwell velocity.
 
+    The new velocity has ``d`` components (3, or 2 for disks), each drawn
+    from the normal distribution of variance ``kT / m``: ``d/2 kT`` per
+    sphere on average, as :meth:`Observables.temperature
+    <hardspheres.observables.Observables.temperature>` counts ``d``
+    degrees of freedom per sphere.
+
     Args:
         kT: temperature [energy].
         rate: resamplings per sphere per unit time [1/time] (the whole
@@ -249,7 +256,7 @@ class Andersen:
         """Resample one sphere's velocity at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         i = int(self._rng.integers(sim.n))
-        v = self._rng.normal(size=3) * math.sqrt(self.kT / eng.masses[i])
+        v = self._rng.normal(size=sim.container.dimensions) * math.sqrt(self.kT / eng.masses[i])
         eng.kick(i, t, v)
         self.resampled += 1
         self.next_time = t + self._rng.exponential(1.0 / (self.rate * sim.n))

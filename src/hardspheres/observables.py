@@ -111,7 +111,8 @@ class Observables:
         v2 = float(np.mean(np.sum(sim.engine.velocities**2, axis=1))) if n else 0.0
         if v2 <= 0.0:
             return math.inf
-        return 0.1 * (sim.container.volume / n) ** (1.0 / 3.0) / math.sqrt(v2)
+        # a tenth of the spacing (V/N)^(1/d) at the mean speed
+        return 0.1 * (sim.container.volume / n) ** (1.0 / sim.container.dimensions) / math.sqrt(v2)
 
     def checkpoint(self) -> dict[str, np.ndarray]:
         """The arrays :meth:`restore` takes back: the mark, the samples, the schedule.
@@ -193,8 +194,10 @@ class Observables:
     def temperature(self) -> float:
         """Kinetic temperature ``kT`` now [energy]: ``2 E_kin / degrees of freedom``.
 
-        In a periodic box total momentum is conserved, so three degrees of
-        freedom are not thermal.
+        ``d`` degrees of freedom per sphere (``d = 2`` for disks); in a
+        periodic box total momentum is conserved, so ``d`` of them are not
+        thermal (:meth:`Container.degrees_of_freedom
+        <hardspheres.containers.Container.degrees_of_freedom>`).
         """
         return 2.0 * self._sim.engine.kinetic_energy() / max(self._dof(), 1)
 

@@ -187,7 +187,8 @@ class Simulation:
         Args:
             source: a path, or the scenario text itself (``str`` with a
                 newline, or ``bytes``).
-            container: the container.
+            container: the container (a 2-D one reads disks: every
+                line's ``z`` and ``vz`` 0, as :meth:`State.to_text` writes them).
         """
         if isinstance(source, (bytes, str)) and (isinstance(source, bytes) or "\n" in source):
             data = source
@@ -196,7 +197,9 @@ class Simulation:
                 data = fh.read()
         scn = parse_scenario(data)
         check_scenario(scn, container)
-        return cls(State.from_scenario(scn), container, window=window)
+        # disks (a 2-D container): the same nine fields, z = 0 and vz = 0 on every line
+        dims = getattr(container, "dimensions", 3)
+        return cls(State.from_scenario(scn, dimensions=dims), container, window=window)
 
     # ---- running -------------------------------------------------------------
     @property

@@ -168,15 +168,37 @@ class State:
             raise ScenarioError(f"time must be a finite number, got {self.time!r}")
 
     @classmethod
-    def from_scenario(cls, scn: Scenario) -> State:
-        """From a parsed :class:`hardspheres.scenario.Scenario`."""
-        return cls.from_arrays(
-            scn.masses,
-            scn.radii,
-            scn.positions or np.zeros((0, 3)),
-            scn.velocities or np.zeros((0, 3)),
-            scn.names,
-        )
+    def from_scenario(cls, scn: Scenario, dimensions: int = 3) -> State:
+        """From a parsed :class:`hardspheres.scenario.Scenario`.
+
+        ``dimensions = 2``: disks, read from the same nine fields with
+        ``z = 0`` and ``vz = 0`` on every line (as :meth:`to_text` writes
+        them); the state's arrays are ``(N, 2)``.
+
+        Raises:
+            ScenarioError: in 2-D, a line whose ``z`` or ``vz`` is not 0 (named).
+
+        Example:
+            >>> from hardspheres.scenario import parse_scenario
+            >>> State.from_scenario(parse_scenario("1 0.5 1 2 0 3 4 0 a"), dimensions=2).positions
+            array([[1., 2.]])
+        """
+        from .errors import ScenarioError
+
+        positions = scn.positions or np.zeros((0, 3))
+        velocities = scn.velocities or np.zeros((0, 3))
+        if dimensions == 2:
+            for p, v, line in zip(scn.positions, scn.velocities, scn.lines):
+                if p[2] != 0.0 or v[2] != 0.0:
+                    raise ScenarioError(
+                        f"z = {p[2]!r}, vz = {v[2]!r}: disks (a circle or a 2-D box) have z = 0 and vz = 0",
+                        line,
+                    )
+            positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)[:, :2]
+            velocities = np.asarray(velocities, dtype=np.float64).reshape(-1, 3)[:, :2]
+        elif dimensions != 3:
+            raise ScenarioError(f"dimensions must be 2 or 3, got {dimensions!r}")
+        return cls.from_arrays(scn.masses, scn.radii, positions, velocities, scn.names)
 
     @property
     def n(self) -> int:
@@ -196,9 +218,11 @@ class State:
         return self.masses @ self.velocities
 
     def to_text(self) -> str:
-        """The assignment's input format, with every digit kept (``%.17g``)."""
+        """The assignment's input format, with every digit kept (``%.17g``); disks with ``z = vz = 0``."""
+        flat = self.dimensions == 2
         rows = [
-            f"{m!r} {r!r} {p[0]!r} {p[1]!r} {p[2]!r} {v[0]!r} {v[1]!r} {v[2]!r} {nm}\n"
+            f"{m!r} {r!r} {p[0]!r} {p[1]!r} {0.0 if flat else p[2]!r} "
+            f"{v[0]!r} {v[1]!r} {0.0 if flat else v[2]!r} {nm}\n"
             for m, r, p, v, nm in zip(
                 self.masses.tolist(),
                 self.radii.tolist(),

@@ -17,8 +17,9 @@ def main(n: int, packing: float, collisions: int, **kw: Any) -> dict[str, Any]:
     """Print the figures, the JSON object last."""
     res = bench(n, packing, collisions, **kw)
     ens = res["enskog_collision_rate"]
+    disks = " disks" if res["dimensions"] == 2 else ""
     print(
-        f"N={n} packing={packing}: setup {res['setup_s']:.1f} s (generation "
+        f"N={n}{disks} packing={packing}: setup {res['setup_s']:.1f} s (generation "
         f"{res['generate_s']:.1f} s; CPU {res['setup_cpu_s']:.1f} s), peak "
         f"{res['setup_peak_rss_mb']:.0f} MB after setup"
     )
@@ -59,7 +60,19 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
     p.add_argument("--radius-ratio", type=ratio, default=1.0)
     p.add_argument("--mass-ratio", type=ratio, default=1.0)
-    p.add_argument("--box", action="store_true", help="periodic box instead of the spherical container")
+    p.add_argument(
+        "--box",
+        action="store_true",
+        help="periodic box (a cube; a square with --dimensions 2) instead of the spherical container "
+        "(the circle with --dimensions 2)",
+    )
+    p.add_argument(
+        "--dimensions",
+        type=int,
+        choices=(2, 3),
+        default=3,
+        help="3 (spheres, default) or 2 (disks of radius 0.5; --packing is the area fraction, at most 0.72)",
+    )
     p.add_argument(
         "--warmup",
         type=warmup,
@@ -86,5 +99,6 @@ def run(args: argparse.Namespace) -> int:
         mass_ratio=args.mass_ratio,
         box=args.box,
         warmup=args.warmup,
+        dimensions=args.dimensions,
     )
     return 0

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from ..messages import oserror_line
 from . import _checked_stdout, _guarded, bench, compress, generate, plot, render, run, sweep, validate, view
-from .options import Parser, one_line, version_action
+from .options import Parser, one_line, sides_last, version_action
 
 #: The subcommands, in the order ``--help`` lists them.
 SUBCOMMANDS = (generate, compress, bench, run, sweep, validate, view, render, plot)
@@ -32,7 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str]) -> int:
     """Run ``hardspheres ARGV``; returns the exit status."""
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(sides_last(argv))
     try:
         return args.func(args)
     except BrokenPipeError:

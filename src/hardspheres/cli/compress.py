@@ -14,7 +14,6 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, TextIO
 
 from ..builders import random_spheres
-from ..containers import PeriodicBox, SphericalContainer
 from ..dense import CompressionError, compress, max_packing
 from ..fileio import atomic_write
 from ..progress import Progress
@@ -23,6 +22,7 @@ from .options import positive, where_args, whole
 from .source import starting_simulation
 
 if TYPE_CHECKING:
+    from ..containers import Container
     from ..state import State
     from .options import Subcommands
 
@@ -67,8 +67,7 @@ def start_packing(packing: float) -> float:
 def generate_compressed(
     n: int,
     packing: float,
-    container: float | None = None,
-    box: float | None = None,
+    container: Container,
     seed: int = 0,
     rate: float = 0.01,
     radius_ratio: float = 1.0,
@@ -78,7 +77,8 @@ def generate_compressed(
 ) -> State:
     """A random fluid (or mixture) at ``packing``, grown from a dilute lattice melt.
 
-    The spheres start on random FCC sites at packing :func:`start_packing`
+    The spheres start on random lattice sites (FCC; disks: triangular) in
+    ``container`` at packing :func:`start_packing`
     (``min(0.9 packing, 0.2)``), run ``2 N`` collisions to lose the lattice,
     and are compressed at ``rate``; ``progress`` is passed to
     :func:`compress` (``progress(packing, Z, collisions)``).
@@ -87,17 +87,10 @@ def generate_compressed(
         CompressionError: the spheres jammed before ``packing``.
     """
     start = start_packing(packing)
-    if box is not None:
-        state = random_spheres(
-            n, start, box=box, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
-        )
-        sim = Simulation(state, PeriodicBox(box))
-    else:
-        state = random_spheres(
-            n, start, container=container, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
-        )
-        assert container is not None  # random_spheres refused neither container nor box
-        sim = Simulation(state, SphericalContainer(container))
+    state = random_spheres(
+        n, start, container, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio, kT=kT
+    )
+    sim = Simulation(state, container)
     names = list(state.names)
     if n > 1:
         sim.run(collisions=2 * n)
@@ -121,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     phi0 = sim.packing
     target = args.packing
     if target is not None:
-        top = max_packing(sim.engine.radii_at())
+        top = max_packing(sim.engine.radii_at(), sim.container.dimensions)
         if target >= top:
             raise CompressionError(
                 f"--packing {target:g} is not below {top:.4f}, the densest the geometry allows"
@@ -199,7 +192,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "(Lubachevsky-Stillinger); writes a scenario",
     )
     p.add_argument("scenario", nargs="?", help="scenario file ('-' for stdin)")
-    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]")
+    where_args(p, "spherical container radius [m]", "periodic box [m]")
     p.add_argument(
         "--packing", type=positive, help="target packing fraction (below 0.7405 for equal spheres)"
     )

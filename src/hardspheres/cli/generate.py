@@ -1,4 +1,9 @@
-"""``hardspheres generate``: a scenario of N spheres at a packing fraction, on stdout."""
+"""``hardspheres generate``: a scenario of N spheres (or disks) at a packing fraction, on stdout.
+
+Disks (``--circle R``, ``--box LX LY``, ``--box L --dimensions 2``) are
+written as nine-field lines with ``z = 0`` and ``vz = 0``, which ``run``,
+``compress`` and the pictures read back as disks given the same container.
+"""
 
 from __future__ import annotations
 
@@ -16,9 +21,12 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("generate", help="write a scenario of N spheres at a packing fraction")
     p.add_argument("--n", type=whole(1), required=True, help="number of spheres (>= 1)")
-    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]", required=True)
+    where_args(p, "spherical container radius [m]", "periodic box [m]", required=True)
     p.add_argument(
-        "--packing", type=packing, required=True, help="volume fraction filled by the spheres (< 0.74)"
+        "--packing",
+        type=packing,
+        required=True,
+        help="volume fraction filled by the spheres (< 0.74; disks: area fraction, at most 0.72)",
     )
     p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
     p.add_argument(
@@ -62,10 +70,10 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     from ..builders import random_spheres
+    from .source import container_from
 
-    common = dict(  # container or box: exactly one is given (argparse's group)
-        container=args.container,
-        box=args.box,
+    common = dict(  # one of --container, --circle, --box is given (argparse's group)
+        container=container_from(args),
         seed=args.seed,
         radius_ratio=args.radius_ratio,
         mass_ratio=args.mass_ratio,

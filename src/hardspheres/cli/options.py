@@ -171,20 +171,105 @@ def compile_first() -> None:
 def picture_args(q: argparse.ArgumentParser, output_default: str | None, output_help: str) -> None:
     q.add_argument("input", help="trajectory (.gsd, .xyz) or scenario file")
     q.add_argument("-o", "--output", default=output_default, help=output_help)
-    where_args(q, "scenario: container radius [m]", "scenario: periodic box edge [m]")
+    where_args(q, "scenario: spherical container radius [m]", "scenario: periodic box [m]")
     q.add_argument("--until", type=positive, help="scenario: end time [s]")
     q.add_argument(
         "--every", type=positive, help="scenario: time between frames [s] (default: --until / 200)"
     )
 
 
+#: The commands whose ``--box`` takes a box's sides (``bench --box`` is a switch).
+SIDES_COMMANDS = ("generate", "run", "compress", "view", "render", "plot")
+
+BOX_HELP = (
+    "one number L: a cube of edge L (a square with --dimensions 2); two, LX LY: a 2-D box "
+    "of disks; three, LX LY LZ: a rectangular box"
+)
+
+
+class BoxSides(argparse.Action):
+    """``--box L``, ``--box LX LY`` or ``--box LX LY LZ``: 1 to 3 sides, each > 0."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        sides = list(values)
+        if not 1 <= len(sides) <= 3:
+            raise argparse.ArgumentError(self, f"takes 1 to 3 sides ({BOX_HELP}), got {len(sides)} numbers")
+        setattr(namespace, self.dest, sides)
+
+
+def sides_last(argv: Sequence[str]) -> list[str]:
+    """``argv`` with each ``--box`` and the numbers after it moved to the end.
+
+    ``--box`` takes one to three numbers, so argparse would also swallow a
+    file name typed after them (``run --box 10 s.txt``); moved to the end,
+    the sides take only the numbers, as ``--box L`` always did.  Only for
+    :data:`SIDES_COMMANDS`, and never past a ``--``.
+    """
+    from ..scenario import plain_float
+
+    argv = [str(a) for a in argv]
+    if not argv or argv[0] not in SIDES_COMMANDS or "--" in argv:
+        return argv
+    rest, moved = [argv[0]], []
+    i = 1
+    while i < len(argv):
+        if argv[i] != "--box":
+            rest.append(argv[i])
+            i += 1
+            continue
+        k = 0
+        while i + 1 + k < len(argv) and plain_float(argv[i + 1 + k]) is not None:
+            k += 1
+        if k == 0:  # argparse names what is wrong
+            rest.append(argv[i])
+            i += 1
+            continue
+        moved += argv[i : i + 1 + k]
+        i += 1 + k
+    return rest + moved
+
+
+def dimensions_arg(q: argparse.ArgumentParser, help: str | None = None) -> None:
+    """``--dimensions {2,3}``: the dimension of space (default: what the container says)."""
+    q.add_argument(
+        "--dimensions",
+        type=int,
+        choices=(2, 3),
+        help=help
+        or "2 (disks) or 3 (spheres); by default what the container says (--circle and "
+        "--box LX LY: 2; --container and --box L: 3); with --box L, 2 makes a square",
+    )
+
+
 def where_args(
     q: argparse.ArgumentParser, container_help: str, box_help: str, required: bool = False
 ) -> None:
-    """``--container R`` or ``--box L`` (at most one; exactly one if ``required``)."""
+    """``--container R``, ``--circle R`` or ``--box L [LY [LZ]]`` (at most one; exactly one if
+    ``required``), and ``--dimensions``."""
     where = q.add_mutually_exclusive_group(required=required)
-    where.add_argument("--container", type=positive, help=container_help)
-    where.add_argument("--box", type=positive, help=box_help)
+    where.add_argument("--container", type=positive, metavar="R", help=container_help + " (3-D)")
+    where.add_argument(
+        "--circle",
+        type=positive,
+        metavar="R",
+        help=("scenario: " if container_help.startswith("scenario: ") else "")
+        + "circular container radius [m] (2-D: disks; a scenario's z and vz are 0)",
+    )
+    where.add_argument(
+        "--box",
+        type=positive,
+        nargs="+",
+        action=BoxSides,
+        metavar="L",
+        help=f"{box_help}: {BOX_HELP} (a disk scenario's z and vz are 0)",
+    )
+    dimensions_arg(q)
 
 
 def size_slice_args(q: argparse.ArgumentParser, size_help: str, slice_help: str) -> None:

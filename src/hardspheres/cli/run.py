@@ -33,7 +33,7 @@ from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
 from .options import count, positive, where_args
-from .source import starting_simulation
+from .source import given_container, starting_simulation
 
 if TYPE_CHECKING:
     import numpy as np
@@ -128,15 +128,15 @@ def _check_args(args: argparse.Namespace) -> None:
     if args.resume:
         if args.scenario:
             raise ValueError("give a scenario or --resume, not both")
-        if args.container is not None or args.box is not None:
+        if given_container(args) or args.dimensions is not None:
             raise ValueError(
-                "--container/--box cannot change a resumed run: the checkpoint "
+                "--container/--circle/--box/--dimensions cannot change a resumed run: the checkpoint "
                 "keeps its container (leave them out)"
             )
     elif not args.scenario:
         raise ValueError("give a scenario file (or --resume CHECKPOINT)")
-    elif args.container is None and args.box is None:
-        raise ValueError("give --container RADIUS or --box LENGTH")
+    elif not given_container(args):
+        raise ValueError("give --container RADIUS, --circle RADIUS or --box L [LY [LZ]]")
     if args.trajectory is None:
         for option, value in (("--every", args.every), ("--events", args.events)):
             if value:
@@ -289,10 +289,14 @@ def summary_lines(
     kT = f"kT {summary['temperature']:.6g}"
     if sim.container.wall_area > 0:
         lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
+        term = (
+            "circle: it includes a line-tension term"
+            if sim.container.dimensions == 2
+            else "sphere: it includes a surface term"
+        )
         lines.append(
-            f"PV/NkT {_value(summary, 'Z')} (wall pressure of a finite "
-            "sphere: it includes a surface term, so it is not the bulk Z; use --box "
-            "for bulk)"
+            f"PV/NkT {_value(summary, 'Z')} (wall pressure of a finite {term}, so it is not the "
+            "bulk Z; use --box for bulk)"
         )
     else:
         lines.append(f"pressure {_value(summary, 'pressure')} (virial), {kT}")
@@ -442,7 +446,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         f"time {sim.time:.9g}"
         + (" (interrupted)" if signum is not None else "")
         + (" (stopped: trajectory not written)" if failure is not None else ""),
-        f"{sim.n} spheres, {_container_text(sim.container)}",
+        f"{sim.n} {'disks' if sim.container.dimensions == 2 else 'spheres'}, "
+        f"{_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
         f"{c1['reflections'] - c0['reflections']} reflections",
         f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)",
@@ -502,7 +507,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser("run", help="run a scenario, with trajectory, checkpoints, summary")
     p.add_argument("scenario", nargs="?", help="scenario file in the assignment's format ('-' for stdin)")
-    where_args(p, "spherical container radius [m]", "periodic cubic box edge [m]")
+    where_args(p, "spherical container radius [m]", "periodic box [m]")
     p.add_argument("--until", type=positive, required=True, help="end time [s]")
     eq = p.add_mutually_exclusive_group()
     eq.add_argument(

@@ -5,6 +5,11 @@
 :class:`~hardspheres.Simulation`: the scenario is parsed once and checked
 against the container before the event core is compiled, so bad input is
 refused in one line without waiting for the compiler.
+
+Disks (``--circle R``, ``--box LX LY``, or ``--box L --dimensions 2``) are
+read from the same nine-field scenario lines as spheres, with ``z = 0`` and
+``vz = 0`` on every line (:meth:`State.from_scenario
+<hardspheres.State.from_scenario>` refuses any other, naming the line).
 """
 
 from __future__ import annotations
@@ -15,7 +20,7 @@ import warnings
 from typing import TYPE_CHECKING
 
 from ..messages import quote
-from .options import compile_first, suffix
+from .options import compile_first, note, suffix
 
 if TYPE_CHECKING:
     from ..containers import Container
@@ -23,11 +28,42 @@ if TYPE_CHECKING:
     from ..simulation import Simulation
 
 
-def container_from(args: argparse.Namespace) -> Container:
-    """The container ``--container R`` or ``--box L`` names (exactly one is given)."""
-    from ..containers import PeriodicBox, SphericalContainer
+def given_container(args: argparse.Namespace) -> bool:
+    """Whether ``--container``, ``--circle`` or ``--box`` is given."""
+    return any(getattr(args, k, None) is not None for k in ("container", "circle", "box"))
 
-    return SphericalContainer(args.container) if args.container is not None else PeriodicBox(args.box)
+
+def container_from(args: argparse.Namespace) -> Container:
+    """The container ``--container R``, ``--circle R`` or ``--box L [LY [LZ]]`` names (one is given),
+    checked against ``--dimensions``.
+
+    Raises:
+        ValueError: ``--dimensions`` does not match the container (one line naming both).
+    """
+    from ..containers import CircularContainer, PeriodicBox, SphericalContainer
+
+    d = getattr(args, "dimensions", None)
+    if args.container is not None:
+        if d == 2:
+            raise ValueError(
+                "--container is a sphere (3-D), not --dimensions 2: for disks give --circle R or --box LX LY"
+            )
+        return SphericalContainer(args.container)
+    if getattr(args, "circle", None) is not None:
+        if d == 3:
+            raise ValueError(
+                "--circle is a circle (2-D), not --dimensions 3: for spheres give --container R or --box L"
+            )
+        return CircularContainer(args.circle)
+    sides = [float(x) for x in args.box]
+    if len(sides) == 1:
+        return PeriodicBox((sides[0], sides[0]) if d == 2 else sides[0])
+    if d is not None and d != len(sides):
+        raise ValueError(
+            f"--box {' '.join(f'{x:g}' for x in sides)} has {len(sides)} sides: a {len(sides)}-D box, "
+            f"not --dimensions {d} (leave --dimensions out, or give {d} sides)"
+        )
+    return PeriodicBox(tuple(sides))
 
 
 def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -> Simulation:
@@ -62,8 +98,17 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
     if len(scn) == 0:
         raise ValueError(f"{name}: no spheres in the scenario")
     check_scenario(scn, container)
+    if (
+        container.dimensions == 3
+        and len(scn) > 1
+        and all(p[2] == 0.0 and v[2] == 0.0 for p, v in zip(scn.positions, scn.velocities))
+    ):
+        note(
+            f"note: every sphere of {name} has z = 0 and vz = 0: run as a flat layer of spheres (3-D, "
+            "kT over 3 degrees of freedom each); for disks give --circle R or --box LX LY"
+        )
     compile_first()  # before any clock starts: no rate includes compilation
-    return Simulation(State.from_scenario(scn), container)
+    return Simulation(State.from_scenario(scn, dimensions=container.dimensions), container)
 
 
 TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")
@@ -76,7 +121,9 @@ def check_source(args: argparse.Namespace) -> None:
             o
             for o, v in (
                 ("--container", args.container),
+                ("--circle", args.circle),
                 ("--box", args.box),
+                ("--dimensions", args.dimensions),
                 ("--until", args.until),
                 ("--every", args.every),
             )
@@ -89,10 +136,10 @@ def check_source(args: argparse.Namespace) -> None:
                 f"({args.input} holds its own)"
             )
         return
-    if args.until is None or (args.container is None and args.box is None):
+    if args.until is None or not given_container(args):
         raise ValueError(
             f"{quote(args.input)} is not a trajectory (.gsd, .xyz), so it is read as a "
-            "scenario: give --container R (or --box L) and --until T"
+            "scenario: give --container R (or --circle R, or --box L [LY [LZ]]) and --until T"
         )
     if args.every is not None and args.every > args.until:
         raise ValueError(

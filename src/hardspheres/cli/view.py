@@ -1,4 +1,4 @@
-"""``hardspheres view``: a self-contained interactive 3-D viewer page (and a screenshot)."""
+"""``hardspheres view``: a self-contained interactive viewer page, flat for disks (and a screenshot)."""
 
 from __future__ import annotations
 
@@ -27,11 +27,12 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--color",
-        choices=["speed", "mass", "q6"],
+        choices=["speed", "mass", "q6", "psi6"],
         default="speed",
         help="colour the spheres by speed (default), mass, or Steinhardt bond "
         "order q6 over 12 neighbours (crystal-like spheres near 0.5-0.57, a "
-        "fluid or jammed packing 0.3-0.45; needs freud)",
+        "fluid or jammed packing 0.3-0.45; needs freud); disks by their local "
+        "hexatic order |psi6| over 6 neighbours (1 in a hexagonal crystal; needs freud)",
     )
     p.set_defaults(func=run)
     return p
@@ -48,7 +49,8 @@ def run(args: argparse.Namespace) -> int:
 
     frames = frames_from_args(args)
     write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice, color_by=args.color)
-    print(f"wrote {args.output} ({frames.n} spheres, {len(frames.times)} frames)")
+    noun = "disks" if frames.positions.shape[-1] == 2 else "spheres"
+    print(f"wrote {args.output} ({frames.n} {noun}, {len(frames.times)} frames)")
     if args.screenshot:
         try:
             screenshot(args.output, args.screenshot, size=args.size or (960, 640))

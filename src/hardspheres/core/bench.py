@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..builders import random_arrays
-from ..containers import PeriodicBox, SphericalContainer
+from ..containers import CircularContainer, PeriodicBox, SphericalContainer
 from ..eos import carnahan_starling, collision_rate_from_z
 from .engine import Engine
 
@@ -152,16 +152,26 @@ def warm_up(eng: Engine, per_sphere: float | None = None) -> tuple[list[tuple[fl
     return blocks, ok
 
 
-def container_for(n: int, packing: float, box: bool = False) -> Container:
+def container_for(n: int, packing: float, box: bool = False, dimensions: int = 3) -> Container:
     """The container (or periodic box) that holds ``n`` spheres of radius 0.5 at ``packing``.
 
     The benchmarks' one sizing rule, so that every script times the same
-    systems as ``hardspheres bench``.
+    systems as ``hardspheres bench``.  ``dimensions = 2``: disks of radius
+    0.5 in a circle, or (``box``) in a periodic square.
 
     Example:
         >>> round(container_for(1000, 0.3, box=True).length, 4)
         12.04
+        >>> container_for(1000, 0.3, box=True, dimensions=2).sides
+        (51.166335397324424, 51.166335397324424)
     """
+    if dimensions == 2:
+        if box:
+            side = math.sqrt(n * np.pi * 0.25 / packing)
+            return PeriodicBox((side, side))
+        return CircularContainer(0.5 * math.sqrt(n / packing))
+    if dimensions != 3:
+        raise ValueError(f"dimensions must be 2 or 3, got {dimensions!r}")
     if box:
         return PeriodicBox((n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0))
     return SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))
@@ -176,6 +186,7 @@ def bench(
     mass_ratio: float = 1.0,
     box: bool = False,
     warmup: float | None = None,
+    dimensions: int = 3,
 ) -> dict[str, Any]:
     """Generate ``n`` spheres, warm them up into a fluid, time ``collisions`` more.
 
@@ -188,6 +199,7 @@ def bench(
         warmup: collisions per sphere before the clock starts, or ``None``
             (default): until the collision and crossing rates settle
             (:func:`warm_up`).
+        dimensions: 3, or 2: disks (:func:`container_for`; no Enskog rate).
 
     Returns:
         A dict of figures (see ``hardspheres bench --help``); among them
@@ -198,7 +210,7 @@ def bench(
     """
     t0 = time.perf_counter()
     cpu0 = time.process_time()
-    where = container_for(n, packing, box)
+    where = container_for(n, packing, box, dimensions)
     arrays = random_arrays(n, packing, where, seed=seed, radius_ratio=radius_ratio, mass_ratio=mass_ratio)
     generate = time.perf_counter() - t0
     eng = Engine(*arrays, container=where)
@@ -224,7 +236,8 @@ def bench(
         "n": n,
         "packing": packing,
         "radius_ratio": radius_ratio,
-        "container": "box" if box else "sphere",
+        "container": ("box" if box else "sphere") if dimensions == 3 else ("box" if box else "circle"),
+        "dimensions": dimensions,
         "collisions": coll,
         "reflections": c1["reflections"] - c0["reflections"],
         "crossings": c1["crossings"] - c0["crossings"],
@@ -245,7 +258,7 @@ def bench(
         "warmup_crossing_rate": last[2],
         "collision_rate": coll_rate,
         "crossing_rate": cross_rate,
-        "enskog_collision_rate": enskog_rate(packing) if radius_ratio == 1.0 else None,
+        "enskog_collision_rate": enskog_rate(packing) if radius_ratio == 1.0 and dimensions == 3 else None,
         "warmup_blocks": [[round(w, 3), round(a, 5), round(b, 5)] for w, a, b in blocks],
         "peak_rss_mb": peak_rss_mb(),
         "energy_rel_drift": abs(eng.kinetic_energy() - e0) / e0 if e0 > 0 else 0.0,
