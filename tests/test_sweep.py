@@ -292,6 +292,14 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
         ('packing = 0.3\nn = 10\ncontainer = "cube"\n', ["container", "cube"]),
         ("n = 10\n", ["packing", "missing"]),
         ("packing = 0.3\nn = [10\n", ["not valid TOML"]),
+        ("packing = 0.3\nn = 10\ndimensions = 4\n", ["dimensions = 4", "3 or 2"]),
+        ("packing = 0.3\nn = 10\naspect = [1, 1, 1, 2]\n", ["aspect", "d numbers"]),
+        ("packing = 0.3\nn = 10\naspect = [1, -2]\n", ["aspect = [1, -2]"]),
+        ("packing = 0.3\nn = 10\naspect = [[1, 1], [1, 1, 2]]\n", ["aspect", "mix dimensions"]),
+        ('packing = 0.3\nn = 10\naspect = [1, 2]\ncontainer = "sphere"\n', ["aspect", "box"]),
+        ("packing = 0.3\nn = 10\naspect = [1, 2]\ndimensions = 3\n", ["aspect", "dimensions"]),
+        ('packing = 0.3\nn = 10\ncontainer = "circle"\ndimensions = 3\n', ["circle", "2-D"]),
+        ("packing = 0.73\nn = 10\ndimensions = 2\n", ["packing = 0.73", "0.72"]),
     ],
 )
 def test_bad_study_files_one_line_exit_1(tmp_path, capsys, text, words):
@@ -500,3 +508,33 @@ def test_ctrl_c_on_a_local_cluster_exits_130_promptly_keeping_rows(tmp_path):
     # the rows finished before Ctrl-C are whole (written atomically)
     for row in (tmp_path / "out" / "rows").glob("*.parquet"):
         assert len(pd.read_parquet(row)) == 1
+
+
+def test_studies_take_dimensions_and_box_sides(tmp_path):
+    """Disks in a sqrt(3)/2 box and in a circle, spheres in a 1:1:2 box; 3-D keys unchanged."""
+    base = {
+        "n": 64,
+        "seeds": 1,
+        "equilibrate": 5,
+        "collisions": 40,
+        "blocks": 4,
+        "measure": ["Z", "temperature"],
+    }
+    disks = studies.sweep(
+        {**base, "output": str(tmp_path / "d"), "packing": [0.3, 0.6], "aspect": [1, 0.8660254]}, serial=True
+    )
+    assert disks["dimensions"].tolist() == [2, 2] and set(disks["aspect"]) == {"1:0.8660254"}
+    assert (disks["Z"] > 1).all() and disks["Z"].is_monotonic_increasing
+    assert disks["temperature"].round(9).tolist() == [1.0, 1.0]  # kT over 2 N - 2 degrees of freedom
+    grid = studies.sweep(
+        {**base, "output": str(tmp_path / "g"), "packing": 0.3, "dimensions": [2, 3], "container": "sphere"},
+        serial=True,
+    )
+    assert grid["dimensions"].tolist() == [2, 3] and grid["aspect"].tolist() == ["", ""]
+    long = studies.parse_study({**base, "packing": 0.3, "aspect": [[1, 1, 2], [1, 2, 1]]})
+    assert [t["aspect"] for t in studies.tasks(long)] == ["1:1:2", "1:2:1"]
+    # a 3-D study without aspect hashes as it did before the space keys (its rows are found again)
+    cube = studies.parse_study({"packing": [0.2, 0.3], "n": 64, "seeds": 2, "output": "/tmp/x"})
+    assert [t["key"] for t in studies.tasks(cube)][:2] == ["6910268f852191f3", "fc0ef0d181844d2a"]
+    box = studies._build(studies.tasks(long)[0]).container
+    assert box.sides[2] == pytest.approx(2 * box.sides[0]) and box.sides[0] == box.sides[1]

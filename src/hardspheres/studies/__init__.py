@@ -17,8 +17,10 @@ core) or on an existing Dask cluster, or in this process (``serial=True``).
 Study file (every key but ``packing`` and ``n`` is optional)::
 
     output = "eos-study"        # folder for results, relative to this file
-    container = "box"           # "box" (periodic) or "sphere" (hard wall)
-    packing = [0.1, 0.2, 0.3]   # volume fractions, each in (0, 0.7405)
+    container = "box"           # "box" (periodic) or "sphere" (hard wall; "circle" in 2-D)
+    dimensions = 3              # 3 (spheres) or 2 (disks), or a list [2, 3]
+    aspect = [1, 1, 2]          # a box's sides in proportion (d numbers), or a list of them
+    packing = [0.1, 0.2, 0.3]   # volume fractions, each in (0, 0.7405); disks: area, up to 0.72
     n = [256, 1024]             # spheres per run
     seeds = 4                   # 4 seeds (0..3), or a list [1, 5, 9]
     radius_ratio = 1.0          # largest / smallest radius (or a list)
@@ -31,6 +33,18 @@ Study file (every key but ``packing`` and ``n`` is optional)::
 Spheres have mean diameter about 1 (the container is sized for it), mass 1
 (or log-uniform up to ``mass_ratio``) and ``kT = 1``, so times are in units
 of ``sigma sqrt(m / kT)``.
+
+Space: ``dimensions = 2`` runs disks (``packing`` is then the area
+fraction, at most 0.72, the random-disk builder's limit), in a periodic
+square box or (``container = "sphere"`` or ``"circle"``) a circle.
+``aspect`` shapes the box: ``[1, 0.8660254]`` is the ``sqrt(3)/2`` box a
+hexagonal crystal of disks fits, ``[1, 1, 2]`` a 1:1:2 box; its length
+gives the dimension (so ``dimensions`` may be left out), and a list of
+shapes is a grid over them.  Without ``aspect`` the box is a cube (a
+square).  Results hold ``dimensions`` and ``aspect`` (``"1:1:2"``; ``""``
+for the cube and for round walls) as grid columns; a 3-D study without
+``aspect`` keeps the task keys it had before they existed, so its finished
+rows are found again.
 
 The output folder holds:
 
@@ -100,7 +114,7 @@ def _ks(sim, obs):
     st = sim.state()
     kT = obs.temperature()
     x = np.linalg.norm(st.velocities, axis=1) * np.sqrt(st.masses / kT)
-    return ks_distance(x, 1.0, 1.0)
+    return ks_distance(x, 1.0, 1.0, st.dimensions)
 
 
 #: Observables a study can measure: name -> ``f(sim, observables)`` giving a
@@ -122,12 +136,20 @@ OBSERVABLES = {
 _NOT_OBSERVABLES = {"reset", "summary", "speed_histogram", "elapsed"}
 
 #: Parameters that make the grid, in the order of the results' columns.
-GRID = ("container", "packing", "n", "radius_ratio", "mass_ratio", "seed")
+GRID = ("container", "dimensions", "aspect", "packing", "n", "radius_ratio", "mass_ratio", "seed")
+
+#: What a grid column reads in rows written before it existed (3-D, no aspect).
+GRID_DEFAULTS = {"dimensions": 3, "aspect": ""}
+
+#: The densest random disks the builder places (:data:`hardspheres.builders.RANDOM_DISKS_MAX`).
+_DISKS_MAX = 0.72
 
 _KEYS = {
     "output": "folder for the results (string)",
-    "container": '"box" or "sphere"',
-    "packing": "packing fraction(s) in (0, 0.7405)",
+    "container": '"box", "sphere" or "circle" (the round wall in 2-D)',
+    "dimensions": "3 or 2 (disks), or a list of them",
+    "aspect": "a box's sides in proportion, d numbers > 0 (e.g. [1, 1, 2], [1, 0.8660254]), or a list",
+    "packing": "packing fraction(s) in (0, 0.7405) (disks: up to 0.72)",
     "n": "number(s) of spheres, integers >= 2",
     "seeds": "a count (integer >= 1) or a list of integer seeds",
     "radius_ratio": "largest/smallest radius, number(s) >= 1",
@@ -214,16 +236,24 @@ def parse_study(data, source=None, base=None):
     # path on a shared file system)
     s["output"] = str((Path(base or ".") / out).resolve())
     container = data.get("container", "box")
-    if container not in ("box", "sphere"):
-        raise StudyError(f'{_where(source)}container = {container!r} is not allowed: give "box" or "sphere"')
+    if container not in ("box", "sphere", "circle"):
+        raise StudyError(
+            f'{_where(source)}container = {container!r} is not allowed: give "box", "sphere" or "circle"'
+        )
     s["container"] = container
+    s["dimensions"], s["aspect"] = _space(data, container, source)
+    disks = 2 in s["dimensions"]
+
+    def fits(v):
+        return _is_number(v) and 0.0 < v and (v <= _DISKS_MAX if disks else v < MAX_PACKING)
+
     s["packing"] = [
         float(v)
         for v in _list_of(
             data["packing"],
             "packing",
-            lambda v: _is_number(v) and 0.0 < v < MAX_PACKING,
-            _KEYS["packing"],
+            fits,
+            f"area fraction(s) in (0, {_DISKS_MAX}] for disks" if disks else _KEYS["packing"],
             source,
         )
     ]
@@ -289,6 +319,49 @@ def parse_study(data, source=None, base=None):
     return s
 
 
+def _space(data, container, source):
+    """``(dimensions, aspects)``: the lists a study's grid runs over (``aspects``: tuples or ``None``)."""
+    raw = data.get("aspect")
+    aspects = [None]
+    if raw is not None:
+        shapes = raw if isinstance(raw, list) and raw and all(isinstance(a, list) for a in raw) else [raw]
+        for a in shapes:
+            if not (isinstance(a, list) and len(a) in (2, 3) and all(_is_number(x) and x > 0 for x in a)):
+                raise StudyError(f"{_where(source)}aspect = {a!r} is not allowed: give {_KEYS['aspect']}")
+        if len({len(a) for a in shapes}) > 1:
+            raise StudyError(f"{_where(source)}aspect: the shapes {raw!r} mix dimensions; give one per study")
+        if container != "box":
+            raise StudyError(f'{_where(source)}aspect is for container = "box", not {container!r}')
+        aspects = [tuple(float(x) for x in a) for a in shapes]
+    default = [len(aspects[0])] if aspects[0] is not None else [2] if container == "circle" else [3]
+    dims = _list_of(
+        data.get("dimensions", default),
+        "dimensions",
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and v in (2, 3),
+        _KEYS["dimensions"],
+        source,
+    )
+    dims = list(dict.fromkeys(dims))
+    if aspects[0] is not None and dims != [len(aspects[0])]:
+        raise StudyError(
+            f"{_where(source)}aspect {list(aspects[0])} has {len(aspects[0])} sides: "
+            f"not dimensions = {dims!r}"
+        )
+    if container == "circle" and dims != [2]:
+        raise StudyError(f'{_where(source)}container = "circle" is 2-D: not dimensions = {dims!r}')
+    return dims, aspects
+
+
+def aspect_text(aspect):
+    """A box shape as the results' ``aspect`` column reads it: ``"1:1:2"`` (``""``: none).
+
+    Example:
+        >>> aspect_text((1.0, 0.8660254)), aspect_text(None)
+        ('1:0.8660254', '')
+    """
+    return "" if aspect is None else ":".join(f"{x:.10g}" for x in aspect)
+
+
 def load_study(path):
     """Read and check a study file (TOML); ``output`` is relative to its folder.
 
@@ -314,8 +387,14 @@ def tasks(study):
     """
     out = []
     run = {k: study[k] for k in ("equilibrate", "collisions", "time", "blocks", "measure")}
-    for packing, n, rr, mr, seed in itertools.product(
-        study["packing"], study["n"], study["radius_ratio"], study["mass_ratio"], study["seeds"]
+    for d, aspect, packing, n, rr, mr, seed in itertools.product(
+        study.get("dimensions", [3]),
+        study.get("aspect", [None]),
+        study["packing"],
+        study["n"],
+        study["radius_ratio"],
+        study["mass_ratio"],
+        study["seeds"],
     ):
         t = {
             "container": study["container"],
@@ -326,6 +405,11 @@ def tasks(study):
             "seed": seed,
             **run,
         }
+        # the space only where it is not the default: 3-D studies keep their keys
+        if d != 3:
+            t["dimensions"] = d
+        if aspect is not None:
+            t["aspect"] = aspect_text(aspect)
         t["key"] = hashlib.sha256(json.dumps(t, sort_keys=True).encode()).hexdigest()[:16]
         t["folder"] = study["output"]
         t["checkpoint_seconds"] = study["checkpoint_seconds"]
@@ -370,12 +454,21 @@ def _row_path(task):
 # ---- one task -------------------------------------------------------------------
 def _build(task):
     from ..builders import random_spheres
-    from ..containers import PeriodicBox, SphericalContainer
+    from ..containers import CircularContainer, PeriodicBox, SphericalContainer
     from ..simulation import Simulation
 
     n, phi = task["n"], task["packing"]
-    kind = PeriodicBox if task["container"] == "box" else SphericalContainer
-    container = kind.for_packing(n, phi)  # spheres of diameter 1 (equal spheres)
+    d = task.get("dimensions", 3)
+    aspect = task.get("aspect") or None
+    if task["container"] == "box":
+        if aspect is None and d == 2:
+            aspect = "1:1"
+        sides = None if aspect is None else tuple(float(x) for x in aspect.split(":"))
+        container = PeriodicBox.for_packing(n, phi, sides)  # spheres of diameter 1 (equal spheres)
+    elif d == 2:
+        container = CircularContainer.for_packing(n, phi)
+    else:
+        container = SphericalContainer.for_packing(n, phi)
     state = random_spheres(
         n,
         phi,
@@ -512,7 +605,7 @@ def run_task(task):
         c, step = c + 1, 0
         if c < total:
             checkpoint(c, 0)
-    row = {k: task[k] for k in GRID}
+    row = {k: task.get(k, GRID_DEFAULTS.get(k)) for k in GRID}
     row.update(
         equilibrate=float(task["equilibrate"]),
         collisions=float(task["collisions"]) if task["collisions"] is not None else float("nan"),
@@ -582,6 +675,9 @@ def _collect(all_tasks):
     if not frames:
         return pd.DataFrame()
     df = pd.concat(frames, ignore_index=True)
+    for k, v in GRID_DEFAULTS.items():  # rows written before the column existed
+        df[k] = df[k].fillna(v) if k in df.columns else v
+    df["dimensions"] = df["dimensions"].astype(int)
     return df.sort_values(list(GRID), kind="stable").reset_index(drop=True)
 
 
