@@ -194,6 +194,7 @@ class RDF(Compute):
         self.g = np.asarray(rdf.rdf, float).copy()
         self.sigma, self.frames, self.n = sig, len(pos), pos.shape[1]
         box_ = PeriodicBox(L)
+        self.dimensions = box_.dimensions
         if box_.dimensions == 2:  # disks: the area fraction
             self.packing = self.n * np.pi * sig**2 / (4.0 * box_.volume)
         else:
@@ -218,9 +219,11 @@ class RDF(Compute):
         return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
 
     def Z(self) -> tuple[float, float]:  # noqa: N802 (the physicists' name)
-        """``Z = 1 + 4 phi g(sigma)`` (equal spheres), with its error from the contact fit."""
+        """``Z = 1 + 4 phi g(sigma)`` (equal spheres; disks: ``1 + 2 phi g(sigma)``), with its error
+        from the contact fit."""
         g, err = self.contact_value()
-        return 1.0 + 4.0 * self.packing * g, 4.0 * self.packing * err
+        c = 2.0 if self.dimensions == 2 else 4.0
+        return 1.0 + c * self.packing * g, c * self.packing * err
 
     def compressibility(self) -> tuple[float, float]:
         """The old name of :meth:`Z` (the compressibility factor, not kappa_T)."""
@@ -431,3 +434,44 @@ class BondOrder(Compute):
         ax.set_ylabel("spheres")
         ax.set_title(f"crystal-like: {self.crystal_fraction:.1%}")
         return ax
+
+
+def local_psi6(source: Source, box: Edge | None = None) -> np.ndarray:
+    """``(F, N)`` complex local psi6 of each disk in each configuration (6 nearest neighbours, freud).
+
+    What :class:`Hexatic` computes per disk, for every configuration and
+    without g6(r): for pictures (the viewer's colour by ``|psi6|``).
+    ``source`` as for :class:`Hexatic`, or :class:`hardspheres.Frames` and
+    :class:`hardspheres.Simulation` in a :class:`~hardspheres.CircularContainer`
+    (whose disks sit in a box ``4 R`` wide: no disk sees an image among its
+    neighbours, so the periodic search is an open one).
+
+    Example:
+        >>> from hardspheres.builders import hexagonal
+        >>> s, box = hexagonal((6, 6), 0.7)
+        >>> psi = local_psi6(s, box=box.sides)
+        >>> psi.shape, round(float(abs(psi).min()), 6)
+        ((1, 36), 1.0)
+    """
+    from ..frames import Frames
+    from ..simulation import Simulation
+
+    freud = _freud()
+    container = source.container if isinstance(source, (Frames, Simulation)) else None
+    L: Edge
+    if container is not None and not container.periodic and container.dimensions == 2:
+        w = 4.0 * container.bounding_radius
+        L = (w, w)
+        frames = source.positions if isinstance(source, Frames) else source.state().positions[None]  # type: ignore[union-attr]
+        pos = np.asarray(frames, float)
+    else:
+        L, pos, _ = configurations(source, box)
+    if PeriodicBox(L).dimensions != 2:
+        raise ValueError("psi6 is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly)), or a circle")
+    fbox = _freud_box(freud, L)
+    hexatic = freud.order.Hexatic(k=6)
+    out = np.empty(pos.shape[:2], complex)
+    for k, x in enumerate(pos):
+        hexatic.compute((fbox, _wrap(x, L)), neighbors={"num_neighbors": 6})
+        out[k] = np.asarray(hexatic.particle_order)
+    return out

@@ -23,6 +23,23 @@ measured on each, and the error is their standard deviation over
 Both need a periodic box (:class:`~hardspheres.containers.PeriodicBoxRequired`
 otherwise): in a container the displacement is bounded and D would be zero.
 
+Disks (a 2-D box): ``MSD = 4 D t`` and ``D = 1/2 int C(t) dt`` (``2 d D t``
+and ``1/d``, ``d = 2``), but in two dimensions D does not exist as a
+number.  The VACF's hydrodynamic long-time tail decays as ``C(t) ~ 1/t``
+(Alder and Wainwright, Phys. Rev. A 1, 18 (1970); Ernst, Hauge and van
+Leeuwen, Phys. Rev. Lett. 25, 1254 (1970)), not ``t^(-3/2)`` as in 3-D, so
+its integral, and the MSD's slope, grow as ``ln t`` without limit in an
+infinite system; a periodic box of side ``L`` cuts the tail off once sound
+or shear has crossed it, so D levels off at a value that grows as ``ln L``.
+What this module reports for disks is therefore D *at a time scale, in
+that box*: :meth:`MSD.diffusion` the slope over its fit window (by default
+0.2-0.5 of a segment), :meth:`VACF.diffusion` the integral to ``t_max``,
+both with the same blocks' error bars, which measure the noise, not the
+drift with ``t``.  Report the window (or ``t_max``) and ``L`` with the
+number, look at :meth:`VACF.running_diffusion` (a straight line against
+``ln t`` where the tail dominates), and do not extrapolate with
+:func:`yeh_hummer`, which is the 3-D cube's correction.
+
 Example:
     >>> import hardspheres as hs
     >>> from hardspheres.io.trajectory import frames_from_simulation
@@ -288,6 +305,9 @@ class MSD(_Blocked):
         ``1/blocks`` of the run): past the ballistic start, before the
         noisy long lags.  Both ends should be many mean free times.
 
+        Disks: ``MSD = 4 D t``, and the slope grows as ``ln t`` (the
+        module's "Disks"): D at the window's time scale, in this box.
+
         Returns:
             ``(D, error)`` [length^2/time]: D from the whole trajectory, the
             error from the segments' spread.
@@ -362,6 +382,11 @@ class VACF(_Blocked):
         The integral is D in this box, like the MSD's: correct both for the
         box with :func:`yeh_hummer`.
 
+        Disks: ``D = 1/2 int C dt``, and the tail ``C ~ 1/t`` makes the
+        integral grow as ``ln t_max`` (the module's "Disks"): the value is
+        D to ``t_max`` in this box, with no plateau to find and no
+        Yeh-Hummer correction.
+
         Returns:
             ``(D, error)`` [length^2/time].
 
@@ -392,7 +417,9 @@ class VACF(_Blocked):
     def running_diffusion(self) -> tuple[np.ndarray, np.ndarray]:
         """``(t, D(t))``: ``(1/d) int_0^t C dt'`` for every cut ``t`` (trapezoid, as :meth:`diffusion`).
 
-        Where it levels off is where the cut may go (see :meth:`diffusion`).
+        Where it levels off is where the cut may go (see :meth:`diffusion`);
+        for disks it never levels off but rises as ``ln t`` once the tail
+        dominates, until the box's size cuts the tail.
         """
         self._need()
         steps = 0.5 * (self.c[1:] + self.c[:-1]) * np.diff(self.t)

@@ -160,13 +160,17 @@ def plot_speeds(
     Equal masses ``m``: the density of ``v`` against
     ``f(v) = 4 pi v^2 (m/(2 pi kT))^{3/2} exp(-m v^2/(2 kT))``.  Unequal
     masses: the density of ``x = v sqrt(m/kT)`` against
-    ``sqrt(2/pi) x^2 exp(-x^2/2)``, which every species shares.
+    ``sqrt(2/pi) x^2 exp(-x^2/2)``, which every species shares.  Disks
+    (2-D frames): the same in two dimensions, ``f(v) = (m v / kT)
+    exp(-m v^2/(2 kT))`` and ``x exp(-x^2/2)`` (:mod:`hardspheres.maxwell`).
+
+    Longer than 80 lines with this docstring (about 60 of code: one figure).
 
     Args:
         frames: a :class:`hardspheres.frames.Frames`.
         path: the PNG to write.
-        kT: temperature [energy]; default ``(2/3)`` of the mean kinetic
-            energy per sphere over the frames used.
+        kT: temperature [energy]; default ``2/d`` of the mean kinetic
+            energy per sphere over the frames used (``d`` = 3, or 2 for disks).
         start: first frame used (to leave out an equilibration).
         bins: histogram bins (default from the sample size).
 
@@ -178,8 +182,9 @@ def plot_speeds(
     if vel.shape[0] == 0 or vel.shape[1] == 0:
         raise ValueError("plot_speeds: no speeds to plot")
     speeds = np.linalg.norm(vel, axis=2)  # (F, N)
+    d = vel.shape[2]  # 3, or 2 for disks
     kinetic = 0.5 * masses[None, :] * speeds**2
-    measured_kT = float(2.0 / 3.0 * kinetic.mean())
+    measured_kT = float(2.0 / d * kinetic.mean())
     if kT is None:
         kT = measured_kT
     if not kT > 0:
@@ -196,14 +201,14 @@ def plot_speeds(
         scale = math.sqrt(kT / m)
         top = max(float(np.percentile(sample, 99.9)), 4.2 * scale)
         grid = np.linspace(0.0, top, 400)
-        curve = speed_density(grid, kT, m)
+        curve = speed_density(grid, kT, m, dimensions=d)
         xlabel = "speed v"
         curve_label = f"Maxwell-Boltzmann, m = {m:g}, kT = {kT:.4g}"
     else:
         sample = (speeds * np.sqrt(masses / kT)[None, :]).ravel()
         top = max(float(np.percentile(sample, 99.9)), 4.2)
         grid = np.linspace(0.0, top, 400)
-        curve = reduced_density(grid)
+        curve = reduced_density(grid, dimensions=d)
         xlabel = "v sqrt(m / kT)"
         curve_label = f"Maxwell-Boltzmann, reduced (kT = {kT:.4g})"
     ax.hist(
@@ -223,7 +228,7 @@ def plot_speeds(
     ax.legend(loc="upper right")
     note = "kT from the mean kinetic energy" if kT == measured_kT else f"kT given; measured {measured_kT:.4g}"
     kinds = "equal masses" if equal else f"{len(np.unique(masses))} masses"
-    ax.set_title(f"Speed distribution: {frames.n} spheres, {kinds}; {note}")
+    ax.set_title(f"Speed distribution: {frames.n} {'disks' if d == 2 else 'spheres'}, {kinds}; {note}")
     return _save(fig, path, dpi)
 
 
@@ -522,7 +527,8 @@ def plot_gr(
             [1.0],
             [g],
             "o",
-            label=f"g(sigma+) = {g:.4g} +- {err:.2g}: Z = 1 + 4 phi g = {z:.4g} +- {z_err:.2g}",
+            label=f"g(sigma+) = {g:.4g} +- {err:.2g}: Z = 1 + {2 if rdf.dimensions == 2 else 4} phi g "
+            f"= {z:.4g} +- {z_err:.2g}",
         )
         ax.legend()
     except ValueError:  # unequal spheres: no single contact value
@@ -544,7 +550,10 @@ def plot_msd(
     D, err = msd.diffusion()
     fig = _figure(size, dpi)
     ax = msd.plot(fig.add_subplot())
-    ax.set_title(f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)")
+    title = f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)"
+    if frames.positions.shape[-1] == 2:  # the 2-D tail: D grows as ln t (analysis.transport)
+        title += "\ndisks: D at this time scale and box (it grows as ln t)"
+    ax.set_title(title)
     return _save(fig, path, dpi)
 
 

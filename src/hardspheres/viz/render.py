@@ -12,8 +12,11 @@ Spheres are shaded disks at their true radii (orthographic projection, so
 the scale is the same everywhere; nearer spheres hide farther ones),
 coloured by speed (or by mass) with a colour bar, inside the outline of the
 spherical container (or the edges of the periodic box), captioned with N,
-the packing fraction and the time.  The default sizes suit 16:9 slides.  No
-display is needed: the figure is drawn by Agg and never shown.
+the packing fraction and the time.  Disks (a 2-D box or a circle) are drawn
+flat, as seen from above (x right, y up), with a thin dark rim and no
+highlight, inside the circle or the box's four edges.  The default sizes
+suit 16:9 slides.  No display is needed: the figure is drawn by Agg and
+never shown.
 """
 
 from __future__ import annotations
@@ -120,8 +123,16 @@ def _scene(
     n = len(radii)
     pos = frames.wrapped_positions(keep)
     speeds = np.linalg.norm(vel, axis=2)
-    extent = 1.04 * frames.extent(pos, cover="sphere")
-    right, up, towards = _camera()
+    flat = pos.shape[-1] == 2
+    if flat and cut is not None:
+        raise ValueError("render: cut is for spheres; disks lie in the plane z = 0 (leave cut out)")
+    if flat:  # disks, seen from above: the plane's own axes, z = 0
+        pos = np.concatenate([pos, np.zeros(pos.shape[:-1] + (1,))], axis=-1)
+        right, up, towards = np.eye(3)
+        extent = 1.04 * frames.extent(pos[..., :2], cover="cube")
+    else:
+        right, up, towards = _camera()
+        extent = 1.04 * frames.extent(pos, cover="sphere")
 
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi, facecolor="white")
     FigureCanvasAgg(fig)
@@ -140,8 +151,9 @@ def _scene(
     points_per_unit = side * 72.0 / dpi / (2.0 * extent)
     diameter = np.maximum(2.0 * radii * points_per_unit, 0.6)  # [points]
     # three markers per sphere, drawn in this order: rim, body, highlight, each
-    # shifted towards the light (upper left) by this many radii, this wide
-    shift, scale = (0.0, 0.08, 0.3), (1.0, 0.8, 0.3)
+    # shifted towards the light (upper left) by this many radii, this wide;
+    # a disk is flat: a thin rim and its body, no highlight (drawn again as body)
+    shift, scale = ((0.0, 0.0, 0.0), (1.0, 0.9, 0.9)) if flat else ((0.0, 0.08, 0.3), (1.0, 0.8, 0.3))
     sc = ax.scatter(np.zeros(0), np.zeros(0), linewidths=0)
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     cax = fig.add_axes(((x0 + side) / width + 0.03, 0.2, 0.018, 0.6))
@@ -167,8 +179,8 @@ def _scene(
             xy[layer::3, 1] = y[order] + shift[layer] * r
         rgba[0::3, :3] = 0.45 * base[order]
         rgba[1::3, :3] = base[order]
-        rgba[2::3, :3] = 0.45 * base[order] + 0.55
-        rgba[2::3, 3] = 0.75
+        rgba[2::3, :3] = base[order] if flat else 0.45 * base[order] + 0.55
+        rgba[2::3, 3] = 1.0 if flat else 0.75
         sc.set_offsets(xy)
         sc.set_facecolors(rgba)  # type: ignore[attr-defined]  # an alias the stubs leave out
         sizes = np.empty(3 * k)

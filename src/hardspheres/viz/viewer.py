@@ -1,4 +1,4 @@
-"""Interactive 3-D viewer: one self-contained HTML file that opens offline.
+"""Interactive viewer: one self-contained HTML file that opens offline (spheres in 3-D, disks flat).
 
 :func:`write_viewer` writes a page with three.js (vendored in
 ``hardspheres/viz/_static``, MIT) and the run's frames embedded in it, so the file
@@ -14,7 +14,10 @@ to show the inside of a full container.  Spheres are drawn at their true radii i
 coloured by speed, by mass or by their Steinhardt bond order q6 (with a
 legend; ``color_by="q6"``: crystal-like spheres stand out from a fluid or a
 jammed packing); collisions flash red and reflections off the container
-flash white as they happen.
+flash white as they happen.  Disks (a 2-D box or a circle) are drawn flat,
+seen from above with an orthographic camera (drag pans, wheel zooms, no
+orbit), and can be coloured by their local hexatic order ``|psi6|``
+(``color_by="psi6"``: 1 in a perfect hexagonal crystal).
 
 Positions go in as little-endian Float32 arrays in base64; frames are
 subsampled evenly to at most ``max_frames`` (and fewer when the spheres are
@@ -87,8 +90,9 @@ def _round_up(x: float, digits: int = 2) -> float:
     return float(f"{np.ceil(x / scale - 1e-9) * scale:.{digits}g}")
 
 
-#: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``).
-COLOR_BY = ("speed", "mass", "q6")
+#: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``): q6 for
+#: spheres, psi6 for disks.
+COLOR_BY = ("speed", "mass", "q6", "psi6")
 
 #: The colour scale of q6, fixed so that pictures compare: a fluid or a jammed
 #: packing near its bottom (0.3-0.45), FCC at its top (0.575 at rest).
@@ -116,6 +120,25 @@ def _q6(frames: Frames, positions: np.ndarray) -> np.ndarray:
     return order.compute(positions, box=width).qs
 
 
+def _psi6(frames: Frames, positions: np.ndarray) -> np.ndarray:
+    """``|psi6|`` of each disk in each frame ``(F, N)``, 6 nearest neighbours (freud).
+
+    ``positions`` are the embedded frames' (wrapped into a periodic box);
+    in a circle the disks sit in a box wide enough that none sees an image
+    (:func:`hardspheres.analysis.structure.local_psi6`).
+    """
+    from ..analysis.structure import local_psi6
+
+    c = frames.container
+    if c is not None and c.periodic:
+        return np.abs(local_psi6(positions, box=c.sides))  # type: ignore[attr-defined]
+    reach = float(np.max(np.abs(positions))) if positions.size else 1.0
+    if c is not None:
+        reach = max(reach, float(c.bounding_radius))
+    width = 4.0 * reach + 4.0 * float(np.max(frames.radii))
+    return np.abs(local_psi6(positions, box=(width, width)))
+
+
 def _payload(
     frames: Frames,
     title: str | None,
@@ -125,6 +148,11 @@ def _payload(
     color_by: str,
     cut: float | None = None,
 ) -> dict[str, Any]:
+    """The page's data: frames, sizes, colours and events, checked.
+
+    Longer than 80 lines: one dict the page reads, its checks and its
+    scalars (q6, psi6) side by side, so that what the page gets is in one place.
+    """
     times = np.asarray(frames.times, dtype=np.float64)
     pos = np.asarray(frames.positions, dtype=np.float64)
     vel = np.asarray(frames.velocities, dtype=np.float64)
@@ -133,7 +161,13 @@ def _payload(
     n_frames, n = len(times), len(radii)
     if n_frames == 0:
         raise ValueError("write_viewer: no frames")
-    if pos.shape != (n_frames, n, 3) or vel.shape != (n_frames, n, 3) or masses.shape != (n,):
+    d = pos.shape[-1] if pos.ndim == 3 else 3
+    if (
+        d not in (2, 3)
+        or pos.shape != (n_frames, n, d)
+        or vel.shape != (n_frames, n, d)
+        or masses.shape != (n,)
+    ):
         raise ValueError(
             f"write_viewer: inconsistent shapes: times {times.shape}, positions {pos.shape}, "
             f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}"
@@ -142,15 +176,20 @@ def _payload(
         raise ValueError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
     if color_by == "q6" and n < 2:
         raise ValueError("write_viewer: color_by='q6' needs at least 2 spheres")
+    if color_by == "q6" and d == 2:
+        raise ValueError("write_viewer: color_by='q6' is for spheres; for disks use 'psi6'")
+    if color_by == "psi6" and (d != 2 or n < 2):
+        raise ValueError("write_viewer: color_by='psi6' is for disks (a 2-D box or a circle), at least 2")
 
     keep = frame_indices(n_frames, n, max_frames, max_values)
     t = times[keep]
     p = pos[keep]
-    sizes = frames.container.fields() if frames.container is not None else {}
-    box = sizes.get("box_length")
-    container = sizes.get("container_radius")
-    if frames.container is not None:
-        p = frames.container.wrap(p)  # periodic: into [-L/2, L/2)
+    c = frames.container
+    sides = [float(x) for x in c.sides] if c is not None and c.periodic else None  # type: ignore[attr-defined]
+    box = sides[0] if sides is not None and len(set(sides)) == 1 and d == 3 else None  # the cube's edge
+    container = float(c.bounding_radius) if c is not None and not c.periodic else None
+    if c is not None:
+        p = c.wrap(p)  # periodic: into [-L/2, L/2)
     speeds = np.sqrt(np.einsum("fnk,fnk->fn", vel[keep], vel[keep]))
     extent = frames.extent(p, cover="sphere")
 
@@ -165,6 +204,15 @@ def _payload(
             "values": _b64(_q6(frames, p), np.float32),
             "range": list(Q6_RANGE),
         }
+    elif color_by == "psi6":
+        scalar = {
+            "name": "psi6",
+            "label": "hexatic order |psi6|",
+            "values": _b64(_psi6(frames, p), np.float32),
+            "range": [0.0, 1.0],
+        }
+    if d == 2:  # the page draws in 3-D coordinates: disks at z = 0
+        p = np.concatenate([p, np.zeros(p.shape[:-1] + (1,))], axis=-1)
 
     names = (
         [str(x) for x in frames.names]
@@ -172,7 +220,9 @@ def _payload(
         else None
     )
     return {
-        "title": title or f"{n} hard spheres",
+        "title": title or (f"{n} hard disks" if d == 2 else f"{n} hard spheres"),
+        "dimensions": int(d),
+        "sides": None if sides is None else (sides + [0.0])[:3],
         "n": n,
         "nframes": int(len(keep)),
         "nframes_total": int(n_frames),
