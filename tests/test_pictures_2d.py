@@ -125,6 +125,11 @@ def test_render_still_of_disks(crystal_frames, circle_frames, tmp_path):
         assert img.shape == (360, 640, 3) and len(np.unique(img.reshape(-1, 3), axis=0)) > 50
     with pytest.raises(ValueError, match="cut is for spheres"):
         render_still(circle_frames, tmp_path / "cut.png", cut=0.0)
+    pytest.importorskip("freud")
+    out = render_still(crystal_frames, tmp_path / "psi6.png", size=(640, 360), color_by="psi6", time=0.0)
+    img = np.asarray(Image.open(out).convert("RGB")).astype(int)
+    yellow = (img[..., 0] > 200) & (img[..., 1] > 200) & (img[..., 2] < 100)  # |psi6| = 1: viridis' top
+    assert yellow.sum() > 2000
 
 
 def test_commands_draw_disks(tmp_path, capsys):
@@ -135,7 +140,7 @@ def test_commands_draw_disks(tmp_path, capsys):
     where = [str(scn), "--box", "12", f"{12 * np.sqrt(3) / 2}", "--until", "0.5"]
     assert main(["view", *where, "--color", "psi6", "-o", str(tmp_path / "v.html")]) == 0
     assert "(60 disks, " in capsys.readouterr().out
-    assert main(["render", *where, "-o", str(tmp_path / "r.png")]) == 0
+    assert main(["render", *where, "--color", "psi6", "-o", str(tmp_path / "r.png")]) == 0
     assert main(["plot", "speeds", *where, "-o", str(tmp_path / "s.png")]) == 0
     assert main(["plot", "gr", *where, "-o", str(tmp_path / "g.png")]) == 0
     for name in ("v.html", "r.png", "s.png", "g.png"):

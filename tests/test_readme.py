@@ -90,3 +90,14 @@ def test_readme_speed_figures_are_recorded_runs():
         assert ratio in speed
         box_ratio = rows[key].strip("|").split("|")[6].strip()
         assert box_ratio == ratio, (key, box_ratio, ratio)
+
+
+def test_readme_hard_disk_study_prints_what_readme_quotes(tmp_path, monkeypatch, capsys):
+    """README's "Hard disks" block, run as it stands: its printed line is the one README quotes."""
+    section = re.search(r"## Hard disks\n(.*?)\n## ", README, re.S).group(1)
+    block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    printed = capsys.readouterr().out.strip()
+    assert f"prints `{printed}`" in section.replace("\n", " "), printed
+    assert (tmp_path / "disks.png").stat().st_size > 10_000

@@ -38,6 +38,11 @@ sed -n '/^## Studies/,/^## Pictures/p' "$root/README.md" \
 hardspheres sweep eos.toml
 hardspheres plot sweep eos/results.parquet --x packing --y Z -o eos-study.png
 
-mv viewer.png still.png inside.png conservation.png speeds.png eos.png eos-study.png \
+# ---- README.md's "Hard disks" block (its Python, verbatim; about 10 s of CPU)
+sed -n '/^## Hard disks/,/^## Speed/p' "$root/README.md" \
+  | awk '/^```python/{f=1; next} /^```/{f=0} f' > disks.py
+python3 disks.py
+
+mv disks.png viewer.png still.png inside.png conservation.png speeds.png eos.png eos-study.png \
   jammed_q6.png crystal_q6.png "$root/docs/images/"
 ls -l "$root"/docs/images/*.png

@@ -475,3 +475,18 @@ def local_psi6(source: Source, box: Edge | None = None) -> np.ndarray:
         hexatic.compute((fbox, _wrap(x, L)), neighbors={"num_neighbors": 6})
         out[k] = np.asarray(hexatic.particle_order)
     return out
+
+
+def psi6_magnitudes(positions: np.ndarray, container: Any) -> np.ndarray:
+    """``(F, N)`` ``|psi6|`` of disks at ``positions`` ``(F, N, 2)`` in ``container`` (for pictures).
+
+    :func:`local_psi6`'s magnitudes: in a 2-D periodic box with its sides,
+    in a circle (or open space, ``container=None``) in a box wide enough
+    that no disk sees an image.
+    """
+    if container is not None and container.periodic:
+        return np.abs(local_psi6(positions, box=tuple(container.sides)))
+    reach = float(np.max(np.abs(positions))) if positions.size else 1.0
+    if container is not None:
+        reach = max(reach, float(container.bounding_radius))
+    return np.abs(local_psi6(positions, box=(4.0 * reach + 4.0, 4.0 * reach + 4.0)))

@@ -32,6 +32,12 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "--fps", type=whole(1, 100), default=20, help="movie frames per second (1 to 100, default 20)"
     )
     p.add_argument("--time", type=finite, help="still: draw the frame nearest this time (default: the last)")
+    p.add_argument(
+        "--color",
+        choices=["speed", "mass", "psi6"],
+        default="speed",
+        help="colour by speed (default), mass, or for disks the local hexatic order |psi6| (needs freud)",
+    )
     size_slice_args(
         p,
         "WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)",
@@ -63,13 +69,21 @@ def run(args: argparse.Namespace) -> int:
     frames = frames_from_args(args)
     size = args.size or ((1280, 720) if still else (960, 540))
     if still:
-        render_still(frames, args.output, time=args.time, size=size, cut=args.slice)
+        render_still(frames, args.output, time=args.time, size=size, cut=args.slice, color_by=args.color)
     else:
         from ..progress import duration
 
         def estimate(n_frames: int, seconds: float) -> None:
             note(f"rendering {n_frames} frames to {args.output}, about {duration(seconds)}")
 
-        render_movie(frames, args.output, fps=args.fps, size=size, cut=args.slice, on_estimate=estimate)
+        render_movie(
+            frames,
+            args.output,
+            fps=args.fps,
+            size=size,
+            cut=args.slice,
+            on_estimate=estimate,
+            color_by=args.color,
+        )
     print(f"wrote {args.output}")
     return 0

@@ -145,7 +145,20 @@ def _scene(
     ax.set_axis_off()
     _draw_container(ax, frames, right, up, cut)
 
-    norm, values, label = _colour_scale(color_by, speeds, masses)
+    if color_by == "psi6":  # disks: the local hexatic order, on the fixed scale 0 to 1
+        from matplotlib import colors
+
+        from ..analysis.structure import psi6_magnitudes
+
+        if not flat:
+            raise ValueError("render: color_by='psi6' is for disks (a 2-D box or a circle)")
+        norm, values, label = (
+            colors.Normalize(0.0, 1.0),
+            psi6_magnitudes(pos[..., :2], frames.container),
+            "|psi6|",
+        )
+    else:
+        norm, values, label = _colour_scale(color_by, speeds, masses)
     cmap = colormaps["viridis"]
 
     points_per_unit = side * 72.0 / dpi / (2.0 * extent)
@@ -217,8 +230,8 @@ def _check(size: tuple[int, int], color_by: str, what: str) -> None:
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
         raise ValueError(f"{what}: bad size {size}")
-    if color_by not in ("speed", "mass"):
-        raise ValueError(f"{what}: color_by must be 'speed' or 'mass'")
+    if color_by not in ("speed", "mass", "psi6"):
+        raise ValueError(f"{what}: color_by must be 'speed', 'mass' or (disks) 'psi6'")
 
 
 def _check_movie(path: Path, fps: int, size: tuple[int, int], color_by: str) -> None:
@@ -259,7 +272,7 @@ def render_movie(
             will take (after the first frames) and show a progress bar.
         max_frames: render at most this many frames, evenly spaced (default:
             all).
-        color_by: ``"speed"`` or ``"mass"``.
+        color_by: ``"speed"``, ``"mass"`` or, for disks, ``"psi6"`` (the local hexatic order, 0 to 1; freud).
         title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure (the pixel size is
             ``size`` whatever it is).
@@ -332,7 +345,7 @@ def render_still(
         path: the ``.png`` (or ``.pdf``, ``.svg``) to write.
         time: draw the frame nearest this time [time] (default: the last).
         size: ``(width, height)`` in pixels; the default suits a 16:9 slide.
-        color_by: ``"speed"`` or ``"mass"``.
+        color_by: ``"speed"``, ``"mass"`` or, for disks, ``"psi6"`` (the local hexatic order, 0 to 1; freud).
         title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure.
         cut: draw only the spheres whose centre has ``z <= cut`` [length].

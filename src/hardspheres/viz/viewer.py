@@ -127,16 +127,9 @@ def _psi6(frames: Frames, positions: np.ndarray) -> np.ndarray:
     in a circle the disks sit in a box wide enough that none sees an image
     (:func:`hardspheres.analysis.structure.local_psi6`).
     """
-    from ..analysis.structure import local_psi6
+    from ..analysis.structure import psi6_magnitudes
 
-    c = frames.container
-    if c is not None and c.periodic:
-        return np.abs(local_psi6(positions, box=c.sides))  # type: ignore[attr-defined]
-    reach = float(np.max(np.abs(positions))) if positions.size else 1.0
-    if c is not None:
-        reach = max(reach, float(c.bounding_radius))
-    width = 4.0 * reach + 4.0 * float(np.max(frames.radii))
-    return np.abs(local_psi6(positions, box=(width, width)))
+    return psi6_magnitudes(positions, frames.container)
 
 
 def _payload(
