@@ -46,11 +46,16 @@ def test_the_jammed_packing_example_runs():
             ("1000, 0.3", "128, 0.3"),
             ("(1e-3, 1e5), (1e-4, 1e6)", "(1e-3, 1e6)"),
             ("2000 * sim.n", "100 * sim.n"),
+            ("f_max=0.1, contacts_only", "f_max=0.5, contacts_only"),
         ],
     )
     c = s["c"]
     assert abs(c.z - c.z_isostatic) < 0.02 * c.z_isostatic
     assert 0 < s["gamma"] < 1
+    cut = s["cut"]  # cut where the non-rattlers' network is isostatic
+    kept = int((~cut.rattler).sum())
+    assert int(cut.contacts[~cut.rattler].sum()) // 2 >= 3 * (kept - 1) + 1
+    assert -1 < s["theta"] < 2
 
 
 def test_the_readme_glass_commands_run(tmp_path):
