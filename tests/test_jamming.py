@@ -223,8 +223,8 @@ def test_disk_rattler_rule_is_fewer_than_three_contacts():
 def _binary_disks(n, seed):
     """50:50 disks of diameters 1.4 : 1 from a fluid at area fraction ~0.25.
 
-    (Largest diameter 0.8: the growth limit the engine sets for disks counts a unit z
-    width of the cells, so disks are kept below diameter 1.)
+    (Largest diameter 0.8, as validation/jamming_disks.py made them while the engine's
+    growth limit for disks still counted a unit z cell width.)
     """
     r_big = 0.4
     area = 0.5 * n * math.pi * (r_big**2 + (r_big / 1.4) ** 2)

@@ -1,8 +1,8 @@
 """Jammed disks: isostaticity, rattlers, phi_J, g(h) and P(f) in 2-D (docs/validation.md).
 
-50:50 binary disks of diameters 1.4 : 1 (largest diameter 0.8: the engine's
-growth limit for disks counts a unit z width of its cells, so disks stay
-below diameter 1) in a square periodic box, from a fluid compressed at rate
+50:50 binary disks of diameters 1.4 : 1 (largest diameter 0.8: when these
+runs were made the engine's growth limit for disks counted a unit z cell
+width, fixed since in a0a36f7) in a square periodic box, from a fluid compressed at rate
 1e-2 to Z = 1e3 and 1e-3 to Z > 1e6, then 2000 collisions per disk at fixed
 radii for the forces.  Per packing: z after rattler removal (fewer than 3
 contacts), by gaps below 1e-4 and by forces, the rattler fraction, phi_J of
