@@ -617,7 +617,7 @@ def plot_chi4(
 def plot_contacts(
     sim: Simulation,
     path: str | os.PathLike[str],
-    per_sphere: int = 200,
+    per_sphere: int = 2000,
     *,
     size: tuple[int, int] = SIZE,
     dpi: int = 100,
@@ -628,7 +628,9 @@ def plot_contacts(
     ``2d`` in a jammed packing; Donev, Torquato and Stillinger, PRE 71,
     011105 (2005)).  Right: the time-averaged contact forces of a copy run
     ``per_sphere`` collisions per sphere at fixed radii
-    (:class:`hardspheres.analysis.collisions.ContactForces`).  Returns ``path``.
+    (:class:`hardspheres.analysis.collisions.ContactForces`; 2000 by
+    default: with 200 a contact sees about 70 collisions and the weak
+    forces are missed, docs/validation.md "Marginal stability").  Returns ``path``.
     """
     from ..analysis.collisions import ContactForces, EventRecorder
     from ..analysis.jamming import near_pairs
