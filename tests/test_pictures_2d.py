@@ -143,7 +143,27 @@ def test_commands_draw_disks(tmp_path, capsys):
     assert main(["render", *where, "--color", "psi6", "-o", str(tmp_path / "r.png")]) == 0
     assert main(["plot", "speeds", *where, "-o", str(tmp_path / "s.png")]) == 0
     assert main(["plot", "gr", *where, "-o", str(tmp_path / "g.png")]) == 0
-    for name in ("v.html", "r.png", "s.png", "g.png"):
+    assert main(["plot", "conservation", *where, "-o", str(tmp_path / "c.png")]) == 0
+    # in a circle: L is Lz alone (numpy's cross product of 2-vectors is not used)
+    circle = tmp_path / "c.txt"
+    circle.write_text(hs.random_spheres(40, 0.4, hs.CircularContainer(7.0), seed=1).to_text())
+    assert (
+        main(
+            [
+                "plot",
+                "conservation",
+                str(circle),
+                "--circle",
+                "7",
+                "--until",
+                "1",
+                "-o",
+                str(tmp_path / "l.png"),
+            ]
+        )
+        == 0
+    )
+    for name in ("v.html", "r.png", "s.png", "g.png", "c.png", "l.png"):
         assert (tmp_path / name).stat().st_size > 1000
 
 

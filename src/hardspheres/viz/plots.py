@@ -79,7 +79,8 @@ def plot_conservation(
     relative to its natural scale: the linear momentum ``P`` in a periodic
     box or open space (scale ``sum m |v|``), the angular momentum ``L``
     about the centre in a spherical container (scale ``sum m |r| |v|``),
-    where the walls change ``P`` but exert no torque.
+    where the walls change ``P`` but exert no torque.  Disks: the two
+    components of ``P``, and in a circle the one of ``L``, ``Lz``.
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
@@ -97,8 +98,13 @@ def plot_conservation(
 
     # walls change P but exert no torque about the centre: then L is conserved
     in_container = frames.container is not None and frames.container.wall_area > 0
-    if in_container:
+    d = pos.shape[-1]  # 3, or 2 for disks
+    axes_names = "xyz"[:d]
+    if in_container and d == 2:  # L = Lz = x vy - y vx
+        vector = np.einsum("n,fn->f", masses, pos[..., 0] * vel[..., 1] - pos[..., 1] * vel[..., 0])[:, None]
+    elif in_container:
         vector = np.einsum("n,fnk->fk", masses, np.cross(pos, vel))
+    if in_container:
         scale = float(np.sum(masses * np.linalg.norm(pos[0], axis=1) * np.linalg.norm(vel[0], axis=1)))
         name, symbol = "L about centre", "L"
     else:
@@ -126,22 +132,22 @@ def plot_conservation(
     ax.set_ylabel("(E - E0) / E0" if e0 != 0 else "E - E0")
     ax.set_title(f"energy: max |dev| = {np.max(np.abs(rel_e)):.1e}", loc="right")
     ax = axes[1, 0]
-    for k, c in enumerate("xyz"):
+    for k, c in enumerate(axes_names):
         ax.plot(times, momentum[:, k], label=f"P{c}", color=f"C{k}")
     ax.legend(loc="best", fontsize="small")
     ax.set_ylabel("total momentum P")
     ax.set_title("momentum" + (" (changed by the wall)" if in_container else ""))
     ax.set_xlabel("time")
     ax = axes[1, 1]
-    for k, c in enumerate("xyz"):
-        ax.plot(times, dev[:, k], label=f"{symbol}{c}", color=f"C{k}")
+    for k, c in enumerate("z" if vector.shape[1] == 1 else axes_names):  # disks in a circle: Lz alone
+        ax.plot(times, dev[:, k], label=f"{symbol}{c}", color=f"C{'xyz'.index(c)}")
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.legend(loc="best", fontsize="small")
     ax.set_ylabel(f"({symbol} - {symbol}0) / {'sum m|r||v|' if in_container else 'sum m|v|'}")
     ax.set_title(f"{name}: max |dev| = {np.max(np.abs(dev)):.1e}", loc="right")
     ax.set_xlabel("time")
     where = frames.container.label if frames.container is not None else "open space"
-    fig.suptitle(f"Conservation: {frames.n} spheres, {where}, {len(times)} frames")
+    fig.suptitle(f"Conservation: {frames.n} {'disks' if d == 2 else 'spheres'}, {where}, {len(times)} frames")
     return _save(fig, path, dpi)
 
 
