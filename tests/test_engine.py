@@ -29,7 +29,15 @@ def _compiled(fn):
         pair_time=_core.pair_time,
         reflect=_core.reflect,
         collide=_core.collide,
+        wall_time_grow=_core.wall_time_grow,
+        pair_time_grow=_core.pair_time_grow,
+        reflect_grow=_core.reflect_grow,
+        collide_grow=_core.collide_grow,
     )
+    if "box_exit" in fn.__code__.co_names:
+        glob["box_exit"] = _compiled(reference.box_exit)
+    if "_earlier" in fn.__code__.co_names:
+        glob["_earlier"] = _compiled(reference._earlier)
     return njit(types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__))
 
 
@@ -42,6 +50,7 @@ class CompiledReference(Reference):
     """
 
     _next_event = staticmethod(_compiled(reference.next_event))
+    _next_event_periodic = staticmethod(_compiled(reference.next_event_periodic))
     _move_sphere = staticmethod(_compiled(reference.move_sphere))
     _apply_event = staticmethod(_compiled(reference.apply_event))
 

@@ -252,6 +252,7 @@ EVENT_KIND = 6  # its kind: REFLECTION, COLLISION or NONE
 PARTNER = 7  # its partner (-1 for a reflection or none)
 PARTNER_CHANGES = 8  # the partner's CHANGES when predicted (stale if it moved on)
 CROSS_FACE = 9  # cells: which face it leaves by, 2 * axis + (1 up, 0 down); -1 none
+# (neighbour lists: BOX_FACE + that code when it next leaves the periodic box before its shell)
 FRESH = 10  # C_SERIAL when last predicted (refresh_window predicts once per serial)
 HEAP_POS = 11  # position of the sphere's entry in the heap
 NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its row)
@@ -260,6 +261,8 @@ NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its
 # are on input indices, never on i (here, in a row the event touches anyway)
 ORIGIN = 13
 BOOK_COLS = 14
+#: CROSS_FACE of a sphere (neighbour lists) that leaves the periodic box before its shell
+BOX_FACE = 8
 
 # indices into `scalars`
 F_CLOCK = 0  # time of the last processed event (relative to the origin)
@@ -693,18 +696,20 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
     dt_i = t - spheres[i, T_OWN]
     best = np.inf
     code = -1
+    # (periodic box: the box's faces are the sphere's own, at box_exit's time)
+    wrap_t, wrap_code = _box_exit(spheres, scalars, i, t) if box != 0.0 else (np.inf, -1)
     for ax in range(3):
         lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         v = spheres[i, VX + ax]
         k = book[i, CELL_X + ax]
         x = spheres[i, X + ax] + v * dt_i
         if v > 0.0:
-            if box == 0.0 and k == nc - 1:
+            if k == nc - 1:
                 continue
             d = (lo + (k + 1) * w - x) / v
             up = 1
         elif v < 0.0:
-            if box == 0.0 and k == 0:
+            if k == 0:
                 continue
             d = (lo + k * w - x) / v
             up = 0
@@ -717,6 +722,41 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
             code = 2 * ax + up
     due[i, CROSS_T] = t + best
     book[i, CROSS_FACE] = code
+    if wrap_t < due[i, CROSS_T]:
+        due[i, CROSS_T] = wrap_t
+        book[i, CROSS_FACE] = wrap_code
+
+
+@_inline
+def _box_exit(spheres, scalars, i, t):
+    """When and where sphere ``i``'s centre next leaves the periodic box: ``(time, face)``.
+
+    ``face`` is ``2 * axis + (1 up, 0 down)``.  The time is the sphere's
+    own, from its stored centre and time alone (``t_i + (face - x_i) /
+    v``), never before ``t``: the brute-force reference moves its centre
+    by one box side at the same instant, so both keep the same centres bit
+    for bit (:mod:`hardspheres.core.reference`, "Periodic boxes").
+    """
+    best = np.inf
+    code = -1
+    for ax in range(3):
+        edge = scalars[F_EDGE + ax]
+        v = spheres[i, VX + ax]
+        if edge == 0.0 or v == 0.0:
+            continue
+        lo = scalars[F_LOW + ax]
+        if v > 0.0:
+            tw = spheres[i, T_OWN] + ((lo + edge) - spheres[i, X + ax]) / v
+            up = 1
+        else:
+            tw = spheres[i, T_OWN] + (lo - spheres[i, X + ax]) / v
+            up = 0
+        if tw < best:
+            best = tw
+            code = 2 * ax + up
+    if best < t:
+        best = t
+    return best, code
 
 
 @_inline
@@ -772,9 +812,23 @@ def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, 
     # two ulps of best_t more, as a root that rounds to
     # best_t ties with it and the tie order decides
     horizon = (best_t - t0) + 4.5e-16 * abs(best_t) if best_t >= soon else np.inf
-    dx = (spheres[i, X] + spheres[i, VX] * di) - (spheres[j, X] + spheres[j, VX] * dj + sx)
-    dy = (spheres[i, Y] + spheres[i, VY] * di) - (spheres[j, Y] + spheres[j, VY] * dj + sy)
-    dz = (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj + sz)
+    xi = spheres[i, X] + spheres[i, VX] * di
+    yi = spheres[i, Y] + spheres[i, VY] * di
+    zi = spheres[i, Z] + spheres[i, VZ] * di
+    xj = spheres[j, X] + spheres[j, VX] * dj
+    yj = spheres[j, Y] + spheres[j, VY] * dj
+    zj = spheres[j, Z] + spheres[j, VZ] * dj
+    if (sx != 0.0 or sy != 0.0 or sz != 0.0) and oi > book[j, ORIGIN]:
+        # across the periodic box the subtraction is not antisymmetric:
+        # the lower input index minus the higher's image, negated (the
+        # reference's arithmetic, whichever sphere predicts the pair)
+        dx = -(xj - (xi - sx))
+        dy = -(yj - (yi - sy))
+        dz = -(zj - (zi - sz))
+    else:
+        dx = xi - (xj + sx)
+        dy = yi - (yj + sy)
+        dz = zi - (zj + sz)
     dvx = spheres[i, VX] - spheres[j, VX]
     dvy = spheres[i, VY] - spheres[j, VY]
     dvz = spheres[i, VZ] - spheres[j, VZ]
@@ -993,6 +1047,13 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
     if scalars[F_SHELL] > 0.0:
         _scan_list(spheres, book, due, neighbours, scalars, i)
         _shell_exit(spheres, shells, due, scalars, i, t)
+        if scalars[F_BOX] != 0.0:
+            # leaving the periodic box, if before its shell (CROSS_FACE >= 0)
+            wrap_t, wrap_code = _box_exit(spheres, scalars, i, t)
+            book[i, CROSS_FACE] = -1
+            if wrap_t < due[i, CROSS_T]:
+                due[i, CROSS_T] = wrap_t
+                book[i, CROSS_FACE] = BOX_FACE + wrap_code
     else:
         _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
         _crossing(spheres, book, due, scalars, counts, i, t)
@@ -1049,39 +1110,19 @@ def _pair_code(scalars, shells, i, j):
 def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, insert):
     """Sphere ``i``'s shell centre becomes its centre at ``t``, in its cell.
 
-    In a periodic box a centre outside the box first moves back in by one
-    edge (the stored centre with it, the image count the other way).
-    ``insert``: the sphere is in no cell list yet.
+    In a periodic box the centre is in the box (up to rounding: it moves by
+    a side when it leaves, :func:`_box_exit`); ``insert``: the sphere is in
+    no cell list yet.
     """
     dt = t - spheres[i, T_OWN]
     for ax in range(3):
-        box, lo, w, nc = scalars[F_EDGE + ax], scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
+        lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
-        if box != 0.0:
-            if x < lo:
-                spheres[i, X + ax] += box
-                images[i, ax] -= 1
-                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
-            elif x >= lo + box:
-                spheres[i, X + ax] -= box
-                images[i, ax] += 1
-                x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
         shells[i, SHELL_X + ax] = x
         book[i, CELL_X + ax] = cell_of(x, lo, w, nc)
     if not insert:
         _cell_remove(cell_head, cell_next, cell_prev, book, i)
     _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
-
-
-@_inline
-def _wrapped(x, lo, box):
-    """``x`` moved by one box edge into ``[lo, lo + box)`` if outside (box 0: as it is)."""
-    if box != 0.0:
-        if x < lo:
-            return x + box
-        if x >= lo + box:
-            return x - box
-    return x
 
 
 @_inline
@@ -1111,9 +1152,10 @@ def _relist(
     lx, ly, lz = scalars[F_LOW], scalars[F_LOW + 1], scalars[F_LOW + 2]
     ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
     dt = t - spheres[i, T_OWN]
-    cx = _wrapped(spheres[i, X] + spheres[i, VX] * dt, lx, bx)
-    cy = _wrapped(spheres[i, Y] + spheres[i, VY] * dt, ly, by)
-    cz = _wrapped(spheres[i, Z] + spheres[i, VZ] * dt, lz, bz)
+    # (in a periodic box the centre is in the box, up to rounding: cell_of clamps)
+    cx = spheres[i, X] + spheres[i, VX] * dt
+    cy = spheres[i, Y] + spheres[i, VY] * dt
+    cz = spheres[i, Z] + spheres[i, VZ] * dt
     kx = cell_of(cx, lx, scalars[F_WIDTH], ncx)
     ky = cell_of(cy, ly, scalars[F_WIDTH + 1], ncy)
     kz = cell_of(cz, lz, scalars[F_WIDTH + 2], ncz)
@@ -1181,10 +1223,11 @@ def build(arrays, per_bucket):
     if scalars[F_SHELL] == 0.0:
         # cells alone
         for i in range(n):
-            _advance(spheres, i, t)
+            # (the centres at t; the stored ones, at their own times, are kept)
+            dt = t - spheres[i, T_OWN]
             for ax in range(3):
                 lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
-                book[i, CELL_X + ax] = cell_of(spheres[i, X + ax], lo, w, nc)
+                book[i, CELL_X + ax] = cell_of(spheres[i, X + ax] + spheres[i, VX + ax] * dt, lo, w, nc)
             _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
     else:
         longest = _build_lists(
@@ -1209,22 +1252,11 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
     bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     t = scalars[F_CLOCK]
     grow = scalars[F_GROW]
-    box = scalars[F_BOX]
     rmax = 0.0
     for i in range(n):
         rmax = max(rmax, spheres[i, RADIUS])
     for i in range(n):
-        _advance(spheres, i, t)
-        if box != 0.0:
-            # into the box, whole edges at a time
-            for ax in range(3):
-                edge = scalars[F_EDGE + ax]
-                if edge == 0.0:
-                    continue  # (2-D: z is not periodic)
-                k = np.floor((spheres[i, X + ax] - scalars[F_LOW + ax]) / edge)
-                if k != 0.0:
-                    spheres[i, X + ax] -= k * edge
-                    images[i, ax] += int(k)
+        # (the centres stay at their own times: the engine put them in the box)
         # the reach: the radius now with the growth headroom, and no less than
         # half the largest (a sphere of radius 0 still needs a shell)
         shells[i, REACH] = max(spheres[i, RADIUS], 0.5 * rmax) * (1.0 + grow * t) * scalars[F_HEADROOM]
@@ -1475,7 +1507,8 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             nc = counts[C_GRID + ax]
             step = 1 if (code & 1) else -1
             k = book[i, CELL_X + ax] + step
-            if k < 0 or k >= nc:
+            wrap = k < 0 or k >= nc
+            if wrap:
                 # periodic wrap: shift the stored centre by one box side
                 k = (k + nc) % nc
                 spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
@@ -1484,6 +1517,15 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
             _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
             counts[C_CROSSINGS] += 1
+            if wrap:
+                # its centre changed (by a side): its predictions and its
+                # partners' with it are made anew, from the new centre
+                book[i, CHANGES] += 1
+                predict_one(
+                    spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, te
+                )
+                _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
+                continue
             # only the 9 cells that came into reach can hold new partners
             zl = step if ax == 2 else -1
             yl = step if ax == 1 else -1
@@ -1498,7 +1540,16 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
         if heap_key[0] != book[i, EVENT_KEY]:
             # leaving its shell: not an event of the physics (the clock
             # moves, the anchor of the simultaneity window does not); a new
-            # shell and neighbour list, and the sphere predicted afresh
+            # shell and neighbour list, and the sphere predicted afresh.
+            # Or leaving the periodic box (CROSS_FACE >= 0): its centre
+            # moves by a side first (and back if the list would overflow)
+            face = book[i, CROSS_FACE] - BOX_FACE
+            ax, step, x_before = 0, 0, 0.0
+            if face >= 0:
+                ax = face >> 1
+                step = 1 if (face & 1) else -1
+                x_before = spheres[i, X + ax]
+                spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
             if not _relist(
                 spheres,
                 book,
@@ -1514,7 +1565,12 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 i,
                 te,
             ):
+                if face >= 0:
+                    spheres[i, X + ax] = x_before
                 return done, STOP_LISTS_FULL
+            if face >= 0:
+                images[i, ax] += step
+                book[i, CHANGES] += 1
             scalars[F_CLOCK] = te
             counts[C_CROSSINGS] += 1
             kind = CROSSING

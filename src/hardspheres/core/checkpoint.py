@@ -299,6 +299,10 @@ def _check_calendar(
         if "neighbours" not in data or book.shape[1] <= core.NEIGHBOURS:
             _bad("no neighbour lists")
         _check_lists(data, book, n)
+        code = book[:, core.CROSS_FACE]  # (-1..5 before the box's faces were events: not read)
+        box_face = (code >= core.BOX_FACE) & (code < core.BOX_FACE + 6)
+        if np.any(((code < -1) | (code >= 6)) & ~box_face):
+            _bad("an unknown box crossing")
     else:  # cells
         code = book[:, core.CROSS_FACE]
         if np.any((code < -1) | (code >= 6)) or np.any((code == -1) & (due[:, core.CROSS_T] < np.inf)):

@@ -168,6 +168,7 @@ class Engine:
         self.scalars[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
         self.scalars[core.F_WINDOW] = window
         self._grid(n)
+        self._into_box()
         self._event_buffers = _events.empty_buffers(CHUNK)
         self._since_rebase = 0
         self._rebase_on = rebase
@@ -357,7 +358,8 @@ class Engine:
         return self._edges[: self.dimensions].copy() if self.scalars[core.F_BOX] else None
 
     def _grid(self, n, headroom=1.0):
-        sigma = 2.0 * float(self.radii.max()) * headroom if n else 0.0
+        radii = self.radii_at() if n else self.radii
+        sigma = 2.0 * float(radii.max()) * headroom if n else 0.0
         params = self.container.core_params()
         spans, edges = params["spans"], params["edges"]
         self.scalars[core.F_CONTAINER] = params["wall_radius"]
@@ -367,7 +369,7 @@ class Engine:
         # largest neighbour distance, SHELL largest diameters), else cells
         # at least as wide as the largest contact distance; with a small
         # relative margin for rounding, and a few cells per sphere at most
-        phi = self._packing(self.radii) if n else 0.0
+        phi = self._packing(radii) if n else 0.0
         shell = SHELL if phi >= (LISTS_FROM if self.dimensions == 3 else LISTS_FROM_2D) else 0.0
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
@@ -398,6 +400,22 @@ class Engine:
         self.scalars[core.F_LO] = self.scalars[core.F_LOW]
         self.scalars[core.F_W] = self.scalars[core.F_WIDTH]
         self.cell_head = np.full(int(np.prod(self._cells)), -1, np.int64)
+
+    def _into_box(self):
+        """The centres into the periodic box, whole sides at a time (the image counts the other way).
+
+        Once, at the start: from then on a centre moves by a side exactly when
+        it leaves the box (``_core._box_exit``), as the reference's does.
+        """
+        for ax in range(self.dimensions):
+            edge = self.scalars[core.F_EDGE + ax]
+            if not edge:
+                continue
+            x = self.spheres[:, core.X + ax]
+            k = np.floor((x - self.scalars[core.F_LOW + ax]) / edge)
+            moved = k != 0.0
+            x[moved] -= k[moved] * edge
+            self._images[moved, ax] += k[moved].astype(np.int64)
 
     def _build(self):
         while True:
@@ -534,7 +552,9 @@ class Engine:
             rmax = float(self.radii.max())
             if rmax <= 0.0:
                 return np.inf
-            w = float(np.min(self.scalars[core.F_WIDTH : core.F_WIDTH + 3])) / (1.0 + 1e-6)
+            # (2-D: the one layer of cells along z is not a width the disks fill)
+            widths = self.scalars[core.F_WIDTH : core.F_WIDTH + self.dimensions]
+            w = float(np.min(widths)) / (1.0 + 1e-6)
             return self.offset + (w / (2.0 * rmax) - 1.0) / g
         r = self.spheres[:, core.RADIUS]  # (the engine's order, as the shells')
         grows = r > 0.0
@@ -697,7 +717,8 @@ class Engine:
                 # there (nothing happens before), and coarser cells
                 if self.scalars[core.F_CLOCK] < limit - self.offset:
                     self.scalars[core.F_CLOCK] = limit - self.offset
-                self._rebase()
+                if self._rebase_on:  # (off: the reference's arithmetic, which has no such moment)
+                    self._rebase()
                 nc = int(np.prod(self._cells))
                 self._regrid()
                 if int(np.prod(self._cells)) >= nc and self._grid_limit() <= limit:

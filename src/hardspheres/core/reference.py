@@ -16,7 +16,20 @@ Arithmetic shared with the engine, so that both give bit-identical results
 * each sphere is kept as its centre ``p`` at its own time ``tloc`` (the time
   of its last event); its centre at ``t`` is ``p + v * (t - tloc)``;
 * a pair is predicted from the later of its two spheres' times, a wall from
-  the sphere's own time, so a prediction does not depend on when it is made.
+  the sphere's own time, so a prediction does not depend on when it is made;
+* periodic boxes: a centre is kept in the box by moving it one side back
+  at the instant it leaves (:func:`box_exit`, from the sphere's own centre
+  and time; the core's ``_box_exit``), a pair is predicted at each of the
+  images next to it (``x_i - (x_j + k L)``, ``k`` in -1, 0, 1 per axis) and
+  collides at its nearest image (``dx - L round(dx / L)``);
+* growth: radii ``R_i (1 + g t)`` with ``t`` from the time origin, which
+  :meth:`Reference.set_growth` moves to the clock as the engine's does
+  (every centre moved there, the radii to their values then).
+
+The engine equals it bit for bit when built with ``rebase=False`` at time
+0 (no moves of the time origin but those of ``set_growth``), in containers
+and boxes, in two and three dimensions, in cell and list modes
+(tests/test_engine.py, tests/test_planar.py, tests/test_reference_boxes.py).
 
 Rules of the assignment (``tests/data/assignment/README.md``):
 
@@ -55,10 +68,14 @@ from ..physics import (
     FROZEN_RELATIVE,
     INF,
     collide,
+    collide_grow,
     frozen_limit,
     pair_time,
+    pair_time_grow,
     reflect,
+    reflect_grow,
     wall_time,
+    wall_time_grow,
 )
 from ..scenario import StuckError
 
@@ -73,6 +90,8 @@ SIMULTANEOUS = 1e-8
 #: ints for the loop's speed).
 REFLECTION = int(EventKind.REFLECTION)
 COLLISION = int(EventKind.COLLISION)
+#: A centre leaving the periodic box (moved by one side; not an event of the physics).
+CROSSING = 2
 
 _NEVER = 1 << 62  # no count limit
 
@@ -85,16 +104,18 @@ def next_event(
     wall: float,
     clock: float,
     window: float,
+    grow: float = 0.0,
 ) -> tuple[float, int, int, int]:
-    """Earliest event as ``(t, kind, i, j)`` (``j = -1`` for walls).
+    """Earliest event in the spherical (or circular) container as ``(t, kind, i, j)`` (``j = -1`` for walls).
 
     Args:
         p, v: ``N`` centres (at each sphere's own time) and velocities.
         tloc: ``N`` times of the spheres' last events [time].
-        radii: ``N`` radii [length].
+        radii: ``N`` radii [length] at the time origin (time 0).
         wall: the container's radius [length].
         clock: the time of the last event [time].
         window: events before ``clock + window`` are put at ``clock`` [time].
+        grow: the radii grow as ``radii * (1 + grow * t)`` [1/time] (0: they do not).
 
     Returns:
         ``(t, kind, i, j)``, or ``(inf, -1, -1, -1)`` when nothing will ever
@@ -106,7 +127,11 @@ def next_event(
     best_kind, best_i, best_j = -1, -1, -1
     for i in range(n):
         pi, vi = p[i], v[i]
-        te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], wall - radii[i])
+        if grow == 0.0:
+            te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], wall - radii[i])
+        else:  # (the core's arithmetic: wall_time_grow is wall_time at growth 0)
+            reach = wall - radii[i] * (1.0 + grow * tloc[i])
+            te = tloc[i] + wall_time_grow(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], reach, radii[i] * grow)
         if te < soon:
             te = clock
         if te < best:
@@ -117,19 +142,149 @@ def next_event(
             pj, vj, tj = p[j], v[j], tloc[j]
             t0 = ti if ti > tj else tj
             di, dj = t0 - ti, t0 - tj
-            te = t0 + pair_time(
-                (pi[0] + vi[0] * di) - (pj[0] + vj[0] * dj),
-                (pi[1] + vi[1] * di) - (pj[1] + vj[1] * dj),
-                (pi[2] + vi[2] * di) - (pj[2] + vj[2] * dj),
-                vi[0] - vj[0],
-                vi[1] - vj[1],
-                vi[2] - vj[2],
-                ri + radii[j],
-            )
+            dx = (pi[0] + vi[0] * di) - (pj[0] + vj[0] * dj)
+            dy = (pi[1] + vi[1] * di) - (pj[1] + vj[1] * dj)
+            dz = (pi[2] + vi[2] * di) - (pj[2] + vj[2] * dj)
+            sigma = ri + radii[j]
+            if grow == 0.0:
+                te = t0 + pair_time(dx, dy, dz, vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2], sigma)
+            else:
+                te = t0 + pair_time_grow(
+                    dx,
+                    dy,
+                    dz,
+                    vi[0] - vj[0],
+                    vi[1] - vj[1],
+                    vi[2] - vj[2],
+                    sigma * (1.0 + grow * t0),
+                    sigma * grow,
+                    INF,
+                )
             if te < soon:
                 te = clock
             if te < best:
                 best, best_kind, best_i, best_j = te, COLLISION, i, j
+    return best, best_kind, best_i, best_j
+
+
+def box_exit(
+    pi: list[float], vi: list[float], ti: float, edges: tuple[float, float, float], now: float
+) -> tuple[float, int]:
+    """When and by which face a centre next leaves the periodic box: ``(t, 2 * axis + up)``.
+
+    From the sphere's stored centre ``pi`` at its own time ``ti`` alone (the
+    box spans ``[-L/2, L/2)`` per periodic axis), never before ``now``: the
+    core's ``_box_exit``, to the bit.
+    """
+    best = INF
+    code = -1
+    for ax in range(3):
+        edge = edges[ax]
+        vel = vi[ax]
+        if edge == 0.0 or vel == 0.0:
+            continue
+        lo = -0.5 * edge
+        if vel > 0.0:
+            tw = ti + ((lo + edge) - pi[ax]) / vel
+            up = 1
+        else:
+            tw = ti + (lo - pi[ax]) / vel
+            up = 0
+        if tw < best:
+            best = tw
+            code = 2 * ax + up
+    if best < now:
+        best = now
+    return best, code
+
+
+def _earlier(t: float, kind: int, i: int, j: int, bt: float, bk: int, bi: int, bj: int) -> bool:
+    """Whether ``(t, kind, i, j)`` comes before ``(bt, bk, bi, bj)`` (the tie order)."""
+    if t != bt:
+        return t < bt
+    if kind != bk:
+        return kind < bk
+    if i != bi:
+        return i < bi
+    return j < bj
+
+
+def next_event_periodic(
+    p: list[list[float]],
+    v: list[list[float]],
+    tloc: list[float],
+    radii: list[float],
+    edges: tuple[float, float, float],
+    clock: float,
+    window: float,
+    grow: float,
+    now: float,
+) -> tuple[float, int, int, int]:
+    """Earliest event in the periodic box as ``(t, kind, i, j)``: a collision or a centre leaving the box.
+
+    Longer than 80 lines with this docstring (under 70 of code): every
+    pair's images and the pruning that keeps it affordable, in one loop.
+
+    Each centre is kept in the box by moving it one side when it leaves
+    (kind :data:`CROSSING`, ``j`` the face: ``2 * axis + up``), so every
+    pair has at most one image within reach of a contact until the next
+    such move, among the ``3^d`` next to it; all are tried.  Pairs and
+    images that cannot meet before the earliest event found so far (a
+    bound with a margin of 1e-9 over the window's end) are skipped; that
+    changes only the work.
+
+    Args:
+        p, v, tloc, radii, clock, window, grow: as :func:`next_event`.
+        edges: the box's sides ``(Lx, Ly, Lz)`` [length] (``Lz = 0`` in 2-D).
+        now: the time of the last move or event [time] (a move is never earlier).
+    """
+    n = len(p)
+    soon = clock + window
+    best, best_kind, best_i, best_j = INF, -1, -1, -1
+    for i in range(n):
+        tw, face = box_exit(p[i], v[i], tloc[i], edges, now)
+        if face >= 0 and _earlier(tw, CROSSING, i, face, best, best_kind, best_i, best_j):
+            best, best_kind, best_i, best_j = tw, CROSSING, i, face
+    m0 = 1 if edges[0] != 0.0 else 0
+    m1 = 1 if edges[1] != 0.0 else 0
+    m2 = 1 if edges[2] != 0.0 else 0
+    for i in range(n):
+        pi, vi, ri, ti = p[i], v[i], radii[i], tloc[i]
+        for j in range(i + 1, n):
+            pj, vj, tj = p[j], v[j], tloc[j]
+            t0 = ti if ti > tj else tj
+            di, dj = t0 - ti, t0 - tj
+            xi, yi, zi = pi[0] + vi[0] * di, pi[1] + vi[1] * di, pi[2] + vi[2] * di
+            xj, yj, zj = pj[0] + vj[0] * dj, pj[1] + vj[1] * dj, pj[2] + vj[2] * dj
+            dvx, dvy, dvz = vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]
+            sigma = ri + radii[j]
+            # how far each axis may close before the earliest event so far
+            bound = (best if best > soon else soon) - t0
+            if bound < 0.0:
+                bound = 0.0
+            reach = sigma * (1.0 + grow * (t0 + bound)) if grow != 0.0 else sigma
+            for kx in range(-m0, m0 + 1):
+                sx = kx * edges[0]
+                if abs(xi - (xj + sx)) > (reach + abs(dvx) * bound) * (1.0 + 1e-9):
+                    continue
+                for ky in range(-m1, m1 + 1):
+                    sy = ky * edges[1]
+                    if abs(yi - (yj + sy)) > (reach + abs(dvy) * bound) * (1.0 + 1e-9):
+                        continue
+                    for kz in range(-m2, m2 + 1):
+                        sz = kz * edges[2]
+                        dx, dy, dz = xi - (xj + sx), yi - (yj + sy), zi - (zj + sz)
+                        if abs(dz) > (reach + abs(dvz) * bound) * (1.0 + 1e-9):
+                            continue
+                        if grow == 0.0:
+                            te = t0 + pair_time(dx, dy, dz, dvx, dvy, dvz, sigma)
+                        else:
+                            s0, u = sigma * (1.0 + grow * t0), sigma * grow
+                            te = t0 + pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s0, u, INF)
+                        if te < soon:
+                            te = clock
+                        if _earlier(te, COLLISION, i, j, best, best_kind, best_i, best_j):
+                            best, best_kind, best_i, best_j = te, COLLISION, i, j
     return best, best_kind, best_i, best_j
 
 
@@ -144,9 +299,21 @@ def move_sphere(p: list[list[float]], v: list[list[float]], tloc: list[float], i
 
 
 def apply_event(
-    kind: int, i: int, j: int, p: list[list[float]], v: list[list[float]], masses: list[float]
+    kind: int,
+    i: int,
+    j: int,
+    p: list[list[float]],
+    v: list[list[float]],
+    masses: list[float],
+    radii: Sequence[float] = (),
+    edges: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    grow: float = 0.0,
 ) -> tuple[float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
+
+    ``radii`` (at the time origin) and ``grow`` as :func:`next_event`
+    (needed only while growing); ``edges``: the periodic box's sides (zeros:
+    none), the pair taken at its nearest image.
 
     Returns:
         ``(impulse, dpx, dpy, dpz, virial)``: the magnitude and the vector of
@@ -157,7 +324,10 @@ def apply_event(
     if kind == REFLECTION:
         pi, vi = p[i], v[i]
         px, py, pz = pi[0], pi[1], pi[2]
-        k = reflect(px, py, pz, vi[0], vi[1], vi[2])
+        if grow == 0.0:
+            k = reflect(px, py, pz, vi[0], vi[1], vi[2])
+        else:
+            k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], radii[i] * grow)
         vi[0] -= k * px
         vi[1] -= k * py
         vi[2] -= k * pz
@@ -166,7 +336,17 @@ def apply_event(
         return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0
     pi, pj, vi, vj = p[i], p[j], v[i], v[j]
     dx, dy, dz = pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]
-    k1, k2 = collide(masses[i], masses[j], dx, dy, dz, vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2])
+    if edges[0] != 0.0:
+        # the nearest image (the core's arithmetic: round half to even)
+        dx -= edges[0] * round(dx / edges[0])
+        dy -= edges[1] * round(dy / edges[1])
+        if edges[2] != 0.0:
+            dz -= edges[2] * round(dz / edges[2])
+    dvx, dvy, dvz = vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]
+    if grow == 0.0:
+        k1, k2 = collide(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz)
+    else:
+        k1, k2 = collide_grow(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, (radii[i] + radii[j]) * grow)
     vi[0] -= k1 * dx
     vi[1] -= k1 * dy
     vi[2] -= k1 * dz
@@ -190,24 +370,22 @@ class Reference:
     """Exact event-driven dynamics of hard spheres, by brute force, in pure Python.
 
     The arguments, and the methods that run and read, are
-    :class:`~hardspheres.core.engine.Engine`'s (not its cells, time origin,
-    growth, kicks, checkpoints or overlap checks); arrays come back as lists.
+    :class:`~hardspheres.core.engine.Engine`'s (growth too, :meth:`set_growth`;
+    not its cells, kicks, checkpoints or overlap checks); arrays come back
+    as lists.
 
     Args:
         masses: ``N`` [mass], > 0.
         radii: ``N`` [length], >= 0.
         positions: ``N`` centres ``[x, y, z]`` at time ``time`` [length] (copied).
         velocities: ``N`` velocities ``[vx, vy, vz]`` [length/time] (copied).
-        container: a spherical :class:`~hardspheres.containers.Container`,
-            or its radius [length].
-        box: (the engine's) a periodic box: refused here.
+        container: the :class:`~hardspheres.containers.Container` (a sphere,
+            a circle or a periodic box), or a sphere's radius [length].
+        box: instead of ``container``, a periodic box's edge or sides [length].
         window: simultaneity window [time] (the assignment's program uses
             :data:`SIMULTANEOUS`; 0 means exact times).
         time: the time the positions are given at [time].
         rebase: ignored (the engine's option; this loop keeps absolute times).
-
-    Raises:
-        ValueError: a periodic box (the reference has a spherical wall only).
 
     Example:
         >>> ref = Reference([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -231,12 +409,11 @@ class Reference:
         rebase: bool = False,
     ) -> None:
         where = as_container(container, box)
-        if where.periodic:
-            raise ValueError(
-                "the reference loop has a spherical wall only; use the engine for a periodic box"
-            )
         self.container: Container = where
-        self._wall = where.core_params()["wall_radius"]
+        params = where.core_params()
+        self._wall = params["wall_radius"]
+        #: the periodic box's sides as the core reads them (zeros: a container)
+        self._edges: tuple[float, float, float] = tuple(float(e) for e in params["edges"])  # type: ignore[assignment]
         #: the dimension of space (the container's); in 2-D each centre and
         #: velocity is kept as ``[x, y, 0.0]``: the same kernels, z terms exactly 0
         self.dimensions = d = int(getattr(where, "dimensions", 3))
@@ -250,9 +427,22 @@ class Reference:
                 f"{n} masses but {len(self._radii)} radii, {len(self._p)} positions "
                 f"and {len(self._v)} velocities; give one of each per sphere"
             )
+        #: crossings of the periodic box per axis (the engine's ``images``)
+        self._img = [[0, 0, 0] for _ in range(n)]
+        for k, pk in enumerate(self._p):  # into the box, whole sides at a time (the engine's _into_box)
+            for ax in range(d):
+                edge = self._edges[ax]
+                if edge:
+                    m = math.floor((pk[ax] - (-0.5 * edge)) / edge)
+                    if m:
+                        pk[ax] -= m * edge
+                        self._img[k][ax] += m
         self._window = float(window)
         self._tloc = [float(time)] * n
         self._clock = float(time)
+        self._now = self._clock  # the last event or move across the box
+        self._origin = 0.0  # the time origin (moved as the engine's, by set_growth)
+        self._grow = 0.0  # radii grow as radii * (1 + grow * t), t from the origin
         self._limit = frozen_limit(n)
         self._frozen = 0  # collisions and reflections in a row with the clock not advancing
         self._streak = self._clock  # time of the first of them
@@ -276,7 +466,42 @@ class Reference:
     @property
     def time(self) -> float:
         """Time of the last processed event (or the start) [time]."""
-        return self._clock
+        return self._origin + self._clock
+
+    @property
+    def images(self) -> list[list[int]]:
+        """``N`` crossings of the periodic box per axis (``d`` each)."""
+        return [row[: self.dimensions] for row in self._img]
+
+    @property
+    def growth(self) -> float:
+        """Radii's relative growth rate now: ``dR_i/dt / R_i`` [1/time] (0: off)."""
+        g = self._grow
+        return g / (1.0 + g * self._clock) if g else 0.0
+
+    def set_growth(self, rate: float) -> None:
+        """Grow every radius from now at ``dR_i/dt = rate * R_i(now)`` [1/time], as the engine's.
+
+        With the engine's arithmetic: the time origin moves to the clock
+        (every centre moved there, the radii to their values now), then the
+        radii grow linearly.
+        """
+        rate = float(rate)
+        if not (rate >= 0.0 and math.isfinite(rate)):
+            raise ValueError(f"growth rate must be a finite number >= 0, got {rate}")
+        t = self._clock
+        for k in range(len(self._p)):
+            self._move_sphere(self._p, self._v, self._tloc, k, t)
+            self._tloc[k] = 0.0
+        self._streak -= t
+        self._origin += t
+        self._clock = 0.0
+        self._now = 0.0
+        if self._grow:
+            factor = 1.0 + self._grow * t
+            for k in range(len(self._radii)):
+                self._radii[k] *= factor
+        self._grow = rate
 
     @property
     def window(self) -> float:
@@ -310,8 +535,12 @@ class Reference:
         return self._next()[1] < 0
 
     def radii_at(self, t: float | None = None) -> list[float]:
-        """``N`` radii [length] (they do not grow here)."""
-        return list(self._radii)
+        """``N`` radii at time ``t`` (default: now) [length]."""
+        g = self._grow
+        if not g:
+            return list(self._radii)
+        t = self.time if t is None else t
+        return [r * (1.0 + g * (t - self._origin)) for r in self._radii]
 
     def positions_at(
         self, t: float | None = None, out: Any = None, spheres: Sequence[int] | None = None
@@ -321,17 +550,21 @@ class Reference:
         Into ``out`` (a list of ``N`` rows, or an ``(N, 3)`` array) if given;
         with ``spheres`` (indices), only their rows.
         """
-        t = self._clock if t is None else t
+        t = self.time if t is None else t
+        t -= self._origin
         p, v, tloc = self._p, self._v, self._tloc
         if out is None:
             out = [None] * len(p)
+        edges = self._edges
         for k in range(len(p)) if spheres is None else spheres:
             pk, vk = p[k], v[k]
             dt = t - tloc[k]
-            if self.dimensions == 2:
-                out[k] = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt]
-            else:
-                out[k] = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt, pk[2] + vk[2] * dt]
+            row = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt, pk[2] + vk[2] * dt]
+            if edges[0]:  # into the box (the core's positions_at)
+                for ax in range(3):
+                    if edges[ax]:
+                        row[ax] -= edges[ax] * math.floor(row[ax] / edges[ax] + 0.5)
+            out[k] = row[:2] if self.dimensions == 2 else row
         return out
 
     def kinetic_energy(self) -> float:
@@ -345,13 +578,43 @@ class Reference:
     # ---- running ------------------------------------------------------------------
     # the loop's steps (the tests swap in the same functions compiled)
     _next_event = staticmethod(next_event)
+    _next_event_periodic = staticmethod(next_event_periodic)
     _move_sphere = staticmethod(move_sphere)
     _apply_event = staticmethod(apply_event)
 
     def _next(self) -> tuple[float, int, int, int]:
+        """The next event or move across the box, ``(t, kind, i, j)`` (times from the origin)."""
+        if self._edges[0]:
+            return self._next_event_periodic(
+                self._p,
+                self._v,
+                self._tloc,
+                self._radii,
+                self._edges,
+                self._clock,
+                self._window,
+                self._grow,
+                self._now,
+            )
+        if self._grow:
+            return self._next_event(
+                self._p, self._v, self._tloc, self._radii, self._wall, self._clock, self._window, self._grow
+            )
         return self._next_event(
             self._p, self._v, self._tloc, self._radii, self._wall, self._clock, self._window
         )
+
+    def _next_physical(self, until: float) -> tuple[float, int, int, int]:
+        """The next collision or reflection, after the moves across the box before it up to ``until``."""
+        while True:
+            t, kind, i, j = self._next()
+            if kind != CROSSING or not t <= until:
+                return t, kind, i, j
+            # the centre leaves the box: one side back (the core's crossing of a box face)
+            ax, step = j >> 1, (1 if j & 1 else -1)
+            self._p[i][ax] -= step * self._edges[ax]
+            self._img[i][ax] += step
+            self._now = t
 
     def _process(self, until: float) -> tuple[float, int, int, int, float, float, float, float] | None:
         """The next event up to ``until``, processed: ``(t, kind, i, j, impulse, dp..., virial)``.
@@ -362,12 +625,12 @@ class Reference:
             StuckError: it would be the reflection of a sphere sliding along
                 the wall, or one too many in a row with the clock frozen.
         """
-        t, kind, i, j = self._next()
-        if kind < 0 or not t <= until:
+        t, kind, i, j = self._next_physical(until - self._origin)
+        if kind < 0 or kind == CROSSING or not t <= until - self._origin:
             return None
-        if t - self._streak <= FROZEN_RELATIVE * abs(t):
+        if t - self._streak <= FROZEN_RELATIVE * abs(t + self._origin):
             if self._frozen >= self._limit:
-                raise StuckError("frozen", t, i)
+                raise StuckError("frozen", t + self._origin, i)
         else:
             self._frozen = 0
             self._streak = t
@@ -375,24 +638,28 @@ class Reference:
         if kind == REFLECTION:
             pi, vi = p[i], v[i]
             dt = t - tloc[i]
-            if (
-                reflect(pi[0] + vi[0] * dt, pi[1] + vi[1] * dt, pi[2] + vi[2] * dt, vi[0], vi[1], vi[2])
-                == 0.0
-            ):
-                raise StuckError("sliding", t, i)
+            px, py, pz = pi[0] + vi[0] * dt, pi[1] + vi[1] * dt, pi[2] + vi[2] * dt
+            if self._grow:
+                k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], self._radii[i] * self._grow)
+            else:
+                k = reflect(px, py, pz, vi[0], vi[1], vi[2])
+            if k == 0.0:
+                raise StuckError("sliding", t + self._origin, i)
         self._frozen += 1
-        self._clock = t
+        self._clock = self._now = t
         self._move_sphere(p, v, tloc, i, t)
         if j >= 0:
             self._move_sphere(p, v, tloc, j, t)
-        imp, dpx, dpy, dpz, vir = self._apply_event(kind, i, j, p, v, self.masses)
+        imp, dpx, dpy, dpz, vir = self._apply_event(
+            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow
+        )
         if kind == REFLECTION:
             self._refl += 1
             self._wall_impulse += imp
         else:
             self._coll += 1
             self._virial += vir
-        return t, kind, i, j, imp, dpx, dpy, dpz
+        return t + self._origin, kind, i, j, imp, dpx, dpy, dpz
 
     def step(self, until: float = INF) -> tuple[float, int, int, int] | None:
         """Process the next event if it is at or before ``until`` [time].
