@@ -696,8 +696,10 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
     dt_i = t - spheres[i, T_OWN]
     best = np.inf
     code = -1
-    # (periodic box: the box's faces are the sphere's own, at box_exit's time)
-    wrap_t, wrap_code = _box_exit(spheres, scalars, i, t) if box != 0.0 else (np.inf, -1)
+    # periodic box: the box's faces are the sphere's own, at the time
+    # _box_exit gives (looked at only from the cells along them)
+    wrap_t = np.inf
+    wrap_code = -1
     for ax in range(3):
         lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         v = spheres[i, VX + ax]
@@ -705,11 +707,20 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
         x = spheres[i, X + ax] + v * dt_i
         if v > 0.0:
             if k == nc - 1:
+                edge = scalars[F_EDGE + ax]
+                if edge != 0.0:
+                    tw = spheres[i, T_OWN] + ((lo + edge) - spheres[i, X + ax]) / v
+                    if tw < wrap_t:
+                        wrap_t, wrap_code = tw, 2 * ax + 1
                 continue
             d = (lo + (k + 1) * w - x) / v
             up = 1
         elif v < 0.0:
             if k == 0:
+                if box != 0.0 and scalars[F_EDGE + ax] != 0.0:
+                    tw = spheres[i, T_OWN] + (lo - spheres[i, X + ax]) / v
+                    if tw < wrap_t:
+                        wrap_t, wrap_code = tw, 2 * ax
                 continue
             d = (lo + k * w - x) / v
             up = 0
@@ -722,29 +733,39 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
             code = 2 * ax + up
     due[i, CROSS_T] = t + best
     book[i, CROSS_FACE] = code
-    if wrap_t < due[i, CROSS_T]:
-        due[i, CROSS_T] = wrap_t
-        book[i, CROSS_FACE] = wrap_code
+    if wrap_code >= 0:
+        if wrap_t < t:
+            wrap_t = t
+        if wrap_t < due[i, CROSS_T]:
+            due[i, CROSS_T] = wrap_t
+            book[i, CROSS_FACE] = wrap_code
 
 
 @_inline
-def _box_exit(spheres, scalars, i, t):
-    """When and where sphere ``i``'s centre next leaves the periodic box: ``(time, face)``.
+def _box_exit(spheres, shells, scalars, i, t):
+    """When and where sphere ``i``'s centre next leaves the periodic box, if before its shell.
 
-    ``face`` is ``2 * axis + (1 up, 0 down)``.  The time is the sphere's
-    own, from its stored centre and time alone (``t_i + (face - x_i) /
-    v``), never before ``t``: the brute-force reference moves its centre
-    by one box side at the same instant, so both keep the same centres bit
-    for bit (:mod:`hardspheres.core.reference`, "Periodic boxes").
+    Returns ``(time, face)``, ``face = 2 * axis + (1 up, 0 down)``, or
+    ``(inf, -1)`` where no face is within its shell (neighbour lists: it
+    leaves its shell first).  The time is the sphere's own, from its
+    stored centre and time alone (``t_i + (face - x_i) / v``), never before
+    ``t``: the brute-force reference moves its centre by one box side at
+    the same instant, so both keep the same centres bit for bit
+    (:mod:`hardspheres.core.reference`, :func:`~hardspheres.core.reference.box_exit`).
+    The cells' :func:`_crossing` computes the same times.
     """
     best = np.inf
     code = -1
+    delta = (scalars[F_SHELL] - 1.0) * shells[i, REACH] * (1.0 + 1e-9)
     for ax in range(3):
         edge = scalars[F_EDGE + ax]
         v = spheres[i, VX + ax]
         if edge == 0.0 or v == 0.0:
             continue
         lo = scalars[F_LOW + ax]
+        near = shells[i, SHELL_X + ax]
+        if (near + delta < lo + edge) if v > 0.0 else (near - delta > lo):
+            continue  # (the face is beyond its shell)
         if v > 0.0:
             tw = spheres[i, T_OWN] + ((lo + edge) - spheres[i, X + ax]) / v
             up = 1
@@ -791,10 +812,16 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 
 @_inline
-def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p):
+def _pair(
+    spheres, book, i, oi, j, sx, sy, sz, shifted, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
 
-    ``j`` seen at its image shifted by ``(sx, sy, sz)``; ``oi`` is ``i``'s
+    Longer than 80 lines: the innermost loop's body, its branch-free
+    pre-test and the comments that say why each expression is as it is.
+
+    ``j`` seen at its image shifted by ``(sx, sy, sz)`` (``shifted``: not
+    all zero); ``oi`` is ``i``'s
     input index (``book[i, ORIGIN]``: tie keys are on input indices);
     returns the new ``(best_t, best_key, best_p)``.
     """
@@ -818,7 +845,7 @@ def _pair(spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, 
     xj = spheres[j, X] + spheres[j, VX] * dj
     yj = spheres[j, Y] + spheres[j, VY] * dj
     zj = spheres[j, Z] + spheres[j, VZ] * dj
-    if (sx != 0.0 or sy != 0.0 or sz != 0.0) and oi > book[j, ORIGIN]:
+    if shifted and oi > book[j, ORIGIN]:
         # across the periodic box the subtraction is not antisymmetric:
         # the lower input index minus the higher's image, negated (the
         # reference's arithmetic, whichever sphere predicts the pair)
@@ -942,7 +969,25 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         sy = _IMAGE_STEPS[code, 1] * by
         sz = _IMAGE_STEPS[code, 2] * bz
         best_t, best_key, best_p = _pair(
-            spheres, book, i, oi, j, sx, sy, sz, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+            spheres,
+            book,
+            i,
+            oi,
+            j,
+            sx,
+            sy,
+            sz,
+            code != 13,
+            ti,
+            now,
+            soon,
+            clock,
+            grow,
+            one,
+            n,
+            best_t,
+            best_key,
+            best_p,
         )
     _store(due, book, i, best_t, best_key, best_p)
 
@@ -978,6 +1023,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                 nx, sx, there = _cell_step(cx0, ox, ncx, bx)
                 if not there:
                     continue
+                shifted = sx != 0.0 or sy != 0.0 or sz != 0.0
                 j = cell_head[(nz * ncy + ny) * ncx + nx]
                 while j >= 0:
                     if j != i:
@@ -990,6 +1036,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                             sx,
                             sy,
                             sz,
+                            shifted,
                             ti,
                             now,
                             soon,
@@ -1049,7 +1096,7 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
         _shell_exit(spheres, shells, due, scalars, i, t)
         if scalars[F_BOX] != 0.0:
             # leaving the periodic box, if before its shell (CROSS_FACE >= 0)
-            wrap_t, wrap_code = _box_exit(spheres, scalars, i, t)
+            wrap_t, wrap_code = _box_exit(spheres, shells, scalars, i, t)
             book[i, CROSS_FACE] = -1
             if wrap_t < due[i, CROSS_T]:
                 due[i, CROSS_T] = wrap_t
@@ -1758,6 +1805,16 @@ def unwrapped_at(spheres, images, t, out, edges):
         dt = t - spheres[i, T_OWN]
         for k in range(3):
             out[i, k] = (spheres[i, X + k] + spheres[i, VX + k] * dt) + images[i, k] * edges[k]
+
+
+@_jit
+def predict_all(arrays):
+    """Every sphere predicted afresh at the clock (the cells and lists as they are; no calendar)."""
+    spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
+    scalars, counts = arrays[12], arrays[13]
+    t = scalars[F_CLOCK]
+    for i in range(spheres.shape[0]):
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
 
 
 @_jit

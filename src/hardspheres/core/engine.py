@@ -460,7 +460,16 @@ class Engine:
         return self.offset + self.scalars[core.F_CLOCK]
 
     def _rebase(self):
+        """The time origin to the clock, every prediction made afresh from the moved centres.
+
+        (A prediction shifted to the new origin would round otherwise than
+        one made after the move: which of two equal entries, one stale, the
+        calendar gives first would then change bits, and it depends on the
+        calendar's layout and the spheres' order.  A prediction per sphere
+        every REBASE_EVERY events per sphere.)
+        """
         self.offset += core.rebase(self.spheres, self.due, self.heap_t, self.scalars)
+        core.predict_all(self.arrays)
         self._requeue()
         self._since_rebase = 0
 
