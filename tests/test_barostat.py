@@ -279,7 +279,7 @@ def test_disks_at_constant_pressure_keep_apart_and_resume(tmp_path):
     box = hs.PeriodicBox((12.0, 12.0))
     sim = hs.Simulation(hs.random_spheres(60, 0.4, box, seed=3), box)
     sim.set_barostat(Barostat(pressure=4.0, axes="xy", seed=1)).run(until=3.0)
-    assert sim.barostat.accepted > 3 and sim.container.sides[0] != sim.container.sides[1]
+    assert sim.barostat.accepted >= 3 and sim.container.sides[0] != sim.container.sides[1]
     x = sim.state().positions
     assert x.shape == (60, 2)
     assert closest_ratio(x, sim.engine.radii_at(), sim.container.sides) >= 1.0

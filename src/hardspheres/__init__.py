@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
     from .analysis.jamming import Contacts, JammingPoint
     from .analysis.structure import RDF, BondOrder, Hexatic, StructureFactor
     from .analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity, enskog, yeh_hummer
+    from .barostat import Barostat
     from .builders import random_spheres
     from .frames import Frames
     from .io.trajectory import GSDWriter, XYZWriter, read_trajectory
@@ -46,6 +47,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
 # numpy and numba load on first use, so that the assignment's program
 # (hardspheres.cli) starts without them
 _LAZY = {
+    "Barostat": "barostat",
     "maxwell_boltzmann": "maxwell",
     "random_spheres": "builders",
     "Event": "simulation",
@@ -158,6 +160,7 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "Barostat",
     "BondOrder",
     "BoxShapeError",
     "BuildError",

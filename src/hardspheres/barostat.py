@@ -74,10 +74,12 @@ from .errors import BarostatError
 #: divided by this.
 MOVES_PER_FREE_TIME = 1.0
 
-#: The default step is this over ``beta P V - N``: squeezing ``ln V`` by
-#: ``d`` makes an overlap with a probability of about ``(beta P V - N) d``
-#: (Eppenga & Frenkel 1984), so steps of this size are accepted about half
-#: the time in dense matter.
+#: The default step is this over ``N (Z - 1)``: squeezing ``ln V`` by ``d``
+#: makes an overlap with a probability of about ``N (Z - 1) d`` (the pairs
+#: within ``d / 3`` of contact; Eppenga & Frenkel 1984), so steps of this
+#: size are accepted about half the time in dense matter.  ``Z`` is the
+#: packing's when first attached (not the pressure's: a run far from its
+#: equilibrium would get steps too small to get there).
 STEP_SCALE = 3.0
 
 _AXES = "xyz"
@@ -118,9 +120,10 @@ class Barostat:
             free time at the packing when first attached, over
             :data:`MOVES_PER_FREE_TIME`.
         step: largest change of ``ln V`` (isotropic) or of ``ln L_a`` (per
-            axis) per move; ``None``: ``min(0.5 / sqrt(N), 1 / (beta P V -
-            N))`` when first attached (squeezing by more than about ``1 /
-            (beta P V - N)`` makes an overlap almost surely).
+            axis) per move; ``None``: ``min(0.5 / sqrt(N), 3 / (N (Z -
+            1)))`` when first attached, ``Z`` the equation of state's at the
+            packing then (squeezing by more than about ``1 / (N (Z - 1))``
+            makes an overlap almost surely).
         axes: ``None`` (isotropic: every side scaled alike), or the sides
             that move one at a time (a random one per move): ``"xyz"`` (or
             ``"xy"`` in 2-D) lets a crystal relax its shape, ``"z"`` changes
@@ -133,6 +136,10 @@ class Barostat:
         accepted: moves accepted.
         overlaps: moves rejected because two spheres would overlap.
         next_time: when it next acts [time] (``None`` until attached).
+        samples: moves since :meth:`reset_averages`, each a sample of the
+            box after its move (equally spaced in time), for
+            :attr:`mean_volume`, :attr:`volume_variance` and
+            :attr:`mean_packing`.
     """
 
     def __init__(self, pressure, kT=None, every=None, step=None, axes=None, seed=0):
@@ -160,6 +167,44 @@ class Barostat:
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self.next_time = None
         self.attempted = self.accepted = self.overlaps = 0
+        self._solid = math.nan  # the spheres' own volume (set when attached)
+        self.reset_averages()
+
+    def reset_averages(self):
+        """Start the averages afresh (after an equilibration, say); returns self."""
+        self.samples = 0
+        self._sums = [0.0, 0.0, 0.0]  # sums of V, (V - V0)^2 and solid / V; V0 the first V
+        self._v0 = None
+        return self
+
+    @property
+    def mean_volume(self) -> float:
+        """Mean volume (area in 2-D) over the samples [length^d] (NaN before any)."""
+        return self._sums[0] / self.samples if self.samples else math.nan
+
+    @property
+    def volume_variance(self) -> float:
+        """Variance of the volume over the samples [length^2d] (NaN before two).
+
+        Shifted by the first sample, so no cancellation between large sums.
+        """
+        if self.samples < 2:
+            return math.nan
+        d = self._sums[0] / self.samples - self._v0
+        return (self._sums[1] / self.samples - d * d) * self.samples / (self.samples - 1)
+
+    @property
+    def mean_packing(self) -> float:
+        """Mean packing fraction (area fraction in 2-D) over the samples (NaN before any)."""
+        return self._sums[2] / self.samples if self.samples else math.nan
+
+    def _sample(self, volume):
+        if self._v0 is None:
+            self._v0 = volume
+        self.samples += 1
+        self._sums[0] += volume
+        self._sums[1] += (volume - self._v0) ** 2
+        self._sums[2] += self._solid / volume
 
     def __repr__(self):
         return (
@@ -189,15 +234,13 @@ class Barostat:
         """Called as each run starts: fixes ``kT``, ``every``, ``step`` (once) and the first move."""
         self.check(sim)
         n = sim.n
+        self._solid = float(sim.packing) * float(sim.container.volume)
         if self.kT is None:
             th_kT = getattr(sim.thermostat, "kT", None)
             self.kT = float(th_kT) if th_kT is not None else float(sim.observables.temperature())
             if not (math.isfinite(self.kT) and self.kT > 0):
                 raise BarostatError("barostat: the spheres are at rest (kT = 0); give them velocities or kT")
-        if self.step is None:
-            bpv = self.pressure * sim.container.volume / self.kT
-            self.step = min(0.5 / math.sqrt(n), STEP_SCALE / max(bpv - n, 1.0))
-        if self.every is None:
+        if self.step is None or self.every is None:
             from .eos import carnahan_starling, collision_rate_from_z
 
             radii = sim.engine.radii_at()
@@ -211,8 +254,11 @@ class Barostat:
                 phi = min(phi, 0.88)
                 z = (1.0 + phi * phi / 8.0) / (1.0 - phi) ** 2 if phi < 0.7 else 2.0 / (1.0 - phi / 0.9069)
                 nu = collision_rate_from_z(z, sigma, self.kT, m) * 2.0 / 3.0 if sigma > 0 else 0.0
-            free = 1.0 / nu if nu > 0 else sigma / math.sqrt(self.kT / m) if sigma > 0 else 1.0
-            self.every = free / MOVES_PER_FREE_TIME
+            if self.step is None:
+                self.step = min(0.5 / math.sqrt(n), STEP_SCALE / max(n * (z - 1.0), 1.0))
+            if self.every is None:
+                free = 1.0 / nu if nu > 0 else sigma / math.sqrt(self.kT / m) if sigma > 0 else 1.0
+                self.every = free / MOVES_PER_FREE_TIME
         if self.next_time is None:
             self.next_time = sim.time + self.every
 
@@ -228,6 +274,11 @@ class Barostat:
         r = float(rng.random())
         self.attempted += 1
         self.next_time = t + self.every
+        accepted = self._move(sim, eng, t, box, sides, axis, u, r)
+        self._sample(float(sim.container.volume))
+        return accepted
+
+    def _move(self, sim, eng, t, box, sides, axis, u, r):
         d = len(sides)
         if axis < 0:
             factors = [math.exp(u / d)] * d
@@ -271,6 +322,9 @@ class Barostat:
                 "attempted": self.attempted,
                 "accepted": self.accepted,
                 "overlaps": self.overlaps,
+                "samples": self.samples,
+                "sums": self._sums,
+                "v0": self._v0,
                 "rng": self._rng.bit_generator.state,
             }
         )
@@ -285,6 +339,9 @@ def barostat_from_state(text):
     b._rng.bit_generator.state = d["rng"]
     b.next_time = d["next_time"]
     b.attempted, b.accepted, b.overlaps = int(d["attempted"]), int(d["accepted"]), int(d["overlaps"])
+    b.samples = int(d.get("samples", 0))  # (checkpoints before the averages: none)
+    b._sums = [float(x) for x in d.get("sums", [0.0, 0.0, 0.0])]
+    b._v0 = None if d.get("v0") is None else float(d["v0"])
     return b
 
 

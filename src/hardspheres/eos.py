@@ -453,5 +453,70 @@ def santos_yuste_haro(
     return 1.0 + phi / (1.0 - phi) * (1.0 + a - 2.0 * b) + (pure(phi) - 1.0) * (0.5 * (a + b))
 
 
+def packing_at_pressure(
+    pressure: float, eos: Callable[[ArrayLike], np.ndarray] | None = None, top: float = 0.6
+) -> float:
+    """The fluid's packing fraction at reduced pressure ``beta P sigma^3``: the inverse of ``eos``.
+
+    Solves ``6 phi Z(phi) / pi = beta P sigma^3`` (``rho sigma^3 =
+    6 phi / pi``) by bisection on ``(0, top)`` to the last bit (``phi Z`` is
+    increasing there); ``eos`` is :func:`hansen_goos` by default.  What a
+    constant-pressure run of the fluid should find on average (in the
+    thermodynamic limit).
+
+    Args:
+        pressure: ``beta P sigma^3``, > 0 (and below ``eos``'s at ``top``).
+        eos: ``Z(phi)``, increasing ``phi Z`` on ``(0, top)``.
+        top: upper end of the search.
+
+    Example:
+        >>> phi = packing_at_pressure(5.0)
+        >>> round(phi, 6), round(float(6 * phi * hansen_goos(phi) / math.pi), 12)
+        (0.392914, 5.0)
+    """
+    f = hansen_goos if eos is None else eos
+    p = float(pressure)
+    if not (math.isfinite(p) and p > 0.0):
+        raise ValueError(f"pressure must be a finite number > 0, got {pressure!r}")
+
+    def bp(phi: float) -> float:
+        return 6.0 * phi * float(f(phi)) / math.pi
+
+    if p >= bp(top):
+        raise ValueError(f"pressure {p:g} is above the equation of state's {bp(top):.6g} at packing {top:g}")
+    lo, hi = 0.0, float(top)
+    while True:
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            return hi if bp(hi) - p < p - bp(lo) else lo
+        if bp(mid) < p:
+            lo = mid
+        else:
+            hi = mid
+
+
+def inverse_compressibility(
+    phi: ArrayLike, eos: Callable[[ArrayLike], np.ndarray] | None = None
+) -> np.ndarray:
+    """``d(beta P) / d rho = d(phi Z) / d phi``: the inverse of ``rho kT kappa_T``, dimensionless.
+
+    At constant pressure it sets the volume's fluctuations, ``<dV^2> /
+    <V>^2 = 1 / (N d(phi Z)/d phi)`` (the fluctuation formula ``<dV^2> =
+    kT V kappa_T``; e.g. Allen & Tildesley, *Computer Simulation of Liquids*,
+    2nd ed. 2017, section 2.5).  A central difference of ``phi Z(phi)``
+    with step ``1e-5`` (``eos``'s error is far larger than the step's
+    ``1e-10``); ``eos`` is :func:`hansen_goos` by default.
+
+    Example:
+        >>> round(float(inverse_compressibility(1e-3)), 4)  # 1 + 8 phi + ... at low density
+        1.008
+    """
+    f = hansen_goos if eos is None else eos
+    x = _phi(phi)
+    h = 1e-5
+    lo = np.maximum(x - h, 0.0)
+    return ((x + h) * f(x + h) - lo * f(lo)) / (x + h - lo)
+
+
 #: Reference equations of state by name (as ``plot`` and ``validate`` use them).
 REFERENCES = {"Carnahan-Starling": carnahan_starling, "Hansen-Goos": hansen_goos, "KLM": kolafa}

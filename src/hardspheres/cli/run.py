@@ -133,10 +133,17 @@ def _check_args(args: argparse.Namespace) -> None:
                 "--container/--circle/--box/--dimensions cannot change a resumed run: the checkpoint "
                 "keeps its container (leave them out)"
             )
+        if args.pressure is not None or args.pressure_axes is not None:
+            raise ValueError(
+                "--pressure/--pressure-axes cannot change a resumed run: the checkpoint "
+                "keeps its barostat (leave them out)"
+            )
     elif not args.scenario:
         raise ValueError("give a scenario file (or --resume CHECKPOINT)")
     elif not given_container(args):
         raise ValueError("give --container RADIUS, --circle RADIUS or --box L [LY [LZ]]")
+    if args.pressure_axes is not None and args.pressure is None:
+        raise ValueError("--pressure-axes is for constant pressure: give --pressure P too")
     if args.trajectory is None:
         for option, value in (("--every", args.every), ("--events", args.events)):
             if value:
@@ -336,6 +343,10 @@ def run(args: argparse.Namespace) -> int:
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
     sim = starting_simulation(args)
+    if args.pressure is not None:
+        from ..barostat import Barostat
+
+        sim.set_barostat(Barostat(pressure=args.pressure, axes=args.pressure_axes))
     if args.until <= sim.time:
         raise ValueError(f"--until {args.until:g} is not after the simulation's time {sim.time:.9g}")
     if args.every is not None and args.every > args.until - sim.time:
@@ -414,6 +425,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             sim.writers.append(bar)
             equilibrated = _equilibrate(sim, args, progress, start_time)
             sim.observables.reset()
+            if sim.barostat is not None:
+                sim.barostat.reset_averages()
             averaged_from = sim.time
             if stopper.signum is None:
                 sim.run(until=args.until)
@@ -458,6 +471,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             f"trajectory: frames from t = {start_time:.6g}, so they include the equilibration "
             f"(averages start at t = {averaged_from:.6g})"
         )
+    if sim.barostat is not None:
+        lines.append(barostat_line(sim))
     if e1 == 0:
         lines.append("all spheres at rest: no pressure or rates")
     lines.append(
@@ -497,6 +512,22 @@ def _exit_status(failure: OSError | None, signum: int | None, checkpoint: str | 
         print(f"interrupted ({name}){resume}", file=sys.stderr)
         return 128 + signum
     return 0
+
+
+def barostat_line(sim: Simulation) -> str:
+    """The summary's line on constant pressure: the pressure held, the moves, the mean packing."""
+    b = sim.barostat
+    assert b is not None
+    moves = "isotropic" if b.axes is None else f"sides {b.axes}"
+    mean = (
+        f"mean packing {b.mean_packing:.6g} over {b.samples} moves"
+        if b.samples
+        else "no move since the averages started"
+    )
+    return (
+        f"constant pressure {b.pressure:g} (barostat, {moves} moves): {b.accepted} of "
+        f"{b.attempted} moves accepted ({b.acceptance:.0%}); {mean}"
+    )
 
 
 def _container_text(container: Container) -> str:
@@ -539,6 +570,19 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--overwrite", action="store_true", help="replace an existing --trajectory file (refused otherwise)"
+    )
+    p.add_argument(
+        "--pressure",
+        type=positive,
+        metavar="P",
+        help="hold the pressure P [energy/length^3] (beta P sigma^3 with kT = 1, diameter 1) by "
+        "Monte Carlo volume moves of the periodic box (hardspheres.Barostat)",
+    )
+    p.add_argument(
+        "--pressure-axes",
+        metavar="AXES",
+        help="with --pressure: move these sides one at a time instead of scaling the box "
+        "('xyz' or 'xy': a crystal's shape relaxes; 'z': only a slab's long side)",
     )
     p.set_defaults(func=run)
     return p

@@ -21,6 +21,7 @@ Study file (every key but ``packing`` and ``n`` is optional)::
     dimensions = 3              # 3 (spheres) or 2 (disks), or a list [2, 3]
     aspect = [1, 1, 2]          # a box's sides in proportion (d numbers), or a list of them
     packing = [0.1, 0.2, 0.3]   # volume fractions, each in (0, 0.7405); disks: area, up to 0.72
+    # pressure = [2.0, 5.0]     # constant pressure(s) beta P sigma^d instead (periodic box)
     n = [256, 1024]             # spheres per run
     seeds = 4                   # 4 seeds (0..3), or a list [1, 5, 9]
     radius_ratio = 1.0          # largest / smallest radius (or a list)
@@ -45,6 +46,17 @@ square).  Results hold ``dimensions`` and ``aspect`` (``"1:1:2"``; ``""``
 for the cube and for round walls) as grid columns; a 3-D study without
 ``aspect`` keeps the task keys it had before they existed, so its finished
 rows are found again.
+
+Constant pressure: with ``pressure`` (``beta P sigma^3``, one or a list) each
+run holds it with a :class:`~hardspheres.barostat.Barostat` (isotropic
+moves, seeded by the task's seed) in a periodic box, so an equation of
+state at fixed pressures is one sweep (measure ``mean_packing``: the mean
+over each block's volume moves; ``mean_volume`` likewise); ``packing`` is then optional and is where each
+run starts (default: Hansen-Goos's fluid at that pressure,
+:func:`~hardspheres.eos.packing_at_pressure`, below freezing's 11.5), and
+the results' column ``betaP`` holds it (``pressure`` is the observable: the
+virial pressure measured).  ``hardspheres plot sweep --x betaP --y
+mean_packing`` draws it against the inverse of Hansen-Goos.
 
 The output folder holds:
 
@@ -105,6 +117,17 @@ STEP = 1 << 20
 MAX_PACKING = _MAX_PACKING
 
 
+def _packing(sim, obs):
+    """The block's mean packing: the barostat's over its moves, else the packing now (constant)."""
+    b = sim.barostat
+    return b.mean_packing if b is not None and b.samples else sim.packing
+
+
+def _volume(sim, obs):
+    b = sim.barostat
+    return b.mean_volume if b is not None and b.samples else sim.container.volume
+
+
 def _ks(sim, obs):
     """Kolmogorov-Smirnov distance of the reduced speeds ``v sqrt(m/kT)`` from Maxwell-Boltzmann."""
     import numpy as np
@@ -132,11 +155,15 @@ OBSERVABLES = {
     "mean_free_path": lambda sim, o: o.mean_free_path(),
     "mean_speed": lambda sim, o: o.mean_speed(),
     "speeds_ks": _ks,
+    "mean_packing": _packing,
+    "mean_volume": _volume,
 }
 _NOT_OBSERVABLES = {"reset", "summary", "speed_histogram", "elapsed"}
 
 #: Parameters that make the grid, in the order of the results' columns.
-GRID = ("container", "dimensions", "aspect", "packing", "n", "radius_ratio", "mass_ratio", "seed")
+#: (``betaP``, the pressure a constant-pressure study holds, only in their
+#: tables: ``pressure`` is the observable.)
+GRID = ("container", "dimensions", "aspect", "betaP", "packing", "n", "radius_ratio", "mass_ratio", "seed")
 
 #: What a grid column reads in rows written before it existed (3-D, no aspect).
 GRID_DEFAULTS = {"dimensions": 3, "aspect": ""}
@@ -144,12 +171,19 @@ GRID_DEFAULTS = {"dimensions": 3, "aspect": ""}
 #: The densest random disks the builder places (:data:`hardspheres.builders.RANDOM_DISKS_MAX`).
 _DISKS_MAX = 0.72
 
+#: The starting packing of a constant-pressure run is the fluid's at
+#: ``min(pressure, FREEZING_START)`` (just below freezing, 11.57; disks:
+#: ``FREEZING_START_2D``, below their hexatic's 9.2).
+FREEZING_START = 11.5
+FREEZING_START_2D = 8.5
+
 _KEYS = {
     "output": "folder for the results (string)",
     "container": '"box", "sphere" or "circle" (the round wall in 2-D)',
     "dimensions": "3 or 2 (disks), or a list of them",
     "aspect": "a box's sides in proportion, d numbers > 0 (e.g. [1, 1, 2], [1, 0.8660254]), or a list",
     "packing": "packing fraction(s) in (0, 0.7405) (disks: up to 0.72)",
+    "pressure": "constant pressure(s) beta P sigma^d, number(s) > 0 (periodic box only)",
     "n": "number(s) of spheres, integers >= 2",
     "seeds": "a count (integer >= 1) or a list of integer seeds",
     "radius_ratio": "largest/smallest radius, number(s) >= 1",
@@ -226,7 +260,7 @@ def parse_study(data, source=None, base=None):
         if key not in _KEYS:
             raise StudyError(f"{_where(source)}unknown key {key!r} (allowed: {', '.join(sorted(_KEYS))})")
     for key in ("packing", "n"):
-        if key not in data:
+        if data.get(key) is None and not (key == "packing" and data.get("pressure") is not None):
             raise StudyError(f"{_where(source)}missing key {key!r}: {_KEYS[key]}")
     s = {}
     out = data.get("output", "study")
@@ -247,16 +281,32 @@ def parse_study(data, source=None, base=None):
     def fits(v):
         return _is_number(v) and 0.0 < v and (v <= _DISKS_MAX if disks else v < MAX_PACKING)
 
-    s["packing"] = [
-        float(v)
-        for v in _list_of(
-            data["packing"],
-            "packing",
-            fits,
-            f"area fraction(s) in (0, {_DISKS_MAX}] for disks" if disks else _KEYS["packing"],
-            source,
-        )
-    ]
+    s["pressure"] = None
+    if data.get("pressure") is not None:  # (None: a parsed study's constant volume)
+        s["pressure"] = [
+            float(v)
+            for v in _list_of(
+                data["pressure"], "pressure", lambda v: _is_number(v) and v > 0.0, _KEYS["pressure"], source
+            )
+        ]
+        if container != "box":
+            raise StudyError(
+                f'{_where(source)}pressure needs container = "box" (its volume moves scale the box)'
+            )
+    s["packing"] = (
+        None
+        if data.get("packing") is None
+        else [
+            float(v)
+            for v in _list_of(
+                data["packing"],
+                "packing",
+                fits,
+                f"area fraction(s) in (0, {_DISKS_MAX}] for disks" if disks else _KEYS["packing"],
+                source,
+            )
+        ]
+    )
     s["n"] = _list_of(
         data["n"],
         "n",
@@ -385,17 +435,26 @@ def tasks(study):
     observables, its ``key`` (a hash of everything that decides its
     result) and the study's ``folder``.
     """
+    from ..eos import packing_at_pressure
+
     out = []
     run = {k: study[k] for k in ("equilibrate", "collisions", "time", "blocks", "measure")}
-    for d, aspect, packing, n, rr, mr, seed in itertools.product(
+    for pressure, d, aspect, packing, n, rr, mr, seed in itertools.product(
+        study.get("pressure") or [None],
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
-        study["packing"],
+        study["packing"] or [None],
         study["n"],
         study["radius_ratio"],
         study["mass_ratio"],
         study["seeds"],
     ):
+        if packing is None and d == 2:
+            from ..eos import kolafa_rottner
+
+            packing = packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
+        elif packing is None:
+            packing = packing_at_pressure(min(pressure, FREEZING_START))
         t = {
             "container": study["container"],
             "packing": packing,
@@ -410,6 +469,8 @@ def tasks(study):
             t["dimensions"] = d
         if aspect is not None:
             t["aspect"] = aspect_text(aspect)
+        if pressure is not None:  # (absent otherwise: the keys of constant-volume tasks are unchanged)
+            t["betaP"] = pressure
         t["key"] = hashlib.sha256(json.dumps(t, sort_keys=True).encode()).hexdigest()[:16]
         t["folder"] = study["output"]
         t["checkpoint_seconds"] = study["checkpoint_seconds"]
@@ -477,7 +538,12 @@ def _build(task):
         radius_ratio=task["radius_ratio"],
         mass_ratio=task["mass_ratio"],
     )
-    return Simulation(state, container)
+    sim = Simulation(state, container)
+    if "betaP" in task:
+        from ..barostat import Barostat
+
+        sim.set_barostat(Barostat(pressure=task["betaP"], kT=1.0, seed=task["seed"]))
+    return sim
 
 
 def _split(total, parts):
@@ -592,6 +658,8 @@ def run_task(task):
             if prog["t0"] is None:
                 prog["t0"] = sim.time
             sim.observables.reset()
+            if sim.barostat is not None:
+                sim.barostat.reset_averages()
         for k in range(step, len(plan)):
             if plan[k] is not None:
                 sim.run(collisions=plan[k])
@@ -605,7 +673,7 @@ def run_task(task):
         c, step = c + 1, 0
         if c < total:
             checkpoint(c, 0)
-    row = {k: task.get(k, GRID_DEFAULTS.get(k)) for k in GRID}
+    row = {k: task.get(k, GRID_DEFAULTS.get(k)) for k in GRID if k in task or k in GRID_DEFAULTS}
     row.update(
         equilibrate=float(task["equilibrate"]),
         collisions=float(task["collisions"]) if task["collisions"] is not None else float("nan"),
@@ -678,7 +746,7 @@ def _collect(all_tasks):
     for k, v in GRID_DEFAULTS.items():  # rows written before the column existed
         df[k] = df[k].fillna(v) if k in df.columns else v
     df["dimensions"] = df["dimensions"].astype(int)
-    return df.sort_values(list(GRID), kind="stable").reset_index(drop=True)
+    return df.sort_values([c for c in GRID if c in df.columns], kind="stable").reset_index(drop=True)
 
 
 # ---- the sweep --------------------------------------------------------------------
@@ -760,7 +828,13 @@ def _ctrl_c_sentinel():
 
 def _describe(task):
     return (
-        f"{task['container']} packing={task['packing']:g} n={task['n']} "
+        f"{task['container']} "
+        + (
+            f"pressure={task['betaP']:g} (from packing={task['packing']:g})"
+            if "betaP" in task
+            else f"packing={task['packing']:g}"
+        )
+        + f" n={task['n']} "
         f"seed={task['seed']}"
         + (f" radius_ratio={task['radius_ratio']:g}" if task["radius_ratio"] != 1 else "")
         + (f" mass_ratio={task['mass_ratio']:g}" if task["mass_ratio"] != 1 else "")

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..eos import carnahan_starling, hansen_goos
+from ..eos import carnahan_starling, hansen_goos, packing_at_pressure
 from ..maxwell import reduced_density, speed_density
 
 if TYPE_CHECKING:
@@ -444,21 +444,27 @@ def plot_sweep(
     if y not in obs:
         raise ValueError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
     df = df.sort_values(x, kind="stable")
-    others = [c for c in params if c != x and df[c].nunique() > 1]
+    # (at constant pressure "packing" is where each run started: not a series of its own)
+    others = [c for c in params if c != x and df[c].nunique() > 1 and not (x == "betaP" and c == "packing")]
     groups = list(df.groupby(others, sort=True)) if others else [((), df)]
-    reference = (
-        y in ("Z", "compressibility")
-        and x == "packing"
-        and (df["container"] == "box").all()
-        and (df["radius_ratio"] == 1).all()
-    )
+    pure_box = bool((df["container"] == "box").all() and (df["radius_ratio"] == 1).all())
+    # constant pressure: the mean packing against the inverse of Hansen-Goos
+    npt = y == "mean_packing" and x == "betaP" and pure_box
+    reference = npt or (y in ("Z", "compressibility") and x == "packing" and pure_box)
+
+    def curve(xs: np.ndarray) -> np.ndarray:
+        return np.array([packing_at_pressure(p) for p in xs]) if npt else hansen_goos(xs)
 
     fig = _figure(size, dpi)
     if reference:
         ax, dx = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
     else:
         ax, dx = fig.subplots(), None
-    if reference:
+    if npt:
+        grid = np.linspace(0.05, float(df[x].max()) * 1.05, 200)
+        ax.plot(grid, curve(grid), color="C3", lw=1.5, label="Hansen-Goos (2016), inverted")
+        dx.axhline(0.0, color="C3", lw=1)
+    elif reference:
         _eos_reference(ax, dx, float(df[x].max()))
     colors = ["C0", "C1", "C2", "C4", "C5", "C6", "C7", "C8", "C9"]  # C3 is the reference
     for k, (key, g) in enumerate(groups):
@@ -467,7 +473,7 @@ def plot_sweep(
         label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
         ax.errorbar(g[x], g[y], yerr=g[f"{y}_err"], fmt="o", ms=4, capsize=3, color=color, label=label)
         if dx is not None:
-            ref = hansen_goos(g[x].to_numpy(float))
+            ref = curve(g[x].to_numpy(float))
             dx.errorbar(
                 g[x],
                 100.0 * (g[y] / ref - 1.0),
@@ -483,7 +489,7 @@ def plot_sweep(
     ax.set_title(f"{y} against {x}: mean ± standard error{_seeds_note(df)}")
     last = dx if dx is not None else ax
     if dx is not None:
-        dx.set_ylabel(f"{y} / Z_HG - 1 [%]")
+        dx.set_ylabel(f"{y} / {'phi' if npt else 'Z'}_HG - 1 [%]")
         dx.grid(alpha=0.3)
     last.set_xlabel(x)
     return _save(fig, path, dpi)
