@@ -165,3 +165,17 @@ def test_bad_pressure_study_keys(data, words):
     assert "\n" not in str(e.value)
     for w in words:
         assert w in str(e.value)
+
+
+def test_the_crystal_and_disk_inverses():
+    from hardspheres.eos import kolafa_rottner, speedy_fcc
+
+    for bp in (12.0, 15.0, 20.0):
+        phi = packing_at_pressure(bp, speedy_fcc, (0.5, 0.74))
+        assert 6.0 * phi * float(speedy_fcc(phi)) / math.pi == pytest.approx(bp, rel=1e-13)
+    # at the coexistence packings of Fernandez et al. (2012), both fits give about 11.57
+    assert 6 * 0.5433 * float(speedy_fcc(0.5433)) / math.pi == pytest.approx(11.5727, abs=0.02)
+    phi = packing_at_pressure(3.0, kolafa_rottner, (0.0, 0.70), dimensions=2)
+    assert 4.0 * phi * float(kolafa_rottner(phi)) / math.pi == pytest.approx(3.0, rel=1e-13)
+    with pytest.raises(ValueError):
+        speedy_fcc(0.44)

@@ -453,21 +453,70 @@ def santos_yuste_haro(
     return 1.0 + phi / (1.0 - phi) * (1.0 + a - 2.0 * b) + (pure(phi) - 1.0) * (0.5 * (a + b))
 
 
-def packing_at_pressure(
-    pressure: float, eos: Callable[[ArrayLike], np.ndarray] | None = None, top: float = 0.6
-) -> float:
-    """The fluid's packing fraction at reduced pressure ``beta P sigma^3``: the inverse of ``eos``.
+def speedy_fcc(phi: ArrayLike) -> np.ndarray:
+    """Speedy's equation of state of the hard-sphere FCC crystal.
 
-    Solves ``6 phi Z(phi) / pi = beta P sigma^3`` (``rho sigma^3 =
-    6 phi / pi``) by bisection on ``(0, top)`` to the last bit (``phi Z`` is
-    increasing there); ``eos`` is :func:`hansen_goos` by default.  What a
-    constant-pressure run of the fluid should find on average (in the
-    thermodynamic limit).
+    R. J. Speedy, "Pressure and entropy of hard-sphere crystals", J. Phys.:
+    Condens. Matter 10, 4387 (1998), Eq. (2) with the FCC row of its
+    Table 1::
+
+        Z = 3 / (1 - z) - A (z - b) / (z - c),   z = rho sigma^3 / sqrt(2)
+
+    (``z`` the density over close packing's, ``z = phi / (pi sqrt(2) /
+    6)``), ``A = 0.5921``, ``b = 0.7072``, ``c = 0.601``: a fit to
+    simulations of the crystal between melting (``phi`` about 0.545) and
+    close packing (Table 1's coefficients as SklogWiki's page "Equations of
+    state for crystals of hard spheres" quotes them; the paper itself was
+    not reachable here).  It gives the coexistence pressure at the solid's
+    coexistence packing, 0.5433 (Fernandez et al. 2012): ``beta P sigma^3
+    = 11.57``, below.
 
     Args:
-        pressure: ``beta P sigma^3``, > 0 (and below ``eos``'s at ``top``).
-        eos: ``Z(phi)``, increasing ``phi Z`` on ``(0, top)``.
-        top: upper end of the search.
+        phi: packing fraction(s) of the crystal, in (0.4451, 0.7405): above
+            the fit's pole ``z = c`` (``phi = 0.4451``), below close packing.
+
+    Returns:
+        Z, dimensionless.
+
+    Example:
+        >>> phi = 0.5433
+        >>> round(float(6 * phi * speedy_fcc(phi) / math.pi), 2)
+        11.57
+    """
+    phi = np.asarray(phi, dtype=float)
+    close = math.pi * math.sqrt(2.0) / 6.0
+    z = phi / close
+    if np.any((z <= _SPEEDY_FCC[2]) | (z >= 1.0)):
+        raise ValueError(f"Speedy's crystal fit needs phi in ({_SPEEDY_FCC[2] * close:.4f}, {close:.4f})")
+    a, b, c = _SPEEDY_FCC
+    return 3.0 / (1.0 - z) - a * (z - b) / (z - c)
+
+
+#: Speedy (1998), Table 1, FCC: ``A, b, c``.
+_SPEEDY_FCC = (0.5921, 0.7072, 0.601)
+
+
+def packing_at_pressure(
+    pressure: float,
+    eos: Callable[[ArrayLike], np.ndarray] | None = None,
+    bounds: tuple[float, float] = (0.0, 0.6),
+    dimensions: int = 3,
+) -> float:
+    """The packing fraction at reduced pressure ``beta P sigma^d``: the inverse of ``eos``.
+
+    Solves ``phi Z(phi) / v_d = beta P sigma^d`` (``rho sigma^d = phi /
+    v_d``, ``v_3 = pi / 6``, ``v_2 = pi / 4``: disks' area fraction) by
+    bisection on ``bounds`` to the last bit (``phi Z`` is increasing there);
+    ``eos`` is :func:`hansen_goos` by default (:func:`speedy_fcc` for the
+    crystal with ``bounds=(0.5, 0.74)``, :func:`kolafa_rottner` for disks
+    with ``dimensions=2``).  What a constant-pressure run should find on
+    average (in the thermodynamic limit).
+
+    Args:
+        pressure: ``beta P sigma^d``, > 0, between ``eos``'s at the bounds.
+        eos: ``Z(phi)``, with ``phi Z`` increasing on ``bounds``.
+        bounds: the packings searched.
+        dimensions: 3, or 2 for disks.
 
     Example:
         >>> phi = packing_at_pressure(5.0)
@@ -475,16 +524,20 @@ def packing_at_pressure(
         (0.392914, 5.0)
     """
     f = hansen_goos if eos is None else eos
+    vd = math.pi / 6.0 if dimensions == 3 else math.pi / 4.0
     p = float(pressure)
     if not (math.isfinite(p) and p > 0.0):
         raise ValueError(f"pressure must be a finite number > 0, got {pressure!r}")
 
     def bp(phi: float) -> float:
-        return 6.0 * phi * float(f(phi)) / math.pi
+        return phi * float(f(phi)) / vd if phi > 0.0 else 0.0
 
-    if p >= bp(top):
-        raise ValueError(f"pressure {p:g} is above the equation of state's {bp(top):.6g} at packing {top:g}")
-    lo, hi = 0.0, float(top)
+    lo, hi = (float(x) for x in bounds)
+    if not bp(lo) <= p < bp(hi):
+        raise ValueError(
+            f"pressure {p:g} is outside the equation of state's {bp(lo):.6g} to {bp(hi):.6g} "
+            f"(packings {lo:g} to {hi:g})"
+        )
     while True:
         mid = 0.5 * (lo + hi)
         if mid in (lo, hi):
@@ -503,7 +556,7 @@ def inverse_compressibility(
     At constant pressure it sets the volume's fluctuations, ``<dV^2> /
     <V>^2 = 1 / (N d(phi Z)/d phi)`` (the fluctuation formula ``<dV^2> =
     kT V kappa_T``; e.g. Allen & Tildesley, *Computer Simulation of Liquids*,
-    2nd ed. 2017, section 2.5).  A central difference of ``phi Z(phi)``
+    2nd ed. 2017, section 2.5; in 2-D the same with the area).  A central difference of ``phi Z(phi)``
     with step ``1e-5`` (``eos``'s error is far larger than the step's
     ``1e-10``); ``eos`` is :func:`hansen_goos` by default.
 
