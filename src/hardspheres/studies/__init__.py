@@ -252,7 +252,7 @@ def parse_study(data, source=None, base=None):
         >>> parse_study({"packing": 0.8, "n": 100})
         Traceback (most recent call last):
         ...
-        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.7405)
+        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.7405) (disks: up to 0.72)
     """
     if not isinstance(data, dict):
         raise StudyError(f"{_where(source)}a study is a table of keys, not {type(data).__name__}")
