@@ -8,6 +8,7 @@ benchmark all go through it.
 from __future__ import annotations
 
 import operator
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
@@ -69,7 +70,7 @@ _INTERNAL = {"masses": "_masses", "images": "_images"}
 _core_arrays = operator.attrgetter(*(_INTERNAL.get(k, k) for k in core.ARRAYS))
 
 
-def _spread_bits(q):
+def _spread_bits(q: np.ndarray) -> np.ndarray:
     """The low 21 bits of each ``q`` (uint64) spread out to every third bit (Morton codes)."""
     q = q & np.uint64(0x1FFFFF)
     for shift, mask in (
@@ -192,7 +193,7 @@ class Engine:
         """``(N,)`` int64: the input index of the engine's sphere ``i`` (a view: do not write)."""
         return self.book[:, core.ORIGIN]
 
-    def _set_rank(self):
+    def _set_rank(self) -> None:
         """The input order's sphere ``k`` is the engine's ``_rank[k]`` (None: the same order)."""
         n = self.n
         order = self.order
@@ -202,7 +203,7 @@ class Engine:
             self._rank = np.empty(n, np.int64)
             self._rank[order] = np.arange(n)
 
-    def _shown(self, a):
+    def _shown(self, a: np.ndarray) -> np.ndarray:
         """A per-sphere array of the engine's order in the input order (itself while they agree)."""
         return a if self._rank is None else a[self._rank]
 
@@ -218,7 +219,7 @@ class Engine:
         return self._shown(self._images if d == 3 else self._images[:, :d])
 
     @images.setter
-    def images(self, value):
+    def images(self, value: ArrayLike) -> None:
         d = self.dimensions
         self._images[:, :d] = np.asarray(value, dtype=np.int64).reshape(-1, d)[self.order]
 
@@ -233,23 +234,23 @@ class Engine:
         return self._shown(self.spheres[:, core.RADIUS])
 
     # ---- the engine's order of the spheres ------------------------------------
-    def _inside_at(self, t):
+    def _inside_at(self, t: float) -> np.ndarray:
         """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
         out = np.empty((self.n, 3))
         core.positions_at(self.spheres, t, out, self._edges)
         return out
 
     @property
-    def _edges(self):
+    def _edges(self) -> np.ndarray:
         """The box's sides as the core reads them (zeros: no box), a view."""
         return self.scalars[core.F_EDGE : core.F_EDGE + 3]
 
     @property
-    def _cells(self):
+    def _cells(self) -> np.ndarray:
         """Cells per axis, a view."""
         return self.counts[core.C_GRID : core.C_GRID + 3]
 
-    def _morton(self, x):
+    def _morton(self, x: np.ndarray) -> np.ndarray:
         """The engine's spheres in Morton (Z-curve) order of their places ``x``.
 
         The centres are quantised to a grid of ``2^b`` per axis over the cells'
@@ -272,7 +273,7 @@ class Engine:
         )
         return np.argsort(code, kind="stable")
 
-    def _permute(self, perm, built=True):
+    def _permute(self, perm: ArrayLike, built: bool = True) -> None:
         """Put the spheres in the order ``perm`` (``perm[k]``: the sphere that comes ``k``-th).
 
         Every per-sphere array moves with its spheres and every sphere
@@ -331,7 +332,7 @@ class Engine:
             float(self.scalars[core.F_BUCKET_RATE]),
         )
 
-    def _reorder(self):
+    def _reorder(self) -> None:
         """The spheres in Morton order of their places now (see :meth:`_permute`)."""
         self._since_reorder = 0
         if self.n > 1:
@@ -339,7 +340,7 @@ class Engine:
             if not np.array_equal(perm, np.arange(self.n)):
                 self._permute(perm)
 
-    def _kinetic_sums(self):
+    def _kinetic_sums(self) -> None:
         """The core's kinetic tensor and energy current, summed in the input order."""
         if self._rank is None:
             core.kinetic_sums(self.spheres, self._masses, self.scalars)
@@ -357,7 +358,7 @@ class Engine:
         """``(d,)`` sides of the periodic box as the core reads them [length], or ``None`` (no box)."""
         return self._edges[: self.dimensions].copy() if self.scalars[core.F_BOX] else None
 
-    def _grid(self, n, headroom=1.0):
+    def _grid(self, n: int, headroom: float = 1.0) -> None:
         radii = self.radii_at() if n else self.radii
         sigma = 2.0 * float(radii.max()) * headroom if n else 0.0
         params = self.container.core_params()
@@ -401,7 +402,7 @@ class Engine:
         self.scalars[core.F_W] = self.scalars[core.F_WIDTH]
         self.cell_head = np.full(int(np.prod(self._cells)), -1, np.int64)
 
-    def _into_box(self):
+    def _into_box(self) -> None:
         """The centres into the periodic box, whole sides at a time (the image counts the other way).
 
         Once, at the start: from then on a centre moves by a side exactly when
@@ -417,7 +418,7 @@ class Engine:
             x[moved] -= k[moved] * edge
             self._images[moved, ax] += k[moved].astype(np.int64)
 
-    def _build(self):
+    def _build(self) -> None:
         while True:
             longest = core.build(self.arrays, CAL_PER_BUCKET)
             if longest <= self.neighbours.shape[1]:
@@ -428,7 +429,7 @@ class Engine:
         self._kinetic_sums()
         self._queue_anew(first=True)
 
-    def _queue_anew(self, first=False):
+    def _queue_anew(self, first: bool = False) -> None:
         """When the calendar is next made anew: N events after a build, then 2N, 4N, ...
 
         Its bucket width comes from the predictions; right after a build
@@ -442,7 +443,7 @@ class Engine:
             self._queue_every *= 2
         self._since_queue = 0
 
-    def _widen_lists(self):
+    def _widen_lists(self) -> None:
         """Twice as many entries per neighbour list (the lists stay as they are)."""
         wider = np.zeros((self.n, 2 * self.neighbours.shape[1] + 8), np.int32)
         wider[:, : self.neighbours.shape[1]] = self.neighbours
@@ -459,7 +460,7 @@ class Engine:
         """Time of the last processed event (or the start) [time]."""
         return self.offset + self.scalars[core.F_CLOCK]
 
-    def _rebase(self):
+    def _rebase(self) -> None:
         """The time origin to the clock, every prediction made afresh from the moved centres.
 
         (A prediction shifted to the new origin would round otherwise than
@@ -473,24 +474,24 @@ class Engine:
         self._requeue()
         self._since_rebase = 0
 
-    def _requeue(self):
+    def _requeue(self) -> None:
         """The event calendar made anew (its buckets from the predictions now)."""
         heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
         core.requeue(*heap, self.due, self.book, self.scalars, self.counts, CAL_PER_BUCKET, 0.0)
 
     @property
-    def window(self):
+    def window(self) -> float:
         """The simultaneity window [time]."""
         return float(self.scalars[core.F_WINDOW])
 
     # ---- growth and velocities -----------------------------------------------
     @property
-    def growth(self):
+    def growth(self) -> float:
         """Radii's relative growth rate now: ``dR_i/dt / R_i`` [1/time] (0: off)."""
         g = self.scalars[core.F_GROW]
         return float(g / (1.0 + g * self.scalars[core.F_CLOCK])) if g else 0.0
 
-    def set_growth(self, rate):
+    def set_growth(self, rate: float) -> None:
         """Grow every radius from now at ``dR_i/dt = rate * R_i(now)`` [1/time]; 0 stops.
 
         Radii then grow linearly in time (each at its own constant speed,
@@ -504,18 +505,18 @@ class Engine:
         self.scalars[core.F_GROW] = rate
         self._regrid()
 
-    def _regrid(self):
+    def _regrid(self) -> None:
         """Cells for the radii now (with room to grow), everything predicted afresh."""
         self._grid(self.n, self._headroom())
         self._build()
 
-    def _packing(self, radii):
+    def _packing(self, radii: np.ndarray) -> float:
         """Packing fraction of spheres of ``radii`` (area fraction in 2-D)."""
         if self.dimensions == 2:
             return float(np.sum(radii**2)) * np.pi / self.container.volume
         return float(np.sum(radii**3)) * (4.0 / 3.0) * np.pi / self.container.volume
 
-    def _headroom(self):
+    def _headroom(self) -> float:
         """Room to grow for the cells and lists made now (reach over radius; 1 without growth).
 
         A rebuild (about as dear as a few events per sphere) against the
@@ -547,7 +548,7 @@ class Engine:
         room = np.sqrt(8.0 * g / nu) if nu > 0.0 else np.inf
         return 1.0 + min(max(room, HEADROOM_MIN - 1.0), HEADROOM_MAX - 1.0)
 
-    def _grid_limit(self):
+    def _grid_limit(self) -> float:
         """Absolute time the growing radii outgrow the cells or their neighbour lists' reach.
 
         ``inf``: never.
@@ -572,7 +573,7 @@ class Engine:
         ratio = float(np.min(self.shells[grows, core.REACH] / r[grows]))
         return self.offset + (ratio - 1.0) / g
 
-    def move_clock(self, t):
+    def move_clock(self, t: float) -> None:
         """Move the clock to absolute time ``t`` (no event may be pending before it)."""
         t = float(t) - self.offset
         if self.n and self.heap_t[0] < t:
@@ -580,7 +581,7 @@ class Engine:
         if t > self.scalars[core.F_CLOCK]:
             self.scalars[core.F_CLOCK] = t
 
-    def radii_at(self, t=None):
+    def radii_at(self, t: float | None = None) -> np.ndarray:
         """``(N,)`` radii at absolute time ``t`` (default: now) [length]."""
         g = self.scalars[core.F_GROW]
         if not g:
@@ -588,7 +589,7 @@ class Engine:
         t = self.time if t is None else t
         return self.radii * (1.0 + g * (t - self.offset))
 
-    def rescale_velocities(self, factor):
+    def rescale_velocities(self, factor: float) -> None:
         """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
         self._rebase()
         f = self.scalars
@@ -600,7 +601,7 @@ class Engine:
         self._kinetic_sums()
         self._build()
 
-    def kick(self, i, t, velocity):
+    def kick(self, i: int, t: float, velocity: Iterable[float]) -> None:
         """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``."""
         t = float(t) - self.offset
         if t < self.scalars[core.F_CLOCK]:
@@ -612,7 +613,7 @@ class Engine:
         i = int(i)
         core.kick(self.arrays, i if self._rank is None else int(self._rank[i]), t, vx, vy, vz)
 
-    def rescale_box(self, container, factors):
+    def rescale_box(self, container: Container, factors: ArrayLike) -> None:
         """Put the spheres in ``container``, a periodic box ``factors`` times this one's sides, now.
 
         ``factors``: one per side (``d`` of them: two in 2-D).
@@ -848,7 +849,9 @@ class Engine:
         return eng
 
     # ---- state ------------------------------------------------------------
-    def positions_at(self, t: float | None = None, out: np.ndarray | None = None, spheres=None) -> np.ndarray:
+    def positions_at(
+        self, t: float | None = None, out: np.ndarray | None = None, spheres: Sequence[int] | None = None
+    ) -> np.ndarray:
         """``(N, d)`` centres of all spheres at absolute time ``t`` (default: now) [length].
 
         In a periodic box the centres are wrapped into the box.  With
@@ -859,7 +862,9 @@ class Engine:
             return self._positions_at(t, out, spheres)
         return _planar(self._positions_at(t, None, spheres), out, spheres, self.n)
 
-    def _positions_at(self, t, out, spheres):
+    def _positions_at(
+        self, t: float | None, out: np.ndarray | None, spheres: Sequence[int] | None
+    ) -> np.ndarray:
         """:meth:`positions_at` with three columns (in 2-D the last is 0)."""
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
@@ -878,7 +883,7 @@ class Engine:
             out[self.order] = self._inside_at(t - self.offset)
         return out
 
-    def unwrapped_at(self, t=None, out=None):
+    def unwrapped_at(self, t: float | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, d)`` unwrapped centres at absolute time ``t`` (default: now) [length].
 
         Periodic box: the centre in the box plus ``images * box``, with
@@ -889,7 +894,7 @@ class Engine:
             return self._unwrapped_at(t, out)
         return _planar(self._unwrapped_at(t, None), out, None, self.n)
 
-    def _unwrapped_at(self, t, out):
+    def _unwrapped_at(self, t: float | None, out: np.ndarray | None) -> np.ndarray:
         t = self.time if t is None else t
         out = np.empty((self.n, 3)) if out is None else out
         if self._rank is None:
@@ -901,7 +906,7 @@ class Engine:
         return out
 
     @property
-    def idle(self):
+    def idle(self) -> bool:
         """Whether nothing will ever happen again (no spheres, or no event or crossing ahead)."""
         return self.n == 0 or not self.heap_t[0] < np.inf
 
@@ -919,7 +924,7 @@ class Engine:
             "refreshed": int(c[core.C_REFRESHED]),
         }
 
-    def transport_tallies(self, t=None):
+    def transport_tallies(self, t: float | None = None) -> dict[str, np.ndarray]:
         """The transport tallies at absolute time ``t`` (default: now; periodic box).
 
         Returns:
@@ -979,7 +984,7 @@ class Engine:
         return float(kinetic_energy(self.masses, self.velocities))
 
 
-def _planar(full, out, spheres, n):
+def _planar(full: np.ndarray, out: np.ndarray | None, spheres: Sequence[int] | None, n: int) -> np.ndarray:
     """The first two columns of ``full`` (2-D), into ``out`` if given (only rows ``spheres``)."""
     if out is None:
         out = np.empty((n, 2))
@@ -988,7 +993,7 @@ def _planar(full, out, spheres, n):
     return out
 
 
-def _columns(a, n, d, what):
+def _columns(a: ArrayLike, n: int, d: int, what: str) -> np.ndarray:
     """``a`` as ``(n, d)`` float64; :class:`BoxShapeError` if it has another number of components."""
     a = np.asarray(a, dtype=np.float64)
     if a.size != n * d or (a.ndim == 2 and a.shape[1] != d):
