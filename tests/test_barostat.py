@@ -329,3 +329,31 @@ def test_a_z_move_refused_in_two_dimensions():
     with pytest.raises(BarostatError) as e:
         sim.set_barostat(Barostat(pressure=1.0, axes="z"))
     assert "'xy'" in str(e.value) and "\n" not in str(e.value)
+
+
+def test_the_fluid_at_constant_pressure_against_hansen_goos():
+    # the cheap version of validation/constant_pressure.py: 64 spheres at
+    # beta P sigma^3 = 5, 8000 moves; the mean packing and N var(V)/<V>^2
+    # within 3 blocked standard errors of the inverse of Hansen-Goos and of
+    # 1 / (d(phi Z)/d phi) (a finite-N bias of O(1/N) is inside the errors)
+    from hardspheres.eos import inverse_compressibility, packing_at_pressure
+
+    phi0 = packing_at_pressure(5.0)
+    box = hs.PeriodicBox.for_packing(64, phi0)
+    sim = hs.Simulation(hs.random_spheres(64, phi0, box=box.length, seed=3), box)
+    sim.run(collisions=20 * 64)
+    bar = Barostat(pressure=5.0, kT=1.0, seed=3)
+    sim.set_barostat(bar)
+    bar.attach(sim)
+    sim.run(until=bar.next_time + 999 * bar.every)
+    vols = []
+    for _ in range(8000):
+        sim.run(until=bar.next_time)
+        vols.append(sim.container.volume)
+    v = np.array(vols)
+    solid = sim.packing * sim.container.volume
+    b = blocking(solid / v)
+    assert abs(b.mean - phi0) < 3 * b.sem and b.sem < 0.005
+    q = blocking(64 * (v - v.mean()) ** 2 / v.mean() ** 2)
+    ref = 1.0 / float(inverse_compressibility(phi0))
+    assert abs(q.mean - ref) < 3 * q.sem and q.sem < 0.4 * ref
