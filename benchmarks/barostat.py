@@ -33,7 +33,7 @@ def main() -> None:
     for n in [int(x) for x in sys.argv[1:]] or [256, 2048]:
         box = hs.PeriodicBox.for_packing(n, phi)
 
-        def make() -> hs.Simulation:
+        def make(n: int = n, box: hs.PeriodicBox = box) -> hs.Simulation:
             return hs.Simulation(hs.random_spheres(n, phi, box=box.length, seed=1), box)
 
         nve = rate(make(), n)
@@ -45,7 +45,8 @@ def main() -> None:
             bar.every /= per
             bar.next_time = sim.time + bar.every
             npt = rate(sim, n)
-            print(f"| {n} | {nve:.3g} | {per} | {npt:.3g} | {npt / nve:.2f} | {bar.acceptance:.2f} |", flush=True)
+            ratio = npt / nve
+            print(f"| {n} | {nve:.3g} | {per} | {npt:.3g} | {ratio:.2f} | {bar.acceptance:.2f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -23,11 +23,13 @@ moves; the mean packing and ``N var(V) / <V>^2`` get blocked standard
 errors (hardspheres.blocking), and ``z = (measured - reference) / error``.
 The references are for infinite N; the finite-N corrections of an NPT mean
 are O(1/N) and are not removed.  Prints a Markdown table and its running
-time: about 9 minutes on one core of this (shared) machine with the
-defaults (N = 500 spheres or 4 x 4 x 8 FCC cells = 512, 400 disks; 3000 +
-40000 moves); ``--csv`` writes the rows.
+time: about 5 minutes on one core of this (shared) machine with the
+defaults (N = 108 spheres, 3 x 3 x 3 FCC cells = 108, 108 disks; 2000 +
+40000 moves), 1.5 more for ``--only fcc --fcc-axes none``; ``--csv``
+writes the rows.
 
-usage: python3 validation/constant_pressure.py [--moves M] [--equilibrate E] [--only fluid,fcc,disks] [--csv FILE]
+usage: python3 validation/constant_pressure.py [--moves M] [--equilibrate E]
+       [--only fluid,fcc,disks] [--fcc-axes xyz|none] [--csv FILE]
 """
 
 from __future__ import annotations
