@@ -227,12 +227,26 @@ def plot(paths: list[str], png: str) -> None:
         for name, data in extra:
             p, v, e = zip(*[d for d in data if 0.688 <= d[0] <= 0.722], strict=True)
             ax.errorbar(p, v, e, fmt="s", ms=3, color="tab:green", mfc="none", capsize=2, label=name)
-        ours = [r for r in rows if r["n"] == n]
-        if ours:
-            ax.errorbar([r["phi"] for r in ours], [r["bp"] for r in ours], [r["error"] for r in ours],
-                        fmt="o", ms=4, color="tab:red", capsize=3, label="hardspheres (EDMD)")  # fmt: skip
+
+        def key(r: dict) -> tuple[float, float, float]:
+            return (r.get("compressed", 0.0), r["equilibrate"], r["measure"])
+
+        mine = [r for r in rows if r["n"] == n]
+        for k, run_key in enumerate(sorted({key(r) for r in mine})):
+            ours = [r for r in mine if key(r) == run_key]
+            start = "compressed from 0.60" if run_key[0] else "random start"
+            ax.errorbar(
+                [r["phi"] + 0.0003 * k for r in ours],
+                [r["bp"] for r in ours],
+                [r["error"] for r in ours],
+                fmt="os^"[k % 3],
+                ms=4,
+                color=("tab:red", "tab:blue", "tab:purple")[k % 3],
+                capsize=3,
+                label=f"hardspheres EDMD, {start}, {run_key[1]:.0f} + {run_key[2]:.0f} per disk",
+            )
         ax.set(title=title, xlabel="packing fraction", ylabel="beta P sigma^2 (sigma: diameter)")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7, loc="best")
     with fileio.atomic_path(png) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
 
