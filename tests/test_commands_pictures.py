@@ -214,3 +214,87 @@ def test_readme_pictures_commands_run(tmp_path):
     img = assert_picture(tmp_path / "viewer.png", (960, 640), min_colours=200)
     scene = img[100:540, 240:720]  # the middle of the canvas: spheres, not background
     assert len(np.unique(scene.reshape(-1, 3), axis=0)) > 500 and scene.std() > 20
+
+
+TWO_SPHERES = "1 0.5 0 0 0 1 0.3 0.2 a\n1 0.5 2 0 0 -1 0.3 0.2 b\n"
+
+
+def test_view_of_a_long_run_with_fine_frames_stays_bounded_in_memory(tmp_path):
+    """Issue 29 item 8: ``view s.txt --box 10 --until 1e6 --every 1e-9 -o v.html``
+    grew in memory until the machine ran out (every frame was kept, and every
+    event).  Now only the frames the page shows are recorded, and the events
+    are thinned, with a note.  (Before the fix this run passed 1 GiB within
+    about two minutes; the test kills it there.)"""
+    import sys
+
+    import psutil
+    from helpers import ENV
+
+    (tmp_path / "s.txt").write_text(TWO_SPHERES)
+    argv = [sys.executable, "-m", "hardspheres", "view", "s.txt", "--box", "10", "--until", "1e3"]
+    proc = subprocess.Popen(
+        argv + ["--every", "1e-6", "-o", "v.html"],
+        cwd=tmp_path,
+        env=ENV,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    peak = 0
+    try:
+        while proc.poll() is None and peak < 2**30:
+            try:
+                peak = max(peak, psutil.Process(proc.pid).memory_info().rss)
+            except psutil.NoSuchProcess:
+                break
+            try:
+                proc.wait(timeout=0.2)
+            except subprocess.TimeoutExpired:
+                pass
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        out, err = proc.communicate()
+    assert peak < 2**30, f"the viewer's run took {peak / 2**30:.2f} GiB and was stopped"
+    assert proc.returncode == 0, err
+    note = [x for x in err.splitlines() if "note:" in x]
+    assert len(note) == 1 and "1e+09 frames and 600 are shown" in note[0], err
+    data = embedded_data((tmp_path / "v.html").read_text())
+    assert data["nframes"] == 600 and data["nframes_total"] <= 601
+
+
+def test_recorder_thins_events_evenly_and_the_page_counts_all(tmp_path):
+    """FrameRecorder(max_events=M) keeps every 2**k-th event of the run (at most
+    2M), Frames.events_every says k, and the viewer's counts are the run's."""
+    import hardspheres as hs
+    from hardspheres.io.trajectory import FrameRecorder
+    from hardspheres.viz.viewer import viewer_page
+
+    def run(max_events):
+        sim = hs.Simulation(hs.random_spheres(30, 0.3, container=6.0, seed=5), hs.SphericalContainer(6.0))
+        rec = FrameRecorder(0.5, max_events=max_events)
+        sim.writers.append(rec)
+        sim.run(until=20.0)
+        return rec.frames(), sim.counters
+
+    whole, counters = run(None)
+    thin, _ = run(100)
+    assert whole.events_every == 1 and len(whole.events) == counters["collisions"] + counters["reflections"]
+    assert thin.events_every > 1 and len(thin.events) <= 200
+    np.testing.assert_array_equal(thin.events, whole.events[:: thin.events_every])
+    page = embedded_data(viewer_page(thin))["events"]
+    assert page["total"] == len(thin.events) * thin.events_every
+    assert abs(page["total"] - len(whole.events)) < thin.events_every
+
+
+@pytest.mark.parametrize("command", ["render", "plot"])
+def test_frames_that_cannot_fit_in_memory_are_refused_before_the_run(tmp_path, command):
+    """render and plot keep every frame they are asked for: those that cannot
+    fit in half of this machine's memory are refused in one line (was: memory
+    exhausted, as view's)."""
+    (tmp_path / "s.txt").write_text(TWO_SPHERES)
+    kind = ["msd"] if command == "plot" else []
+    args = ["s.txt", "--box", 10, "--until", "1e6", "--every", "1e-9", "-o", "x.png"]
+    done = hs_cmd(command, *kind, *args, cwd=tmp_path)
+    assert done.returncode == 1 and done.stderr.count("\n") == 1, done.stderr
+    assert "GiB in memory" in done.stderr and "use --every" in done.stderr, done.stderr

@@ -538,3 +538,47 @@ def test_studies_take_dimensions_and_box_sides(tmp_path):
     assert [t["key"] for t in studies.tasks(cube)][:2] == ["6910268f852191f3", "fc0ef0d181844d2a"]
     box = studies._build(studies.tasks(long)[0]).container
     assert box.sides[2] == pytest.approx(2 * box.sides[0]) and box.sides[0] == box.sides[1]
+
+
+def test_a_full_disk_on_a_local_cluster_is_one_line_and_the_rerun_is_right(tmp_path):
+    """Issue 29 item 8: a full disk gave 49 lines of worker tracebacks around the
+    one line naming the file.  Now the one line; after space is freed the rerun
+    gives the same bits as a serial run on a roomy disk."""
+    if not (
+        os.geteuid() == 0 and subprocess.run(["mount", "--version"], capture_output=True).returncode == 0
+    ):
+        pytest.skip("cannot mount a tmpfs here (needs root)")
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    if subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(disk)], capture_output=True
+    ).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        (disk / "s.toml").write_text(TINY_STUDY)
+        filler = disk / "filler"
+        fd = os.open(filler, os.O_WRONLY | os.O_CREAT)  # all but a few kB: the folders fit, a row does not
+        try:
+            while os.write(fd, b"\0" * 4096):
+                pass
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
+        os.truncate(filler, max(0, filler.stat().st_size - 3 * 4096))
+        full = hs_cmd("sweep", "s.toml", "--workers", 1, cwd=disk, timeout=240)
+        assert full.returncode == 1, full.stderr
+        said = [x for x in full.stderr.splitlines() if x.strip() and "compiling the event core" not in x]
+        assert len(said) == 1 and "Traceback" not in full.stderr, full.stderr
+        assert "No space left on device" in said[0] and str(disk) in said[0], said
+        filler.unlink()
+        again = hs_cmd("sweep", "s.toml", "--workers", 1, cwd=disk, timeout=240)
+        assert again.returncode == 0, again.stderr
+        (tmp_path / "roomy").mkdir()
+        (tmp_path / "roomy" / "s.toml").write_text(TINY_STUDY)
+        studies.sweep(tmp_path / "roomy" / "s.toml", serial=True)
+        pd.testing.assert_frame_equal(
+            _results(disk / "out"), _results(tmp_path / "roomy" / "out"), check_exact=True
+        )
+    finally:
+        subprocess.run(["umount", str(disk)], check=False)

@@ -39,6 +39,9 @@ class Frames:
         event_times, event_kinds, event_i, event_j: instead of ``events``,
             its columns.
         images: ``(F, N, 3)`` int64 periodic images (periodic box), or ``None``.
+        events_every: ``events`` holds every this-many-th event of the run
+            (1: all of them; more when a recorder thinned them to bound its
+            memory, :class:`~hardspheres.io.trajectory.FrameRecorder`).
 
     Attributes:
         container: the container, or ``None``.
@@ -68,6 +71,7 @@ class Frames:
         event_i: ArrayLike | None = None,
         event_j: ArrayLike | None = None,
         images: np.ndarray | None = None,
+        events_every: int = 1,
     ) -> None:
         self.times = np.asarray(times, dtype=np.float64)
         self.positions = np.asarray(positions, dtype=np.float64)
@@ -90,6 +94,9 @@ class Frames:
         else:
             self.events = empty_events()
         self.images = None if images is None else np.asarray(images, dtype=np.int64)
+        self.events_every = int(events_every)
+        if self.events_every < 1:
+            raise ValueError(f"Frames: events_every must be a whole number >= 1, got {events_every!r}")
 
     def __repr__(self) -> str:
         times = np.asarray(self.times)
@@ -136,6 +143,7 @@ class Frames:
             container=self.container,
             events=self.events,
             images=self.images,
+            events_every=self.events_every,
         )
         unknown = set(changes) - set(args)
         if unknown:

@@ -15,8 +15,10 @@ read from the same nine-field scenario lines as spheres, with ``z = 0`` and
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import warnings
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ..messages import quote
@@ -148,8 +150,31 @@ def check_source(args: argparse.Namespace) -> None:
         )
 
 
-def frames_from_args(args: argparse.Namespace) -> Frames:
-    """Frames from a trajectory file, or from a scenario run on the spot."""
+#: The events a command that runs a scenario on the spot keeps in memory, at
+#: most about twice this many (evenly thinned past it): the viewer shows
+#: 200000 at most, a still none.
+MAX_EVENTS_KEPT = 200_000
+
+#: Bytes a frame of one sphere takes in memory while it is recorded (a
+#: position, a velocity and a periodic image, 3 components of 8 bytes each).
+FRAME_BYTES_PER_SPHERE = 72
+
+
+def frames_from_args(args: argparse.Namespace, most: Callable[[int], int] | None = None) -> Frames:
+    """Frames from a trajectory file, or from a scenario run on the spot.
+
+    Args:
+        args: the command's arguments (``input``, and for a scenario
+            ``until``, ``every`` and the container).
+        most: for a scenario, the most frames the command can use for ``n``
+            spheres (the viewer's page holds at most 600): past it, frames
+            are kept on a coarser grid (a whole multiple of ``--every``) and
+            a note says so.  Without it, frames that cannot fit in half of
+            this machine's memory are refused before the run.
+
+    The run's events are kept evenly thinned past :data:`MAX_EVENTS_KEPT`,
+    so memory stays bounded however long the run.
+    """
     from ..io.trajectory import frames_from_simulation, read_trajectory
 
     path = args.input
@@ -166,4 +191,29 @@ def frames_from_args(args: argparse.Namespace) -> Frames:
         sim = starting_simulation(args, scenario=path)
     except ValueError as e:
         raise ValueError(f"{path}: {str(e).removeprefix(path + ': ')}") from None
-    return frames_from_simulation(sim, until=args.until, every=args.every or args.until / 200)
+    span = args.until - sim.time
+    every = args.every or span / 200
+    frames = math.floor(span / every) + 1  # and the last, at --until, when off the grid
+    if most is not None:
+        cap = max(2, most(sim.n))
+        if frames > cap:
+            stride = math.ceil((frames - 1) / (cap - 1))
+            print(
+                f"hardspheres {args.command}: note: --every {every:g} gives {frames:.3g} frames and "
+                f"{cap} are shown, so one is kept every {every * stride:.6g} (memory stays bounded)",
+                file=sys.stderr,
+            )
+            every *= stride
+    else:
+        from ..builders import machine_memory
+
+        mem = machine_memory()
+        need = float(frames) * sim.n * FRAME_BYTES_PER_SPHERE
+        if mem is not None and need > mem / 2:
+            fit = max(2, int(mem / 2 / (sim.n * FRAME_BYTES_PER_SPHERE)))
+            raise ValueError(
+                f"--every {every:g}: {frames:.3g} frames of {sim.n} spheres would take about "
+                f"{need / 2**30:.3g} GiB in memory, and this machine has {mem / 2**30:.3g} GiB: "
+                f"use --every {span / (fit - 1):.3g} or more"
+            )
+    return frames_from_simulation(sim, until=args.until, every=every, max_events=MAX_EVENTS_KEPT)

@@ -47,7 +47,10 @@ def run(args: argparse.Namespace) -> int:
     from ..viz.screenshot import screenshot
     from ..viz.viewer import write_viewer
 
-    frames = frames_from_args(args)
+    from ..frames import frame_indices
+
+    # the page shows at most frame_indices' frames: only those are recorded
+    frames = frames_from_args(args, most=lambda n: len(frame_indices(2**62, n)))
     write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice, color_by=args.color)
     noun = "disks" if frames.positions.shape[-1] == 2 else "spheres"
     print(f"wrote {args.output} ({frames.n} {noun}, {len(frames.times)} frames)")

@@ -644,17 +644,65 @@ def _three(a: ArrayLike) -> np.ndarray:
 
 # ---- in memory -------------------------------------------------------------------
 class FrameRecorder(_FrameWriter):
-    """Keeps frames in memory; :meth:`frames` returns them as :class:`Frames`."""
+    """Keeps frames in memory; :meth:`frames` returns them as :class:`Frames`.
+
+    Args:
+        every, events, trigger: as for the writers (:class:`GSDWriter`).
+        max_events: keep at most about twice this many events: past it, every
+            other kept event is dropped and then only every ``2**k``-th event
+            of the run is kept (evenly thinned; ``Frames.events_every`` says
+            which).  ``None``: keep them all (memory grows with the run).
+
+    Example:
+        >>> rec = FrameRecorder(1.0, max_events=2)
+        >>> rec.observe(np.zeros(5, EVENT_DTYPE)); rec.events_every, rec.events_kept
+        (2, 3)
+    """
 
     def __init__(
-        self, every: float | None = None, events: bool = True, *, trigger: Trigger | None = None
+        self,
+        every: float | None = None,
+        events: bool = True,
+        *,
+        trigger: Trigger | None = None,
+        max_events: int | None = None,
     ) -> None:
         super().__init__(every, events, trigger=trigger)
+        if max_events is not None and not (isinstance(max_events, int) and max_events >= 1):
+            raise ValueError(
+                f"FrameRecorder: max_events must be a whole number >= 1 or None, got {max_events!r}"
+            )
+        self.max_events = max_events
+        #: the events kept are every this-many-th of the run's
+        self.events_every = 1
+        self._seen = 0  # events observed, kept or not
         self._times: list[float] = []
         self._pos: list[np.ndarray] = []
         self._vel: list[np.ndarray] = []
         self._ev: list[np.ndarray] = []
         self._img: list[np.ndarray | None] = []
+
+    @property
+    def events_kept(self) -> int:
+        """How many events are kept now."""
+        return sum(len(e) for e in self._ev) + sum(len(e) for e in self._events)
+
+    def observe(self, ev: np.ndarray) -> None:
+        if self.max_events is None:
+            super().observe(ev)
+            return
+        if not len(ev):
+            return
+        # the k-th event of the run is kept when k is a multiple of the stride
+        first = (-self._seen) % self.events_every
+        self._seen += len(ev)
+        kept = ev[first :: self.events_every]
+        if len(kept):
+            self._ev.append(kept.copy())
+        while self.events_kept > 2 * self.max_events:
+            held = np.concatenate(self._ev)
+            self._ev = [held[::2].copy()]  # the kept are run events 0, s, 2s, ...: now 0, 2s, ...
+            self.events_every *= 2
 
     def _start(self, sim: SimulationView) -> bool:
         self._sim = sim
@@ -664,7 +712,8 @@ class FrameRecorder(_FrameWriter):
         self._times.append(state.time)
         self._pos.append(state.positions)
         self._vel.append(state.velocities)
-        self._ev.append(events)
+        if len(events):
+            self._ev.append(events)
         self._img.append(state.images)
         self._state = state
 
@@ -682,17 +731,25 @@ class FrameRecorder(_FrameWriter):
             container=sim.container,
             events=_concat(self._ev),
             images=(np.array(self._img).reshape(-1, n, d) if sim.container.periodic else None),
+            events_every=self.events_every,
         )
 
 
-def frames_from_simulation(sim: Simulation, until: float, every: float) -> Frames:
+def frames_from_simulation(
+    sim: Simulation, until: float, every: float, *, max_events: int | None = None
+) -> Frames:
     """Run ``sim`` to ``until`` [time], keeping a frame every ``every`` [time].
+
+    Args:
+        sim, until, every: the run and its frames.
+        max_events: keep at most about twice this many of the run's events,
+            evenly thinned (:class:`FrameRecorder`); ``None``: all.
 
     Returns:
         :class:`hardspheres.frames.Frames` (the first frame is the state at
         the start, the last at ``until``).
     """
-    rec = FrameRecorder(every)
+    rec = FrameRecorder(every, max_events=max_events)
     sim.writers.append(rec)
     try:
         sim.run(until=until)

@@ -249,10 +249,11 @@ def _events(frames: Frames, t: np.ndarray, n: int, max_events: int) -> dict[str,
     et, ek, ei, ej = et[sel], ek[sel], ei[sel], ej[sel]
     order = np.argsort(et, kind="stable")
     et, ek, ei, ej = et[order], ek[order], ei[order], ej[order]
-    events_total = int(len(et))
+    every = frames.events_every  # the recorder kept every this-many-th event of the run
+    events_total = int(len(et)) * every
     counts = {
-        "collisions": int(np.sum(ek == EventKind.COLLISION)),
-        "reflections": int(np.sum(ek == EventKind.REFLECTION)),
+        "collisions": int(np.sum(ek == EventKind.COLLISION)) * every,
+        "reflections": int(np.sum(ek == EventKind.REFLECTION)) * every,
     }
     if len(et) > max_events:
         pick = even_indices(len(et), max_events)
