@@ -159,9 +159,13 @@ def test_oversized_n_is_refused_before_allocating():
     with pytest.raises(BuildError, match="GiB.*at most about") as e:
         random_arrays(n, 0.3, 20.0)
     assert "\n" not in str(e.value)
-    done = hs_cmd("generate", "--n", "1e10", "--container", 20, "--packing", 0.3)
-    assert done.returncode == 1 and done.stderr.count("\n") == 1 and "at most about" in done.stderr
-    assert "Traceback" not in done.stderr
+    for argv in (
+        ("generate", "--n", "1e10", "--container", 20, "--packing", 0.3),
+        ("bench", "--n", "1e10", "--packing", 0.3, "--collisions", 1000),
+    ):
+        done = hs_cmd(*argv)
+        assert done.returncode == 1 and done.stderr.count("\n") == 1 and "at most about" in done.stderr, argv
+        assert "Traceback" not in done.stderr
 
 
 def test_binary_mixture_and_the_uniform_ratio_named_for_what_it_is():
