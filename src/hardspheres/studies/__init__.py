@@ -249,10 +249,10 @@ def parse_study(data, source=None, base=None):
     Example:
         >>> parse_study({"packing": 0.3, "n": 100, "output": "x"})["seeds"]
         [0]
-        >>> parse_study({"packing": 0.8, "n": 100})
+        >>> parse_study({"packing": 0.8, "n": 100})  # doctest: +ELLIPSIS
         Traceback (most recent call last):
         ...
-        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.7405) (disks: up to 0.72)
+        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.74...
     """
     if not isinstance(data, dict):
         raise StudyError(f"{_where(source)}a study is a table of keys, not {type(data).__name__}")

@@ -1,0 +1,155 @@
+"""Direct coexistence: an FCC slab against a fluid slab in an elongated box, and their profiles along it.
+
+:func:`crystal_fluid_slab` builds the box: an FCC crystal with its (100) or
+(111) planes normal to z, and beside it (along z) a fluid at its own
+packing, melted first in a periodic box of its own; a gap of one diameter
+on each side keeps the two apart at the start.  Run it at constant normal
+pressure (``hs.Barostat(pressure=P, axes="z")``: the cross-section stays
+the crystal's) and the crystal grows above the coexistence pressure and
+melts below it (Fernandez et al., Phys. Rev. Lett. 108, 165701 (2012):
+``beta P sigma^3 = 11.5727(10)``; validation/coexistence.py).
+:func:`slab_profile` bins the spheres along z: the packing of each bin and
+the fraction of crystal-like spheres by local q6 bond order
+(:class:`hardspheres.analysis.structure.BondOrder`, ten Wolde et al.), so
+the crystal's extent is ``crystal_like.sum() / N`` of the box.
+
+Example:
+    >>> state, box = crystal_fluid_slab((3, 3, 4), plane="100", fluid_packing=0.45, seed=1)
+    >>> box.sides[2] > box.sides[0] == box.sides[1], state.n > 144
+    (True, True)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..builders import crystal
+from ..containers import MAX_PACKING, PeriodicBox
+from ..errors import BuildError
+from ..simulation import Simulation
+from ..state import State
+from .structure import BondOrder
+
+
+#: The densest fluid slab built (random spheres' lattice sites fit up to about 0.48).
+FLUID_START_MAX = 0.47
+
+
+def _fcc_111(cells: tuple[int, int, int], packing: float) -> tuple[np.ndarray, tuple[float, float, float]]:
+    """FCC sites with (111) planes normal to z: ``cells`` = (per row, rows (even), layers (of 3))."""
+    nx, ny, nz = cells
+    if ny % 2 or nz % 3:
+        raise BuildError(f"cells {cells!r} for plane 111: rows even and layers a multiple of 3 (ABC)")
+    a = (MAX_PACKING / packing) ** (1.0 / 3.0)  # neighbour distance, diameter 1
+    ay = a * math.sqrt(3.0) / 2.0
+    dz = a * math.sqrt(2.0 / 3.0)
+    sides = (nx * a, ny * ay, nz * dz)
+    layers = []
+    for k in range(nz):
+        shift = np.array([0.5 * sides[0], 0.5 * sides[1]]) - (k % 3) * np.array([0.5 * a, ay / 3.0])
+        j, i = np.divmod(np.arange(nx * ny), nx)
+        xy = np.column_stack([(i + 0.5 * (j % 2)) * a, j * ay]) - shift
+        layers.append(np.column_stack([xy, np.full(nx * ny, (k + 0.5) * dz - 0.5 * sides[2])]))
+    return np.concatenate(layers), sides
+
+
+def crystal_fluid_slab(
+    cells: tuple[int, int, int],
+    plane: str = "100",
+    crystal_packing: float = 0.545,
+    fluid_packing: float = 0.49,
+    fluid_length: float | None = None,
+    seed: int = 0,
+) -> tuple[State, PeriodicBox]:
+    """An FCC slab and a fluid slab side by side along z in one periodic box (diameter 1, mass 1, kT = 1).
+
+    Args:
+        cells: the crystal's cells: cubic FCC cells (x, y, z) for ``plane =
+            "100"``; for ``"111"`` (spheres per row, rows (even), layers (a
+            multiple of 3)).
+        plane: ``"100"`` or ``"111"``, the crystal plane normal to z.
+        crystal_packing: the crystal's packing (coexistence: 0.5433).
+        fluid_packing: the fluid's (coexistence: 0.4917), at most 0.5; it
+            starts at most at :data:`FLUID_START_MAX` (0.47), and a run at
+            constant pressure brings it to the pressure's.
+        fluid_length: the fluid slab's length along z (default: the
+            crystal's).
+        seed: seeds the fluid's placement and every velocity.
+
+    Returns:
+        ``(state, box)``: the crystal's spheres first, then the fluid's.
+    """
+    if plane == "100":
+        st, cbox = crystal("fcc", cells, crystal_packing, seed=seed)
+        xc, sides = st.positions, tuple(float(x) for x in cbox.gsd_box[:3])
+    elif plane == "111":
+        xc, sides = _fcc_111(cells, crystal_packing)
+    else:
+        raise BuildError(f"plane {plane!r}: give '100' or '111'")
+    if not 0.0 < fluid_packing <= 0.5:
+        raise BuildError(f"fluid_packing must be in (0, 0.5], got {fluid_packing!r}")
+    lx, ly, lc = (float(s) for s in sides)
+    lf = lc if fluid_length is None else float(fluid_length)
+    # (random spheres start on lattice sites, which fit up to about 0.48: the
+    # fluid starts at most there, and a run at constant pressure compresses it)
+    start = min(fluid_packing, FLUID_START_MAX)
+    nf = int(round(start * lx * ly * lf / (math.pi / 6.0)))
+    fbox = PeriodicBox((lx, ly, lf))
+    from ..builders import random_spheres
+
+    fluid = Simulation(random_spheres(nf, nf * math.pi / 6.0 / fbox.volume, fbox, seed=seed), fbox)
+    fluid.run(collisions=30 * nf)  # the lattice it starts from melts
+    xf = fluid.state().positions
+    gap = 1.0  # one diameter each side: no fluid sphere touches the crystal's face
+    total = lc + lf + 2.0 * gap
+    xc = np.array(xc, dtype=float)
+    xc[:, 2] += -0.5 * total + 0.5 * lc  # the crystal at the bottom
+    xf = np.array(xf, dtype=float)
+    xf[:, 2] += -0.5 * total + lc + gap + 0.5 * lf
+    box = PeriodicBox((lx, ly, total))
+    x = box.wrap(np.concatenate([xc, xf]))
+    n = len(x)
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(n, 3))
+    v -= v.mean(axis=0)
+    v *= math.sqrt(3.0 * (n - 1) / float(np.sum(v * v)))  # kT = 1 exactly
+    return State.from_arrays(np.ones(n), np.full(n, 0.5), x, v), box
+
+
+class SlabProfile:
+    """Packing and crystal fraction in bins along z of a periodic box (see the module docstring).
+
+    Attributes (after :meth:`compute`): ``z`` bin centres, ``packing`` per
+    bin, ``crystal`` (fraction of crystal-like spheres per bin),
+    ``crystal_like`` per sphere, ``crystal_fraction`` of all spheres.
+    """
+
+    def __init__(self, bins: int = 40) -> None:
+        if not (isinstance(bins, int) and bins >= 2):
+            raise ValueError(f"bins must be a whole number >= 2, got {bins!r}")
+        self.bins = bins
+
+    def compute(self, sim: Simulation) -> SlabProfile:
+        """The profiles of ``sim`` now; returns self."""
+        box = sim.container
+        if not isinstance(box, PeriodicBox) or box.dimensions != 3:
+            raise ValueError("SlabProfile: a 3-D periodic box (the slab's)")
+        sides = box.sides
+        st = sim.state()
+        z = st.positions[:, 2] + 0.5 * sides[2]
+        edges = np.linspace(0.0, sides[2], self.bins + 1)
+        which = np.clip(np.digitize(z, edges) - 1, 0, self.bins - 1)
+        vol = sides[0] * sides[1] * sides[2] / self.bins
+        solid = np.bincount(which, weights=4.0 / 3.0 * math.pi * st.radii**3, minlength=self.bins)
+        order = BondOrder(num_neighbors=12).compute(sim)
+        like = np.asarray(order.crystal_like, dtype=bool)
+        count = np.bincount(which, minlength=self.bins)
+        hits = np.bincount(which, weights=like.astype(float), minlength=self.bins)
+        self.z = 0.5 * (edges[1:] + edges[:-1]) - 0.5 * sides[2]
+        self.packing = solid / vol
+        self.crystal = np.where(count > 0, hits / np.maximum(count, 1), 0.0)
+        self.crystal_like = like
+        self.crystal_fraction = float(like.mean())
+        return self
