@@ -2,8 +2,8 @@
 
 :func:`crystal_fluid_slab` builds the box: an FCC crystal with its (100) or
 (111) planes normal to z, and beside it (along z) a fluid at its own
-packing, melted first in a periodic box of its own; a gap of one diameter
-on each side keeps the two apart at the start.  Run it at constant normal
+packing, melted first in a periodic box of its own; its spheres that
+overlap the crystal's faces are taken out.  Run it at constant normal
 pressure (``hs.Barostat(pressure=P, axes="z")``: the cross-section stays
 the crystal's) and the crystal grows above the coexistence pressure and
 melts below it (Fernandez et al., Phys. Rev. Lett. 108, 165701 (2012):
@@ -102,20 +102,36 @@ def crystal_fluid_slab(
     fluid = Simulation(random_spheres(nf, nf * math.pi / 6.0 / fbox.volume, fbox, seed=seed), fbox)
     fluid.run(collisions=30 * nf)  # the lattice it starts from melts
     xf = fluid.state().positions
-    gap = 1.0  # one diameter each side: no fluid sphere touches the crystal's face
-    total = lc + lf + 2.0 * gap
+    total = lc + lf
     xc = np.array(xc, dtype=float)
     xc[:, 2] += -0.5 * total + 0.5 * lc  # the crystal at the bottom
     xf = np.array(xf, dtype=float)
-    xf[:, 2] += -0.5 * total + lc + gap + 0.5 * lf
+    xf[:, 2] += -0.5 * total + lc + 0.5 * lf
     box = PeriodicBox((lx, ly, total))
-    x = box.wrap(np.concatenate([xc, xf]))
+    xc, xf = box.wrap(xc), box.wrap(xf)
+    # the fluid's spheres that overlap the crystal's faces go (no gap: a gap
+    # lets the crystal expand into it and melt before the fluid fills it)
+    near_c = np.flatnonzero(_face_distance(xc[:, 2], lc, total) < 1.0)
+    near_f = np.flatnonzero(_face_distance(xf[:, 2], lc, total) < 1.0)
+    d = box.displacement(xf[near_f][:, None, :], xc[near_c][None, :, :])
+    clash = near_f[(np.sum(d * d, axis=-1) < 1.0).any(axis=1)]
+    xf = np.delete(xf, clash, axis=0)
+    x = np.concatenate([xc, xf])
     n = len(x)
     rng = np.random.default_rng(seed)
     v = rng.normal(size=(n, 3))
     v -= v.mean(axis=0)
     v *= math.sqrt(3.0 * (n - 1) / float(np.sum(v * v)))  # kT = 1 exactly
     return State.from_arrays(np.ones(n), np.full(n, 0.5), x, v), box
+
+
+def _face_distance(z: np.ndarray, lc: float, total: float) -> np.ndarray:
+    """Distance along z to the nearer of the crystal's two faces (at ``-total/2`` and ``-total/2 + lc``)."""
+    low = -0.5 * total
+    a = np.abs(z - low)
+    a = np.minimum(a, total - a)
+    b = np.abs(z - (low + lc))
+    return np.minimum(a, np.minimum(b, total - b))
 
 
 class SlabProfile:
