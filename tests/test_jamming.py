@@ -12,6 +12,7 @@ from hardspheres.analysis.jamming import (
     JammingPoint,
     force_exponent,
     isostatic_tolerance,
+    near_pairs,
     power_law_exponent,
     remove_rattlers,
 )
@@ -237,7 +238,12 @@ def _binary_disks(n, seed):
 
 @pytest.fixture(scope="module")
 def jammed_disks():
-    """256 binary disks compressed to Z > 10^6, then 100 collisions per disk at fixed radii."""
+    """256 binary disks compressed to Z > 10^6, then 300 collisions per disk at fixed radii.
+
+    (100 were too few for the forces: a weak contact then sees about three collisions, and
+    six contacts saw none once the box crossings' change of bits gave another packing, z by
+    forces 1.3% short; 300, 1000 and 3000 give +0.2%, +0.4%, +0.8%: near contacts add up.)
+    """
     n = 256
     sim = _binary_disks(n, seed=1)
     sim.run(collisions=2 * n)
@@ -247,19 +253,23 @@ def jammed_disks():
     v0 = sim.state().velocities.copy()
     rec = EventRecorder()
     sim.writers.append(rec)
-    sim.run(collisions=100 * n)
+    sim.run(collisions=300 * n)
     return sim, res, np.array(history).T, rec, v0
 
 
 def test_jammed_disks_are_isostatic_after_rattler_removal(jammed_disks):
-    """z = 2 (2 (N' - 1) + 1) / N' (about 4) within 1%, by gaps and by forces; phi_J of the free-volume form."""
+    """z = 2 (2 (N' - 1) + 1) / N' (about 4): within 1%, by gaps and by forces; phi_J of the free-volume form."""
     sim, res, (phi, z), rec, _ = jammed_disks
     assert res.pressure > 1e6
     c = Contacts().compute(sim)
     assert c.dim == 2 and abs(c.z - c.z_isostatic) <= 0.01 * c.z_isostatic
     assert 0.0 < c.rattler_fraction < 0.15
     by_force = Contacts().compute(sim, forces=ContactForces().compute(rec))
-    assert abs(by_force.z - by_force.z_isostatic) <= 0.01 * by_force.z_isostatic
+    # by forces the record also holds near contacts that collide now and then (more the
+    # longer the record: docs/validation.md, "Marginal stability"), so z may exceed the
+    # isostatic count by a few contacts, never fall short of it by more than the gaps' 1%
+    # (1.3% above on main after the box crossings' change of bits)
+    assert -0.01 <= (by_force.z - by_force.z_isostatic) / by_force.z_isostatic <= 0.03
     jp = JammingPoint(dim=2).compute(phi, z)
     assert res.packing < jp.phi_J < res.packing * (1 + 1e-4)
     # random close packing of 1:1.4 disks is near 0.84 (O'Hern et al., PRE 68, 011306 (2003))
@@ -316,3 +326,22 @@ def test_isostatic_tolerance_cuts_the_network_where_it_is_isostatic(jammed_disks
         force_exponent(cf, contacts_only=True)
     with pytest.raises(ValueError, match="h_max: no gap up to 1e-09"):
         isostatic_tolerance(sim, h_max=1e-9)
+
+
+def test_near_pairs_keeps_a_pair_whose_gap_is_exactly_h_max():
+    """Regression: the tree's candidate cut rounded above 2 R (1 + h) for about one pair in ten
+    whose gap is exactly ``h_max`` (isostatic_tolerance's last contact was then dropped by
+    ``Contacts(tolerance=tol)``: 472 of the 473 contacts of the jammed disks)."""
+    rng = np.random.default_rng(7)
+    radii = np.array([0.5, 0.5])
+    tried = 0
+    for _ in range(500):
+        lengths = rng.uniform(3.0, 9.0, 2)
+        pos = rng.uniform(0.0, 1.0, (2, 2)) * lengths
+        _, far = near_pairs(pos, radii, lengths, 1.0)
+        if len(far) == 0 or far[0] < 0.0:
+            continue
+        tried += 1
+        pairs, gaps = near_pairs(pos, radii, lengths, float(far[0]))
+        assert pairs.tolist() == [[0, 1]] and gaps[0] == far[0]
+    assert tried > 100

@@ -107,7 +107,10 @@ def near_pairs(
     # cKDTree wants points in [0, L): mod can round up to L
     x[x >= lengths] = 0.0
     tree = cKDTree(x, boxsize=lengths)
-    cut = 2.0 * float(radii.max()) * (1.0 + h_max)
+    # candidates by a padded cut: the tree's own distance can round above
+    # 2 R (1 + h) for a pair whose gap below is exactly h_max; the gaps below
+    # decide
+    cut = 2.0 * float(radii.max()) * (1.0 + h_max) * (1.0 + 1e-9)
     pairs = tree.query_pairs(cut, output_type="ndarray")
     if len(pairs) == 0:
         return np.zeros((0, 2), np.int64), np.zeros(0)
