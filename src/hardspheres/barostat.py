@@ -64,10 +64,28 @@ from __future__ import annotations
 
 import json
 import math
+from typing import TYPE_CHECKING, Protocol, cast
 
 import numpy as np
 
 from .errors import BarostatError
+
+if TYPE_CHECKING:
+    from .containers import Container, PeriodicBox
+    from .core.engine import Engine
+    from .dense import ObservedSimulation, Thermostat
+
+    class HeldSimulation(ObservedSimulation, Protocol):
+        """What a barostat uses of a simulation: a thermostat's view, the packing, a box it may replace."""
+
+        container: Container
+
+        @property
+        def packing(self) -> float: ...
+
+        @property
+        def thermostat(self) -> Thermostat | None: ...
+
 
 #: Moves per unit of the auto interval: the mean free time of the fluid
 #: (Enskog, from Carnahan-Starling at the packing when first attached)
@@ -85,20 +103,20 @@ STEP_SCALE = 3.0
 _AXES = "xyz"
 
 
-def _sides(container):
+def _sides(container: Container) -> tuple[float, ...]:
     """The periodic box's sides ``(Lx, Ly, Lz)``, or ``(Lx, Ly)`` in 2-D [length]."""
     sides = getattr(container, "sides", None)
     if sides is None:
-        return (float(container.length),) * 3
+        return (float(cast(float, cast("PeriodicBox", container).length)),) * 3  # a cube
     return tuple(float(x) for x in sides)
 
 
-def _box_like(container, sides):
+def _box_like(container: Container, sides: list[float]) -> Container:
     """A periodic box of the same kind as ``container`` with ``sides`` (three equal: the cube)."""
-    return type(container)(tuple(sides))
+    return cast("type[PeriodicBox]", type(container))(tuple(sides))
 
 
-def require_box(container, what="constant pressure"):
+def require_box(container: Container | None, what: str = "constant pressure") -> None:
     """:class:`BarostatError` unless ``container`` is a periodic box."""
     if container is None or not container.periodic:
         desc = getattr(container, "description", "this container")
@@ -142,7 +160,15 @@ class Barostat:
             :attr:`mean_packing`.
     """
 
-    def __init__(self, pressure, kT=None, every=None, step=None, axes=None, seed=0):
+    def __init__(
+        self,
+        pressure: float,
+        kT: float | None = None,
+        every: float | None = None,
+        step: float | None = None,
+        axes: str | None = None,
+        seed: int = 0,
+    ) -> None:
         self.pressure = _positive(pressure, "pressure")
         self.kT = None if kT is None else _positive(kT, "kT")
         self.every = None if every is None else _positive(every, "every")
@@ -165,16 +191,16 @@ class Barostat:
         except (TypeError, ValueError, OverflowError):
             raise BarostatError(f"seed must be a whole number >= 0, got {seed!r}") from None
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
-        self.next_time = None
+        self.next_time: float | None = None
         self.attempted = self.accepted = self.overlaps = 0
         self._solid = math.nan  # the spheres' own volume (set when attached)
         self.reset_averages()
 
-    def reset_averages(self):
+    def reset_averages(self) -> Barostat:
         """Start the averages afresh (after an equilibration, say); returns self."""
         self.samples = 0
         self._sums = [0.0, 0.0, 0.0]  # sums of V, (V - V0)^2 and solid / V; V0 the first V
-        self._v0 = None
+        self._v0: float | None = None
         return self
 
     @property
@@ -190,7 +216,7 @@ class Barostat:
         """
         if self.samples < 2:
             return math.nan
-        d = self._sums[0] / self.samples - self._v0
+        d = self._sums[0] / self.samples - cast(float, self._v0)  # set by the first sample
         return (self._sums[1] / self.samples - d * d) * self.samples / (self.samples - 1)
 
     @property
@@ -198,7 +224,7 @@ class Barostat:
         """Mean packing fraction (area fraction in 2-D) over the samples (NaN before any)."""
         return self._sums[2] / self.samples if self.samples else math.nan
 
-    def _sample(self, volume):
+    def _sample(self, volume: float) -> None:
         if self._v0 is None:
             self._v0 = volume
         self.samples += 1
@@ -206,7 +232,7 @@ class Barostat:
         self._sums[1] += (volume - self._v0) ** 2
         self._sums[2] += self._solid / volume
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (
             f"Barostat(pressure={self.pressure!r}, kT={self.kT!r}, every={self.every!r}, "
             f"step={self.step!r}, axes={self.axes!r}, seed={self.seed!r})"
@@ -217,7 +243,7 @@ class Barostat:
         """Fraction of moves accepted (NaN before any)."""
         return self.accepted / self.attempted if self.attempted else math.nan
 
-    def check(self, sim):
+    def check(self, sim: HeldSimulation) -> None:
         """:class:`BarostatError` if ``sim`` cannot be held at constant pressure."""
         require_box(sim.container)
         if sim.engine.window > 0.0:
@@ -230,7 +256,7 @@ class Barostat:
         if sim.n < 1:
             raise BarostatError("barostat: no spheres")
 
-    def attach(self, sim):
+    def attach(self, sim: HeldSimulation) -> None:
         """Called as each run starts: fixes ``kT``, ``every``, ``step`` (once) and the first move."""
         self.check(sim)
         n = sim.n
@@ -262,7 +288,7 @@ class Barostat:
         if self.next_time is None:
             self.next_time = sim.time + self.every
 
-    def apply(self, sim, t):
+    def apply(self, sim: HeldSimulation, t: float) -> bool:
         """Try one volume move at ``t`` (the simulation calls this at :attr:`next_time`)."""
         eng = sim.engine
         eng.move_clock(t)
@@ -270,15 +296,26 @@ class Barostat:
         sides = _sides(box)
         rng = self._rng
         axis = -1 if self.axes is None else _AXES.index(self.axes[int(rng.integers(len(self.axes)))])
-        u = float(rng.uniform(-self.step, self.step))
+        step = cast(float, self.step)  # kT, every and step are set when attached
+        u = float(rng.uniform(-step, step))
         r = float(rng.random())
         self.attempted += 1
-        self.next_time = t + self.every
+        self.next_time = t + cast(float, self.every)
         accepted = self._move(sim, eng, t, box, sides, axis, u, r)
         self._sample(float(sim.container.volume))
         return accepted
 
-    def _move(self, sim, eng, t, box, sides, axis, u, r):
+    def _move(
+        self,
+        sim: HeldSimulation,
+        eng: Engine,
+        t: float,
+        box: Container,
+        sides: tuple[float, ...],
+        axis: int,
+        u: float,
+        r: float,
+    ) -> bool:
         d = len(sides)
         if axis < 0:
             factors = [math.exp(u / d)] * d
@@ -291,7 +328,9 @@ class Barostat:
             return False  # outside the engine's boxes (three largest diameters a side)
         v_old = math.prod(sides)
         v_new = math.prod(new)
-        log_acc = -self.pressure * (v_new - v_old) / self.kT + (sim.n + 1) * math.log(v_new / v_old)
+        log_acc = -self.pressure * (v_new - v_old) / cast(float, self.kT) + (sim.n + 1) * math.log(
+            v_new / v_old
+        )
         if log_acc < 0.0 and not r < math.exp(log_acc):
             return False
         if min(factors) < 1.0:
@@ -307,7 +346,7 @@ class Barostat:
         self.accepted += 1
         return True
 
-    def state(self):
+    def state(self) -> str:
         """JSON text from which :func:`barostat_from_state` rebuilds it exactly."""
         return json.dumps(
             {
@@ -330,7 +369,7 @@ class Barostat:
         )
 
 
-def barostat_from_state(text):
+def barostat_from_state(text: str) -> Barostat:
     """The barostat :meth:`Barostat.state` saved."""
     d = json.loads(text)
     if d.get("kind") != "mc-volume":
@@ -345,7 +384,7 @@ def barostat_from_state(text):
     return b
 
 
-def _positive(x, what):
+def _positive(x: float, what: str) -> float:
     try:
         v = float(x)
     except (TypeError, ValueError):
