@@ -662,6 +662,18 @@ def _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz):
 
 
 @_inline
+def _block_range(ncz, bz):
+    """The cells ``q`` of the 3x3x3 block to visit: all 27, or the middle layer's 9 (disks).
+
+    One layer along z and no box along it: the layers above and below do
+    not exist, so only ``q`` in 9..17 (z offset 0) are looked at.
+    """
+    if ncz == 1 and bz == 0.0:
+        return 9, 18
+    return 0, 27
+
+
+@_inline
 def _cell_insert(cell_head, cell_next, cell_prev, book, i, ncx, ncy):
     """Sphere ``i`` into the cell its book names (``CELL_X``, ``CELL_Y``, ``CELL_Z``)."""
     cell = (book[i, CELL_Z] * ncy + book[i, CELL_Y]) * ncx + book[i, CELL_X]
@@ -1008,8 +1020,11 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     one = 1.0 if ncx > 0 else 2.0  # (see _scan_list)
     oi = book[i, ORIGIN]
     # the sphere's own layer and row first: the earliest event is mostly
-    # there, and the pairs after it are rejected by the horizon
-    for qz in range(zhi - zlo + 1):
+    # there, and the pairs after it are rejected by the horizon.  One layer
+    # of cells along z and no box along it (disks): that layer alone, the
+    # 9 cells around a disk's (the layers above and below do not exist)
+    layers = 1 if (ncz == 1 and bz == 0.0 and zlo != zhi) else zhi - zlo + 1
+    for qz in range(layers):
         oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
         nz, sz, there = _cell_step(cz0, oz, ncz, bz)
         if not there:
@@ -1208,7 +1223,8 @@ def _relist(
     kz = cell_of(cz, lz, scalars[F_WIDTH + 2], ncz)
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
-    for q in range(27):
+    q0, q1 = _block_range(ncz, bz)
+    for q in range(q0, q1):
         cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
         if cell < 0:
             continue
@@ -1316,7 +1332,8 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         book[i, NEIGHBOURS] = 0
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
-        for q in range(27):
+        q0, q1 = _block_range(ncz, bz)
+        for q in range(q0, q1):
             cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
             if cell < 0:
                 continue
