@@ -15,6 +15,10 @@ import pytest
 from helpers import ENV, ROOT, hs_cmd
 
 from hardspheres import studies
+from hardspheres.studies import files as study_files
+from hardspheres.studies import measures as study_measures
+from hardspheres.studies import spec as study_spec
+from hardspheres.studies import task as study_task
 from hardspheres.cli.commands import main as hardspheres
 
 # `dask scheduler` and `dask worker`, by this Python whatever the PATH
@@ -237,7 +241,7 @@ def test_summary_mean_and_standard_error_over_seeds():
 
 def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
     """A task interrupted after a checkpoint inside a block ends as the uninterrupted one."""
-    monkeypatch.setattr(studies, "STEP", 50)  # blocks of 320 collisions: 7 steps each
+    monkeypatch.setattr(study_task, "STEP", 50)  # blocks of 320 collisions: 7 steps each
     spec = studies.parse_study(
         {
             "packing": 0.3,
@@ -257,7 +261,7 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
         pass
 
     calls = {"k": 0}
-    real = studies._block_value
+    real = study_measures.block_value
 
     def flaky(name, sim, obs):  # dies in block 3, after checkpoints were written
         calls["k"] += 1
@@ -265,13 +269,11 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
             raise Stop
         return real(name, sim, obs)
 
-    studies._block_value = flaky
-    try:
-        with pytest.raises(Stop):
-            studies.run_task(cut)
-    finally:
-        studies._block_value = real
-    assert not studies._row_path(cut).exists()
+    monkeypatch.setattr(study_measures, "block_value", flaky)  # run_task reads it there
+    with pytest.raises(Stop):
+        studies.run_task(cut)
+    monkeypatch.setattr(study_measures, "block_value", real)
+    assert not study_files.row_path(cut).exists()
     again = studies.run_task(cut)
     assert again == ref
     attempts = (Path(cut["folder"]) / "tasks" / cut["key"] / "attempts.jsonl").read_text()
@@ -375,7 +377,7 @@ def test_readme_study_file_and_plot_command(tmp_path):
     section = (ROOT / "docs" / "guide" / "studies.md").read_text().split("\n## ", 1)[0]
     block = re.search(r"```toml\n(.*?)```", section, re.DOTALL).group(1)
     assert len(block.strip().splitlines()) <= 10
-    data = studies.tomllib.loads(block)
+    data = study_spec.tomllib.loads(block)
     assert len(studies.tasks(studies.parse_study(data, base=tmp_path))) == 24
     data.update(packing=[0.2, 0.3], n=64, seeds=2, equilibrate=5, collisions=10)
     (tmp_path / "eos.toml").write_text("\n".join(f"{k} = {json.dumps(v)}" for k, v in data.items()) + "\n")
@@ -536,7 +538,7 @@ def test_studies_take_dimensions_and_box_sides(tmp_path):
     # a 3-D study without aspect hashes as it did before the space keys (its rows are found again)
     cube = studies.parse_study({"packing": [0.2, 0.3], "n": 64, "seeds": 2, "output": "/tmp/x"})
     assert [t["key"] for t in studies.tasks(cube)][:2] == ["6910268f852191f3", "fc0ef0d181844d2a"]
-    box = studies._build(studies.tasks(long)[0]).container
+    box = study_task._build(studies.tasks(long)[0]).container
     assert box.sides[2] == pytest.approx(2 * box.sides[0]) and box.sides[0] == box.sides[1]
 
 

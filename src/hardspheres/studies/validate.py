@@ -84,7 +84,7 @@ def _study(
 
 
 def _rows(df: Any, n: int, collisions: int) -> list[Row]:
-    from . import summarize
+    from .tables import summarize
 
     rows = []
     for r in summarize(df).to_dict("records"):
@@ -138,7 +138,7 @@ def eos_point(
     Returns:
         A :class:`Row`.
     """
-    from . import sweep
+    from .dispatch import sweep
 
     with tempfile.TemporaryDirectory() as folder:
         df = sweep(_study([phi], n, equilibrate, collisions, blocks, [seed], folder), serial=True)
@@ -179,7 +179,7 @@ def validate(
     Returns:
         The list of :class:`Row`.
     """
-    from . import sweep
+    from .dispatch import sweep
 
     seed_list = range(seed, seed + seeds)
     # the study's folder: the one given (kept), else a temporary one (removed after)

@@ -1,0 +1,271 @@
+"""The study file: its keys checked and completed, and the grid it spans.
+
+:func:`load_study` reads a TOML file, :func:`parse_study` checks a dict of
+the keys (:mod:`hardspheres.studies` lists them) and fills in the defaults;
+:data:`GRID` names the parameters a study's grid runs over.
+"""
+
+import math
+from pathlib import Path
+
+from ..containers import MAX_PACKING as _MAX_PACKING
+from ..errors import StudyError
+from .measures import observable_names
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
+
+#: Densest packing of equal spheres (the one constant, re-exported).
+MAX_PACKING = _MAX_PACKING
+
+#: Parameters that make the grid, in the order of the results' columns.
+#: (``betaP``, the pressure a constant-pressure study holds, only in their
+#: tables: ``pressure`` is the observable.)
+GRID = ("container", "dimensions", "aspect", "betaP", "packing", "n", "radius_ratio", "mass_ratio", "seed")
+
+#: What a grid column reads in rows written before it existed (3-D, no aspect).
+GRID_DEFAULTS = {"dimensions": 3, "aspect": ""}
+
+#: The densest random disks the builder places (:data:`hardspheres.builders.RANDOM_DISKS_MAX`).
+_DISKS_MAX = 0.72
+
+_KEYS = {
+    "output": "folder for the results (string)",
+    "container": '"box", "sphere" or "circle" (the round wall in 2-D)',
+    "dimensions": "3 or 2 (disks), or a list of them",
+    "aspect": "a box's sides in proportion, d numbers > 0 (e.g. [1, 1, 2], [1, 0.8660254]), or a list",
+    "packing": "packing fraction(s) in (0, 0.7405) (disks: up to 0.72)",
+    "pressure": "constant pressure(s) beta P sigma^d, number(s) > 0 (periodic box only)",
+    "n": "number(s) of spheres, integers >= 2",
+    "seeds": "a count (integer >= 1) or a list of integer seeds",
+    "radius_ratio": "largest/smallest radius, number(s) >= 1",
+    "mass_ratio": "largest/smallest mass, number(s) >= 1",
+    "equilibrate": "collisions per sphere before measuring, number >= 0",
+    "collisions": "collisions per sphere measured, number > 0",
+    "time": "time measured per run, number > 0",
+    "blocks": "blocks per run for error bars, integer >= 2",
+    "measure": "list of observable names",
+    "checkpoint_seconds": "seconds of work between checkpoints, number >= 0",
+    "retries": "times a failing task is retried, integer >= 0",
+}
+
+
+def _where(source):
+    return f"{source}: " if source else ""
+
+
+def _is_number(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _list_of(raw, key, check, what, source):
+    values = raw if isinstance(raw, list) else [raw]
+    if not values:
+        raise StudyError(f"{_where(source)}{key} is an empty list; give {what}")
+    for v in values:
+        if not check(v):
+            raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {what}")
+    return values
+
+
+def parse_study(data, source=None, base=None):
+    """Check a study (a dict, as from TOML) and return it complete with defaults.
+
+    Longer than 80 lines: one check per key, in the order the module's
+    documentation lists the keys, each a few lines.
+
+    Args:
+        data: the study's keys (see the module's documentation).
+        source: name of the file it came from, for messages.
+        base: folder a relative ``output`` is relative to (default: the
+            current directory).
+
+    Returns:
+        A dict with every key.
+
+    Raises:
+        StudyError: an unknown key or a value out of range; the message
+            names the key and says what is allowed.
+
+    Example:
+        >>> parse_study({"packing": 0.3, "n": 100, "output": "x"})["seeds"]
+        [0]
+        >>> parse_study({"packing": 0.8, "n": 100})  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        hardspheres.errors.StudyError: packing = 0.8 is not allowed: give packing fraction(s) in (0, 0.74...
+    """
+    if not isinstance(data, dict):
+        raise StudyError(f"{_where(source)}a study is a table of keys, not {type(data).__name__}")
+    for key in data:
+        if key not in _KEYS:
+            raise StudyError(f"{_where(source)}unknown key {key!r} (allowed: {', '.join(sorted(_KEYS))})")
+    for key in ("packing", "n"):
+        if data.get(key) is None and not (key == "packing" and data.get("pressure") is not None):
+            raise StudyError(f"{_where(source)}missing key {key!r}: {_KEYS[key]}")
+    s = {}
+    out = data.get("output", "study")
+    if not isinstance(out, str) or not out:
+        raise StudyError(f"{_where(source)}output = {out!r} is not allowed: give a folder name")
+    # absolute: workers may run in another folder (on a cluster: the same
+    # path on a shared file system)
+    s["output"] = str((Path(base or ".") / out).resolve())
+    container = data.get("container", "box")
+    if container not in ("box", "sphere", "circle"):
+        raise StudyError(
+            f'{_where(source)}container = {container!r} is not allowed: give "box", "sphere" or "circle"'
+        )
+    s["container"] = container
+    s["dimensions"], s["aspect"] = _space(data, container, source)
+    disks = 2 in s["dimensions"]
+
+    def fits(v):
+        return _is_number(v) and 0.0 < v and (v <= _DISKS_MAX if disks else v < MAX_PACKING)
+
+    s["pressure"] = None
+    if data.get("pressure") is not None:  # (None: a parsed study's constant volume)
+        s["pressure"] = [
+            float(v)
+            for v in _list_of(
+                data["pressure"], "pressure", lambda v: _is_number(v) and v > 0.0, _KEYS["pressure"], source
+            )
+        ]
+        if container != "box":
+            raise StudyError(
+                f'{_where(source)}pressure needs container = "box" (its volume moves scale the box)'
+            )
+    s["packing"] = (
+        None
+        if data.get("packing") is None
+        else [
+            float(v)
+            for v in _list_of(
+                data["packing"],
+                "packing",
+                fits,
+                f"area fraction(s) in (0, {_DISKS_MAX}] for disks" if disks else _KEYS["packing"],
+                source,
+            )
+        ]
+    )
+    s["n"] = _list_of(
+        data["n"],
+        "n",
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
+        _KEYS["n"],
+        source,
+    )
+    seeds = data.get("seeds", 1)
+    if isinstance(seeds, int) and not isinstance(seeds, bool):
+        if seeds < 1:
+            raise StudyError(f"{_where(source)}seeds = {seeds} is not allowed: give {_KEYS['seeds']}")
+        seeds = list(range(seeds))
+    else:
+        seeds = _list_of(
+            seeds,
+            "seeds",
+            lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0,
+            "a count (integer >= 1) or a list of integer seeds >= 0",
+            source,
+        )
+        if len(set(seeds)) != len(seeds):
+            raise StudyError(f"{_where(source)}seeds lists a seed twice: {seeds}")
+    s["seeds"] = seeds
+    for key in ("radius_ratio", "mass_ratio"):
+        s[key] = [
+            float(v)
+            for v in _list_of(
+                data.get(key, 1.0), key, lambda v: _is_number(v) and v >= 1.0, _KEYS[key], source
+            )
+        ]
+    if "collisions" in data and "time" in data:
+        raise StudyError(f"{_where(source)}give collisions or time, not both")
+    for key, default, ok in (
+        ("equilibrate", 50, lambda v: v >= 0),
+        ("collisions", None, lambda v: v > 0),
+        ("time", None, lambda v: v > 0),
+        ("checkpoint_seconds", 120, lambda v: v >= 0),
+    ):
+        v = data.get(key, default)
+        if v is not None and not (_is_number(v) and ok(v)):
+            raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
+        s[key] = v
+    if s["collisions"] is None and s["time"] is None:
+        s["collisions"] = 200
+    for key, default, low in (("blocks", 10, 2), ("retries", 2, 0)):
+        v = data.get(key, default)
+        if not (isinstance(v, int) and not isinstance(v, bool) and v >= low):
+            raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
+        s[key] = v
+    measure = data.get("measure", ["Z"])
+    if isinstance(measure, str):
+        measure = [measure]
+    if not isinstance(measure, list) or not measure or not all(isinstance(m, str) for m in measure):
+        raise StudyError(f"{_where(source)}measure = {measure!r} is not allowed: give {_KEYS['measure']}")
+    known = observable_names()
+    for m in measure:
+        if m not in known:
+            raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
+    s["measure"] = list(dict.fromkeys(measure))
+    return s
+
+
+def _space(data, container, source):
+    """``(dimensions, aspects)``: the lists a study's grid runs over (``aspects``: tuples or ``None``)."""
+    raw = data.get("aspect")
+    aspects = [None]
+    if raw is not None:
+        shapes = raw if isinstance(raw, list) and raw and all(isinstance(a, list) for a in raw) else [raw]
+        for a in shapes:
+            if not (isinstance(a, list) and len(a) in (2, 3) and all(_is_number(x) and x > 0 for x in a)):
+                raise StudyError(f"{_where(source)}aspect = {a!r} is not allowed: give {_KEYS['aspect']}")
+        if len({len(a) for a in shapes}) > 1:
+            raise StudyError(f"{_where(source)}aspect: the shapes {raw!r} mix dimensions; give one per study")
+        if container != "box":
+            raise StudyError(f'{_where(source)}aspect is for container = "box", not {container!r}')
+        aspects = [tuple(float(x) for x in a) for a in shapes]
+    default = [len(aspects[0])] if aspects[0] is not None else [2] if container == "circle" else [3]
+    dims = _list_of(
+        data.get("dimensions", default),
+        "dimensions",
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and v in (2, 3),
+        _KEYS["dimensions"],
+        source,
+    )
+    dims = list(dict.fromkeys(dims))
+    if aspects[0] is not None and dims != [len(aspects[0])]:
+        raise StudyError(
+            f"{_where(source)}aspect {list(aspects[0])} has {len(aspects[0])} sides: "
+            f"not dimensions = {dims!r}"
+        )
+    if container == "circle" and dims != [2]:
+        raise StudyError(f'{_where(source)}container = "circle" is 2-D: not dimensions = {dims!r}')
+    return dims, aspects
+
+
+def aspect_text(aspect):
+    """A box shape as the results' ``aspect`` column reads it: ``"1:1:2"`` (``""``: none).
+
+    Example:
+        >>> aspect_text((1.0, 0.8660254)), aspect_text(None)
+        ('1:0.8660254', '')
+    """
+    return "" if aspect is None else ":".join(f"{x:.10g}" for x in aspect)
+
+
+def load_study(path):
+    """Read and check a study file (TOML); ``output`` is relative to its folder.
+
+    Raises:
+        StudyError: unreadable TOML or a bad key (the message names it).
+        OSError: the file cannot be read.
+    """
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as e:
+        raise StudyError(f"{path}: not valid TOML: {e}") from None
+    return parse_study(data, source=str(path), base=path.parent)

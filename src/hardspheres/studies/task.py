@@ -1,0 +1,247 @@
+"""One task: a grid point and a seed, from its parameters to its row.
+
+:func:`tasks` turns a parsed study into its tasks (each a dict with a
+``key`` hashed from what decides its result); :func:`run_task` runs one, in
+fixed steps with checkpoints, and writes its row.  This is what a Dask
+worker runs.
+"""
+
+import hashlib
+import itertools
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+from . import measures
+from .files import atomic, row_path, write_json
+from .spec import GRID, GRID_DEFAULTS, aspect_text
+
+#: Most collisions run between two chances to checkpoint (about a second of work).
+STEP = 1 << 20
+
+#: The starting packing of a constant-pressure run is the fluid's at
+#: ``min(pressure, FREEZING_START)`` (just below freezing, 11.57; disks:
+#: ``FREEZING_START_2D``, below their hexatic's 9.2).
+FREEZING_START = 11.5
+FREEZING_START_2D = 8.5
+
+
+def tasks(study):
+    """The study's tasks, one dict per grid point and seed, in a fixed order.
+
+    Each has the grid parameters (:data:`GRID`), the run's length and
+    observables, its ``key`` (a hash of everything that decides its
+    result) and the study's ``folder``.
+    """
+    from ..eos import packing_at_pressure
+
+    out = []
+    run = {k: study[k] for k in ("equilibrate", "collisions", "time", "blocks", "measure")}
+    for pressure, d, aspect, packing, n, rr, mr, seed in itertools.product(
+        study.get("pressure") or [None],
+        study.get("dimensions", [3]),
+        study.get("aspect", [None]),
+        study["packing"] or [None],
+        study["n"],
+        study["radius_ratio"],
+        study["mass_ratio"],
+        study["seeds"],
+    ):
+        if packing is None and d == 2:
+            from ..eos import kolafa_rottner
+
+            packing = packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
+        elif packing is None:
+            packing = packing_at_pressure(min(pressure, FREEZING_START))
+        t = {
+            "container": study["container"],
+            "packing": packing,
+            "n": n,
+            "radius_ratio": rr,
+            "mass_ratio": mr,
+            "seed": seed,
+            **run,
+        }
+        # the space only where it is not the default: 3-D studies keep their keys
+        if d != 3:
+            t["dimensions"] = d
+        if aspect is not None:
+            t["aspect"] = aspect_text(aspect)
+        if pressure is not None:  # (absent otherwise: the keys of constant-volume tasks are unchanged)
+            t["betaP"] = pressure
+        t["key"] = hashlib.sha256(json.dumps(t, sort_keys=True).encode()).hexdigest()[:16]
+        t["folder"] = study["output"]
+        t["checkpoint_seconds"] = study["checkpoint_seconds"]
+        out.append(t)
+    return out
+
+
+def _build(task):
+    from ..builders import random_spheres
+    from ..containers import CircularContainer, PeriodicBox, SphericalContainer
+    from ..simulation import Simulation
+
+    n, phi = task["n"], task["packing"]
+    d = task.get("dimensions", 3)
+    aspect = task.get("aspect") or None
+    if task["container"] == "box":
+        if aspect is None and d == 2:
+            aspect = "1:1"
+        sides = None if aspect is None else tuple(float(x) for x in aspect.split(":"))
+        container = PeriodicBox.for_packing(n, phi, sides)  # spheres of diameter 1 (equal spheres)
+    elif d == 2:
+        container = CircularContainer.for_packing(n, phi)
+    else:
+        container = SphericalContainer.for_packing(n, phi)
+    state = random_spheres(
+        n,
+        phi,
+        container,
+        seed=task["seed"],
+        radius_ratio=task["radius_ratio"],
+        mass_ratio=task["mass_ratio"],
+    )
+    sim = Simulation(state, container)
+    if "betaP" in task:
+        from ..barostat import Barostat
+
+        sim.set_barostat(Barostat(pressure=task["betaP"], kT=1.0, seed=task["seed"]))
+    return sim
+
+
+def _split(total, parts):
+    """``total`` split into ``parts`` integers differing by at most one."""
+    q, r = divmod(int(total), parts)
+    return [q + (1 if k < r else 0) for k in range(parts)]
+
+
+def run_task(task):
+    """Run one task (or finish it from its checkpoint) and write its row.
+
+    Equilibration runs in ``blocks`` chunks, then the measurement in
+    ``blocks`` blocks, each run in steps of at most :data:`STEP` collisions
+    (a block of a ``time`` study is one step); after any step, once
+    ``checkpoint_seconds`` of work have passed, the simulation (with the
+    running block's averages) and the finished blocks' values are saved.
+    The steps are fixed by the study, not by the clock, so the results do
+    not depend on when checkpoints were taken.  This is what a Dask worker
+    runs; a task whose row file exists returns it without running.
+
+    Longer than 80 lines: the task's life in the order it happens (resume or
+    build, equilibrate, the blocks with their checkpoints, the row), whose
+    steps share the resumable progress record; split, each piece would pass
+    the whole record around.
+
+    Returns:
+        The row: a dict of the grid parameters, the run's length, each
+        observable's mean over blocks and its standard error (``NAME_err``).
+    """
+    import numpy as np
+    import pandas as pd
+
+    from ..simulation import Simulation
+
+    row_file = row_path(task)
+    if row_file.exists():
+        return pd.read_parquet(row_file).iloc[0].to_dict()
+    tdir = Path(task["folder"]) / "tasks" / task["key"]
+    tdir.mkdir(parents=True, exist_ok=True)
+    prog_path = tdir / "progress.json"
+    blocks, n = task["blocks"], task["n"]
+    eq_chunks = _split(task["equilibrate"] * n / 2, blocks)
+    prog = None
+    if prog_path.exists():
+        with open(prog_path, encoding="utf-8") as fh:
+            prog = json.load(fh)
+        if prog.get("checkpoint") and (tdir / prog["checkpoint"]).exists():
+            sim = Simulation.load(tdir / prog["checkpoint"])
+        else:
+            # its checkpoint is gone (a finished task's row deleted, before
+            # progress.json went with it): computed afresh (issue 29)
+            prog = None
+    if prog is None:
+        prog = {
+            "chunk": 0,
+            "step": 0,
+            "values": {m: [] for m in task["measure"]},
+            "t0": None,
+            "checkpoint": None,
+        }
+        sim = _build(task)
+    with open(tdir / "attempts.jsonl", "a", encoding="utf-8") as fh:
+        fh.write(
+            json.dumps(
+                {
+                    "pid": os.getpid(),
+                    "chunk": prog["chunk"],
+                    "step": prog.get("step", 0),
+                    "started": time.time(),
+                }
+            )
+            + "\n"
+        )
+    per_block = _split(task["collisions"] * n / 2, blocks) if task["collisions"] is not None else None
+    last_save = time.monotonic()
+    total = 2 * blocks
+
+    def steps(c):
+        """Collisions of chunk ``c``'s steps (``[None]``: one step to a time)."""
+        if c >= blocks and per_block is None:
+            return [None]
+        coll = eq_chunks[c] if c < blocks else per_block[c - blocks]
+        return _split(coll, max(1, -(-coll // STEP)))
+
+    def checkpoint(c, step):
+        nonlocal last_save
+        if time.monotonic() - last_save < task["checkpoint_seconds"]:
+            return
+        old = prog["checkpoint"]
+        prog.update(chunk=c, step=step, checkpoint=f"ck-{c}-{step}.npz", pid=os.getpid())
+        sim.save(tdir / prog["checkpoint"])
+        write_json(prog_path, prog)
+        if old and old != prog["checkpoint"]:
+            (tdir / old).unlink(missing_ok=True)
+        last_save = time.monotonic()
+
+    c, step = prog["chunk"], prog.get("step", 0)
+    while c < total:
+        plan = steps(c)
+        if c >= blocks and step == 0:  # a block starts (a resumed one keeps its start)
+            if prog["t0"] is None:
+                prog["t0"] = sim.time
+            sim.observables.reset()
+            if sim.barostat is not None:
+                sim.barostat.reset_averages()
+        for k in range(step, len(plan)):
+            if plan[k] is not None:
+                sim.run(collisions=plan[k])
+            else:
+                sim.run(until=prog["t0"] + task["time"] * (c - blocks + 1) / blocks)
+            if k + 1 < len(plan):
+                checkpoint(c, k + 1)
+        if c >= blocks:
+            for m in task["measure"]:
+                prog["values"][m].append(measures.block_value(m, sim, sim.observables))
+        c, step = c + 1, 0
+        if c < total:
+            checkpoint(c, 0)
+    row = {k: task.get(k, GRID_DEFAULTS.get(k)) for k in GRID if k in task or k in GRID_DEFAULTS}
+    row.update(
+        equilibrate=float(task["equilibrate"]),
+        collisions=float(task["collisions"]) if task["collisions"] is not None else float("nan"),
+        time=float(sim.time - prog["t0"]),
+        blocks=blocks,
+    )
+    for m in task["measure"]:
+        v = np.asarray(prog["values"][m], dtype=float)
+        row[m] = float(v.mean())
+        row[f"{m}_err"] = float(v.std(ddof=1) / math.sqrt(len(v)))
+    row["key"] = task["key"]
+    row_file.parent.mkdir(parents=True, exist_ok=True)
+    atomic(row_file, lambda tmp: pd.DataFrame([row]).to_parquet(tmp, index=False))
+    for f in tdir.glob("ck-*.npz"):
+        f.unlink(missing_ok=True)
+    prog_path.unlink(missing_ok=True)  # done: a deleted row is computed afresh
+    return row
