@@ -16,26 +16,38 @@ at the same N and box aspect ratio, at every packing they publish:
   46, 11186 (1992), Table I (``Zollweg_1992.csv``, 128^2, same box) is
   drawn for context, not scored (other packings).
 
-Each packing starts from random disks (``hardspheres.random_spheres``, a
-random half of a triangular lattice, which melts at once), equilibrates
-``--equilibrate`` collisions per disk, then measures ``--measure`` collisions
-per disk: ``beta P sigma^2 = Z 4 phi / pi`` (sigma the diameter, the
-HistoricDisks unit ``beta P (2 sigma)^2`` with their sigma a radius), Z from
-the collision virial with its blocked standard error
-(``hardspheres.observables``), scored by ``z = (ours - theirs) /
-sqrt(err_ours^2 + err_theirs^2)``.  Rows are appended to ``--csv`` as each
-packing finishes (a rerun skips the packings already there), so a long run
-can be stopped and resumed.  ``--plot`` draws the loop from the CSV.
+Each packing starts (``--start``) from random disks (``random``, the
+default: ``hardspheres.random_spheres``), from a fluid at packing 0.60 grown
+to the packing (``compressed``), or from the perfect hexagonal crystal
+(``crystal``), equilibrates ``--equilibrate`` collisions per disk, then
+measures ``--measure`` collisions per disk: ``beta P sigma^2 = Z 4 phi /
+pi`` (sigma the diameter, the HistoricDisks unit ``beta P (2 sigma)^2``
+with their sigma a radius), Z from the collision virial with its blocked
+standard error (``hardspheres.observables``), scored by ``z = (ours -
+theirs) / sqrt(err_ours^2 + err_theirs^2)``.  With ``--chunks K`` (K >=
+20) the measurement is recorded in K pieces (beta P sigma^2 and |Psi6| of
+each, in ``<csv>_series.csv``) and the error bar is the larger of the
+run's and the chunk series' (:func:`chunk_errors`), with the series'
+correlation times.  ``--seeds`` runs independent copies.  Rows are appended
+to ``--csv`` as each run finishes (a rerun skips the packing, start and
+seed already there), so a long run can be stopped and resumed.  ``plot``
+draws the loop from the CSVs, ``table`` prints their tables, ``rescore``
+recomputes the chunk errors from the series file.
 
 usage:
     python3 validation/disks_loop.py small --csv validation/results/disks_loop_870.csv
+    python3 validation/disks_loop.py small --csv validation/results/disks_loop_870_long.csv \
+        --equilibrate 20000 --measure 200000 --chunks 40 --order 0.712 --start compressed
     python3 validation/disks_loop.py large --csv validation/results/disks_loop_16384.csv
+    python3 validation/disks_loop.py large --csv validation/results/disks_loop_16384_crystal.csv \
+        --equilibrate 5000 --measure 20000 --chunks 20 --order 0.716 --start crystal
     python3 validation/disks_loop.py plot --csv A.csv B.csv --png docs/images/disks_loop.png
 
-Running time (this machine, 2 cores shared, load 3-6): small with the
+Running time (this machine, 2 cores shared, load 3-7): small with the
 defaults (5000 + 50000 collisions per disk, 15 packings) about 25 min;
-large with ``--equilibrate 5000 --measure 30000`` about 15 min per packing.
-Each run prints its own running time.
+small with 20000 + 200000 per disk 140-210 s per packing and start; large
+with ``--equilibrate 5000 --measure 30000`` about 15 min per packing.  Each
+run prints its own running time.
 """
 
 import argparse
@@ -46,6 +58,7 @@ import time
 
 import hardspheres as hs
 from hardspheres import fileio
+from hardspheres.blocking import blocking
 from hardspheres.builders import hexagonal
 
 # (packing, beta P sigma^2, its error), sigma the diameter: copied from
@@ -103,90 +116,170 @@ FIELDS = [
     "bp_first_half",
     "bp_second_half",
     "compressed",
+    "start",
+    "seed",
+    "chunks",
+    "error_run",
+    "error_chunks",
+    "chunks_converged",
+    "tau_bp",
+    "tau_psi6",
+    "psi6_mean",
 ]
+SERIES_FIELDS = ["phi", "start", "seed", "chunk", "per_disk", "bp", "psi6"]
 
 
-def measure(
-    cells: tuple[int, int], phi: float, equilibrate: int, collisions: int, seed: int, compressed: bool = False
-) -> dict:
-    """One packing: equilibrate, measure; beta P sigma^2 with its error, and |Psi6| at the end.
+START_PACKING = 0.60  # ``--start compressed``: the fluid grown to the packing
 
-    ``compressed``: start from a fluid at packing 0.60 (500 collisions per
-    disk), grown to ``phi`` (``Simulation.compress``, rate 10^-3), rather
-    than from random disks at ``phi`` (a triangular lattice with vacancies
-    at these packings, aligned with the box).
+
+def _start(cells: tuple[int, int], phi: float, seed: int, start: str) -> hs.Simulation:
+    """The simulation at ``phi`` from one of :data:`STARTS`.
+
+    ``random``: random disks at ``phi`` (``hs.random_spheres``: at these
+    packings a triangular lattice with vacancies, aligned with the box,
+    which melts at once); ``compressed``: a fluid at packing 0.60 (500
+    collisions per disk), grown to ``phi`` (``Simulation.compress``, rate
+    10^-3); ``crystal``: the perfect hexagonal crystal filling the box
+    (``builders.hexagonal``), the ordered side.
     """
-    t0 = time.time()
-    _, box = hexagonal(cells, phi)
+    state, box = hexagonal(cells, phi, seed=seed)
     n = cells[0] * cells[1]
-    if compressed:
-        sim = hs.Simulation(hs.random_spheres(n, 0.60, box, seed=seed), box)
+    if start == "crystal":
+        return hs.Simulation(state, box)
+    if start == "compressed":
+        sim = hs.Simulation(hs.random_spheres(n, START_PACKING, box, seed=seed), box)
         sim.run(collisions=500 * n)
         res = sim.compress(packing=phi, rate=1e-3, pressure=None)
         if res.reason != "packing" or abs(sim.packing - phi) > 1e-9:
             raise RuntimeError(f"compression to {phi} stopped at {sim.packing} ({res.reason})")
-    else:
-        sim = hs.Simulation(hs.random_spheres(n, phi, box, seed=seed), box)
+        return sim
+    if start != "random":
+        raise ValueError(f"start {start!r}: give one of {', '.join(STARTS)}")
+    return hs.Simulation(hs.random_spheres(n, phi, box, seed=seed), box)
+
+
+STARTS = ("random", "compressed", "crystal")
+
+
+def autocorrelation_time(x: list[float]) -> float:
+    """Integrated autocorrelation time of a series, in samples (Sokal's window, c = 5).
+
+    ``tau = 1/2 + sum_{t=1}^{W} rho(t)``, ``W`` the first lag with ``W >= 5
+    tau``; the error of a mean is ``std sqrt(2 tau / n)``.  Returns ``nan``
+    for fewer than 8 samples; a tau above n/10 is not to be trusted (the
+    series is too short to see its own correlation).
+    """
+    n = len(x)
+    if n < 8:
+        return math.nan
+    m = sum(x) / n
+    d = [v - m for v in x]
+    c0 = sum(v * v for v in d) / n
+    if c0 == 0.0:
+        return 0.5
+    tau = 0.5
+    for t in range(1, n // 2):
+        tau += sum(d[i] * d[i + t] for i in range(n - t)) / (n * c0)
+        if t >= 5.0 * tau:
+            break
+    return max(tau, 0.5)
+
+
+def chunk_errors(bp: list[float], psi6: list[float], per_chunk: float) -> dict:
+    """The error of the mean of a chunk series, and its correlation times in collisions per disk.
+
+    ``error_chunks``: the larger of Flyvbjerg-Petersen blocking over the
+    chunks (levels down to 8 blocks) and ``std sqrt(2 tau / n)``, tau the
+    chunks' integrated autocorrelation time (:func:`autocorrelation_time`).
+    """
+    blocked = blocking(bp, min_blocks=8)
+    mean = sum(bp) / len(bp)
+    std = math.sqrt(sum((b - mean) ** 2 for b in bp) / (len(bp) - 1))
+    tau, tau6 = autocorrelation_time(bp), autocorrelation_time(psi6)
+    return {"error_chunks": max(blocked.sem, std * math.sqrt(2.0 * tau / len(bp))),
+            "chunks_converged": float(blocked.converged), "tau_bp": tau * per_chunk,
+            "tau_psi6": tau6 * per_chunk, "psi6_mean": sum(psi6) / len(psi6)}  # fmt: skip
+
+
+def measure(
+    cells: tuple[int, int],
+    phi: float,
+    equilibrate: int,
+    collisions: int,
+    seed: int,
+    start: str = "random",
+    chunks: int = 2,
+) -> tuple[dict, list[dict]]:
+    """One packing: start, equilibrate, measure; beta P sigma^2 with its error, and |Psi6|.
+
+    The measurement runs in ``chunks`` equal pieces; after each, the
+    piece's own beta P sigma^2 (from the running time average) and |Psi6|
+    are recorded: the series (the second value returned).  With 20 chunks
+    or more the error bar is the larger of the run's blocked standard
+    error and the chunk series' (blocking over the chunks,
+    ``hardspheres.blocking``, and ``std sqrt(2 tau / n)`` with tau the
+    chunks' integrated autocorrelation time): a slow exchange between
+    liquid-like and ordered states that the run's own blocks are too short
+    to see shows there, as long as the run is longer than it.
+    """
+    t0 = time.time()
+    sim = _start(cells, phi, seed, start)
+    n = cells[0] * cells[1]
     sim.run(collisions=equilibrate * n)
     obs = sim.observables.reset()
     t_start = sim.time
-    sim.run(collisions=collisions * n // 2)
-    z_first, t_half = obs.Z(), sim.time - t_start
-    sim.run(collisions=collisions * n - collisions * n // 2)
+    scale = 4.0 * phi / math.pi
+    ends = [collisions * n * k // chunks for k in range(1, chunks + 1)]
+    series, done, z_prev, t_prev = [], 0, 0.0, 0.0
+    for k, end in enumerate(ends):
+        sim.run(collisions=end - done)
+        done = end
+        z_cum, t_cum = obs.Z(), sim.time - t_start
+        z_k = (z_cum * t_cum - z_prev * t_prev) / (t_cum - t_prev)  # Z is a time average
+        series.append({"phi": phi, "start": start, "seed": seed, "chunk": k, "per_disk": end / n,
+                       "bp": z_k * scale, "psi6": hs.Hexatic().compute(sim).order})  # fmt: skip
+        z_prev, t_prev = z_cum, t_cum
+        if k == chunks // 2 - 1:
+            z_first, t_half = z_cum, t_cum
     z, err = obs.Z(), obs.error("Z")
     t_all = sim.time - t_start
-    z_second = (z * t_all - z_first * t_half) / (t_all - t_half)  # Z is a time average
-    scale = 4.0 * phi / math.pi
-    psi6 = hs.Hexatic().compute(sim).order
-    return {"n": n, "phi": phi, "bp": z * scale, "error": err * scale, "Z": z, "Z_error": err, "psi6": psi6,
-            "equilibrate": equilibrate, "measure": collisions, "wall_s": time.time() - t0,
-            "bp_first_half": z_first * scale, "bp_second_half": z_second * scale,
-            "compressed": float(compressed)}  # fmt: skip
-
-
-def series(size: str, phi: float, chunks: int, per: int, path: str) -> None:
-    """One long run as a time series: beta P sigma^2 and |Psi6| over chunks of ``per`` collisions per disk.
-
-    The random start of :func:`measure`, 5000 collisions per disk, then
-    ``chunks`` chunks; prints one line per chunk and writes them to ``path``
-    (CSV), then the mean over the chunks with the standard error of the
-    chunk means.
-    """
-    t0 = time.time()
-    cells = SIZES[size]["cells"]
-    _, box = hexagonal(cells, phi)
-    n = cells[0] * cells[1]
-    sim = hs.Simulation(hs.random_spheres(n, phi, box, seed=1), box)
-    sim.run(collisions=5000 * n)
-    scale = 4.0 * phi / math.pi
-    out = []
-    for k in range(chunks):
-        obs = sim.observables.reset()
-        sim.run(collisions=per * n)
-        out.append((k, obs.Z() * scale, hs.Hexatic().compute(sim).order))
-        print(f"chunk {k}: beta P sigma^2 {out[-1][1]:.4f}, |Psi6| {out[-1][2]:.3f}", flush=True)
-        with fileio.atomic_write(path, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(["chunk", "bp", "psi6"])
-            w.writerows(out)
-    bp = [o[1] for o in out]
-    mean = sum(bp) / len(bp)
-    sem = math.sqrt(sum((b - mean) ** 2 for b in bp) / (len(bp) - 1) / len(bp)) if len(bp) > 1 else math.nan
-    print(f"N = {n}, packing {phi}: mean over {len(bp)} chunks of {per} collisions per disk", end=" ")
-    print(f"{mean:.4f} +- {sem:.4f}")
-    print(f"running time: {time.time() - t0:.0f} s")
+    z_second = (z * t_all - z_first * t_half) / (t_all - t_half)
+    row = {"n": n, "phi": phi, "bp": z * scale, "error": err * scale, "Z": z, "Z_error": err,
+           "psi6": series[-1]["psi6"], "equilibrate": equilibrate, "measure": collisions,
+           "bp_first_half": z_first * scale, "bp_second_half": z_second * scale,
+           "compressed": float(start == "compressed"), "start": start, "seed": seed, "chunks": chunks,
+           "error_run": err * scale}  # fmt: skip
+    if chunks >= 20:
+        row.update(chunk_errors([s["bp"] for s in series], [s["psi6"] for s in series], collisions / chunks))
+        row["error"] = max(row["error"], row["error_chunks"])
+    row["wall_s"] = time.time() - t0
+    return row, series
 
 
 def _read(path: str) -> list[dict]:
+    """A CSV's rows, numbers as floats; ``start`` kept a word (older files: from ``compressed``)."""
     if not os.path.exists(path):
         return []
     with open(path, newline="") as f:
-        return [{k: float(v) for k, v in row.items() if v not in (None, "")} for row in csv.DictReader(f)]
+        rows = [{k: (v if k == "start" else float(v)) for k, v in row.items() if v not in (None, "")}
+                for row in csv.DictReader(f)]  # fmt: skip
+    for r in rows:
+        r.setdefault("start", "compressed" if r.get("compressed") else "random")
+        r["seed"] = int(r.get("seed", 1))
+        if "chunk" in r:
+            r["chunk"] = int(r["chunk"])
+    return rows
 
 
-def _write(path: str, rows: list[dict]) -> None:
+def series_path(path: str) -> str:
+    """Where the chunk series of the runs in CSV ``path`` go: ``..._series.csv`` beside it."""
+    root, ext = os.path.splitext(path)
+    return f"{root}_series{ext}"
+
+
+def _write(path: str, rows: list[dict], fields: list[str] = FIELDS) -> None:
     with fileio.atomic_write(path, "w", newline="") as f:
-        w = csv.DictWriter(f, FIELDS, restval="")
+        w = csv.DictWriter(f, fields, restval="")
         w.writeheader()
         w.writerows(rows)
 
@@ -197,26 +290,56 @@ def run(
     equilibrate: int,
     collisions: int,
     order: list[float] | None,
-    compressed: bool = False,
+    start: str = "random",
+    seeds: list[int] | None = None,
+    chunks: int = 2,
 ) -> None:
     t0 = time.time()
     spec = SIZES[size]
     rows = _read(path)
-    done = {round(r["phi"], 6) for r in rows}
+    spath = series_path(path)
+    series = _read(spath)
+    done = {(round(r["phi"], 6), r["start"], int(r["seed"])) for r in rows}
     reference = {p: (v, e) for p, v, e in spec["reference"]}
     for phi in order or list(reference):
-        if round(phi, 6) in done:
-            continue
-        row = measure(spec["cells"], phi, equilibrate, collisions, seed=1, compressed=compressed)
-        ref, ref_err = reference[phi]
-        row.update(ref=ref, ref_error=ref_err, z=(row["bp"] - ref) / math.hypot(row["error"], ref_err))
-        rows.append(row)
-        rows.sort(key=lambda r: r["phi"])
-        _write(path, rows)
-        print(f"phi {phi:.3f}: {row['bp']:.4f} +- {row['error']:.4f} against {ref:.4f} +- {ref_err:.4f}, "
-              f"z {row['z']:+.2f}, |Psi6| {row['psi6']:.3f}, {row['wall_s']:.0f} s", flush=True)  # fmt: skip
+        for seed in seeds or [1]:
+            if (round(phi, 6), start, seed) in done:
+                continue
+            row, ser = measure(spec["cells"], phi, equilibrate, collisions, seed, start, chunks)
+            ref, ref_err = reference[phi]
+            row.update(ref=ref, ref_error=ref_err, z=(row["bp"] - ref) / math.hypot(row["error"], ref_err))
+            rows.append(row)
+            rows.sort(key=lambda r: (r["phi"], r["start"], r["seed"]))
+            if chunks >= 20:  # the series first: a row on file means its series is too
+                series.extend(ser)
+                _write(spath, series, SERIES_FIELDS)
+            _write(path, rows)
+            extra = ""
+            if "tau_bp" in row:
+                extra = (f", chunk error {row['error_chunks']:.4f} (run's {row['error_run']:.4f}), "
+                         f"tau {row['tau_bp']:.0f} (Psi6 {row['tau_psi6']:.0f}) per disk")  # fmt: skip
+            print(f"phi {phi:.3f} {start} seed {seed}: {row['bp']:.4f} +- {row['error']:.4f} against "
+                  f"{ref:.4f} +- {ref_err:.4f}, z {row['z']:+.2f}, |Psi6| {row['psi6']:.3f}, "
+                  f"halves {_halves(row)}{extra}, {row['wall_s']:.0f} s", flush=True)  # fmt: skip
     table(rows)
     print(f"running time: {time.time() - t0:.0f} s")
+
+
+def rescore(path: str) -> None:
+    """Recompute the chunk errors (and z) of CSV ``path``'s rows from their series file."""
+    rows, series = _read(path), _read(series_path(path))
+    for r in rows:
+        if "tau_bp" not in r:
+            continue
+        run_key = (r["phi"], r["start"], r["seed"])
+        ser = sorted(
+            (s for s in series if (s["phi"], s["start"], s["seed"]) == run_key), key=lambda s: s["chunk"]
+        )
+        r.update(chunk_errors([s["bp"] for s in ser], [s["psi6"] for s in ser], r["measure"] / r["chunks"]))
+        r["error"] = max(r["error_run"], r["error_chunks"])
+        r["z"] = (r["bp"] - r["ref"]) / math.hypot(r["error"], r["ref_error"])
+    _write(path, rows)
+    table(rows)
 
 
 def _halves(r: dict) -> str:
@@ -228,17 +351,38 @@ def _halves(r: dict) -> str:
 
 def table(rows: list[dict]) -> None:
     """The Markdown table of one CSV's rows."""
-    print("| N | packing | ours, beta P sigma^2 | published | z | \\|Psi6\\| | collisions per disk", end="")
+    print(
+        "| N | packing | start | ours, beta P sigma^2 | published | z | \\|Psi6\\| | collisions per disk",
+        end="",
+    )
     print(" | first, second half |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['n']:.0f} | {r['phi']:.3f} | {r['bp']:.4f} +- {r['error']:.4f} | {r['ref']:.4f} +- "
-              f"{r['ref_error']:.4f} | {r['z']:+.2f} | {r['psi6']:.3f} | "
+        seed = f", seed {r['seed']:.0f}" if r["seed"] != 1 else ""
+        print(f"| {r['n']:.0f} | {r['phi']:.3f} | {r['start']}{seed} | {r['bp']:.4f} +- {r['error']:.4f} | "
+              f"{r['ref']:.4f} +- {r['ref_error']:.4f} | {r['z']:+.2f} | {r['psi6']:.3f} | "
               f"{r['equilibrate']:.0f} + {r['measure']:.0f} | {_halves(r)} |")  # fmt: skip
     if rows:
         worst = max(rows, key=lambda r: abs(r["z"]))
         print(f"\nlargest |z| {abs(worst['z']):.2f} (packing {worst['phi']:.3f}); |z| <= 3 at "
-              f"{sum(abs(r['z']) <= 3 for r in rows)} of {len(rows)} packings")  # fmt: skip
+              f"{sum(abs(r['z']) <= 3 for r in rows)} of {len(rows)} runs")  # fmt: skip
+    chunked = [r for r in rows if "tau_bp" in r]
+    if chunked:
+        print("\n| N | packing | start | chunk error | run's error | chunk blocks converged | tau of beta P, "
+              "of \\|Psi6\\| (collisions per disk) | mean \\|Psi6\\| |")  # fmt: skip
+        print("|---|---|---|---|---|---|---|---|")
+        for r in chunked:
+            print(f"| {r['n']:.0f} | {r['phi']:.3f} | {r['start']} | {r['error_chunks']:.4f} | "
+                  f"{r['error_run']:.4f} | {'yes' if r['chunks_converged'] else 'no'} | "
+                  f"{r['tau_bp']:.0f}, {r['tau_psi6']:.0f} | {r['psi6_mean']:.3f} |")  # fmt: skip
+
+
+STYLE = {
+    "random": ("o", "random start"),
+    "compressed": ("^", "compressed from 0.60"),
+    "crystal": ("s", "crystal"),
+}
+COLOURS = ("tab:red", "tab:blue", "tab:purple", "tab:orange", "tab:cyan", "tab:brown")
 
 
 def plot(paths: list[str], png: str) -> None:
@@ -247,7 +391,7 @@ def plot(paths: list[str], png: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
     sets = [
         ("small", LI_870, "N = 870, 29 : 30 sqrt(3)/2 box", []),
         ("large", LI_16384, "N = 128^2 = 16384, sqrt(3)/2 box", [("Zollweg & Chester 1992", ZOLLWEG_16384)]),
@@ -261,51 +405,62 @@ def plot(paths: list[str], png: str) -> None:
             p, v, e = zip(*[d for d in data if 0.688 <= d[0] <= 0.722], strict=True)
             ax.errorbar(p, v, e, fmt="s", ms=3, color="tab:green", mfc="none", capsize=2, label=name)
 
-        def key(r: dict) -> tuple[float, float, float]:
-            return (r.get("compressed", 0.0), r["equilibrate"], r["measure"])
+        def key(r: dict) -> tuple[float, float, str]:
+            return (r["equilibrate"] + r["measure"], r["equilibrate"], r["start"])
 
         mine = [r for r in rows if r["n"] == n]
         for k, run_key in enumerate(sorted({key(r) for r in mine})):
             ours = [r for r in mine if key(r) == run_key]
-            start = "compressed from 0.60" if run_key[0] else "random start"
+            marker, start = STYLE[run_key[2]]
             ax.errorbar(
-                [r["phi"] + 0.0003 * k for r in ours],
+                [r["phi"] + 0.00025 * k for r in ours],
                 [r["bp"] for r in ours],
                 [r["error"] for r in ours],
-                fmt="os^"[k % 3],
+                fmt=marker,
                 ms=4,
-                color=("tab:red", "tab:blue", "tab:purple")[k % 3],
+                color=COLOURS[k % len(COLOURS)],
                 capsize=3,
-                label=f"hardspheres EDMD, {start}, {run_key[1]:.0f} + {run_key[2]:.0f} per disk",
+                label=f"hardspheres EDMD, {start}, {run_key[1]:.0f} + {run_key[0] - run_key[1]:.0f} per disk",
             )
         ax.set(title=title, xlabel="packing fraction", ylabel="beta P sigma^2 (sigma: diameter)")
-        ax.legend(fontsize=7, loc="best")
+        ax.legend(fontsize=6.5, loc="best")
     with fileio.atomic_path(png) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", choices=["small", "large", "plot", "table", "series"])
+    ap.add_argument("what", choices=["small", "large", "plot", "table", "rescore"])
     ap.add_argument("--csv", nargs="+", required=True)
     ap.add_argument("--equilibrate", type=int, default=5000, help="collisions per disk before measuring")
     ap.add_argument("--measure", type=int, default=50000, help="collisions per disk measured")
     ap.add_argument("--order", type=float, nargs="+", help="packings to run, in this order (default: all)")
     ap.add_argument("--png", default="docs/images/disks_loop.png")
-    ap.add_argument("--size", choices=list(SIZES), default="small", help="series: the system")
-    ap.add_argument("--chunks", type=int, default=40, help="series: chunks")
-    ap.add_argument("--per", type=int, default=5000, help="series: collisions per disk per chunk")
-    ap.add_argument("--compressed", action="store_true", help="start from a fluid at 0.60, grown")
+    ap.add_argument("--start", choices=STARTS, default="random", help="the start (see _start)")
+    ap.add_argument("--compressed", action="store_true", help="the same as --start compressed")
+    ap.add_argument("--seeds", type=int, nargs="+", help="independent runs at each packing (default: 1)")
+    ap.add_argument(
+        "--chunks",
+        type=int,
+        default=2,
+        help="pieces of the measurement recorded (>= 20: series, chunk error)",
+    )
     args = ap.parse_args()
-    if args.what == "series":
-        series(args.size, args.order[0], args.chunks, args.per, args.csv[0])
-    elif args.what == "plot":
+    if args.chunks < 2 or args.chunks % 2:
+        ap.error(f"--chunks {args.chunks}: give an even number >= 2")
+    start = "compressed" if args.compressed else args.start
+    if args.what == "plot":
         plot(args.csv, args.png)
     elif args.what == "table":
         for p in args.csv:
             table(_read(p))
+    elif args.what == "rescore":
+        for p in args.csv:
+            rescore(p)
     else:
-        run(args.what, args.csv[0], args.equilibrate, args.measure, args.order, args.compressed)
+        run(
+            args.what, args.csv[0], args.equilibrate, args.measure, args.order, start, args.seeds, args.chunks
+        )
 
 
 if __name__ == "__main__":
