@@ -1,12 +1,19 @@
 """The Dask clients a sweep runs on: a scheduler at an address, or a new LocalCluster."""
 
+from __future__ import annotations
+
 import os
+import subprocess
 import sys
+from typing import TYPE_CHECKING
 
 from ..errors import StudyError
 
+if TYPE_CHECKING:
+    from distributed import Client
 
-def connect(address, timeout=10.0):
+
+def connect(address: str, timeout: float = 10.0) -> Client:
     """A :class:`distributed.Client` of the scheduler at ``address``.
 
     Raises:
@@ -24,7 +31,7 @@ def connect(address, timeout=10.0):
         ) from None
 
 
-def local_client(workers=None):
+def local_client(workers: int | None = None) -> Client:
     """A :class:`distributed.Client` of a new LocalCluster: one single-threaded
     worker process per core (or ``workers``), its dashboard on a free port."""
     import logging
@@ -68,11 +75,9 @@ def local_client(workers=None):
             sentinel.wait()
 
 
-def _ctrl_c_sentinel():
+def _ctrl_c_sentinel() -> subprocess.Popen[bytes]:
     """A process in this one's group that only Ctrl-C (SIGINT) ends: it tells
     whether Ctrl-C came while this process ignored it."""
-    import subprocess
-
     code = "import signal, time; signal.signal(signal.SIGINT, signal.SIG_DFL); time.sleep(86400)"
     return subprocess.Popen(
         [sys.executable, "-c", code],

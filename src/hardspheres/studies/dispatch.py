@@ -1,8 +1,12 @@
 """The sweep: a study's unfinished tasks sent out (in this process, on a
 LocalCluster or on a cluster at an address) and the tables written as they end."""
 
+from __future__ import annotations
+
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TextIO
 
 from ..errors import StudyError
 from .cluster import local_client
@@ -11,8 +15,14 @@ from .spec import load_study, parse_study
 from .tables import collect, summarize
 from .task import run_task, tasks
 
+if TYPE_CHECKING:
+    import pandas as pd
+    from distributed import Client
 
-def _describe(task):
+    from .spec import Task
+
+
+def _describe(task: Task) -> str:
     return (
         f"{task['container']} "
         + (
@@ -27,7 +37,14 @@ def _describe(task):
     )
 
 
-def sweep(spec, client=None, *, serial=False, workers=None, out=None):
+def sweep(
+    spec: str | os.PathLike[str] | dict[str, Any],
+    client: Client | None = None,
+    *,
+    serial: bool = False,
+    workers: int | None = None,
+    out: TextIO | None = None,
+) -> pd.DataFrame:
     """Run a study: every task not yet finished, then write and return the results.
 
     Longer than 80 lines with this docstring (about 60 of code).
@@ -46,7 +63,7 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
     Returns:
         A :class:`pandas.DataFrame`, one row per task, sorted by the grid
         parameters (also written to ``results.parquet``/``.csv``, with
-        :func:`summarize`'s table in ``summary.parquet``/``.csv``).
+        :func:`~hardspheres.studies.tables.summarize`'s table in ``summary.parquet``/``.csv``).
         ``df.attrs["computed"]`` counts the tasks this call ran.
 
     Raises:
@@ -71,7 +88,7 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
     bar = Progress(len(todo), stream=out) if out is not None else None
     done = 0
 
-    def finished(task):
+    def finished(task: Task) -> None:
         nonlocal done
         done += 1
         write_table(collect(all_tasks), folder / "results")
@@ -87,24 +104,24 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
                 finished(t)
         elif todo:
             own = client is None
-            if own:
-                client = local_client(workers)
+            on = local_client(workers) if client is None else client
             try:
                 import importlib.util
 
-                link = getattr(client, "dashboard_link", None)
+                link = getattr(on, "dashboard_link", None)
                 hint = (
                     ""
                     if importlib.util.find_spec("bokeh")
                     else " (its pages need bokeh: pip install 'hardspheres[sweep]')"
                 )
                 say(f"dashboard: {link}{hint}" if link else "dashboard: none")
-                _run_on(client, todo, study["retries"], finished)
+                _run_on(on, todo, study["retries"], finished)
             finally:
                 if own:
-                    cluster = client.cluster
-                    client.close(timeout=10)
-                    cluster.close(timeout=10)
+                    cluster = on.cluster  # (local_client's: always set)
+                    on.close(timeout=10)
+                    if cluster is not None:
+                        cluster.close(timeout=10)
     finally:
         if bar is not None and bar.on and done:
             bar.close()
@@ -115,19 +132,19 @@ def sweep(spec, client=None, *, serial=False, workers=None, out=None):
     return df
 
 
-def _fail(task, e):
+def _fail(task: Task, e: BaseException) -> StudyError:
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
     return StudyError(f"task {_describe(task)} failed: {msg}")
 
 
-def _run_here(task):
+def _run_here(task: Task) -> dict[str, Any]:
     try:
         return run_task(task)
     except (ValueError, ArithmeticError) as e:
         raise _fail(task, e) from None
 
 
-def _run_on(client, todo, retries, finished):
+def _run_on(client: Client, todo: list[Task], retries: int, finished: Callable[[Task], None]) -> None:
     from distributed import as_completed
 
     futures = {

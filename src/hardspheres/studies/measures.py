@@ -6,21 +6,34 @@ argument and returns a number is measured by its own name
 (:func:`observable_names` lists them all, :func:`block_value` reads one).
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
 from ..errors import StudyError
 
+if TYPE_CHECKING:
+    from ..observables import Observables
+    from ..simulation import Simulation
 
-def _packing(sim, obs):
+#: How a study reads one observable: ``f(sim, observables)``, a number.
+Measure = Callable[["Simulation", "Observables"], float]
+
+
+def _packing(sim: Simulation, obs: Observables) -> float:
     """The block's mean packing: the barostat's over its moves, else the packing now (constant)."""
     b = sim.barostat
     return b.mean_packing if b is not None and b.samples else sim.packing
 
 
-def _volume(sim, obs):
+def _volume(sim: Simulation, obs: Observables) -> float:
+    """The block's mean volume: the barostat's over its moves, else the volume now (constant)."""
     b = sim.barostat
     return b.mean_volume if b is not None and b.samples else sim.container.volume
 
 
-def _ks(sim, obs):
+def _ks(sim: Simulation, obs: Observables) -> float:
     """Kolmogorov-Smirnov distance of the reduced speeds ``v sqrt(m/kT)`` from Maxwell-Boltzmann."""
     import numpy as np
 
@@ -37,7 +50,7 @@ def _ks(sim, obs):
 #: averaged since the block began).  Any other public method of
 #: ``Observables`` that takes no argument and returns a number is measured
 #: by its own name.
-OBSERVABLES = {
+OBSERVABLES: dict[str, Measure] = {
     "Z": lambda sim, o: o.compressibility(),
     "compressibility": lambda sim, o: o.compressibility(),
     "pressure": lambda sim, o: o.pressure(),
@@ -53,7 +66,7 @@ OBSERVABLES = {
 _NOT_OBSERVABLES = {"reset", "summary", "speed_histogram", "elapsed"}
 
 
-def observable_names():
+def observable_names() -> list[str]:
     """Names a study's ``measure`` accepts (the registry and ``Observables``' methods)."""
     from ..observables import Observables
 
@@ -64,7 +77,7 @@ def observable_names():
     return sorted(names)
 
 
-def block_value(name, sim, obs):
+def block_value(name: str, sim: Simulation, obs: Observables) -> float:
     """The number observable ``name`` reads for the block just ended.
 
     Raises:

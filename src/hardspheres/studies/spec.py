@@ -5,8 +5,13 @@ the keys (:mod:`hardspheres.studies` lists them) and fills in the defaults;
 :data:`GRID` names the parameters a study's grid runs over.
 """
 
+from __future__ import annotations
+
 import math
+import os
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any, TypedDict
 
 from ..containers import MAX_PACKING as _MAX_PACKING
 from ..errors import StudyError
@@ -23,15 +28,25 @@ MAX_PACKING = _MAX_PACKING
 #: Parameters that make the grid, in the order of the results' columns.
 #: (``betaP``, the pressure a constant-pressure study holds, only in their
 #: tables: ``pressure`` is the observable.)
-GRID = ("container", "dimensions", "aspect", "betaP", "packing", "n", "radius_ratio", "mass_ratio", "seed")
+GRID: tuple[str, ...] = (
+    "container",
+    "dimensions",
+    "aspect",
+    "betaP",
+    "packing",
+    "n",
+    "radius_ratio",
+    "mass_ratio",
+    "seed",
+)
 
 #: What a grid column reads in rows written before it existed (3-D, no aspect).
-GRID_DEFAULTS = {"dimensions": 3, "aspect": ""}
+GRID_DEFAULTS: dict[str, Any] = {"dimensions": 3, "aspect": ""}
 
 #: The densest random disks the builder places (:data:`hardspheres.builders.RANDOM_DISKS_MAX`).
 _DISKS_MAX = 0.72
 
-_KEYS = {
+_KEYS: dict[str, str] = {
     "output": "folder for the results (string)",
     "container": '"box", "sphere" or "circle" (the round wall in 2-D)',
     "dimensions": "3 or 2 (disks), or a list of them",
@@ -52,15 +67,76 @@ _KEYS = {
 }
 
 
-def _where(source):
+class Study(TypedDict):
+    """A parsed study: every key of the study file, checked, with its default filled in.
+
+    The grid's keys are lists (``aspect``: box shapes as tuples, or
+    ``[None]`` for the cube or a round wall; ``pressure`` and ``packing``:
+    ``None`` when not given); ``output`` is an absolute path.
+    """
+
+    output: str
+    container: str
+    dimensions: list[int]
+    aspect: list[tuple[float, ...] | None]
+    pressure: list[float] | None
+    packing: list[float] | None
+    n: list[int]
+    seeds: list[int]
+    radius_ratio: list[float]
+    mass_ratio: list[float]
+    equilibrate: float
+    collisions: float | None
+    time: float | None
+    checkpoint_seconds: float
+    blocks: int
+    retries: int
+    measure: list[str]
+
+
+class _TaskSpace(TypedDict, total=False):
+    # a task's space and pressure, only where they are not the default (so
+    # that 3-D constant-volume tasks keep the keys they had before them)
+    dimensions: int
+    aspect: str
+    betaP: float
+
+
+class Task(_TaskSpace):
+    """One task: a grid point and a seed, the run's length and observables.
+
+    ``key`` hashes every entry that decides the result (those above
+    ``key``); ``folder`` is the study's output and ``checkpoint_seconds``
+    how often it saves, neither part of the key.  ``dimensions``
+    (default 3), ``aspect`` (default ``""``) and ``betaP`` (constant
+    volume) appear only when not the default.
+    """
+
+    container: str
+    packing: float
+    n: int
+    radius_ratio: float
+    mass_ratio: float
+    seed: int
+    equilibrate: float
+    collisions: float | None
+    time: float | None
+    blocks: int
+    measure: list[str]
+    key: str
+    folder: str
+    checkpoint_seconds: float
+
+
+def _where(source: str | None) -> str:
     return f"{source}: " if source else ""
 
 
-def _is_number(x):
+def _is_number(x: object) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
-def _list_of(raw, key, check, what, source):
+def _list_of(raw: Any, key: str, check: Callable[[Any], bool], what: str, source: str | None) -> list[Any]:
     values = raw if isinstance(raw, list) else [raw]
     if not values:
         raise StudyError(f"{_where(source)}{key} is an empty list; give {what}")
@@ -70,7 +146,7 @@ def _list_of(raw, key, check, what, source):
     return values
 
 
-def parse_study(data, source=None, base=None):
+def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[str] | None = None) -> Study:
     """Check a study (a dict, as from TOML) and return it complete with defaults.
 
     Longer than 80 lines: one check per key, in the order the module's
@@ -105,28 +181,26 @@ def parse_study(data, source=None, base=None):
     for key in ("packing", "n"):
         if data.get(key) is None and not (key == "packing" and data.get("pressure") is not None):
             raise StudyError(f"{_where(source)}missing key {key!r}: {_KEYS[key]}")
-    s = {}
     out = data.get("output", "study")
     if not isinstance(out, str) or not out:
         raise StudyError(f"{_where(source)}output = {out!r} is not allowed: give a folder name")
     # absolute: workers may run in another folder (on a cluster: the same
     # path on a shared file system)
-    s["output"] = str((Path(base or ".") / out).resolve())
+    output = str((Path(base or ".") / out).resolve())
     container = data.get("container", "box")
     if container not in ("box", "sphere", "circle"):
         raise StudyError(
             f'{_where(source)}container = {container!r} is not allowed: give "box", "sphere" or "circle"'
         )
-    s["container"] = container
-    s["dimensions"], s["aspect"] = _space(data, container, source)
-    disks = 2 in s["dimensions"]
+    dimensions, aspect = _space(data, container, source)
+    disks = 2 in dimensions
 
-    def fits(v):
+    def fits(v: Any) -> bool:
         return _is_number(v) and 0.0 < v and (v <= _DISKS_MAX if disks else v < MAX_PACKING)
 
-    s["pressure"] = None
+    pressure = None
     if data.get("pressure") is not None:  # (None: a parsed study's constant volume)
-        s["pressure"] = [
+        pressure = [
             float(v)
             for v in _list_of(
                 data["pressure"], "pressure", lambda v: _is_number(v) and v > 0.0, _KEYS["pressure"], source
@@ -136,7 +210,7 @@ def parse_study(data, source=None, base=None):
             raise StudyError(
                 f'{_where(source)}pressure needs container = "box" (its volume moves scale the box)'
             )
-    s["packing"] = (
+    packing = (
         None
         if data.get("packing") is None
         else [
@@ -150,21 +224,21 @@ def parse_study(data, source=None, base=None):
             )
         ]
     )
-    s["n"] = _list_of(
+    n = _list_of(
         data["n"],
         "n",
         lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
         _KEYS["n"],
         source,
     )
-    seeds = data.get("seeds", 1)
-    if isinstance(seeds, int) and not isinstance(seeds, bool):
-        if seeds < 1:
-            raise StudyError(f"{_where(source)}seeds = {seeds} is not allowed: give {_KEYS['seeds']}")
-        seeds = list(range(seeds))
+    raw_seeds = data.get("seeds", 1)
+    if isinstance(raw_seeds, int) and not isinstance(raw_seeds, bool):
+        if raw_seeds < 1:
+            raise StudyError(f"{_where(source)}seeds = {raw_seeds} is not allowed: give {_KEYS['seeds']}")
+        seeds = list(range(raw_seeds))
     else:
         seeds = _list_of(
-            seeds,
+            raw_seeds,
             "seeds",
             lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0,
             "a count (integer >= 1) or a list of integer seeds >= 0",
@@ -172,33 +246,37 @@ def parse_study(data, source=None, base=None):
         )
         if len(set(seeds)) != len(seeds):
             raise StudyError(f"{_where(source)}seeds lists a seed twice: {seeds}")
-    s["seeds"] = seeds
-    for key in ("radius_ratio", "mass_ratio"):
-        s[key] = [
+    ratio = {
+        key: [
             float(v)
             for v in _list_of(
                 data.get(key, 1.0), key, lambda v: _is_number(v) and v >= 1.0, _KEYS[key], source
             )
         ]
+        for key in ("radius_ratio", "mass_ratio")
+    }
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
-    for key, default, ok in (
+    length: dict[str, Any] = {}
+    checks: tuple[tuple[str, float | None, Callable[[float], bool]], ...] = (
         ("equilibrate", 50, lambda v: v >= 0),
         ("collisions", None, lambda v: v > 0),
         ("time", None, lambda v: v > 0),
         ("checkpoint_seconds", 120, lambda v: v >= 0),
-    ):
+    )
+    for key, default, ok in checks:
         v = data.get(key, default)
         if v is not None and not (_is_number(v) and ok(v)):
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
-        s[key] = v
-    if s["collisions"] is None and s["time"] is None:
-        s["collisions"] = 200
-    for key, default, low in (("blocks", 10, 2), ("retries", 2, 0)):
-        v = data.get(key, default)
+        length[key] = v
+    if length["collisions"] is None and length["time"] is None:
+        length["collisions"] = 200
+    counts: dict[str, int] = {}
+    for key, low_default, low in (("blocks", 10, 2), ("retries", 2, 0)):
+        v = data.get(key, low_default)
         if not (isinstance(v, int) and not isinstance(v, bool) and v >= low):
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
-        s[key] = v
+        counts[key] = v
     measure = data.get("measure", ["Z"])
     if isinstance(measure, str):
         measure = [measure]
@@ -208,14 +286,31 @@ def parse_study(data, source=None, base=None):
     for m in measure:
         if m not in known:
             raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
-    s["measure"] = list(dict.fromkeys(measure))
-    return s
+    return Study(
+        output=output,
+        container=container,
+        dimensions=dimensions,
+        aspect=aspect,
+        pressure=pressure,
+        packing=packing,
+        n=n,
+        seeds=seeds,
+        radius_ratio=ratio["radius_ratio"],
+        mass_ratio=ratio["mass_ratio"],
+        equilibrate=length["equilibrate"],
+        collisions=length["collisions"],
+        time=length["time"],
+        checkpoint_seconds=length["checkpoint_seconds"],
+        blocks=counts["blocks"],
+        retries=counts["retries"],
+        measure=list(dict.fromkeys(measure)),
+    )
 
 
-def _space(data, container, source):
+def _space(data: Any, container: str, source: str | None) -> tuple[list[int], list[tuple[float, ...] | None]]:
     """``(dimensions, aspects)``: the lists a study's grid runs over (``aspects``: tuples or ``None``)."""
     raw = data.get("aspect")
-    aspects = [None]
+    aspects: list[tuple[float, ...] | None] = [None]
     if raw is not None:
         shapes = raw if isinstance(raw, list) and raw and all(isinstance(a, list) for a in raw) else [raw]
         for a in shapes:
@@ -226,7 +321,8 @@ def _space(data, container, source):
         if container != "box":
             raise StudyError(f'{_where(source)}aspect is for container = "box", not {container!r}')
         aspects = [tuple(float(x) for x in a) for a in shapes]
-    default = [len(aspects[0])] if aspects[0] is not None else [2] if container == "circle" else [3]
+    first = aspects[0]
+    default = [len(first)] if first is not None else [2] if container == "circle" else [3]
     dims = _list_of(
         data.get("dimensions", default),
         "dimensions",
@@ -235,17 +331,16 @@ def _space(data, container, source):
         source,
     )
     dims = list(dict.fromkeys(dims))
-    if aspects[0] is not None and dims != [len(aspects[0])]:
+    if first is not None and dims != [len(first)]:
         raise StudyError(
-            f"{_where(source)}aspect {list(aspects[0])} has {len(aspects[0])} sides: "
-            f"not dimensions = {dims!r}"
+            f"{_where(source)}aspect {list(first)} has {len(first)} sides: not dimensions = {dims!r}"
         )
     if container == "circle" and dims != [2]:
         raise StudyError(f'{_where(source)}container = "circle" is 2-D: not dimensions = {dims!r}')
     return dims, aspects
 
 
-def aspect_text(aspect):
+def aspect_text(aspect: Sequence[float] | None) -> str:
     """A box shape as the results' ``aspect`` column reads it: ``"1:1:2"`` (``""``: none).
 
     Example:
@@ -255,17 +350,17 @@ def aspect_text(aspect):
     return "" if aspect is None else ":".join(f"{x:.10g}" for x in aspect)
 
 
-def load_study(path):
+def load_study(path: str | os.PathLike[str]) -> Study:
     """Read and check a study file (TOML); ``output`` is relative to its folder.
 
     Raises:
         StudyError: unreadable TOML or a bad key (the message names it).
         OSError: the file cannot be read.
     """
-    path = Path(path)
+    file = Path(path)
     try:
-        with open(path, "rb") as fh:
+        with open(file, "rb") as fh:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as e:
-        raise StudyError(f"{path}: not valid TOML: {e}") from None
-    return parse_study(data, source=str(path), base=path.parent)
+        raise StudyError(f"{file}: not valid TOML: {e}") from None
+    return parse_study(data, source=str(file), base=file.parent)

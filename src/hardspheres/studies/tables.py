@@ -1,17 +1,26 @@
 """A study's results as tables: the rows of the finished tasks, and their summary over seeds."""
 
+from __future__ import annotations
+
 import math
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
 
 from .files import row_path
 from .spec import GRID, GRID_DEFAULTS
 
+if TYPE_CHECKING:
+    import pandas as pd
 
-def measured(df):
+    from .spec import Task
+
+
+def measured(df: pd.DataFrame) -> list[str]:
     """Observable columns of a results table (those with a ``NAME_err`` beside them)."""
     return [c for c in df.columns if f"{c}_err" in df.columns]
 
 
-def summarize(df):
+def summarize(df: pd.DataFrame) -> pd.DataFrame:
     """Mean and standard error over seeds, one row per parameter point.
 
     For each observable ``X``: ``X`` is the mean over seeds; ``X_err`` its
@@ -31,7 +40,7 @@ def summarize(df):
 
     params = [c for c in GRID if c != "seed" and c in df.columns]
     obs = measured(df)
-    rows = []
+    rows: list[dict[str, Any]] = []
     for point, g in df.groupby(params, sort=True):
         point = point if isinstance(point, tuple) else (point,)
         row = dict(zip(params, point))
@@ -48,7 +57,8 @@ def summarize(df):
     return pd.DataFrame(rows)
 
 
-def collect(all_tasks):
+def collect(all_tasks: Iterable[Task]) -> pd.DataFrame:
+    """The rows of the finished tasks among ``all_tasks``, sorted by the grid parameters (empty: none)."""
     import pandas as pd
 
     frames = [pd.read_parquet(row_path(t)) for t in all_tasks if row_path(t).exists()]

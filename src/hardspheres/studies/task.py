@@ -6,17 +6,26 @@ fixed steps with checkpoints, and writes its row.  This is what a Dask
 worker runs.
 """
 
+from __future__ import annotations
+
 import hashlib
 import itertools
 import json
 import math
 import os
 import time
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
+from ..errors import StudyError
 from . import measures
 from .files import atomic, row_path, write_json
-from .spec import GRID, GRID_DEFAULTS, aspect_text
+from .spec import GRID, GRID_DEFAULTS, Study, Task, aspect_text
+
+if TYPE_CHECKING:
+    from ..containers import Container
+    from ..simulation import Simulation
 
 #: Most collisions run between two chances to checkpoint (about a second of work).
 STEP = 1 << 20
@@ -28,7 +37,7 @@ FREEZING_START = 11.5
 FREEZING_START_2D = 8.5
 
 
-def tasks(study):
+def tasks(study: Study) -> list[Task]:
     """The study's tasks, one dict per grid point and seed, in a fixed order.
 
     Each has the grid parameters (:data:`GRID`), the run's length and
@@ -38,32 +47,45 @@ def tasks(study):
     from ..eos import packing_at_pressure
 
     out = []
-    run = {k: study[k] for k in ("equilibrate", "collisions", "time", "blocks", "measure")}
+    # (.get: a study made by hand before the space and pressure keys existed)
+    held, given = study.get("pressure"), study["packing"]
+    pressures: list[float | None] = [*held] if held else [None]
+    packings: list[float | None] = [*given] if given else [None]
     for pressure, d, aspect, packing, n, rr, mr, seed in itertools.product(
-        study.get("pressure") or [None],
+        pressures,
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
-        study["packing"] or [None],
+        packings,
         study["n"],
         study["radius_ratio"],
         study["mass_ratio"],
         study["seeds"],
     ):
-        if packing is None and d == 2:
-            from ..eos import kolafa_rottner
+        if packing is None:
+            if pressure is None:
+                raise StudyError("a study without packing needs pressure: give one (parse_study checks them)")
+            if d == 2:
+                from ..eos import kolafa_rottner
 
-            packing = packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
-        elif packing is None:
-            packing = packing_at_pressure(min(pressure, FREEZING_START))
-        t = {
-            "container": study["container"],
-            "packing": packing,
-            "n": n,
-            "radius_ratio": rr,
-            "mass_ratio": mr,
-            "seed": seed,
-            **run,
-        }
+                packing = packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
+            else:
+                packing = packing_at_pressure(min(pressure, FREEZING_START))
+        t = Task(
+            container=study["container"],
+            packing=packing,
+            n=n,
+            radius_ratio=rr,
+            mass_ratio=mr,
+            seed=seed,
+            equilibrate=study["equilibrate"],
+            collisions=study["collisions"],
+            time=study["time"],
+            blocks=study["blocks"],
+            measure=study["measure"],
+            key="",
+            folder=study["output"],
+            checkpoint_seconds=study["checkpoint_seconds"],
+        )
         # the space only where it is not the default: 3-D studies keep their keys
         if d != 3:
             t["dimensions"] = d
@@ -71,14 +93,19 @@ def tasks(study):
             t["aspect"] = aspect_text(aspect)
         if pressure is not None:  # (absent otherwise: the keys of constant-volume tasks are unchanged)
             t["betaP"] = pressure
-        t["key"] = hashlib.sha256(json.dumps(t, sort_keys=True).encode()).hexdigest()[:16]
-        t["folder"] = study["output"]
-        t["checkpoint_seconds"] = study["checkpoint_seconds"]
+        t["key"] = _key(t)
         out.append(t)
     return out
 
 
-def _build(task):
+def _key(task: Task) -> str:
+    """The hash of what decides a task's result: every entry but its key, folder and checkpoint_seconds."""
+    decides = {k: v for k, v in task.items() if k not in ("key", "folder", "checkpoint_seconds")}
+    return hashlib.sha256(json.dumps(decides, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _build(task: Task) -> Simulation:
+    """The task's starting simulation: random spheres at its packing, seeded by its seed."""
     from ..builders import random_spheres
     from ..containers import CircularContainer, PeriodicBox, SphericalContainer
     from ..simulation import Simulation
@@ -86,6 +113,7 @@ def _build(task):
     n, phi = task["n"], task["packing"]
     d = task.get("dimensions", 3)
     aspect = task.get("aspect") or None
+    container: Container
     if task["container"] == "box":
         if aspect is None and d == 2:
             aspect = "1:1"
@@ -111,13 +139,13 @@ def _build(task):
     return sim
 
 
-def _split(total, parts):
+def _split(total: float, parts: int) -> list[int]:
     """``total`` split into ``parts`` integers differing by at most one."""
     q, r = divmod(int(total), parts)
     return [q + (1 if k < r else 0) for k in range(parts)]
 
 
-def run_task(task):
+def run_task(task: Task) -> dict[str, Any]:
     """Run one task (or finish it from its checkpoint) and write its row.
 
     Equilibration runs in ``blocks`` chunks, then the measurement in
@@ -151,7 +179,7 @@ def run_task(task):
     prog_path = tdir / "progress.json"
     blocks, n = task["blocks"], task["n"]
     eq_chunks = _split(task["equilibrate"] * n / 2, blocks)
-    prog = None
+    prog: dict[str, Any] | None = None
     if prog_path.exists():
         with open(prog_path, encoding="utf-8") as fh:
             prog = json.load(fh)
@@ -186,14 +214,17 @@ def run_task(task):
     last_save = time.monotonic()
     total = 2 * blocks
 
-    def steps(c):
+    def steps(c: int) -> Sequence[int | None]:
         """Collisions of chunk ``c``'s steps (``[None]``: one step to a time)."""
-        if c >= blocks and per_block is None:
+        if c < blocks:
+            coll = eq_chunks[c]
+        elif per_block is None:
             return [None]
-        coll = eq_chunks[c] if c < blocks else per_block[c - blocks]
+        else:
+            coll = per_block[c - blocks]
         return _split(coll, max(1, -(-coll // STEP)))
 
-    def checkpoint(c, step):
+    def checkpoint(c: int, step: int) -> None:
         nonlocal last_save
         if time.monotonic() - last_save < task["checkpoint_seconds"]:
             return
