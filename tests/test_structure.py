@@ -9,6 +9,7 @@ from helpers import periodic_gas
 import hardspheres as hs
 from hardspheres.analysis.structure import RDF, BondOrder, NotComputedError, StructureFactor
 from hardspheres.containers import PeriodicBoxRequired
+from hardspheres.errors import AnalysisInputError
 from hardspheres.io.trajectory import frames_from_simulation
 
 pytest.importorskip("freud")
@@ -66,6 +67,23 @@ def test_fluid_is_not_crystal_and_fcc_is(fluid):
     bo = BondOrder().compute(fcc, box=9.5)
     assert bo.mean_q == pytest.approx(0.57452, abs=1e-4)
     assert bo.crystal_fraction == 1.0
+
+
+def test_bond_order_of_bare_positions_needs_sigma_r_max_or_neighbours():
+    """Bare positions carry no radii: a one-line error saying what to pass (was a raw TypeError)."""
+    fcc = hs.random_spheres(256, 0.5, box=9.5, seed=1)
+    positions = fcc.positions
+    with pytest.raises(
+        AnalysisInputError, match=r"^BondOrder: bare positions have no radii: pass sigma="
+    ) as err:
+        BondOrder().compute(positions, box=9.5)
+    assert isinstance(err.value, ValueError) and "\n" not in str(err.value)
+    # each of the three ways out gives the state's answer (r_max 1.4 sigma, or the 12 nearest)
+    sigma = 2.0 * float(fcc.radii.max())
+    want = BondOrder().compute(fcc, box=9.5).mean_q
+    assert BondOrder().compute(positions, box=9.5, sigma=sigma).mean_q == want
+    assert BondOrder(r_max=1.4 * sigma).compute(positions, box=9.5).mean_q == want
+    assert BondOrder(num_neighbors=12).compute(positions, box=9.5).mean_q == pytest.approx(want, abs=1e-9)
 
 
 def test_structure_factor_of_the_fluid(fluid):

@@ -100,6 +100,10 @@ class NotComputedError(ValueError):
     """A result was read before :meth:`compute` was called."""
 
 
+class AnalysisInputError(ValueError):
+    """An analysis needs what its input lacks (bare positions: the radii); the message says what to pass."""
+
+
 class UsageError(ValueError):
     """Bad command-line arguments."""
 

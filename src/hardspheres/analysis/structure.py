@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from ..containers import PeriodicBox, require_periodic
+from ..errors import AnalysisInputError
 from ..errors import NotComputedError  # noqa: F401 (re-exported)
 from .compute import Compute
 
@@ -142,7 +143,7 @@ def _shortest(L: Edge) -> float:
 
 def _contact_distance(radii: np.ndarray | None) -> float:
     if radii is None or len(radii) == 0:
-        raise ValueError("sphere radii unknown: pass sigma (the contact distance)")
+        raise AnalysisInputError("sphere radii unknown: pass sigma (the contact distance)")
     d = 2.0 * np.asarray(radii)
     if np.ptp(d) > 1e-12 * d.max():
         raise ValueError(
@@ -394,15 +395,36 @@ class BondOrder(Compute):
         self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
 
     def compute(self, source: Source, box: Edge | None = None, sigma: float | None = None) -> BondOrder:
-        """Bond order of each of ``source``'s configurations; returns self."""
+        """Bond order of each of ``source``'s configurations; returns self.
+
+        Args:
+            source: frames, a simulation, a state or bare positions.
+            box: the periodic box's edge or sides [length], for a state or
+                bare positions.
+            sigma: the contact distance [length] that sets the default
+                ``r_max`` (1.4 sigma); default: the largest diameter.  Bare
+                positions carry no radii, so they need ``sigma``, an
+                ``r_max`` or ``num_neighbors``.
+
+        Raises:
+            AnalysisInputError: bare positions with none of ``sigma``,
+                ``r_max`` and ``num_neighbors``.
+        """
         freud = _freud()
         L, pos, radii = _local_configurations(source, box)
         if self.num_neighbors is not None:
             neighbors: dict[str, float] = {"num_neighbors": int(self.num_neighbors)}
+        elif self.r_max:
+            neighbors = {"r_max": self.r_max}
+        elif sigma is not None:
+            neighbors = {"r_max": 1.4 * float(sigma)}
+        elif radii is None:  # bare positions
+            raise AnalysisInputError(
+                "BondOrder: bare positions have no radii: pass sigma= (the contact distance), "
+                "or give BondOrder r_max= or num_neighbors="
+            )
         else:
-            # radii are None for bare positions: then sigma is needed (float(None) raises)
-            sig = float(sigma) if sigma is not None else 2.0 * float(np.max(cast(np.ndarray, radii)))
-            neighbors = {"r_max": self.r_max or 1.4 * sig}
+            neighbors = {"r_max": 1.4 * (2.0 * float(np.max(radii)))}
         fbox = _freud_box(freud, L)
         st = freud.order.Steinhardt(self.l)
         sl = freud.order.SolidLiquid(
