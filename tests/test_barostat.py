@@ -172,6 +172,14 @@ def test_closest_ratio_against_brute_force():
         ({"pressure": 1.0, "axes": "xx"}, "axes"),
         ({"pressure": 1.0, "seed": -1}, "seed"),
         ({"pressure": 1.0, "seed": 1.5}, "seed"),
+        ({"pressure": True}, "pressure"),
+        ({"pressure": -2.0}, "pressure"),
+        ({"pressure": 1.0, "kT": float("inf")}, "kT"),
+        ({"pressure": 1.0, "every": -1.0}, "every"),
+        ({"pressure": 1.0, "step": "big"}, "step"),
+        ({"pressure": 1.0, "axes": ""}, "axes"),
+        ({"pressure": 1.0, "axes": 3}, "axes"),
+        ({"pressure": 1.0, "seed": "one"}, "seed"),
     ],
 )
 def test_bad_options_name_the_argument(kwargs, word):
@@ -357,3 +365,64 @@ def test_the_fluid_at_constant_pressure_against_hansen_goos():
     q = blocking(64 * (v - v.mean()) ** 2 / v.mean() ** 2)
     ref = 1.0 / float(inverse_compressibility(phi0))
     assert abs(q.mean - ref) < 3 * q.sem and q.sem < 0.4 * ref
+
+
+def test_spheres_at_rest_need_a_kt():
+    sim = _two(v=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    with pytest.raises(BarostatError) as e:
+        sim.set_barostat(Barostat(pressure=1.0)).run(until=1.0)
+    assert "at rest" in str(e.value) and "kT" in str(e.value) and "\n" not in str(e.value)
+
+
+def test_a_side_move_scales_that_side_only():
+    # two spheres at rest 1 + 1e-6 diameters apart along x, at a pressure that
+    # accepts every squeeze that fits: squeezing x always overlaps them (no
+    # move accepted); squeezing y never does, so Ly shrinks to the engine's
+    # bound (three diameters) while Lx, Lz and the pair's x distance stay exactly
+    rest = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    sim = _two(gap=1.000001, L=4.0, v=rest)
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="x", seed=1)
+    sim.set_barostat(bar).run(until=100.0)
+    assert bar.accepted == 0 and bar.overlaps > 25 and sim.container.sides == (4.0, 4.0, 4.0)
+    sim = _two(gap=1.000001, L=4.0, v=rest)
+    x0 = sim.state().positions
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="y", seed=1)
+    sim.set_barostat(bar).run(until=100.0)
+    lx, ly, lz = sim.container.sides
+    assert bar.overlaps == 0 and bar.accepted > 5 and lx == lz == 4.0 and 3.0 < ly < 3.0 * math.exp(0.05)
+    x = sim.state().positions
+    assert np.array_equal(x[:, 0], x0[:, 0]) and np.array_equal(x[:, 2], x0[:, 2])
+    assert np.array_equal(x[:, 1], x0[:, 1])  # y = 0 scales to 0
+    assert closest_ratio(x, sim.engine.radii_at(), sim.container.sides) == pytest.approx(1.000001, rel=1e-12)
+
+
+def test_the_averages_are_of_the_box_after_each_move():
+    # mean_volume, volume_variance and mean_packing against the volumes read
+    # after each move (the product of the sides), with per-side moves
+    box = hs.PeriodicBox.for_packing(40, 0.3, (1.0, 1.0, 1.4))
+    sim = hs.Simulation(hs.random_spheres(40, 0.3, box, seed=2), box)
+    bar = Barostat(pressure=4.0, kT=1.0, axes="xyz", seed=3)
+    sim.set_barostat(bar)
+    bar.attach(sim)
+    vols = []
+    for _ in range(300):
+        sim.run(until=bar.next_time)
+        vols.append(math.prod(sim.container.sides))
+    v = np.array(vols)
+    assert bar.samples == 300 and bar.accepted > 30 and len(set(sim.container.sides)) == 3
+    assert bar.mean_volume == pytest.approx(v.mean(), rel=1e-12)
+    assert bar.volume_variance == pytest.approx(v.var(ddof=1), rel=1e-9)
+    assert bar.mean_packing == pytest.approx(np.mean(40 * math.pi / 6.0 / v), rel=1e-12)
+
+
+def test_per_side_moves_resume_bit_for_bit(tmp_path):
+    box = hs.PeriodicBox.for_packing(64, 0.35, (1.0, 1.0, 1.5))
+    sim = hs.Simulation(hs.random_spheres(64, 0.35, box, seed=4), box)
+    sim.set_barostat(Barostat(pressure=6.0, axes="xyz", seed=5)).run(until=1.0)
+    sim.save(tmp_path / "c.npz")
+    sim.run(until=3.0)
+    again = hs.Simulation.load(tmp_path / "c.npz").run(until=3.0)
+    assert again.barostat.state() == sim.barostat.state() and again.container == sim.container
+    assert len(set(sim.container.sides)) == 3 and sim.barostat.accepted > 5
+    a, b = sim.state(), again.state()
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities)

@@ -101,3 +101,21 @@ def test_readme_hard_disk_study_prints_what_readme_quotes(tmp_path, monkeypatch,
     printed = capsys.readouterr().out.strip()
     assert f"prints `{printed}`" in section.replace("\n", " "), printed
     assert (tmp_path / "disks.png").stat().st_size > 10_000
+
+
+def test_readme_constant_pressure_block_prints_what_readme_quotes(tmp_path, monkeypatch, capsys):
+    """README's "Constant pressure and coexistence" block, run as it stands: the lines README quotes."""
+    import hardspheres as hs
+    from hardspheres.analysis.coexistence import SlabProfile, crystal_fluid_slab
+    from hardspheres.eos import packing_at_pressure
+
+    section = re.search(r"## Constant pressure and coexistence\n(.*?)\n## ", README, re.S).group(1)
+    block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    printed = capsys.readouterr().out.strip().splitlines()
+    text = section.replace("\n", " ")
+    assert len(printed) == 2 and all(f"`{line}`" in text for line in printed), printed
+    assert f"(Hansen-Goos: {packing_at_pressure(5.0):.3f})" in text
+    start = hs.Simulation(*crystal_fluid_slab((3, 3, 6), plane="100", seed=1))
+    assert f"{SlabProfile(bins=20).compute(start).crystal_fraction:.2f} at the start" in text
