@@ -111,33 +111,12 @@ Example:
     >>> tmp.cleanup()
 """
 
-# the names users import from hardspheres.studies (each defined in its module)
-from ..errors import StudyError
-from .cluster import connect, local_client
-from .dispatch import sweep
-from .measures import OBSERVABLES, observable_names
-from .spec import GRID, GRID_DEFAULTS, MAX_PACKING, aspect_text, load_study, parse_study
-from .tables import measured, summarize
-from .task import FREEZING_START, FREEZING_START_2D, STEP, run_task, tasks
-
-__all__ = [
-    "FREEZING_START",
-    "FREEZING_START_2D",
-    "GRID",
-    "GRID_DEFAULTS",
-    "MAX_PACKING",
-    "OBSERVABLES",
-    "STEP",
-    "StudyError",
-    "aspect_text",
-    "connect",
-    "load_study",
-    "local_client",
-    "measured",
-    "observable_names",
-    "parse_study",
-    "run_task",
-    "summarize",
-    "sweep",
-    "tasks",
-]
+# the names users import from hardspheres.studies, each defined in its module
+# (no __all__: each is documented once, on its home module's page)
+from ..errors import StudyError  # noqa: F401
+from .cluster import connect, local_client  # noqa: F401
+from .dispatch import sweep  # noqa: F401
+from .measures import OBSERVABLES, observable_names  # noqa: F401
+from .spec import GRID, GRID_DEFAULTS, MAX_PACKING, aspect_text, load_study, parse_study  # noqa: F401
+from .tables import measured, summarize  # noqa: F401
+from .task import FREEZING_START, FREEZING_START_2D, STEP, run_task, tasks  # noqa: F401
