@@ -101,11 +101,27 @@ class NotComputedError(ValueError):
 
 
 class AnalysisInputError(ValueError):
-    """An analysis needs what its input lacks (bare positions: the radii); the message says what to pass."""
+    """An analysis cannot be computed from its input or options (bare positions without radii, too few
+    frames, a fit window with no points); the message names the input and says what to pass or record."""
+
+
+class ArgumentError(ValueError):
+    """An argument a library call cannot use (out of range, of the wrong kind, a time before the clock);
+    the message names the argument and says what it must be."""
+
+
+class TrajectoryError(ValueError):
+    """A trajectory file that cannot be read or written (not GSD or XYZ, not of hardspheres, no frames,
+    a closed writer); the message names the file and says what to do."""
+
+
+class PictureError(ValueError):
+    """A picture, movie, page or plot that cannot be made (a bad option, no frames, a missing program);
+    the message names the option and says what to change."""
 
 
 class UsageError(ValueError):
-    """Bad command-line arguments."""
+    """Bad command-line arguments; the message names the option and says what to give."""
 
 
 class CheckpointError(ValueError):

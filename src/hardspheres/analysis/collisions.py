@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import NotComputedError
+from ..errors import AnalysisInputError, NotComputedError
 from ..events import EventKind, empty_events
 from .compute import Compute
 
@@ -68,7 +68,7 @@ def mean_free_time_from_z(
         0.295409
     """
     if not z > 1:
-        raise ValueError(f"Z must be > 1 (a gas with collisions), got {z!r}")
+        raise AnalysisInputError(f"Z must be > 1 (a gas with collisions), got {z!r}")
     if dim == 3:  # the 3-D relation's home
         from ..eos import collision_rate_from_z
 
@@ -149,12 +149,14 @@ def _record(source: EventRecorder | Frames, what: str) -> tuple[np.ndarray, floa
         raise TypeError(f"{what} need an EventRecorder or Frames with events, got {type(source).__name__}")
     ev = ev[ev["kind"] == EventKind.COLLISION]
     if len(ev) == 0:
-        raise ValueError(
+        raise AnalysisInputError(
             f"{what}: no collisions recorded; run longer with an EventRecorder in sim.writers "
             "(or record the trajectory with events=True)"
         )
     if not duration > 0:
-        raise ValueError(f"{what}: the record spans no time")
+        raise AnalysisInputError(
+            f"{what}: the record spans no time; record events over a run that advances the clock"
+        )
     return ev, duration, n
 
 
@@ -214,7 +216,7 @@ class FreeFlights(Compute):
         same = sphere[1:] == sphere[:-1]
         self.flights = np.diff(time)[same]
         if len(self.flights) == 0:
-            raise ValueError("free-flight statistics: no sphere collided twice; run longer")
+            raise AnalysisInputError("free-flight statistics: no sphere collided twice; run longer")
         self.per_sphere = np.bincount(sphere, minlength=n)
         self.rate = 2.0 * len(ev) / (n * duration)
         self.mean = 1.0 / self.rate
@@ -301,7 +303,7 @@ class ContactForces(Compute):
 
     def __init__(self, min_collisions: int = 1) -> None:
         if int(min_collisions) != min_collisions or min_collisions < 1:
-            raise ValueError(f"min_collisions must be a whole number >= 1, got {min_collisions!r}")
+            raise AnalysisInputError(f"min_collisions must be a whole number >= 1, got {min_collisions!r}")
         self.min_collisions = int(min_collisions)
 
     def compute(self, source: EventRecorder | Frames) -> ContactForces:

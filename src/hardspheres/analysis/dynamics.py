@@ -71,7 +71,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from ..errors import NotComputedError, PeriodicBoxRequired
+from ..errors import AnalysisInputError, NotComputedError, PeriodicBoxRequired, TrajectoryError
 from .compute import Compute
 
 if TYPE_CHECKING:
@@ -162,12 +162,15 @@ def _source(
             source.n,
         )
     if times is None or box is None:
-        raise ValueError(
+        raise AnalysisInputError(
             f"{what}: pass Frames, a .gsd trajectory, or unwrapped positions (F, N, d) with times and box"
         )
     pos = np.asarray(source, float)
     if pos.ndim != 3:
-        raise ValueError(f"{what}: positions must be (frames, N, d), got shape {pos.shape}")
+        raise AnalysisInputError(
+            f"{what}: positions must be (frames, N, d), got shape {pos.shape}; "
+            "stack one (N, d) array per frame"
+        )
     lengths = np.broadcast_to(np.asarray(box, float), (pos.shape[-1],)).copy()
     return _Source(times, lengths, lambda f: pos[f], None, None, pos.shape[1])
 
@@ -181,12 +184,14 @@ def _gsd_source(path: str, what: str) -> _Source:
     try:
         traj = gsd.hoomd.open(path, mode="r")
     except (OSError, RuntimeError) as e:
-        raise ValueError(f"{path}: cannot read as GSD ({e})") from None
+        raise TrajectoryError(f"{path}: cannot read as GSD ({e}); give a complete .gsd file") from None
     if len(traj) == 0:
-        raise ValueError(f"{path}: no frames")
+        raise TrajectoryError(f"{path}: no frames; read a trajectory its run wrote frames to")
     first = traj[0]
     if "hardspheres/time" not in first.log:
-        raise ValueError(f"{path}: not written by hardspheres (no log/hardspheres/time)")
+        raise TrajectoryError(
+            f"{path}: not written by hardspheres (no log/hardspheres/time); read a GSDWriter's file"
+        )
     container = from_fields(first.log)
     if not container.periodic:
         raise PeriodicBoxRequired(f"{what} need a periodic box; {path} is in a {container.label}")
@@ -234,7 +239,7 @@ def log_lags(times: ArrayLike, per_decade: float = 10) -> np.ndarray:
     cand = np.unique(t[1:] - t[0])
     cand = cand[cand > 0]
     if len(cand) == 0:
-        raise ValueError("lags: the frames span no time; record at least two frames")
+        raise AnalysisInputError("lags: the frames span no time; record at least two frames")
     lo, hi = cand[0], cand[-1]
     num = max(2, int(round(per_decade * math.log10(hi / lo))) + 1) if hi > lo else 1
     grid = np.geomspace(lo, hi, num)
@@ -248,7 +253,7 @@ def _origins(times: np.ndarray, origin_every: float | None) -> np.ndarray:
         return np.arange(len(times))
     every = float(origin_every)
     if not (math.isfinite(every) and every > 0):
-        raise ValueError(f"origin_every must be a finite time > 0, got {origin_every!r}")
+        raise AnalysisInputError(f"origin_every must be a finite time > 0, got {origin_every!r}")
     keep, last = [], -math.inf
     for k, t in enumerate(times):
         if t >= last + every * (1.0 - 1e-9):
@@ -278,21 +283,23 @@ def _plan(
 ) -> Plan:
     times = src.times
     if len(times) < min_frames:
-        raise ValueError(f"{what}: {len(times)} frame(s); record at least {min_frames}")
+        raise AnalysisInputError(f"{what}: {len(times)} frame(s); record at least {min_frames}")
     if np.any(np.diff(times) <= 0):
-        raise ValueError(f"{what}: frame times must increase")
+        raise AnalysisInputError(
+            f"{what}: frame times must increase; pass the frames in time order, each time once"
+        )
     if lags is None:
         lags = log_lags(times, per_decade)
     else:
         lags = np.atleast_1d(np.asarray(lags, float))
         if lags.size == 0 or not np.all(np.isfinite(lags)) or np.any(lags <= 0):
-            raise ValueError(f"lags must be finite times > 0, got {lags.tolist()}")
+            raise AnalysisInputError(f"lags must be finite times > 0, got {lags.tolist()}")
     origins = _origins(times, origin_every)
     plan = []
     for lag in lags:
         i, j = _pairs(times, origins, float(lag))
         if len(i) == 0:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"lags: no pair of frames {lag:g} apart (the frames span {times[-1] - times[0]:g}"
                 f"{' with origins every %g' % origin_every if origin_every else ''}); "
                 "ask for shorter lags or record a longer run"
@@ -324,10 +331,10 @@ def _check_k(k: ArrayLike, lengths: np.ndarray, name: str = "k") -> np.ndarray:
     ks = np.atleast_1d(np.asarray(k, float))
     kmin = 2.0 * math.pi / float(np.max(lengths))
     if ks.size == 0 or not np.all(np.isfinite(ks)):
-        raise ValueError(f"{name} must be finite wave numbers [1/length], got {ks.tolist()}")
+        raise AnalysisInputError(f"{name} must be finite wave numbers [1/length], got {ks.tolist()}")
     bad = ks[ks < kmin * (1.0 - 1e-9)]
     if bad.size:
-        raise ValueError(
+        raise AnalysisInputError(
             f"{name} = {bad[0]:g} is below 2 pi / L = {kmin:.4g}, the smallest wave number the box has; "
             "give a larger k (or a larger box)"
         )
@@ -351,7 +358,7 @@ def lattice_vectors(
     step = 2.0 * math.pi / lengths
     dk = float(step.min()) if dk is None else float(dk)
     if not (math.isfinite(dk) and dk > 0):
-        raise ValueError(f"dk must be a finite wave number > 0, got {dk!r}")
+        raise AnalysisInputError(f"dk must be a finite wave number > 0, got {dk!r}")
     hi = k + 0.5 * dk
     axes = [np.arange(-int(hi / s), int(hi / s) + 1) for s in step]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, len(lengths))
@@ -363,7 +370,7 @@ def lattice_vectors(
     sel &= first > 0
     q = q[sel]
     if len(q) == 0:
-        raise ValueError(f"k: no wave vector of the box within dk = {dk:g} of {k:g}; widen dk")
+        raise AnalysisInputError(f"k: no wave vector of the box within dk = {dk:g} of {k:g}; widen dk")
     if len(q) > max_vectors:
         rng = np.random.default_rng(seed)
         q = q[np.sort(rng.choice(len(q), int(max_vectors), replace=False))]
@@ -416,9 +423,9 @@ class _Dynamic(Compute):
         blocks: int = 5,
     ) -> None:
         if int(blocks) != blocks or blocks < 1:
-            raise ValueError(f"blocks must be a whole number >= 1, got {blocks!r}")
+            raise AnalysisInputError(f"blocks must be a whole number >= 1, got {blocks!r}")
         if not (isinstance(per_decade, (int, float)) and per_decade > 0):
-            raise ValueError(f"per_decade must be a number > 0, got {per_decade!r}")
+            raise AnalysisInputError(f"per_decade must be a number > 0, got {per_decade!r}")
         self.lags, self.per_decade, self.origin_every, self.blocks = lags, per_decade, origin_every, blocks
 
     def _prepare(
@@ -484,7 +491,7 @@ class SelfIntermediate(_Dynamic):
     ) -> None:
         super().__init__(lags, per_decade, origin_every, blocks)
         if shell not in ("isotropic", "lattice"):
-            raise ValueError(f"shell must be 'isotropic' or 'lattice', got {shell!r}")
+            raise AnalysisInputError(f"shell must be 'isotropic' or 'lattice', got {shell!r}")
         self.k_asked, self.shell, self.dk, self.max_vectors = _as_k(k), shell, dk, max_vectors
 
     def compute(
@@ -573,7 +580,7 @@ def _crossing(t: np.ndarray, f: np.ndarray, e: np.ndarray, level: float, what: s
 
     tau = cross(f)
     if math.isnan(tau):
-        raise ValueError(
+        raise AnalysisInputError(
             f"{what} stays above {level:.4g} up to t = {t[-1]:g}: no alpha relaxation in the lags; "
             "record a longer run"
         )
@@ -742,7 +749,7 @@ class Overlap(_Dynamic):
     ) -> None:
         super().__init__(lags, per_decade, origin_every, blocks)
         if a is not None and not (math.isfinite(a) and a > 0):
-            raise ValueError(f"a must be a finite length > 0, got {a!r}")
+            raise AnalysisInputError(f"a must be a finite length > 0, got {a!r}")
         self.a_asked = a
 
     def compute(

@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, NamedTuple, cast
 
 import numpy as np
 
-from ..errors import NotComputedError, PeriodicBoxRequired
+from ..errors import AnalysisInputError, NotComputedError, PeriodicBoxRequired
 from .compute import Compute
 
 if TYPE_CHECKING:
@@ -85,13 +85,15 @@ def _packing(
     if box is None:
         raise PeriodicBoxRequired("jamming analyses need a periodic box: pass box (its edge)")
     if rad is None:
-        raise ValueError("radii: pass the spheres' radii with bare positions")
+        raise AnalysisInputError("radii: pass the spheres' radii with bare positions")
     pos = np.asarray(pos, float)
     if pos.ndim != 2:
-        raise ValueError(f"positions must be (N, d), got shape {pos.shape}")
+        raise AnalysisInputError(f"positions must be (N, d), got shape {pos.shape}; pass one configuration")
     rad = np.asarray(rad, float).reshape(-1)
     if len(rad) != len(pos):
-        raise ValueError(f"radii: {len(rad)} radii for {len(pos)} spheres")
+        raise AnalysisInputError(
+            f"radii: {len(rad)} radii for {len(pos)} spheres; pass one radius per sphere"
+        )
     lengths = np.broadcast_to(np.asarray(box, float), (pos.shape[1],)).copy()
     return np.mod(pos, lengths), rad, lengths
 
@@ -232,7 +234,7 @@ class Contacts(Compute):
     def __init__(self, tolerance: float = 1e-4, h_max: float = 0.5) -> None:
         for name, v in (("tolerance", tolerance), ("h_max", h_max)):
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+                raise AnalysisInputError(f"{name} must be a finite number >= 0, got {v!r}")
         self.tolerance, self.h_max = float(tolerance), float(max(h_max, tolerance))
 
     def compute(
@@ -258,7 +260,9 @@ class Contacts(Compute):
         if forces is not None:
             forces._need()
             if forces.n != n:
-                raise ValueError(f"forces: {forces.n} spheres, the packing has {n}")
+                raise AnalysisInputError(
+                    f"forces: {forces.n} spheres, the packing has {n}; pass this packing's forces"
+                )
             self.pairs = np.sort(np.asarray(forces.pairs, np.int64), axis=1)
         else:
             self.pairs = self.near[self.gaps <= self.tolerance]
@@ -293,10 +297,10 @@ class Contacts(Compute):
         h = self.backbone_gaps()
         lo = self.tolerance if h_min is None else float(h_min)
         if not 0 <= lo < h_max:
-            raise ValueError(f"h_min must be >= 0 and below h_max = {h_max:g}, got {lo:g}")
+            raise AnalysisInputError(f"h_min must be >= 0 and below h_max = {h_max:g}, got {lo:g}")
         used = h[(h > lo) & (h <= h_max)]
         if len(used) < 10:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"{len(used)} gaps in ({lo:g}, {h_max:g}]: widen the range (h_min, h_max) "
                 "or use a larger packing"
             )
@@ -370,7 +374,7 @@ def isostatic_tolerance(
         kept = int((~rattler).sum())
         if kept and int(count[~rattler].sum()) // 2 >= dim * (kept - 1) + 1:
             return float(gaps[order[k - 1]])
-    raise ValueError(f"h_max: no gap up to {h_max:g} makes the network isostatic; raise h_max")
+    raise AnalysisInputError(f"h_max: no gap up to {h_max:g} makes the network isostatic; raise h_max")
 
 
 def force_exponent(
@@ -425,13 +429,15 @@ def force_exponent(
         f = f[keep]
     elif without_bucklers or contacts_only:
         name = "without_bucklers" if without_bucklers else "contacts_only"
-        raise ValueError(f"{name}: pass contacts (the network that says who has d + 1 contacts)")
+        raise AnalysisInputError(f"{name}: pass contacts (the network that says who has d + 1 contacts)")
     if len(f) == 0:
-        raise ValueError("forces: no contact forces between non-rattlers")
+        raise AnalysisInputError(
+            "forces: no contact forces between non-rattlers; pass a jammed packing (compress it further)"
+        )
     x = f / f.mean()
     used = x[(x > f_min) & (x <= f_max)]
     if len(used) < 10:
-        raise ValueError(f"{len(used)} forces in ({f_min:g}, {f_max:g}] of the mean: widen f_max")
+        raise AnalysisInputError(f"{len(used)} forces in ({f_min:g}, {f_max:g}] of the mean: widen f_max")
     alpha = power_law_exponent(used, f_min, f_max)
     err = _bootstrap(used, lambda s: power_law_exponent(s, f_min, f_max))
     return alpha - 1.0, err, len(used)
@@ -467,14 +473,14 @@ class JammingPoint(Compute):
         """Fit to packing fractions ``phi`` and reduced pressures ``Z`` (``compress(progress=...)``'s)."""
         phi, Z = np.asarray(phi, float), np.asarray(Z, float)
         if phi.shape != Z.shape:
-            raise ValueError(f"phi and Z: {phi.shape} and {Z.shape} values")
+            raise AnalysisInputError(f"phi and Z: {phi.shape} and {Z.shape} values; pass one Z per phi")
         ok = np.isfinite(phi) & np.isfinite(Z)
         if not ok.any():
-            raise ValueError("Z: no finite values")
+            raise AnalysisInputError("Z: no finite values; pass the measured reduced pressures")
         z_min = max(float(np.max(Z[ok])) / 100.0, 10.0) if self.z_min is None else float(self.z_min)
         sel = ok & (Z >= z_min)
         if sel.sum() < 3:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"Z: {int(sel.sum())} points with Z >= z_min = {z_min:g}; compress further or lower z_min"
             )
         p, z = phi[sel], Z[sel]

@@ -146,7 +146,7 @@ def _contact_distance(radii: np.ndarray | None) -> float:
         raise AnalysisInputError("sphere radii unknown: pass sigma (the contact distance)")
     d = 2.0 * np.asarray(radii)
     if np.ptp(d) > 1e-12 * d.max():
-        raise ValueError(
+        raise AnalysisInputError(
             "spheres of different sizes have one contact value per pair of sizes; pass sigma to choose one"
         )
     return float(d[0])
@@ -214,7 +214,9 @@ class RDF(Compute):
         lo, hi = self.sigma * (1 - 1e-9), self.sigma * (1.0 + width)
         sel = (self.edges[:-1] >= lo) & (self.edges[1:] <= hi * (1 + 1e-9))
         if sel.sum() < 4:
-            raise ValueError("fewer than 4 bins to fit the contact value: use a smaller dr or a larger width")
+            raise AnalysisInputError(
+                "fewer than 4 bins to fit the contact value: use a smaller dr or a larger width"
+            )
         x = self.r[sel] / self.sigma - 1.0
         coef, cov = np.polyfit(x, self.g[sel], 2, cov=True)
         return float(coef[-1]), float(np.sqrt(cov[-1, -1]))
@@ -313,7 +315,9 @@ class Hexatic(Compute):
         freud = _freud()
         L, pos, radii = configurations(source, box)
         if PeriodicBox(L).dimensions != 2:
-            raise ValueError("the hexatic order is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly))")
+            raise AnalysisInputError(
+                "the hexatic order is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly))"
+            )
         fbox = _freud_box(freud, L)
         hexatic = freud.order.Hexatic(k=6)
         r_max = self.r_max or 0.45 * _shortest(L)
@@ -386,11 +390,13 @@ class BondOrder(Compute):
         num_neighbors: int | None = None,
     ) -> None:
         if r_max is not None and num_neighbors is not None:
-            raise ValueError("BondOrder: give r_max or num_neighbors, not both")
+            raise AnalysisInputError("BondOrder: give r_max or num_neighbors, not both")
         if num_neighbors is not None and not (
             isinstance(num_neighbors, (int, np.integer)) and num_neighbors > 0
         ):
-            raise ValueError(f"BondOrder: num_neighbors must be a whole number > 0, got {num_neighbors!r}")
+            raise AnalysisInputError(
+                f"BondOrder: num_neighbors must be a whole number > 0, got {num_neighbors!r}"
+            )
         self.l, self.r_max, self.num_neighbors = l, r_max, num_neighbors
         self.q_threshold, self.solid_threshold = q_threshold, solid_threshold
 
@@ -489,7 +495,9 @@ def local_psi6(source: Source, box: Edge | None = None) -> np.ndarray:
     else:
         L, pos, _ = configurations(source, box)
     if PeriodicBox(L).dimensions != 2:
-        raise ValueError("psi6 is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly)), or a circle")
+        raise AnalysisInputError(
+            "psi6 is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly)), or a circle"
+        )
     fbox = _freud_box(freud, L)
     hexatic = freud.order.Hexatic(k=6)
     out = np.empty(pos.shape[:2], complex)

@@ -59,7 +59,7 @@ import numpy as np
 
 from ..containers import require_periodic
 from ..eos import carnahan_starling_contact
-from ..errors import NotComputedError
+from ..errors import AnalysisInputError, NotComputedError
 from .compute import Compute
 
 if TYPE_CHECKING:
@@ -152,10 +152,12 @@ def _trajectory(
     require_periodic(source.container if source.box is not None else None, what)
     t = np.asarray(source.times, float)
     if len(t) < 3:
-        raise ValueError(f"{what}: {len(t)} frames; record at least three")
+        raise AnalysisInputError(f"{what}: {len(t)} frames; record at least three")
     dt = np.diff(t)
     if np.ptp(dt) > 1e-6 * dt.mean():
-        raise ValueError(f"{what}: frames must be equally spaced in time")
+        raise AnalysisInputError(
+            f"{what}: frames must be equally spaced in time; record them with a fixed every="
+        )
     x = source.unwrapped() if positions else None
     return t - t[0], x, np.asarray(source.velocities, float), source.box
 
@@ -242,7 +244,9 @@ def plateau_window(
         per = np.array([_line_slope(tseg[sel_s], c[sel_s]) for c in seg_curves])
         fits.append((_line_slope(t[sel], curve[sel]), per, (float(t0), float(t1))))
     if not fits:
-        raise ValueError("no fit window")
+        raise AnalysisInputError(
+            f"no fit window holds {min_points} lags within half a segment: run longer or use fewer blocks"
+        )
     k_best, plateau = len(fits) - 1, False
     for k in range(len(fits) - 1):
         (v0, p0, _), (v1, p1, _) = fits[k], fits[k + 1]
@@ -293,7 +297,7 @@ class MSD(_Blocked):
         t_min = 0.2 * t[-1] if t_min is None else t_min
         sel = (t >= t_min) & (t <= t_max)
         if sel.sum() < 2:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"fewer than two lags in [{t_min:g}, {t_max:g}]: record more frames or widen the fit window"
             )
         return sel
@@ -396,7 +400,7 @@ class VACF(_Blocked):
         """
         self._need()
         if self.c[1] < 0.8 * self.c[0]:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"the VACF falls to {self.c[1] / self.c[0]:.2f} of C(0) in one frame: the "
                 "integral would be biased high; record frames at most a tenth of a mean free "
                 "time apart (or use MSD().diffusion())"
@@ -404,7 +408,7 @@ class VACF(_Blocked):
         segs, tseg = self._blocks()
         t_max = 0.5 * tseg[-1] if t_max is None else t_max
         if t_max > tseg[-1]:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"t_max {t_max:g} is longer than a segment ({tseg[-1]:g}): use fewer blocks or a longer run"
             )
         k = int(np.searchsorted(self.t, t_max, side="right"))
@@ -471,7 +475,7 @@ class _EinsteinHelfand(_Blocked):
         obs = sim.observables
         t, g = obs.helfand_moments(self._kind)
         if len(t) < 32:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"{len(t)} samples of the Helfand moments (32 at least, a few "
                 "hundred for an error bar): run longer, or start with "
                 "observables.reset(every=T), T about a mean free time"
@@ -520,7 +524,7 @@ class _EinsteinHelfand(_Blocked):
         sel = (self.t >= t_lo) & (self.t <= t_hi)
         sel_s = (tseg >= t_lo) & (tseg <= t_hi)
         if sel_s.sum() < 2:
-            raise ValueError(
+            raise AnalysisInputError(
                 f"fewer than two lags in [{t_lo:g}, {t_hi:g}] per segment: run longer or use fewer blocks"
             )
         val = np.polyfit(self.t[sel], self.msd[sel], 1)[0] * self._scale
@@ -532,7 +536,9 @@ class _EinsteinHelfand(_Blocked):
     def _auto_value(self, segs: list[slice], tseg: np.ndarray) -> tuple[float, float]:
         mft = self.mean_free_time
         if not math.isfinite(mft) or mft <= 0:
-            raise ValueError("no collisions since the observables' reset: no mean free time to fit over")
+            raise AnalysisInputError(
+                "no collisions since the observables' reset: no mean free time to fit over; run longer first"
+            )
         starts = 5.0 * mft * 2.0 ** np.arange(40)
         starts = starts[starts <= tseg[-1]]
         step = self.t[1] - self.t[0]
@@ -548,7 +554,7 @@ class _EinsteinHelfand(_Blocked):
                     if merged
                     else " (the interval given to observables.reset)"
                 )
-                raise ValueError(
+                raise AnalysisInputError(
                     f"the Helfand moments were sampled every {step:g} = {step / mft:.2g} mean free times"
                     f"{why}; the fit needs lags of about a mean free time: "
                     "observables.reset(every=T, max_samples=M) with T about a mean free time and "
@@ -613,7 +619,10 @@ class ThermalConductivity(_EinsteinHelfand):
     def _check(self, sim: Simulation) -> None:
         m = sim.engine.masses
         if np.ptp(m) > 1e-12 * m.max():
-            raise ValueError("thermal conductivity by Einstein-Helfand is implemented for equal masses only")
+            raise AnalysisInputError(
+                "thermal conductivity by Einstein-Helfand is implemented for equal masses only; "
+                "give every sphere one mass"
+            )
 
     @staticmethod
     def _prefactor(sim: Simulation) -> float:
