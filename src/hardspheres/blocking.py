@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .errors import ArgumentError
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -90,7 +92,7 @@ def blocking(x: ArrayLike, min_blocks: int = MIN_BLOCKS) -> Blocking:
     """
     x = np.asarray(x, dtype=np.float64).reshape(-1)
     if x.size < 2:
-        raise ValueError(f"{x.size} samples: an error bar needs at least two; run longer")
+        raise ArgumentError(f"{x.size} samples: an error bar needs at least two; run longer")
     mean = float(np.mean(x))
     sem_list: list[float] = []
     err_list: list[float] = []

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike
 
 from .containers import MAX_PACKING, MAX_PACKING_2D, packing_fraction  # noqa: F401 (re-exported)
 from .errors import CompressionError  # noqa: F401 (re-exported)
+from .errors import ArgumentError
 from .events import StopReason
 from .scenario import StuckError
 from .writers import SimulationView
@@ -239,9 +240,9 @@ class Andersen:
 
     def __init__(self, kT: float = 1.0, rate: float = 0.1, seed: int = 0) -> None:
         if not (math.isfinite(kT) and kT > 0):
-            raise ValueError(f"kT must be a number > 0, got {kT}")
+            raise ArgumentError(f"kT must be a number > 0, got {kT}")
         if not (math.isfinite(rate) and rate > 0):
-            raise ValueError(f"rate must be a number > 0, got {rate}")
+            raise ArgumentError(f"rate must be a number > 0, got {rate}")
         self.kT, self.rate, self.seed = float(kT), float(rate), int(seed)
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self.next_time: float | None = None
@@ -281,9 +282,9 @@ class VelocityRescale:
 
     def __init__(self, kT: float = 1.0, interval: float = 1.0) -> None:
         if not (math.isfinite(kT) and kT > 0):
-            raise ValueError(f"kT must be a number > 0, got {kT}")
+            raise ArgumentError(f"kT must be a number > 0, got {kT}")
         if not (math.isfinite(interval) and interval > 0):
-            raise ValueError(f"interval must be a number > 0, got {interval}")
+            raise ArgumentError(f"interval must be a number > 0, got {interval}")
         self.kT, self.interval = float(kT), float(interval)
         self.next_time: float | None = None
 

@@ -36,6 +36,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .errors import ArgumentError
+
 # Hansen-Goos (2016), Table I: coefficients of the polynomial in phi, highest
 # power (7) first, and the prefactor of the logarithm.
 _HG_A = 8.0
@@ -86,7 +88,7 @@ KOLAFA_ROTTNER_MAX = math.pi * 0.90 / 4.0
 def _phi(phi: ArrayLike) -> np.ndarray:
     phi = np.asarray(phi, dtype=float)
     if np.any((phi < 0.0) | (phi >= 1.0)):
-        raise ValueError("packing fraction phi must be in [0, 1)")
+        raise ArgumentError("packing fraction phi must be in [0, 1)")
     return phi
 
 
@@ -263,7 +265,7 @@ def kolafa_rottner(phi: ArrayLike) -> np.ndarray:
     """
     phi = np.asarray(phi, dtype=float)
     if np.any((phi < 0.0) | (phi > KOLAFA_ROTTNER_MAX)):
-        raise ValueError(
+        raise ArgumentError(
             f"area fraction phi must be in [0, {KOLAFA_ROTTNER_MAX:.4f}] for Kolafa & Rottner's "
             "hard-disk fit (reduced density 0.90); denser is the hexatic or the solid"
         )
@@ -289,9 +291,9 @@ def _measures(
     d = np.asarray(diameters, dtype=float)
     x = np.asarray(fractions, dtype=float)
     if d.ndim != 1 or d.shape != x.shape or d.size == 0:
-        raise ValueError("diameters and fractions must be 1-d arrays of the same length")
+        raise ArgumentError("diameters and fractions must be 1-d arrays of the same length")
     if np.any(d <= 0) or np.any(x < 0) or not np.isclose(x.sum(), 1.0):
-        raise ValueError("diameters must be > 0 and the mole fractions >= 0, summing to 1")
+        raise ArgumentError("diameters must be > 0 and the mole fractions >= 0, summing to 1")
     r = 0.5 * d
     rho = phi / (4.0 * np.pi / 3.0 * np.sum(x * r**3))
     return rho, rho * np.sum(x * r), 4.0 * np.pi * rho * np.sum(x * r**2), phi
@@ -487,7 +489,7 @@ def speedy_fcc(phi: ArrayLike) -> np.ndarray:
     close = math.pi * math.sqrt(2.0) / 6.0
     z = phi / close
     if np.any((z <= _SPEEDY_FCC[2]) | (z >= 1.0)):
-        raise ValueError(f"Speedy's crystal fit needs phi in ({_SPEEDY_FCC[2] * close:.4f}, {close:.4f})")
+        raise ArgumentError(f"Speedy's crystal fit needs phi in ({_SPEEDY_FCC[2] * close:.4f}, {close:.4f})")
     a, b, c = _SPEEDY_FCC
     return 3.0 / (1.0 - z) - a * (z - b) / (z - c)
 
@@ -527,16 +529,16 @@ def packing_at_pressure(
     vd = math.pi / 6.0 if dimensions == 3 else math.pi / 4.0
     p = float(pressure)
     if not (math.isfinite(p) and p > 0.0):
-        raise ValueError(f"pressure must be a finite number > 0, got {pressure!r}")
+        raise ArgumentError(f"pressure must be a finite number > 0, got {pressure!r}")
 
     def bp(phi: float) -> float:
         return phi * float(f(phi)) / vd if phi > 0.0 else 0.0
 
     lo, hi = (float(x) for x in bounds)
     if not bp(lo) <= p < bp(hi):
-        raise ValueError(
+        raise ArgumentError(
             f"pressure {p:g} is outside the equation of state's {bp(lo):.6g} to {bp(hi):.6g} "
-            f"(packings {lo:g} to {hi:g})"
+            f"(packings {lo:g} to {hi:g}); give a pressure in that range"
         )
     while True:
         mid = 0.5 * (lo + hi)

@@ -28,6 +28,8 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import TYPE_CHECKING, Any
 
+from .errors import ArgumentError
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -205,7 +207,7 @@ def from_columns(**columns: np.ndarray) -> np.ndarray:
     names = dtype.names or ()
     for name, col in columns.items():
         if name not in names:
-            raise ValueError(f"unknown event field {name!r}; the fields are {names}")
+            raise ArgumentError(f"unknown event field {name!r}; the fields are {names}")
         out[name] = np.asarray(col).reshape(out[name].shape)
     return out
 
@@ -223,7 +225,9 @@ def as_events(data: np.ndarray) -> np.ndarray:
     if data.dtype == dtype:
         return data
     if data.dtype.names is None:
-        raise ValueError(f"events must be a structured array, got dtype {data.dtype}")
+        raise ArgumentError(
+            f"events must be a structured array, got dtype {data.dtype}; pass records of EVENT_DTYPE"
+        )
     return from_columns(**{k: data[k] for k in data.dtype.names if k in (dtype.names or ())})
 
 

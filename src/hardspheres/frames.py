@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .containers import Container, as_container
+from .errors import ArgumentError
 from .events import as_events, empty_events, from_columns
 from .state import kinetic_energy
 
@@ -96,7 +97,7 @@ class Frames:
         self.images = None if images is None else np.asarray(images, dtype=np.int64)
         self.events_every = int(events_every)
         if self.events_every < 1:
-            raise ValueError(f"Frames: events_every must be a whole number >= 1, got {events_every!r}")
+            raise ArgumentError(f"Frames: events_every must be a whole number >= 1, got {events_every!r}")
 
     def __repr__(self) -> str:
         times = np.asarray(self.times)
@@ -115,7 +116,9 @@ class Frames:
         """
         keep = self.times >= t
         if not keep.any():
-            raise ValueError(f"no frames from t = {t:g} on (the last is at t = {self.times[-1]:g})")
+            raise ArgumentError(
+                f"no frames from t = {t:g} on (the last is at t = {self.times[-1]:g}); give an earlier t"
+            )
         return self.replace(
             times=self.times[keep],
             positions=self.positions[keep],
@@ -147,7 +150,10 @@ class Frames:
         )
         unknown = set(changes) - set(args)
         if unknown:
-            raise ValueError(f"Frames has no attribute {sorted(unknown)[0]!r} to replace")
+            raise ArgumentError(
+                f"Frames has no attribute {sorted(unknown)[0]!r} to replace; "
+                f"name one of its fields ({', '.join(args)})"
+            )
         args.update(changes)
         return Frames(**args)
 

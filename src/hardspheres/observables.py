@@ -20,6 +20,7 @@ import numpy as np
 from .blocking import Blocking, blocking
 from .containers import require_periodic
 from .errors import NoMeasurementError  # noqa: F401 (re-exported)
+from .errors import ArgumentError
 from .writers import SimulationView
 
 # columns of a tally sample (the transport tallies follow in a periodic box)
@@ -93,7 +94,7 @@ class Observables:
         """
         if max_samples is not None:
             if not (isinstance(max_samples, int) and max_samples >= 16):
-                raise ValueError(f"max_samples must be an integer >= 16, got {max_samples!r}")
+                raise ArgumentError(f"max_samples must be an integer >= 16, got {max_samples!r}")
             self.MAX_SAMPLES = max_samples
         self.merges = 0
         self._mark = self._now()
@@ -101,7 +102,7 @@ class Observables:
         self._auto = every is None
         self.every = float(every) if every is not None else self._auto_every()
         if not self.every > 0:
-            raise ValueError(f"every must be a time > 0, got {every}")
+            raise ArgumentError(f"every must be a time > 0, got {every}")
         self.next_sample = self._mark[_T] + self.every
         return self
 
@@ -224,7 +225,7 @@ class Observables:
             raise NoMeasurementError("no time has passed since reset(); run first")
         values = self._measured(d)
         if name not in values:
-            raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
+            raise ArgumentError(f"no time average {name!r} here: choose one of {', '.join(values)}")
         return float(values[name])
 
     def blocks(self, name: str) -> np.ndarray:
@@ -239,7 +240,7 @@ class Observables:
         values = self._measured(np.diff(s, axis=0))
         name = ALIASES.get(name, name)
         if name not in values:
-            raise ValueError(f"no time average {name!r} here: choose one of {', '.join(values)}")
+            raise ArgumentError(f"no time average {name!r} here: choose one of {', '.join(values)}")
         return values[name]
 
     def estimate(self, name: str) -> Blocking:
@@ -320,7 +321,7 @@ class Observables:
         elif kind == "energy":
             m = s[:, _HEAT_C] + s[:, _HEAT_K]
         else:
-            raise ValueError(f"kind {kind!r}: use 'momentum' or 'energy'")
+            raise ArgumentError(f"kind {kind!r}: use 'momentum' or 'energy'")
         return s[:, _T], m
 
     def Z(self) -> float:  # noqa: N802 (the physicists' name)

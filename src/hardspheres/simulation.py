@@ -31,6 +31,7 @@ from .containers import Container, as_container, require_periodic
 from .core import checkpoint
 from .core.engine import CheckpointError, Engine
 from .core.warmup import ensure_compiled
+from .errors import ArgumentError
 from .events import KIND_LABELS, KindLabel, StopReason
 from .fileio import atomic_write
 from .messages import quote
@@ -269,13 +270,13 @@ class Simulation:
         self, until: float | None, collisions: int | None, events: int | None, record: bool
     ) -> Iterator[np.ndarray]:
         if until is None and collisions is None and events is None:
-            raise ValueError("give until, collisions or events: the run never ends otherwise")
+            raise ArgumentError("give until, collisions or events: the run never ends otherwise")
         if until is None:
             until = np.inf
         else:
             until = _number(until, "until", f"a finite time >= the clock ({self.time!r})")
             if until < self.time:
-                raise ValueError(
+                raise ArgumentError(
                     f"until={until!r} is before the simulation's clock ({self.time!r}); give a later time"
                 )
         coll_left = np.inf if collisions is None else _count(collisions, "collisions")
@@ -413,7 +414,10 @@ class Simulation:
         :class:`hardspheres.dense.VelocityRescale`; checkpoints keep it.
         """
         if thermostat is not None and self._engine.window > 0.0:
-            raise ValueError("thermostat: not with a simultaneity window (window=0)")
+            raise ArgumentError(
+                f"thermostat: not with a simultaneity window (window={self._engine.window:g}); "
+                "build the Simulation with window=0"
+            )
         self.thermostat = thermostat  # its own slot: it acts before the writers observe
         return self
 
@@ -453,11 +457,11 @@ class Simulation:
             require_periodic(self.container, "unwrapped positions")
         t = self.time if time is None else _number(time, "time", "a finite time [time]")
         if t > self.time:
-            raise ValueError(
+            raise ArgumentError(
                 f"time {t} is after the simulation's clock ({self.time}); run(until={t!r}) first"
             )
         if t < self.time:
-            raise ValueError(
+            raise ArgumentError(
                 f"time {t} is before the simulation's clock ({self.time}); "
                 "the past is not kept: ask for states as you run"
             )
@@ -602,7 +606,7 @@ def _number(x: float, what: str, expected: str, minimum: float = -math.inf) -> f
     except (TypeError, ValueError):
         v = math.nan
     if not (math.isfinite(v) and v >= minimum):
-        raise ValueError(f"{what} must be {expected}, got {x!r}")
+        raise ArgumentError(f"{what} must be {expected}, got {x!r}")
     return v
 
 
@@ -614,7 +618,7 @@ def _count(x: float, what: str) -> int:
     except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok:
-        raise ValueError(f"{what} must be a whole number >= 0, got {x!r}")
+        raise ArgumentError(f"{what} must be a whole number >= 0, got {x!r}")
     return v
 
 

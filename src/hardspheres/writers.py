@@ -41,6 +41,8 @@ import math
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
+from .errors import ArgumentError
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -132,7 +134,7 @@ class Writer(Protocol):
 def _positive_time(value: float, what: str) -> float:
     value = float(value)
     if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{what} must be a finite time > 0, got {value!r}")
+        raise ArgumentError(f"{what} must be a finite time > 0, got {value!r}")
     return value
 
 
@@ -186,10 +188,10 @@ class LogSpaced(_ByTime):
     ) -> None:
         self.first = _positive_time(first, "first")
         if (factor is None) == (per_decade is None):
-            raise ValueError("give exactly one of factor and per_decade")
+            raise ArgumentError("give exactly one of factor and per_decade")
         self.factor = float(factor if factor is not None else 10.0 ** (1.0 / per_decade))  # type: ignore[operator]
         if not (math.isfinite(self.factor) and self.factor > 1.0):
-            raise ValueError(f"factor must be a finite number > 1, got {self.factor!r}")
+            raise ArgumentError(f"factor must be a finite number > 1, got {self.factor!r}")
         self.until = float(until)
         self._t0 = 0.0
         self._k = -1  # -1: t0 itself
@@ -290,7 +292,7 @@ class AtTimes(_ByTime):
     def __init__(self, times: Iterable[float]) -> None:
         self.times = sorted(float(t) for t in times)
         if not all(math.isfinite(t) for t in self.times):
-            raise ValueError("times must be finite")
+            raise ArgumentError("times must be finite; drop the infinite or NaN ones")
         self._k = 0
 
     def start(self, time: float, collisions: int) -> None:
@@ -315,7 +317,7 @@ class EveryCollisions:
 
     def __init__(self, k: int) -> None:
         if int(k) != k or k < 1:
-            raise ValueError(f"k must be a whole number >= 1, got {k!r}")
+            raise ArgumentError(f"k must be a whole number >= 1, got {k!r}")
         self.k = int(k)
         self._t0 = 0.0
         self._c0 = 0
@@ -340,10 +342,10 @@ class EveryCollisions:
 def as_trigger(every: float | None = None, trigger: Trigger | None = None) -> Trigger:
     """A trigger from ``every`` (a :class:`Periodic` period [time]) or the trigger itself."""
     if (every is None) == (trigger is None):
-        raise ValueError("give exactly one of every (a time) and trigger")
+        raise ArgumentError("give exactly one of every (a time) and trigger")
     if trigger is not None:
         if not isinstance(trigger, Trigger):
-            raise ValueError(
+            raise ArgumentError(
                 "trigger must be a Trigger (Periodic, LogSpaced, LogOrigins, AtTimes, "
                 f"EveryCollisions), got {trigger!r}"
             )

@@ -56,6 +56,7 @@ from numpy.typing import ArrayLike
 
 from ..containers import Container, from_fields
 from ..errors import NotAContinuation, TruncatedTrajectory  # noqa: F401 (re-exported)
+from ..errors import ArgumentError, TrajectoryError
 from ..events import EVENT_DTYPE, empty_events, from_columns
 from ..fileio import PathLock
 from ..frames import Frames
@@ -151,7 +152,7 @@ class _FrameWriter:
 
     def _check_open(self) -> None:
         if self._closed:
-            raise ValueError(
+            raise TrajectoryError(
                 f"{type(self).__name__}({self.path or ''!r}) is closed; "
                 "open a new writer to write more frames"
             )
@@ -301,7 +302,7 @@ class GSDWriter(_FrameWriter):
         except (OSError, RuntimeError) as e:
             if isinstance(e, OSError) and e.filename is not None:
                 raise
-            raise ValueError(f"{self.path}: cannot open as GSD ({e})") from None
+            raise TrajectoryError(f"{self.path}: cannot open as GSD ({e})") from None
         self._count = len(fh) if self._append else 0
         return fh
 
@@ -311,7 +312,7 @@ class GSDWriter(_FrameWriter):
         try:
             last = _gsd_last(self._file)
         except (KeyError, IndexError, ValueError) as e:
-            raise ValueError(
+            raise TrajectoryError(
                 f"{self.path}: not a hardspheres trajectory ({e}); write to another file"
             ) from None
         _continues(self.path, last, sim)
@@ -393,7 +394,7 @@ class XYZWriter(_FrameWriter):
 
         bad = [n for n in sim.names if not n or any(ch.isspace() or ch in "\"'" for ch in n)]
         if bad:
-            raise ValueError(
+            raise TrajectoryError(
                 f"sphere name {quote(bad[0])} cannot be written to XYZ (whitespace or quotes); use GSD"
             )
         if not self._append or os.path.getsize(self.path) == 0:
@@ -479,7 +480,7 @@ def read_trajectory(path: str | os.PathLike) -> Frames:
         return _read_gsd(path)
     if path.endswith((".xyz", ".extxyz")):
         return _read_xyz(path)
-    raise ValueError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
+    raise TrajectoryError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
 
 
 def _warn_if_cut(path: str, last_time: float, run_end: Any) -> None:
@@ -519,14 +520,16 @@ def _read_gsd(path: str) -> Frames:
     try:
         traj = gsd.hoomd.open(path, mode="r")
     except (OSError, RuntimeError) as e:
-        raise ValueError(f"{path}: cannot read as GSD ({e})") from None
+        raise TrajectoryError(f"{path}: cannot read as GSD ({e}); give a complete .gsd file") from None
     with traj:
         if len(traj) == 0:
-            raise ValueError(f"{path}: no frames")
+            raise TrajectoryError(f"{path}: no frames; read a trajectory its run wrote frames to")
         first = traj[0]
         log = first.log
         if "hardspheres/time" not in log:
-            raise ValueError(f"{path}: not written by hardspheres (no log/hardspheres/time)")
+            raise TrajectoryError(
+                f"{path}: not written by hardspheres (no log/hardspheres/time); read a GSDWriter's file"
+            )
         n = int(first.particles.N)
         raw = bytes(np.asarray(log.get("hardspheres/names", np.zeros(0, np.uint8)), dtype=np.uint8))
         names = raw.decode("utf-8").split("\n") if n else []
@@ -596,11 +599,13 @@ def _read_xyz(path: str, check_end: bool = True) -> Frames:
             container = from_fields(keys)
             props = keys.get("Properties", _XYZ_PROPS)
             if props not in (_XYZ_PROPS, _XYZ_PROPS + _XYZ_IMAGE):
-                raise ValueError(f"unknown columns Properties={props}")
+                raise TrajectoryError(f"unknown columns Properties={props}")
             cols = 12 if props.endswith(_XYZ_IMAGE) else 9
             rows = [ln.split() for ln in lines[k + 2 : k + 2 + n]]
             if len(rows) != n or any(len(r) != cols for r in rows):
-                raise ValueError(f"frame shorter than its atom count, or a line without its {cols} columns")
+                raise TrajectoryError(
+                    f"frame shorter than its atom count, or a line without its {cols} columns"
+                )
             nums = np.array([r[1:9] for r in rows], dtype=np.float64).reshape(n, 8)
             pos.append(nums[:, 0:3])
             vel.append(nums[:, 3:6])
@@ -612,9 +617,12 @@ def _read_xyz(path: str, check_end: bool = True) -> Frames:
                 radii, masses = nums[:, 6].copy(), nums[:, 7].copy()
             k += 2 + n
     except (ValueError, KeyError, IndexError) as e:
-        raise ValueError(f"{path}: not an XYZ trajectory of hardspheres (near line {k + 1}: {e})") from None
+        raise TrajectoryError(
+            f"{path}: not an XYZ trajectory of hardspheres (near line {k + 1}: {e}); "
+            "read a file XYZWriter wrote"
+        ) from None
     if not times:
-        raise ValueError(f"{path}: no frames")
+        raise TrajectoryError(f"{path}: no frames; read a trajectory its run wrote frames to")
     # set with the first frame
     assert names is not None and radii is not None and masses is not None and container is not None
     if check_end and run_end is not None and len(run_end) == 2:
@@ -669,7 +677,7 @@ class FrameRecorder(_FrameWriter):
     ) -> None:
         super().__init__(every, events, trigger=trigger)
         if max_events is not None and not (isinstance(max_events, int) and max_events >= 1):
-            raise ValueError(
+            raise ArgumentError(
                 f"FrameRecorder: max_events must be a whole number >= 1 or None, got {max_events!r}"
             )
         self.max_events = max_events
