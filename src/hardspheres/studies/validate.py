@@ -31,6 +31,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from ..eos import carnahan_starling, hansen_goos, kolafa
+from ..errors import StudyError
 from ..maxwell import KS_MEAN, ks_distance, speed_cdf  # noqa: F401 (re-exported)
 
 PACKINGS = (0.1, 0.2, 0.3, 0.4, 0.45, 0.49)
@@ -397,7 +398,7 @@ def _interpolate(table: Sequence[tuple[float, float]], x: float) -> tuple[float,
     if abs(xs[k] - x) <= 1e-9 * max(1.0, abs(x)):
         return float(math.exp(ys[k])), 0.0
     if not xs[0] <= x <= xs[-1]:
-        raise ValueError(f"{x:g} is outside the table ({xs[0]:g} to {xs[-1]:g})")
+        raise StudyError(f"{x:g} is outside the table ({xs[0]:g} to {xs[-1]:g}); ask for a value inside it")
     near = np.sort(np.argsort(np.abs(xs - x))[:4])
     cubic = math.exp(np.polyval(np.polyfit(xs[near], ys[near], 3), x))
     near3 = np.sort(np.argsort(np.abs(xs - x))[:3])

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..eos import carnahan_starling, hansen_goos, packing_at_pressure
+from ..errors import PictureError, StudyError
 from ..maxwell import reduced_density, speed_density
 
 if TYPE_CHECKING:
@@ -60,7 +61,7 @@ def _save(fig: Figure, path: str | os.PathLike[str], dpi: int) -> Path:
     path = Path(path)
     fmt = FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise ValueError(
+        raise PictureError(
             f"{path.name}: plots are written as {', '.join(FORMATS)}, "
             f"not {path.suffix or 'a name without extension'}"
         )
@@ -87,7 +88,7 @@ def plot_conservation(
     """
     times = np.asarray(frames.times, float)
     if len(times) == 0:
-        raise ValueError("plot_conservation: no frames")
+        raise PictureError("plot_conservation: no frames; record at least one")
     masses = np.asarray(frames.masses, float)
     pos = np.asarray(frames.positions, float)
     vel = np.asarray(frames.velocities, float)
@@ -186,7 +187,7 @@ def plot_speeds(
     masses = np.asarray(frames.masses, float)
     vel = np.asarray(frames.velocities, float)[start:]
     if vel.shape[0] == 0 or vel.shape[1] == 0:
-        raise ValueError("plot_speeds: no speeds to plot")
+        raise PictureError("plot_speeds: no speeds to plot; record frames of at least one sphere")
     speeds = np.linalg.norm(vel, axis=2)  # (F, N)
     d = vel.shape[2]  # 3, or 2 for disks
     kinetic = 0.5 * masses[None, :] * speeds**2
@@ -194,7 +195,9 @@ def plot_speeds(
     if kT is None:
         kT = measured_kT
     if not kT > 0:
-        raise ValueError("plot_speeds: kT must be positive (all spheres at rest?)")
+        raise PictureError(
+            "plot_speeds: kT must be positive (all spheres at rest?); give kT or frames of moving spheres"
+        )
     equal = bool(np.allclose(masses, masses[0], rtol=1e-12, atol=0.0))
     count = speeds.size
     bins = bins or int(np.clip(2.0 * count ** (1 / 3), 10, 120))
@@ -249,12 +252,12 @@ def _csv_rows(csv_path: str | os.PathLike[str], need: Sequence[str], hint: str =
         with open(csv_path, newline="", encoding="utf-8") as fh:
             rows = list(csv.DictReader(fh))
     except UnicodeDecodeError:
-        raise ValueError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
+        raise StudyError(f"{csv_path}: not a CSV text file (not UTF-8)") from None
     if not rows:
-        raise ValueError(f"{csv_path}: no rows")
+        raise StudyError(f"{csv_path}: no rows; give a table with a row per measurement")
     missing = [c for c in need if c not in rows[0]]
     if missing:
-        raise ValueError(f"{csv_path}: missing column(s) {', '.join(missing)}{hint}")
+        raise StudyError(f"{csv_path}: missing column(s) {', '.join(missing)}{hint}")
     return rows
 
 
@@ -292,7 +295,7 @@ def plot_transport(
     try:
         num = {k: np.array([float(r[k]) for r in rows]) for k in need[1:-1]}
     except ValueError as e:
-        raise ValueError(f"{csv_path}: not a number ({e})") from None
+        raise StudyError(f"{csv_path}: not a number ({e}); fix that cell") from None
     dev = 100.0 * (num["value"] / num["reference"] - 1.0)
     err = 100.0 * np.hypot(num["error"], num["reference_error"]) / num["reference"]
     labels = [f"{r['quantity']}, phi {float(r['phi']):.3f}, N {r.get('n', '?')}" for r in rows]
@@ -394,7 +397,7 @@ def read_table(path: str | os.PathLike[str]) -> Any:
         if isinstance(e, FileNotFoundError):
             raise OSError(f"{path}: no such file") from None
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise ValueError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
+        raise StudyError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
 
 
 def plot_sweep(
@@ -439,10 +442,10 @@ def plot_sweep(
         df = summarize(df)
     params = [c for c in GRID if c in df.columns and c != "seed"]
     if x not in params:
-        raise ValueError(f"--x {x!r} is not a parameter of {table} (parameters: {', '.join(params)})")
+        raise StudyError(f"--x {x!r} is not a parameter of {table} (parameters: {', '.join(params)})")
     obs = measured(df)
     if y not in obs:
-        raise ValueError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
+        raise StudyError(f"--y {y!r} is not measured in {table} (measured: {', '.join(obs)})")
     df = df.sort_values(x, kind="stable")
     # (at constant pressure "packing" is where each run started: not a series of its own)
     others = [c for c in params if c != x and df[c].nunique() > 1 and not (x == "betaP" and c == "packing")]

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import PictureError
 from ..frames import frame_indices
 from ..progress import Progress, duration
 
@@ -56,7 +57,7 @@ def _writer(path: Path, fps: int, dpi: int) -> Any:
         codec = "libvpx-vp9" if suffix == ".webm" else "libx264"
         extra = ["-pix_fmt", "yuv420p"] if codec == "libx264" else None
         return animation.FFMpegWriter(fps=fps, codec=codec, extra_args=extra)
-    raise ValueError(f"render_movie: unknown movie format {path.suffix!r} (use .gif or .mp4)")
+    raise PictureError(f"render_movie: unknown movie format {path.suffix!r} (use .gif or .mp4)")
 
 
 #: Viewing direction: azimuth and elevation [degrees] of the camera (z up).
@@ -125,7 +126,7 @@ def _scene(
     speeds = np.linalg.norm(vel, axis=2)
     flat = pos.shape[-1] == 2
     if flat and cut is not None:
-        raise ValueError("render: cut is for spheres; disks lie in the plane z = 0 (leave cut out)")
+        raise PictureError("render: cut is for spheres; disks lie in the plane z = 0 (leave cut out)")
     if flat:  # disks, seen from above: the plane's own axes, z = 0
         pos = np.concatenate([pos, np.zeros(pos.shape[:-1] + (1,))], axis=-1)
         right, up, towards = np.eye(3)
@@ -151,7 +152,7 @@ def _scene(
         from ..analysis.structure import psi6_magnitudes
 
         if not flat:
-            raise ValueError("render: color_by='psi6' is for disks (a 2-D box or a circle)")
+            raise PictureError("render: color_by='psi6' is for disks (a 2-D box or a circle)")
         norm, values, label = (
             colors.Normalize(0.0, 1.0),
             psi6_magnitudes(pos[..., :2], frames.container),
@@ -229,9 +230,9 @@ def _colour_scale(color_by: str, speeds: np.ndarray, masses: np.ndarray) -> tupl
 def _check(size: tuple[int, int], color_by: str, what: str) -> None:
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
-        raise ValueError(f"{what}: bad size {size}")
+        raise PictureError(f"{what}: bad size {size}; give (width, height) in pixels, both > 0")
     if color_by not in ("speed", "mass", "psi6"):
-        raise ValueError(f"{what}: color_by must be 'speed', 'mass' or (disks) 'psi6'")
+        raise PictureError(f"{what}: color_by must be 'speed', 'mass' or (disks) 'psi6'")
 
 
 def _check_movie(path: Path, fps: int, size: tuple[int, int], color_by: str) -> None:
@@ -239,9 +240,9 @@ def _check_movie(path: Path, fps: int, size: tuple[int, int], color_by: str) -> 
     _check(size, color_by, "render_movie")
     width, height = (int(s) for s in size)
     if path.suffix.lower() != ".gif" and (width % 2 or height % 2):
-        raise ValueError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
+        raise PictureError(f"render_movie: {path.suffix} needs an even width and height, not {size}")
     if int(fps) != fps or not 1 <= fps <= 100:
-        raise ValueError(f"render_movie: fps must be a whole number from 1 to 100, got {fps!r}")
+        raise PictureError(f"render_movie: fps must be a whole number from 1 to 100, got {fps!r}")
 
 
 def render_movie(
@@ -290,7 +291,7 @@ def render_movie(
 
     n_frames = len(frames.times)
     if n_frames == 0:
-        raise ValueError("render_movie: no frames")
+        raise PictureError("render_movie: no frames; record at least one")
     keep = frame_indices(n_frames, 0, max_frames or n_frames)
     fig, show = _scene(frames, size, keep, color_by, title, dpi, cut)
 
@@ -357,14 +358,14 @@ def render_still(
     _check(size, color_by, "render_still")
     fmt = STILLS.get(path.suffix.lower())
     if fmt is None:
-        raise ValueError(f"render_still: writes .png, .pdf or .svg, not {path.suffix or path.name!r}")
+        raise PictureError(f"render_still: writes .png, .pdf or .svg, not {path.suffix or path.name!r}")
     times = np.asarray(frames.times, float)
     if len(times) == 0:
-        raise ValueError("render_still: no frames")
+        raise PictureError("render_still: no frames; record at least one")
     if time is None:
         k = len(times) - 1
     elif not np.isfinite(time):
-        raise ValueError(f"render_still: time must be a finite number, got {time!r}")
+        raise PictureError(f"render_still: time must be a finite number, got {time!r}")
     else:
         k = int(np.argmin(np.abs(times - float(time))))
     fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)

@@ -13,6 +13,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from ..errors import PictureError
+
 # Headless Chromium as Debian ships it (software WebGL through SwiftShader);
 # playwright drives it, its own browser downloads are never used.
 CHROMIUM_ARGS = [
@@ -70,10 +72,10 @@ def screenshot(
     html_path, png_path = Path(html_path).resolve(), Path(png_path)
     width, height = (int(x) for x in size)
     if width <= 0 or height <= 0:
-        raise ValueError(f"screenshot: bad size {size}")
+        raise PictureError(f"screenshot: bad size {size}; give (width, height) in pixels, both > 0")
     chromium = find_chromium()
     if chromium is None:
-        raise ValueError(
+        raise PictureError(
             "screenshot: needs Chromium, which was not found (/usr/bin/chromium "
             "or chromium on PATH; e.g. apt-get install chromium)"
         )
@@ -81,7 +83,7 @@ def screenshot(
         from playwright.sync_api import Error as PlaywrightError
         from playwright.sync_api import sync_playwright
     except ImportError:
-        raise ValueError(
+        raise PictureError(
             "screenshot: needs the Python package playwright "
             "(pip install playwright; its browser download is not needed)"
         ) from None
@@ -101,7 +103,7 @@ def screenshot(
                     timeout=timeout * 1000,
                 )
                 if page.locator("#message").is_visible():
-                    raise ValueError(f"screenshot: {page.locator('#message').inner_text()}")
+                    raise PictureError(f"screenshot: {page.locator('#message').inner_text()}")
                 # through the page's own controls, not clicks: a click waits
                 # for the page to settle, which a page of 20000 spheres drawn
                 # by software WebGL may not do within playwright's timeout
@@ -125,5 +127,5 @@ def screenshot(
     except PlaywrightError as e:
         first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
         more = f" (page errors: {'; '.join(errors)})" if errors else ""
-        raise ValueError(f"screenshot: Chromium failed: {first}{more}") from None
+        raise PictureError(f"screenshot: Chromium failed: {first}{more}") from None
     return png_path

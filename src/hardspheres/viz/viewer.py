@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
+from ..errors import PictureError
 from ..events import EventKind
 from ..frames import even_indices, frame_indices
 
@@ -153,7 +154,7 @@ def _payload(
     masses = np.asarray(frames.masses, dtype=np.float64).reshape(-1)
     n_frames, n = len(times), len(radii)
     if n_frames == 0:
-        raise ValueError("write_viewer: no frames")
+        raise PictureError("write_viewer: no frames; record at least one")
     d = pos.shape[-1] if pos.ndim == 3 else 3
     if (
         d not in (2, 3)
@@ -161,18 +162,19 @@ def _payload(
         or vel.shape != (n_frames, n, d)
         or masses.shape != (n,)
     ):
-        raise ValueError(
+        raise PictureError(
             f"write_viewer: inconsistent shapes: times {times.shape}, positions {pos.shape}, "
-            f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}"
+            f"velocities {vel.shape}, radii {radii.shape}, masses {masses.shape}; "
+            "give one frame count and one sphere count"
         )
     if color_by not in COLOR_BY:
-        raise ValueError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
+        raise PictureError(f"write_viewer: color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
     if color_by == "q6" and n < 2:
-        raise ValueError("write_viewer: color_by='q6' needs at least 2 spheres")
+        raise PictureError("write_viewer: color_by='q6' needs at least 2 spheres")
     if color_by == "q6" and d == 2:
-        raise ValueError("write_viewer: color_by='q6' is for spheres; for disks use 'psi6'")
+        raise PictureError("write_viewer: color_by='q6' is for spheres; for disks use 'psi6'")
     if color_by == "psi6" and (d != 2 or n < 2):
-        raise ValueError("write_viewer: color_by='psi6' is for disks (a 2-D box or a circle), at least 2")
+        raise PictureError("write_viewer: color_by='psi6' is for disks (a 2-D box or a circle), at least 2")
 
     keep = frame_indices(n_frames, n, max_frames, max_values)
     t = times[keep]
@@ -348,7 +350,7 @@ def viewer_page(
     Arguments as for :func:`write_viewer`.
     """
     if cut is not None and not np.isfinite(cut):
-        raise ValueError(f"write_viewer: cut must be a finite number, got {cut!r}")
+        raise PictureError(f"write_viewer: cut must be a finite number, got {cut!r}")
     data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
     return (
         _static("viewer.html")
