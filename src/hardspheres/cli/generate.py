@@ -11,6 +11,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from .options import count, packing, positive, ratio, where_args, whole
 
 if TYPE_CHECKING:
@@ -80,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.binary is not None:
         if args.method == "compress":
-            raise ValueError("--binary is built on the lattice: leave out --method compress")
+            raise UsageError("--binary is built on the lattice: leave out --method compress")
         common["binary"] = tuple(args.binary)
     if args.method == "compress":
         from .compress import compression_progress, generate_compressed, start_packing

@@ -14,6 +14,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, NoReturn, Protocol
 
 from ..containers import MAX_PACKING
+from ..errors import UsageError
 from ..messages import QUOTE_LIMIT, quote
 
 #: Picture suffixes: movies and stills.
@@ -153,7 +154,7 @@ def require_suffix(option: str, path: str, allowed: Sequence[str], what: str) ->
     """Refuse an output name whose extension is not one of ``allowed`` (before any work)."""
     if suffix(path) not in allowed:
         got = suffix(path) or "no extension"
-        raise ValueError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} (got {got})")
+        raise UsageError(f"{option} {quote(path)}: {what} must end in {', '.join(allowed)} (got {got})")
 
 
 def note(text: str) -> None:

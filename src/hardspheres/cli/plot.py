@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from .options import STILLS, picture_args, positive, require_suffix, suffix
 from .source import TRAJECTORY_SUFFIXES, check_source, frames_from_args, starting_simulation
 
@@ -98,8 +99,8 @@ def _packing_sim(args: argparse.Namespace) -> Simulation:
     """The packing a scenario file holds, in its periodic box (``--box``), for ``plot contacts``."""
 
     if args.box is None or suffix(args.input) in TRAJECTORY_SUFFIXES:
-        raise ValueError("plot contacts: give a packing's scenario file (as compress writes) and --box L")
+        raise UsageError("plot contacts: give a packing's scenario file (as compress writes) and --box L")
     try:
         return starting_simulation(args, scenario=args.input)
     except ValueError as e:
-        raise ValueError(f"{args.input}: {str(e).removeprefix(args.input + ': ')}") from None
+        raise UsageError(f"{args.input}: {str(e).removeprefix(args.input + ': ')}") from None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from .options import (
     MOVIES,
     STILLS,
@@ -52,17 +53,17 @@ def run(args: argparse.Namespace) -> int:
     require_suffix("-o", args.output, MOVIES + STILLS, "a movie or a still")
     still = suffix(args.output) in STILLS
     if args.time is not None and not still:
-        raise ValueError("--time picks the frame of a still picture: use -o NAME.png")
+        raise UsageError("--time picks the frame of a still picture: use -o NAME.png")
     if not still and suffix(args.output) != ".gif":
         from matplotlib import animation
 
         if not animation.FFMpegWriter.isAvailable():
-            raise ValueError(
+            raise UsageError(
                 f"-o {args.output}: {suffix(args.output)} needs the ffmpeg program, "
                 "which was not found on PATH; install it or write a .gif"
             )
         if args.size and (args.size[0] % 2 or args.size[1] % 2):
-            raise ValueError(f"--size: {suffix(args.output)} needs an even width and height")
+            raise UsageError(f"--size: {suffix(args.output)} needs an even width and height")
     check_source(args)
     from ..viz.render import render_movie, render_still
 

@@ -29,6 +29,7 @@ from collections.abc import Callable
 from types import FrameType
 from typing import TYPE_CHECKING, Any, Literal
 
+from ..errors import UsageError
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
@@ -127,33 +128,33 @@ def _check_args(args: argparse.Namespace) -> None:
     """Every argument of ``run`` checked before any work."""
     if args.resume:
         if args.scenario:
-            raise ValueError("give a scenario or --resume, not both")
+            raise UsageError("give a scenario or --resume, not both")
         if given_container(args) or args.dimensions is not None:
-            raise ValueError(
+            raise UsageError(
                 "--container/--circle/--box/--dimensions cannot change a resumed run: the checkpoint "
                 "keeps its container (leave them out)"
             )
         if args.pressure is not None or args.pressure_axes is not None:
-            raise ValueError(
+            raise UsageError(
                 "--pressure/--pressure-axes cannot change a resumed run: the checkpoint "
                 "keeps its barostat (leave them out)"
             )
     elif not args.scenario:
-        raise ValueError("give a scenario file (or --resume CHECKPOINT)")
+        raise UsageError("give a scenario file (or --resume CHECKPOINT)")
     elif not given_container(args):
-        raise ValueError("give --container RADIUS, --circle RADIUS or --box L [LY [LZ]]")
+        raise UsageError("give --container RADIUS, --circle RADIUS or --box L [LY [LZ]]")
     if args.pressure_axes is not None and args.pressure is None:
-        raise ValueError("--pressure-axes is for constant pressure: give --pressure P too")
+        raise UsageError("--pressure-axes is for constant pressure: give --pressure P too")
     if args.trajectory is None:
         for option, value in (("--every", args.every), ("--events", args.events)):
             if value:
-                raise ValueError(f"{option} is for the trajectory: give --trajectory FILE.gsd")
+                raise UsageError(f"{option} is for the trajectory: give --trajectory FILE.gsd")
     else:
         suffix = os.path.splitext(args.trajectory)[1].lower()
         if suffix not in (".gsd", ".xyz", ".extxyz"):
-            raise ValueError(f"--trajectory {args.trajectory!r}: use a .gsd or .xyz file name")
+            raise UsageError(f"--trajectory {args.trajectory!r}: use a .gsd or .xyz file name")
         if args.events and suffix != ".gsd":
-            raise ValueError("--events needs a .gsd trajectory (XYZ files hold no events)")
+            raise UsageError("--events needs a .gsd trajectory (XYZ files hold no events)")
 
 
 def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWriter | XYZWriter:
@@ -163,7 +164,7 @@ def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWrite
     path = args.trajectory
     exists = os.path.exists(path) and os.path.getsize(path) > 0
     if exists and not args.overwrite and not args.resume:
-        raise ValueError(f"trajectory {path} exists; give --overwrite to replace it, or another file name")
+        raise UsageError(f"trajectory {path} exists; give --overwrite to replace it, or another file name")
     append = bool(args.resume) and not args.overwrite
     writer: GSDWriter | XYZWriter
     if path.lower().endswith(".gsd"):
@@ -175,7 +176,7 @@ def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWrite
         writer.attach(sim)
     except NotAContinuation as e:
         writer.close()
-        raise ValueError(f"{e}, or give --overwrite to replace it") from None
+        raise UsageError(f"{e}, or give --overwrite to replace it") from None
     except BaseException:
         writer.close()
         raise
@@ -330,7 +331,7 @@ def _equilibrate(sim: Simulation, args: argparse.Namespace, progress: Progress, 
         what = f"{args.equilibrate} collisions per sphere"
         sim.run(until=args.until, collisions=collisions)
         if sim.time >= args.until:
-            raise ValueError(
+            raise UsageError(
                 f"--equilibrate {args.equilibrate} did not finish before --until "
                 f"{args.until:g} (at {sim.counters['collisions']} collisions): "
                 "raise --until or lower --equilibrate"
@@ -348,14 +349,16 @@ def run(args: argparse.Namespace) -> int:
 
         sim.set_barostat(Barostat(pressure=args.pressure, axes=args.pressure_axes))
     if args.until <= sim.time:
-        raise ValueError(f"--until {args.until:g} is not after the simulation's time {sim.time:.9g}")
+        raise UsageError(
+            f"--until {args.until:g} is not after the simulation's time {sim.time:.9g}; give a later --until"
+        )
     if args.every is not None and args.every > args.until - sim.time:
-        raise ValueError(
+        raise UsageError(
             f"--every {args.every:g} is longer than the run "
             f"({args.until - sim.time:.6g}): the trajectory would hold one frame"
         )
     if args.equilibrate_time is not None and sim.time + args.equilibrate_time >= args.until:
-        raise ValueError(
+        raise UsageError(
             f"--equilibrate-time {args.equilibrate_time:g} reaches past "
             f"--until {args.until:g}: nothing left to average"
         )
@@ -386,7 +389,7 @@ def _check_trajectory_size(args: argparse.Namespace, sim: Simulation) -> None:
         free = math.inf
     if size > 1000.0 * free:
         # hopeless: refused before anything is written
-        raise ValueError(
+        raise UsageError(
             f"--trajectory {args.trajectory}: {frames:.3g} frames (--every {every:g}) would take about "
             f"{_bytes(size)}, and only {_bytes(free)} is free there; use a larger --every"
         )

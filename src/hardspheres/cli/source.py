@@ -21,6 +21,7 @@ import warnings
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from ..messages import quote
 from .options import compile_first, note, suffix
 
@@ -47,13 +48,13 @@ def container_from(args: argparse.Namespace) -> Container:
     d = getattr(args, "dimensions", None)
     if args.container is not None:
         if d == 2:
-            raise ValueError(
+            raise UsageError(
                 "--container is a sphere (3-D), not --dimensions 2: for disks give --circle R or --box LX LY"
             )
         return SphericalContainer(args.container)
     if getattr(args, "circle", None) is not None:
         if d == 3:
-            raise ValueError(
+            raise UsageError(
                 "--circle is a circle (2-D), not --dimensions 3: for spheres give --container R or --box L"
             )
         return CircularContainer(args.circle)
@@ -61,7 +62,7 @@ def container_from(args: argparse.Namespace) -> Container:
     if len(sides) == 1:
         return PeriodicBox((sides[0], sides[0]) if d == 2 else sides[0])
     if d is not None and d != len(sides):
-        raise ValueError(
+        raise UsageError(
             f"--box {' '.join(f'{x:g}' for x in sides)} has {len(sides)} sides: a {len(sides)}-D box, "
             f"not --dimensions {d} (leave --dimensions out, or give {d} sides)"
         )
@@ -98,7 +99,7 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
             data = fh.read()
     scn = parse_scenario(data)  # bad input is refused before the compilation
     if len(scn) == 0:
-        raise ValueError(f"{name}: no spheres in the scenario")
+        raise UsageError(f"{name}: no spheres in the scenario; add a line per sphere")
     check_scenario(scn, container)
     if (
         container.dimensions == 3
@@ -132,19 +133,19 @@ def check_source(args: argparse.Namespace) -> None:
             if v
         ]
         if given:
-            raise ValueError(
+            raise UsageError(
                 f"{'/'.join(given)} {'is' if len(given) == 1 else 'are'} for "
                 "scenarios, not trajectories "
-                f"({args.input} holds its own)"
+                f"({args.input} holds its own): leave them out"
             )
         return
     if args.until is None or not given_container(args):
-        raise ValueError(
+        raise UsageError(
             f"{quote(args.input)} is not a trajectory (.gsd, .xyz), so it is read as a "
             "scenario: give --container R (or --circle R, or --box L [LY [LZ]]) and --until T"
         )
     if args.every is not None and args.every > args.until:
-        raise ValueError(
+        raise UsageError(
             f"--every {args.every:g} is longer than the run (--until "
             f"{args.until:g}): there would be one frame"
         )
@@ -190,7 +191,7 @@ def frames_from_args(args: argparse.Namespace, most: Callable[[int], int] | None
     try:
         sim = starting_simulation(args, scenario=path)
     except ValueError as e:
-        raise ValueError(f"{path}: {str(e).removeprefix(path + ': ')}") from None
+        raise UsageError(f"{path}: {str(e).removeprefix(path + ': ')}") from None
     span = args.until - sim.time
     every = args.every or span / 200
     frames = math.floor(span / every) + 1  # and the last, at --until, when off the grid
@@ -211,7 +212,7 @@ def frames_from_args(args: argparse.Namespace, most: Callable[[int], int] | None
         need = float(frames) * sim.n * FRAME_BYTES_PER_SPHERE
         if mem is not None and need > mem / 2:
             fit = max(2, int(mem / 2 / (sim.n * FRAME_BYTES_PER_SPHERE)))
-            raise ValueError(
+            raise UsageError(
                 f"--every {every:g}: {frames:.3g} frames of {sim.n} spheres would take about "
                 f"{need / 2**30:.3g} GiB in memory, and this machine has {mem / 2**30:.3g} GiB: "
                 f"use --every {span / (fit - 1):.3g} or more"

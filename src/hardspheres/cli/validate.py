@@ -6,6 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from .options import compile_first, count, dask_args, packings, positive, whole
 
 if TYPE_CHECKING:
@@ -83,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     if args.transport:
         return _validate_transport(args)
     if args.time is not None:
-        raise ValueError(
+        raise UsageError(
             "--time applies to --transport only (the equation of state measures --collisions per sphere)"
         )
     if args.csv is None:
@@ -132,7 +133,7 @@ def _validate_transport(args: argparse.Namespace) -> int:
 
     for key in ("collisions", "equilibrate", "seeds", "scheduler", "output"):
         if getattr(args, key) not in (None, 1, False):
-            raise ValueError(
+            raise UsageError(
                 f"--{key} does not apply to --transport (which takes --n, "
                 "--packings, --time, --quick, --seed, --workers, --csv)"
             )

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from ..errors import UsageError
 from .options import picture_args, require_suffix, size_slice_args
 from .source import check_source, frames_from_args
 
@@ -58,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             screenshot(args.output, args.screenshot, size=args.size or (960, 640))
         except ValueError as e:
-            raise ValueError(
+            raise UsageError(
                 f"--screenshot {args.screenshot}: {str(e).removeprefix('screenshot: ')}"
             ) from None
         print(f"wrote {args.screenshot}")
