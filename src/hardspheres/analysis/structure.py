@@ -24,6 +24,7 @@ Example:
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, cast
 
@@ -134,6 +135,26 @@ def _freud_box(freud: ModuleType, L: Edge) -> Any:
     if len(sides) == 2:
         return freud.box.Box(sides[0], sides[1], is2D=True)
     return freud.box.Box(*sides)
+
+
+def _psi6_frames(
+    freud: ModuleType, L: Edge, pos: np.ndarray, refusal: str
+) -> Iterator[tuple[Any, np.ndarray]]:
+    """Per configuration of ``pos`` (disks in the 2-D box ``L``): freud's system and each disk's psi6
+    over its 6 nearest neighbours (a copy).  The one home of psi6 for :class:`Hexatic` and
+    :func:`local_psi6`; refuses at once, with ``refusal``, a box that is not 2-D."""
+    if PeriodicBox(L).dimensions != 2:
+        raise AnalysisInputError(refusal)
+    fbox = _freud_box(freud, L)
+    hexatic = freud.order.Hexatic(k=6)
+
+    def frames() -> Iterator[tuple[Any, np.ndarray]]:
+        for x in pos:
+            system = (fbox, _wrap(x, L))
+            hexatic.compute(system, neighbors={"num_neighbors": 6})
+            yield system, np.asarray(hexatic.particle_order).copy()
+
+    return frames()
 
 
 def _shortest(L: Edge) -> float:
@@ -314,19 +335,12 @@ class Hexatic(Compute):
         """psi6, ``|Psi6|`` and g6(r) of ``source``'s configurations (a 2-D periodic box); returns self."""
         freud = _freud()
         L, pos, radii = configurations(source, box)
-        if PeriodicBox(L).dimensions != 2:
-            raise AnalysisInputError(
-                "the hexatic order is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly))"
-            )
-        fbox = _freud_box(freud, L)
-        hexatic = freud.order.Hexatic(k=6)
+        refusal = "the hexatic order is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly))"
+        frames = _psi6_frames(freud, L, pos, refusal)
         r_max = self.r_max or 0.45 * _shortest(L)
         corr = freud.density.CorrelationFunction(bins=self.bins, r_max=r_max)
         orders = []
-        for k, x in enumerate(pos):
-            system = (fbox, _wrap(x, L))
-            hexatic.compute(system, neighbors={"num_neighbors": 6})
-            psi = np.asarray(hexatic.particle_order).copy()
+        for k, (system, psi) in enumerate(frames):
             orders.append(float(abs(psi.mean())))
             corr.compute(
                 system, values=psi, query_points=system[1], query_values=np.conj(psi), reset=(k == 0)
@@ -494,17 +508,8 @@ def local_psi6(source: Source, box: Edge | None = None) -> np.ndarray:
         pos = np.asarray(frames, float)
     else:
         L, pos, _ = configurations(source, box)
-    if PeriodicBox(L).dimensions != 2:
-        raise AnalysisInputError(
-            "psi6 is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly)), or a circle"
-        )
-    fbox = _freud_box(freud, L)
-    hexatic = freud.order.Hexatic(k=6)
-    out = np.empty(pos.shape[:2], complex)
-    for k, x in enumerate(pos):
-        hexatic.compute((fbox, _wrap(x, L)), neighbors={"num_neighbors": 6})
-        out[k] = np.asarray(hexatic.particle_order)
-    return out
+    refusal = "psi6 is of disks: give a 2-D periodic box, PeriodicBox((Lx, Ly)), or a circle"
+    return np.array([psi for _, psi in _psi6_frames(freud, L, pos, refusal)], complex).reshape(pos.shape[:2])
 
 
 def psi6_magnitudes(positions: np.ndarray, container: Any) -> np.ndarray:
