@@ -568,18 +568,12 @@ class Simulation:
         if th is not None:
             from .dense import thermostat_from_state
 
-            try:
-                sim.set_thermostat(thermostat_from_state(str(th)))
-            except (ValueError, KeyError, TypeError) as e:
-                raise CheckpointError(f"{path}: damaged checkpoint: bad thermostat ({e})") from None
+            _restore_slot(path, "thermostat", lambda: sim.set_thermostat(thermostat_from_state(str(th))))
         sim.barostat = None
         if bs is not None:
             from .barostat import barostat_from_state
 
-            try:
-                sim.set_barostat(barostat_from_state(str(bs)))
-            except (ValueError, KeyError, TypeError) as e:
-                raise CheckpointError(f"{path}: damaged checkpoint: bad barostat ({e})") from None
+            _restore_slot(path, "barostat", lambda: sim.set_barostat(barostat_from_state(str(bs))))
         return sim
 
 
@@ -597,6 +591,14 @@ def _compiled() -> None:
     if not _WARM:
         _WARM = True
         ensure_compiled()
+
+
+def _restore_slot(path: str | os.PathLike, what: str, restore: Callable[[], object]) -> None:
+    """Run ``restore()`` (a checkpoint's thermostat or barostat back in its slot); refuse a bad one."""
+    try:
+        restore()
+    except (ValueError, KeyError, TypeError) as e:
+        raise CheckpointError(f"{path}: damaged checkpoint: bad {what} ({e})") from None
 
 
 def _number(x: float, what: str, expected: str, minimum: float = -math.inf) -> float:
