@@ -33,8 +33,9 @@ from ..state import State
 from .structure import BondOrder
 
 
-#: The densest fluid slab built (random spheres' lattice sites fit up to about 0.48).
-FLUID_START_MAX = 0.47
+#: The densest fluid placed at random (lattice sites fit up to about 0.48 in a cube,
+#: less in some slabs); denser is compressed.
+FLUID_START_MAX = 0.42
 
 
 def _fcc_111(cells: tuple[int, int, int], packing: float) -> tuple[np.ndarray, tuple[float, float, float]]:
@@ -62,6 +63,7 @@ def crystal_fluid_slab(
     fluid_packing: float = 0.49,
     fluid_length: float | None = None,
     seed: int = 0,
+    fill: bool = True,
 ) -> tuple[State, PeriodicBox]:
     """An FCC slab and a fluid slab side by side along z in one periodic box (diameter 1, mass 1, kT = 1).
 
@@ -71,12 +73,20 @@ def crystal_fluid_slab(
             multiple of 3)).
         plane: ``"100"`` or ``"111"``, the crystal plane normal to z.
         crystal_packing: the crystal's packing (coexistence: 0.5433).
-        fluid_packing: the fluid's (coexistence: 0.4917), at most 0.5; it
-            starts at most at :data:`FLUID_START_MAX` (0.47), and a run at
-            constant pressure brings it to the pressure's.
+        fluid_packing: the fluid's (coexistence: 0.4917), at most 0.5:
+            built by :func:`equilibrated_fluid` in a periodic box of its
+            own with the crystal's cross-section (compressed there from
+            :data:`FLUID_START_MAX` when above it), before the two are joined.
         fluid_length: the fluid slab's length along z (default: the
             crystal's).
         seed: seeds the fluid's placement and every velocity.
+        fill: the fluid's spheres that overlap the crystal's faces are taken
+            out, which leaves the fluid short of ``fluid_packing`` (by about
+            half a layer at each face); with ``fill`` (the default) the fluid
+            is built a second time with as many spheres more as the first
+            lost, so that the fluid slab holds ``fluid_packing`` on average
+            (denser in its middle at first, until it spreads into the faces'
+            hollows: a few time units).
 
     Returns:
         ``(state, box)``: the crystal's spheres first, then the fluid's.
@@ -92,29 +102,21 @@ def crystal_fluid_slab(
         raise BuildError(f"fluid_packing must be in (0, 0.5], got {fluid_packing!r}")
     lx, ly, lc = (float(s) for s in sides)
     lf = lc if fluid_length is None else float(fluid_length)
-    # (random spheres start on lattice sites, which fit up to about 0.48: the
-    # fluid starts at most there, and a run at constant pressure compresses it)
-    start = min(fluid_packing, FLUID_START_MAX)
-    nf = int(round(start * lx * ly * lf / (math.pi / 6.0)))
-    fbox = PeriodicBox((lx, ly, lf))
-    from ..builders import random_spheres
-
-    fluid = Simulation(random_spheres(nf, nf * math.pi / 6.0 / fbox.volume, fbox, seed=seed), fbox)
-    fluid.run(collisions=30 * nf)  # the lattice it starts from melts
-    xf = fluid.state().positions
     total = lc + lf
+    box = PeriodicBox((lx, ly, total))
     xc = np.array(xc, dtype=float)
     xc[:, 2] += -0.5 * total + 0.5 * lc  # the crystal at the bottom
-    xf = np.array(xf, dtype=float)
-    xf[:, 2] += -0.5 * total + lc + 0.5 * lf
-    box = PeriodicBox((lx, ly, total))
-    xc, xf = box.wrap(xc), box.wrap(xf)
-    # the fluid's spheres that overlap the crystal's faces go (no gap: a gap
-    # lets the crystal expand into it and melt before the fluid fills it)
-    near_c = np.flatnonzero(_face_distance(xc[:, 2], lc, total) < 1.0)
-    near_f = np.flatnonzero(_face_distance(xf[:, 2], lc, total) < 1.0)
-    d = box.displacement(xf[near_f][:, None, :], xc[near_c][None, :, :])
-    clash = near_f[(np.sum(d * d, axis=-1) < 1.0).any(axis=1)]
+    xc = box.wrap(xc)
+    packing = fluid_packing
+    for _ in range(2 if fill else 1):
+        xf = equilibrated_fluid((lx, ly, lf), packing, seed=seed)
+        xf[:, 2] += -0.5 * total + lc + 0.5 * lf
+        xf = box.wrap(xf)
+        clash = _clashes(box, xc, xf, lc)
+        # the fluid's spheres that overlap the crystal's faces go (no gap: a gap
+        # lets the crystal expand into it and melt before the fluid fills it);
+        # with ``fill`` the fluid is built again with as many more spheres
+        packing = (len(xf) + len(clash)) * math.pi / 6.0 / (lx * ly * lf)
     xf = np.delete(xf, clash, axis=0)
     x = np.concatenate([xc, xf])
     n = len(x)
@@ -123,6 +125,62 @@ def crystal_fluid_slab(
     v -= v.mean(axis=0)
     v *= math.sqrt(3.0 * (n - 1) / float(np.sum(v * v)))  # kT = 1 exactly
     return State.from_arrays(np.ones(n), np.full(n, 0.5), x, v), box
+
+
+def equilibrated_fluid(
+    sides: tuple[float, float, float], packing: float, seed: int = 0, collisions_per_sphere: float = 30.0
+) -> np.ndarray:
+    """Centres of a fluid of diameter-1 spheres at ``packing`` in a periodic box of ``sides``.
+
+    Random spheres start on lattice sites, which fit only up to about
+    0.48: they are placed at :data:`FLUID_START_MAX` at most (smaller
+    radii when ``packing`` is above it; 5 % lower again, as often as the
+    sites of a small or flat box need), melted by ``collisions_per_sphere``
+    collisions per sphere, compressed (Lubachevsky-Stillinger, radii
+    growing: :meth:`Simulation.compress`) until their diameter is 1 (to a
+    part in 10^9 above, then set to 1 exactly: no overlap), and run as many
+    collisions again at diameter 1.
+
+    Returns:
+        ``(n, 3)`` centres, ``n = round(packing V / (pi / 6))``.
+    """
+    volume = float(np.prod(sides))
+    n = int(round(packing * volume / (math.pi / 6.0)))
+    if n < 2:
+        raise BuildError(f"fluid box {sides!r} at packing {packing!r} holds fewer than 2 spheres")
+    box = PeriodicBox(tuple(float(x) for x in sides))
+    target = n * math.pi / 6.0 / volume  # the packing of n spheres of diameter 1
+    start = min(target, FLUID_START_MAX)
+    from ..builders import random_spheres
+
+    while True:
+        try:
+            placed = random_spheres(n, start, box, seed=seed)
+            break
+        except BuildError:  # the lattice's sites do not fit this box's shape: place them smaller
+            if start < 0.2:
+                raise
+            start *= 0.95
+    sim = Simulation(placed, box)
+    sim.run(collisions=int(collisions_per_sphere * n))  # the lattice it starts from melts
+    if start < target:
+        res = sim.compress(packing=target * (1.0 + 1e-9), rate=0.01)
+        if res.reason != "packing":
+            raise BuildError(f"the fluid's compression to {target:.4f} stopped on {res.reason!r}")
+        st = sim.state()
+        st = State.from_arrays(st.masses, np.full(n, 0.5), st.positions, st.velocities)
+        sim = Simulation(st, box)
+        sim.run(collisions=int(collisions_per_sphere * n))  # at diameter 1
+    return np.array(sim.state().positions, dtype=float)
+
+
+def _clashes(box: PeriodicBox, xc: np.ndarray, xf: np.ndarray, lc: float) -> np.ndarray:
+    """Indices of the fluid's centres ``xf`` closer than 1 to a crystal centre ``xc`` across its faces."""
+    total = box.sides[2]
+    near_c = np.flatnonzero(_face_distance(xc[:, 2], lc, total) < 1.0)
+    near_f = np.flatnonzero(_face_distance(xf[:, 2], lc, total) < 1.0)
+    d = box.displacement(xf[near_f][:, None, :], xc[near_c][None, :, :])
+    return near_f[(np.sum(d * d, axis=-1) < 1.0).any(axis=1)]
 
 
 def _face_distance(z: np.ndarray, lc: float, total: float) -> np.ndarray:
@@ -169,3 +227,22 @@ class SlabProfile:
         self.crystal_like = like
         self.crystal_fraction = float(like.mean())
         return self
+
+    def plateaus(self, solid: float = 0.95, fluid: float = 0.05) -> tuple[float, float]:
+        """Mean packing of the bins well inside the crystal and well inside the fluid (after :meth:`compute`).
+
+        A bin is inside the crystal when it and both its neighbours (along
+        z, periodic) have a crystal fraction of at least ``solid``; inside
+        the fluid when all three are at most ``fluid``: the interfaces'
+        bins are left out.
+
+        Returns:
+            ``(crystal's packing, fluid's packing)``, NaN for a phase with
+            no such bin.
+        """
+        c = self.crystal
+        three = np.stack([c, np.roll(c, 1), np.roll(c, -1)])
+        inside_c, inside_f = three.min(axis=0) >= solid, three.max(axis=0) <= fluid
+        s = float(self.packing[inside_c].mean()) if inside_c.any() else math.nan
+        f = float(self.packing[inside_f].mean()) if inside_f.any() else math.nan
+        return s, f
