@@ -350,7 +350,13 @@ def _halves(r: dict) -> str:
 
 
 def table(rows: list[dict]) -> None:
-    """The Markdown table of one CSV's rows."""
+    """The Markdown tables of one CSV's rows: the runs; the runs of one packing and length together.
+
+    Together: their mean, its error the larger of their errors combined and
+    their standard error about the mean; the spread's z the largest minus
+    the smallest over their combined error (above 3: the runs disagree,
+    their error bars are too small).  Then the chunk errors, if recorded.
+    """
     print(
         "| N | packing | start | ours, beta P sigma^2 | published | z | \\|Psi6\\| | collisions per disk",
         end="",
@@ -366,6 +372,25 @@ def table(rows: list[dict]) -> None:
         worst = max(rows, key=lambda r: abs(r["z"]))
         print(f"\nlargest |z| {abs(worst['z']):.2f} (packing {worst['phi']:.3f}); |z| <= 3 at "
               f"{sum(abs(r['z']) <= 3 for r in rows)} of {len(rows)} runs")  # fmt: skip
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r["n"], r["phi"], r["equilibrate"], r["measure"]), []).append(r)
+    groups = {k: g for k, g in groups.items() if len(g) > 1}
+    if groups:
+        print(
+            "\n| N | packing | runs (starts, seeds) | mean of the runs | z of their spread | z of the mean |"
+        )
+        print("|---|---|---|---|---|---|")
+        for (n, phi, _, _), g in groups.items():
+            bp = [r["bp"] for r in g]
+            mean = sum(bp) / len(bp)
+            spread = math.sqrt(sum((b - mean) ** 2 for b in bp) / (len(bp) - 1) / len(bp))
+            err = max(math.sqrt(sum(r["error"] ** 2 for r in g)) / len(g), spread)
+            lo, hi = min(g, key=lambda r: r["bp"]), max(g, key=lambda r: r["bp"])
+            z_spread = (hi["bp"] - lo["bp"]) / math.hypot(hi["error"], lo["error"])
+            z = (mean - g[0]["ref"]) / math.hypot(err, g[0]["ref_error"])
+            score = f"{z:+.2f}" if z_spread <= 3.0 else "- (the runs disagree)"
+            print(f"| {n:.0f} | {phi:.3f} | {len(g)} | {mean:.4f} +- {err:.4f} | {z_spread:.2f} | {score} |")
     chunked = [r for r in rows if "tau_bp" in r]
     if chunked:
         print("\n| N | packing | start | chunk error | run's error | chunk blocks converged | tau of beta P, "
@@ -396,7 +421,7 @@ def plot(paths: list[str], png: str) -> None:
         ("small", LI_870, "N = 870, 29 : 30 sqrt(3)/2 box", []),
         ("large", LI_16384, "N = 128^2 = 16384, sqrt(3)/2 box", [("Zollweg & Chester 1992", ZOLLWEG_16384)]),
     ]
-    rows = [r for p in paths for r in _read(p)]
+    rows = [r for p in paths if not p.endswith("_series.csv") for r in _read(p)]  # a glob takes the series
     for ax, (size, ref, title, extra) in zip(axes, sets, strict=True):
         n = SIZES[size]["cells"][0] * SIZES[size]["cells"][1]
         p, v, e = zip(*ref, strict=True)
@@ -457,10 +482,12 @@ def main() -> None:
         plot(args.csv, args.png)
     elif args.what == "table":
         for p in args.csv:
-            table(_read(p))
+            if not p.endswith("_series.csv"):
+                table(_read(p))
     elif args.what == "rescore":
         for p in args.csv:
-            rescore(p)
+            if not p.endswith("_series.csv") and os.path.exists(series_path(p)):
+                rescore(p)
     else:
         run(
             args.what, args.csv[0], args.equilibrate, args.measure, args.order, start, args.seeds, args.chunks
