@@ -54,7 +54,7 @@ def run_scenario(scn, until, *extra, cwd, **kw):
 def start_run(scn, cwd, *extra):
     """A long ``hardspheres run`` in the background, once it is running (checkpoint locked)."""
     proc = hs_popen("run", scn, "--container", "20", "--until", "1e9", *extra, cwd=cwd)
-    deadline = time.time() + 90
+    deadline = time.time() + 600  # a hang guard: a cold numba cache compiles first (minutes under load)
     try:
         while not (cwd / ".c.npz.lock").exists():
             assert proc.poll() is None, proc.communicate()
