@@ -19,14 +19,21 @@ between event-driven stretches, one move per mean free time) at fixed
   3435 (2006)).
 
 After ``--equilibrate`` moves the box is sampled after each of ``--moves``
-moves; the mean packing and ``N var(V) / <V>^2`` get blocked standard
-errors (hardspheres.blocking), and ``z = (measured - reference) / error``.
+moves; the mean packing and ``N var(V) / <V>^2`` get blocked standard errors
+(hardspheres.blocking), and ``z = (measured - reference) / error``. The
+table says whether each blocking reached its plateau (``no``: the error is a
+lower bound, run longer) and the volume's statistical inefficiency ``tau``
+in moves (``n sem^2 / var`` of the packing: about twice its integrated
+autocorrelation time). A move changes ``ln V`` by at most about ``3 / (N (Z
+- 1))``, so the volume walks slowly: ``tau`` is a few thousand moves for the
+crystal at N = 108, and 40000 moves (the default until 2026-12-02) were too
+few: no plateau, and the crystal's fluctuations 2-11 of those errors low.
 The references are for infinite N; the finite-N corrections of an NPT mean
-are O(1/N) and are not removed.  Prints a Markdown table and its running
-time: about 5 minutes on one core of this (shared) machine with the
-defaults (N = 108 spheres, 3 x 3 x 3 FCC cells = 108, 108 disks; 2000 +
-40000 moves), 1.5 more for ``--only fcc --fcc-axes none``; ``--csv``
-writes the rows.
+are O(1/N) and are not removed. Prints a Markdown table and its running
+time: about 30 minutes on one core of this (shared) machine with the
+defaults (N = 108 spheres, 3 x 3 x 3 FCC cells = 108, 108 disks; 20000 +
+400000 moves; the fluid and disks 18 of them, the crystal 11), 7 more for
+``--only fcc --fcc-axes none``; ``--csv`` writes the rows.
 
 usage: python3 validation/constant_pressure.py [--moves M] [--equilibrate E]
        [--only fluid,fcc,disks] [--fcc-axes xyz|none] [--csv FILE]
@@ -78,6 +85,7 @@ def score(
     bq = blocking(q)
     bar = sim.barostat
     assert bar is not None
+    var = float(np.var(phi))
     return {
         "system": name,
         "betaP": bp,
@@ -90,6 +98,9 @@ def score(
         "fluct_err": float(bq.sem),
         "fluct_ref": 1.0 / ref_k,
         "z_fluct": float((bq.mean - 1.0 / ref_k) / bq.sem),
+        "plateau": ("yes" if b.converged else "no") + "/" + ("yes" if bq.converged else "no"),
+        "tau_moves": float(len(phi) * b.sem**2 / var) if var > 0 else math.nan,
+        "moves": len(phi),
         "acceptance": bar.acceptance,
         "wall_s": wall,
     }
@@ -140,8 +151,8 @@ def disks(bp: float, n: int, equilibrate: int, moves: int, seed: int = 1) -> dic
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
-    ap.add_argument("--moves", type=int, default=40000, help="volume moves sampled per row")
-    ap.add_argument("--equilibrate", type=int, default=3000, help="volume moves before sampling")
+    ap.add_argument("--moves", type=int, default=400000, help="volume moves sampled per row")
+    ap.add_argument("--equilibrate", type=int, default=20000, help="volume moves before sampling")
     ap.add_argument("--n", type=int, default=108, help="spheres of the fluid, disks likewise")
     ap.add_argument("--cells", type=int, default=3, help="FCC cells per side (4 spheres each)")
     ap.add_argument("--only", default="fluid,fcc,disks")
@@ -170,9 +181,9 @@ def main() -> None:
         runs += [lambda bp=bp: disks(bp, args.n, args.equilibrate, args.moves) for bp in DISKS]
     print(
         "| system | beta P | N | mean packing | +- | reference | z | N var(V)/<V>^2 | +- | reference | z "
-        "| acceptance | wall s |"
+        "| plateau | tau (moves) | moves | acceptance | wall s |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     rows = []
     for run in runs:
         r = run()
@@ -180,7 +191,7 @@ def main() -> None:
         print(
             "| {system} | {betaP:g} | {N} | {packing:.5f} | {packing_err:.5f} | {packing_ref:.5f} | "
             "{z_packing:+.2f} | {fluct:.4f} | {fluct_err:.4f} | {fluct_ref:.4f} | {z_fluct:+.2f} | "
-            "{acceptance:.2f} | {wall_s:.0f} |".format(**r),
+            "{plateau} | {tau_moves:.0f} | {moves} | {acceptance:.2f} | {wall_s:.0f} |".format(**r),
             flush=True,
         )
     print(f"\n{args.equilibrate} + {args.moves} volume moves per row; total {time.time() - t0:.0f} s")
