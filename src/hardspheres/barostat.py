@@ -184,12 +184,13 @@ class Barostat:
                     f"axes must be None (isotropic) or distinct letters of 'xyz', got {axes!r}"
                 )
         self.axes = axes
+        bad_seed = BarostatError(f"seed must be a whole number >= 0, got {seed!r}")
         try:
             self.seed = int(seed)
-            if self.seed != seed or self.seed < 0:
-                raise ValueError
         except (TypeError, ValueError, OverflowError):
-            raise BarostatError(f"seed must be a whole number >= 0, got {seed!r}") from None
+            raise bad_seed from None
+        if self.seed != seed or self.seed < 0:
+            raise bad_seed
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self.next_time: float | None = None
         self.attempted = self.accepted = self.overlaps = 0
