@@ -43,11 +43,12 @@ usage:
         --equilibrate 5000 --measure 20000 --chunks 20 --order 0.716 --start crystal
     python3 validation/disks_loop.py plot --csv A.csv B.csv --png docs/images/disks_loop.png
 
-Running time (this machine, 2 cores shared, load 3-7): small with the
+Running time (this machine, 2 cores shared, load 3-8): small with the
 defaults (5000 + 50000 collisions per disk, 15 packings) about 25 min;
-small with 20000 + 200000 per disk 140-210 s per packing and start; large
-with ``--equilibrate 5000 --measure 30000`` about 15 min per packing.  Each
-run prints its own running time.
+small with 20000 + 200000 per disk 140-330 s per packing and start; large
+with ``--equilibrate 5000 --measure 40000`` 15-35 min per packing, with
+``--equilibrate 5000 --measure 20000`` about 17 min.  Each run prints its
+own running time.
 """
 
 import argparse
