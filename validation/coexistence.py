@@ -29,7 +29,8 @@ run's mean profile, and ``--plot`` draws it (docs/images/coexistence_profile.png
 
 Running time (10 x 10 x 20 cells, N about 15 000, this shared 2-core
 machine at load average 6 to 8, ``nice -n 15``): ``--nve --until 200``
-267 s; ``--pressures 11.0 12.2 --until 150`` 1112 s (3.0 s per time unit
+267 s; ``--nve --plane 111 --cells 14 16 36 --until 400`` 358 s;
+``--pressures 11.0 12.2 --until 150`` 1112 s (3.0 s per time unit
 at constant normal pressure: the volume moves cost 9 ms each, about 47 per
 time unit; 1 to 3 minutes to build each slab); 2.4 s per profile (q6 of
 every sphere).  Results and the commands: docs/validation.md, "Direct
