@@ -27,7 +27,7 @@ import numpy as np
 
 from ..builders import crystal
 from ..containers import MAX_PACKING, PeriodicBox
-from ..errors import BuildError
+from ..errors import AnalysisInputError, BuildError
 from ..simulation import Simulation
 from ..state import State
 from .structure import BondOrder
@@ -202,14 +202,17 @@ class SlabProfile:
 
     def __init__(self, bins: int = 40) -> None:
         if not (isinstance(bins, int) and bins >= 2):
-            raise ValueError(f"bins must be a whole number >= 2, got {bins!r}")
+            raise AnalysisInputError(f"bins must be a whole number >= 2, got {bins!r}")
         self.bins = bins
 
     def compute(self, sim: Simulation) -> SlabProfile:
         """The profiles of ``sim`` now; returns self."""
         box = sim.container
         if not isinstance(box, PeriodicBox) or box.dimensions != 3:
-            raise ValueError("SlabProfile: a 3-D periodic box (the slab's)")
+            raise AnalysisInputError(
+                f"SlabProfile needs the slab's 3-D periodic box, got {box!r}: "
+                "build one with crystal_fluid_slab"
+            )
         sides = box.sides
         st = sim.state()
         z = st.positions[:, 2] + 0.5 * sides[2]
