@@ -13,8 +13,14 @@ Two runs of the same system that differ only in the number of timed
 collisions (C1 and C2, after N warm-up collisions from the same start) are
 subtracted: start-up, compilation and warm-up drop out.
 
-Ours: N spheres at packing PHI in a periodic box, seed 0, ten collisions
-per sphere of warm-up (as ``benchmarks/ab_chunks.py``).  valgrind cannot
+Ours: N spheres at packing PHI in a periodic box (``--sphere``: in the
+spherical container, the assignment's), seed 0, ten collisions per sphere
+of warm-up (as ``benchmarks/ab_chunks.py``; ``--warm``), from the source
+tree ``--tree`` (default: this one), so that trees can be compared by
+instructions, which a loaded machine does not disturb.  ``--ir-only``:
+instructions alone (no cache or branch simulation; about twice as fast).
+The second run also prints its crossings, stale predictions and
+reflections per collision (the work the counts are made of).  valgrind cannot
 run AVX-512 code, so the core is compiled for Haswell
 (``NUMBA_CPU_NAME``/``NUMBA_CPU_FEATURES``, its own cache entries), outside
 valgrind first.  ``--anchor Single|Cell``: the anchor's code instead, built
@@ -22,7 +28,8 @@ by ``../shared/anchor/anchor.sh`` with ``-march=haswell`` (its other flags
 as in its Makefile), from its own initial configuration, N warm-up
 collisions.
 
-usage: python3 benchmarks/cachegrind_core.py N PHI [--anchor VARIANT] [--c1 C1] [--c2 C2]
+usage: python3 benchmarks/cachegrind_core.py N PHI [--sphere] [--tree TREE] [--warm W] [--ir-only]
+       [--anchor VARIANT] [--c1 C1] [--c2 C2]
 (from the project's root; needs valgrind)
 """
 
@@ -49,15 +56,23 @@ CACHEGRIND = [
 ]
 
 
-def inner(n, phi, c):
+def inner(n, phi, c, sphere, warm):
+    from hardspheres.core import _core as core
     from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
     from hardspheres.core.engine import Engine
 
-    where = container_for(n, phi, box=True)
+    where = container_for(n, phi, box=not sphere)
     eng = Engine(*random_arrays(n, phi, where, seed=0), container=where)
-    warm_up(eng, 10)
+    warm_up(eng, warm)
+    before = eng.counts.copy()
     eng.advance(collisions=c, record=False)
+    d = eng.counts - before
+    coll = max(int(d[core.C_COLLISIONS]), 1)
+    print(
+        f"per collision: crossings {d[core.C_CROSSINGS] / coll:.4f}, stale {d[core.C_STALE] / coll:.4f}, "
+        f"reflections {d[core.C_REFLECTIONS] / coll:.4f}"
+    )
 
 
 def summary(path):
@@ -73,9 +88,18 @@ def summary(path):
 
 def ours_cmd(a, c):
     env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES=HASWELL, OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.path.join(os.getcwd(), "src")
+    env["PYTHONPATH"] = os.path.join(os.path.abspath(a.tree), "src")
     # sys.executable itself, not a launcher script valgrind would stop at
-    return [os.path.realpath(sys.executable), __file__, str(a.n), str(a.phi), "--inner", str(c)], env, None
+    cmd = [
+        os.path.realpath(sys.executable),
+        os.path.abspath(__file__),
+        str(a.n),
+        str(a.phi),
+        "--inner",
+        str(c),
+    ]
+    cmd += ["--warm", str(a.warm)] + (["--sphere"] if a.sphere else [])
+    return cmd, env, None
 
 
 def anchor_cmd(a, c):
@@ -99,10 +123,14 @@ def main():
     p.add_argument("--anchor", choices=("Single", "Cell"), help="the anchor's variant instead of ours")
     p.add_argument("--c1", type=int, default=20000, help="timed collisions, first run")
     p.add_argument("--c2", type=int, default=60000, help="timed collisions, second run")
+    p.add_argument("--sphere", action="store_true", help="the spherical container, not the periodic box")
+    p.add_argument("--tree", default=os.getcwd(), help="the source tree whose src/ is run (default: here)")
+    p.add_argument("--warm", type=float, default=10.0, help="warm-up collisions per sphere")
+    p.add_argument("--ir-only", action="store_true", help="instructions only (no cache or branch simulation)")
     p.add_argument("--inner", type=int, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.inner is not None:
-        inner(a.n, a.phi, a.inner)
+        inner(a.n, a.phi, a.inner, a.sphere, a.warm)
         return
     make = anchor_cmd if a.anchor else ours_cmd
     if not a.anchor:
@@ -114,9 +142,10 @@ def main():
         cmd, env, cwd = make(a, c)
         dest = os.path.join(out, f"{c}.out")
         log = open(os.path.join(out, f"{c}.log"), "w")
+        tool = CACHEGRIND[:2] + ["--cache-sim=no", "--branch-sim=no"] if a.ir_only else CACHEGRIND
         procs.append(
             subprocess.Popen(
-                CACHEGRIND + [f"--cachegrind-out-file={dest}"] + cmd, env=env, cwd=cwd, stdout=log, stderr=log
+                tool + [f"--cachegrind-out-file={dest}"] + cmd, env=env, cwd=cwd, stdout=log, stderr=log
             )
         )
     for proc in procs:
@@ -124,13 +153,18 @@ def main():
             sys.exit(f"cachegrind_core: a valgrind run failed; see the logs in {out}")
     s1, s2 = summary(os.path.join(out, f"{a.c1}.out")), summary(os.path.join(out, f"{a.c2}.out"))
     d = {k: (s2[k] - s1[k]) / (a.c2 - a.c1) for k in s1}
-    who = f"anchor {a.anchor}" if a.anchor else "ours (box)"
-    print(
-        f"{who}, N {a.n}, PHI {a.phi}, per collision: instructions {d['Ir']:.0f}, "
-        f"data references {d['Dr'] + d['Dw']:.0f}, L1d misses {d['D1mr'] + d['D1mw']:.1f}, "
-        f"L2 misses {d['DLmr'] + d['DLmw']:.1f}, conditional branches {d['Bc']:.0f}, "
-        f"mispredicted {d['Bcm']:.1f}"
-    )
+    who = f"anchor {a.anchor}" if a.anchor else f"ours ({'sphere' if a.sphere else 'box'}, {a.tree})"
+    line = f"{who}, N {a.n}, PHI {a.phi}, per collision: instructions {d['Ir']:.0f}"
+    if "Dr" in d:
+        line += (
+            f", data references {d['Dr'] + d['Dw']:.0f}, L1d misses {d['D1mr'] + d['D1mw']:.1f}, "
+            f"L2 misses {d['DLmr'] + d['DLmw']:.1f}, conditional branches {d['Bc']:.0f}, "
+            f"mispredicted {d['Bcm']:.1f}"
+        )
+    if not a.anchor:
+        with open(os.path.join(out, f"{a.c2}.log")) as fh:
+            line += "; " + " ".join(x.strip() for x in fh if x.startswith("per collision"))
+    print(line)
 
 
 if __name__ == "__main__":
