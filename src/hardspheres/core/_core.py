@@ -857,7 +857,14 @@ def _pair(
     xj = spheres[j, X] + spheres[j, VX] * dj
     yj = spheres[j, Y] + spheres[j, VY] * dj
     zj = spheres[j, Z] + spheres[j, VZ] * dj
-    if shifted and oi > book[j, ORIGIN]:
+    if not shifted:
+        # (no shift added: xj + 0.0 differs from xj only in the sign of a
+        # zero, and so would dx; no time the kernels give depends on the
+        # sign of a zero difference, docs/numerics.md "Signed zeros")
+        dx = xi - xj
+        dy = yi - yj
+        dz = zi - zj
+    elif oi > book[j, ORIGIN]:
         # across the periodic box the subtraction is not antisymmetric:
         # the lower input index minus the higher's image, negated (the
         # reference's arithmetic, whichever sphere predicts the pair)
@@ -1005,15 +1012,29 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
 
 
 @_inline
+def _cell_near(k, o, nc):
+    """Cell coordinate ``k + o`` along one axis (``o`` in -1..1), and whether it is in the grid.
+
+    The cells this side of the box alone (no wrap): those across a
+    periodic box's face are :func:`_scan_across`'s.
+    """
+    m = k + o
+    return m, m >= 0 and m < nc
+
+
+@_inline
 def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
-    axis for the full 27 cells.
+    axis for the full 27 cells.  The cells this side of the box here, with
+    no shift at all (a container has no others); in a periodic box, those
+    across its faces (a sphere in a cell along a face) in
+    :func:`_scan_across`, called rather than inlined: the pair kernel's
+    shifted arithmetic costs the loop here nothing, not even a flag.
     """
     n = spheres.shape[0]
     ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
-    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
     now, soon, clock, grow, best_t, best_key, ti = _scan_start(spheres, book, due, scalars, i)
     best_p = -1
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
@@ -1021,24 +1042,24 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     oi = book[i, ORIGIN]
     # the sphere's own layer and row first: the earliest event is mostly
     # there, and the pairs after it are rejected by the horizon.  One layer
-    # of cells along z and no box along it (disks): that layer alone, the
-    # 9 cells around a disk's (the layers above and below do not exist)
-    layers = 1 if (ncz == 1 and bz == 0.0 and zlo != zhi) else zhi - zlo + 1
+    # of cells along z (disks): that layer alone, the 9 cells around a
+    # disk's (the layers above and below do not exist this side of the box,
+    # and there is no box along z)
+    layers = 1 if (ncz == 1 and zlo != zhi) else zhi - zlo + 1
     for qz in range(layers):
         oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
-        nz, sz, there = _cell_step(cz0, oz, ncz, bz)
+        nz, there = _cell_near(cz0, oz, ncz)
         if not there:
             continue
         for qy in range(yhi - ylo + 1):
             oy = ylo if ylo == yhi else (qy if qy < 2 else -1)
-            ny, sy, there = _cell_step(cy0, oy, ncy, by)
+            ny, there = _cell_near(cy0, oy, ncy)
             if not there:
                 continue
             for ox in range(xlo, xhi + 1):
-                nx, sx, there = _cell_step(cx0, ox, ncx, bx)
+                nx, there = _cell_near(cx0, ox, ncx)
                 if not there:
                     continue
-                shifted = sx != 0.0 or sy != 0.0 or sz != 0.0
                 j = cell_head[(nz * ncy + ny) * ncx + nx]
                 while j >= 0:
                     if j != i:
@@ -1048,10 +1069,10 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                             i,
                             oi,
                             j,
-                            sx,
-                            sy,
-                            sz,
-                            shifted,
+                            0.0,
+                            0.0,
+                            0.0,
+                            False,
                             ti,
                             now,
                             soon,
@@ -1064,7 +1085,118 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                             best_p,
                         )
                     j = cell_next[j]
+    if scalars[F_BOX] != 0.0 and (
+        (cx0 == 0 and xlo < 0)
+        or (cx0 == ncx - 1 and xhi > 0)
+        or (cy0 == 0 and ylo < 0)
+        or (cy0 == ncy - 1 and yhi > 0)
+        or (scalars[F_EDGE + 2] != 0.0 and ((cz0 == 0 and zlo < 0) or (cz0 == ncz - 1 and zhi > 0)))
+    ):
+        # a cell of the block lies across the periodic box
+        best_t, best_key, best_p = _scan_across(
+            spheres,
+            book,
+            cell_head,
+            cell_next,
+            scalars,
+            counts,
+            i,
+            zlo,
+            zhi,
+            ylo,
+            yhi,
+            xlo,
+            xhi,
+            now,
+            soon,
+            clock,
+            grow,
+            one,
+            best_t,
+            best_key,
+            best_p,
+        )
     _store(due, book, i, best_t, best_key, best_p)
+
+
+@_jit
+def _scan_across(
+    spheres,
+    book,
+    cell_head,
+    cell_next,
+    scalars,
+    counts,
+    i,
+    zlo,
+    zhi,
+    ylo,
+    yhi,
+    xlo,
+    xhi,
+    now,
+    soon,
+    clock,
+    grow,
+    one,
+    best_t,
+    best_key,
+    best_p,
+):
+    """:func:`_scan_cells`'s cells across the periodic box: sphere ``i``'s best event so far improved.
+
+    The cells of the block whose coordinate wraps along some axis, each
+    centre in them seen at its image next to ``i`` (shifted by a box side
+    per wrapped axis); returns the new ``(best_t, best_key, best_p)``.
+    Which cells a scan looks at first does not change its result (the
+    earliest event by time and tie key).
+    """
+    n = spheres.shape[0]
+    ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
+    bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
+    cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
+    ti = spheres[i, T_OWN]
+    oi = book[i, ORIGIN]
+    for oz in range(zlo, zhi + 1):
+        nz, sz, there = _cell_step(cz0, oz, ncz, bz)
+        if not there:
+            continue
+        across_z = nz != cz0 + oz
+        for oy in range(ylo, yhi + 1):
+            ny, sy, there = _cell_step(cy0, oy, ncy, by)
+            if not there:
+                continue
+            across = across_z or ny != cy0 + oy
+            for ox in range(xlo, xhi + 1):
+                nx, sx, there = _cell_step(cx0, ox, ncx, bx)
+                if not there or not (across or nx != cx0 + ox):
+                    continue  # (this side of the box: _scan_cells's)
+                j = cell_head[(nz * ncy + ny) * ncx + nx]
+                while j >= 0:
+                    if j != i:
+                        best_t, best_key, best_p = _pair(
+                            spheres,
+                            book,
+                            i,
+                            oi,
+                            j,
+                            sx,
+                            sy,
+                            sz,
+                            True,
+                            ti,
+                            now,
+                            soon,
+                            clock,
+                            grow,
+                            one,
+                            n,
+                            best_t,
+                            best_key,
+                            best_p,
+                        )
+                    j = cell_next[j]
+    return best_t, best_key, best_p
 
 
 @_inline
