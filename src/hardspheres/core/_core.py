@@ -1157,44 +1157,45 @@ def _scan_across(
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     ti = spheres[i, T_OWN]
     oi = book[i, ORIGIN]
-    # one loop over the block's cells, its length known only at run time:
-    # unrolled, three nested loops of 3 would copy the pair kernel 27 times
-    # into every caller (compile time)
-    q0, q1 = _block_range(ncz, bz)
-    for q in range(q0, q1):
-        oz, oy, ox = q // 9 - 1, (q // 3) % 3 - 1, q % 3 - 1
-        if oz < zlo or oz > zhi or oy < ylo or oy > yhi or ox < xlo or ox > xhi:
+    for oz in range(zlo, zhi + 1):
+        nz, sz, there = _cell_step(cz0, oz, ncz, bz)
+        if not there:
             continue
-        nz, sz, zthere = _cell_step(cz0, oz, ncz, bz)
-        ny, sy, ythere = _cell_step(cy0, oy, ncy, by)
-        nx, sx, xthere = _cell_step(cx0, ox, ncx, bx)
-        if not (zthere and ythere and xthere) or (nz == cz0 + oz and ny == cy0 + oy and nx == cx0 + ox):
-            continue  # (not there, or this side of the box: _scan_cells's)
-        j = cell_head[(nz * ncy + ny) * ncx + nx]
-        while j >= 0:
-            if j != i:
-                best_t, best_key, best_p = _pair(
-                    spheres,
-                    book,
-                    i,
-                    oi,
-                    j,
-                    sx,
-                    sy,
-                    sz,
-                    True,
-                    ti,
-                    now,
-                    soon,
-                    clock,
-                    grow,
-                    one,
-                    n,
-                    best_t,
-                    best_key,
-                    best_p,
-                )
-            j = cell_next[j]
+        across_z = nz != cz0 + oz
+        for oy in range(ylo, yhi + 1):
+            ny, sy, there = _cell_step(cy0, oy, ncy, by)
+            if not there:
+                continue
+            across = across_z or ny != cy0 + oy
+            for ox in range(xlo, xhi + 1):
+                nx, sx, there = _cell_step(cx0, ox, ncx, bx)
+                if not there or not (across or nx != cx0 + ox):
+                    continue  # (this side of the box: _scan_cells's)
+                j = cell_head[(nz * ncy + ny) * ncx + nx]
+                while j >= 0:
+                    if j != i:
+                        best_t, best_key, best_p = _pair(
+                            spheres,
+                            book,
+                            i,
+                            oi,
+                            j,
+                            sx,
+                            sy,
+                            sz,
+                            True,
+                            ti,
+                            now,
+                            soon,
+                            clock,
+                            grow,
+                            one,
+                            n,
+                            best_t,
+                            best_key,
+                            best_p,
+                        )
+                    j = cell_next[j]
     return best_t, best_key, best_p
 
 
