@@ -1026,6 +1026,9 @@ def _cell_near(k, o, nc):
 def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
+    Longer than 80 lines: the pair kernel's call written out, argument by
+    argument, and the test for the cells across the box.
+
     The block is given by offsets from ``i``'s cell, e.g. -1..1 on every
     axis for the full 27 cells.  The cells this side of the box here, with
     no shift at all (a container has no others); in a periodic box, those
