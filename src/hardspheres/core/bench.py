@@ -30,6 +30,7 @@ import numpy as np
 from ..builders import random_arrays
 from ..containers import CircularContainer, PeriodicBox, SphericalContainer
 from ..eos import carnahan_starling, collision_rate_from_z
+from ..errors import ArgumentError
 from .engine import Engine
 
 if TYPE_CHECKING:
@@ -171,7 +172,7 @@ def container_for(n: int, packing: float, box: bool = False, dimensions: int = 3
             return PeriodicBox((side, side))
         return CircularContainer(0.5 * math.sqrt(n / packing))
     if dimensions != 3:
-        raise ValueError(f"dimensions must be 2 or 3, got {dimensions!r}")
+        raise ArgumentError(f"dimensions must be 2 or 3, got {dimensions!r}")
     if box:
         return PeriodicBox((n * (4.0 / 3.0) * np.pi * 0.125 / packing) ** (1.0 / 3.0))
     return SphericalContainer(0.5 * (n / packing) ** (1.0 / 3.0))

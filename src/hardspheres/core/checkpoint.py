@@ -44,7 +44,7 @@ def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     try:
         with np.load(path, allow_pickle=False) as z:
             if not hasattr(z, "files"):
-                raise ValueError("a bare .npy array")
+                raise CheckpointError("a bare .npy array")  # (worded below, with the path)
             data = {k: z[k] for k in z.files}
     except OSError as e:
         if isinstance(e, (FileNotFoundError, PermissionError, IsADirectoryError)):

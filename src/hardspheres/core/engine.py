@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from .. import events as _events
 from ..containers import MAX_PACKING, Container, as_container, from_record
 from ..eos import carnahan_starling, collision_rate_from_z
-from ..errors import BoxShapeError, CheckpointError  # noqa: F401 (re-exported)
+from ..errors import ArgumentError, BoxShapeError, CheckpointError  # noqa: F401 (re-exported)
 from ..events import StopReason
 from ..scenario import StuckError
 from ..state import kinetic_energy
@@ -160,7 +160,9 @@ class Engine:
             reorder = REORDER_EVERY if n >= REORDER_FROM else 0.0
         reorder = float(reorder)
         if not (reorder >= 0.0 and np.isfinite(reorder)):
-            raise ValueError(f"reorder must be a finite number >= 0 (collisions per sphere), got {reorder}")
+            raise ArgumentError(
+                f"reorder must be a finite number >= 0 (collisions per sphere), got {reorder}"
+            )
         self._reorder_every = reorder
         self._since_reorder = 0
         self.scalars = np.zeros(core.N_SCALARS)
@@ -500,7 +502,7 @@ class Engine:
         """
         rate = float(rate)
         if not (rate >= 0.0 and np.isfinite(rate)):
-            raise ValueError(f"growth rate must be a finite number >= 0, got {rate}")
+            raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         self._rebase()  # radii to the clock
         self.scalars[core.F_GROW] = rate
         self._regrid()
@@ -577,7 +579,7 @@ class Engine:
         """Move the clock to absolute time ``t`` (no event may be pending before it)."""
         t = float(t) - self.offset
         if self.n and self.heap_t[0] < t:
-            raise ValueError("events are pending before that time: advance first")
+            raise ArgumentError("events are pending before that time: advance to it first")
         if t > self.scalars[core.F_CLOCK]:
             self.scalars[core.F_CLOCK] = t
 
@@ -589,14 +591,20 @@ class Engine:
         t = self.time if t is None else t
         return self.radii * (1.0 + g * (t - self.offset))
 
-    def rescale_velocities(self, factor: float) -> None:
-        """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
+    def _settle_kinetic_integrals(self) -> None:
+        """Every centre at the clock, and the kinetic integrals (the kinetic
+        tensor's and the heat current's time integrals) brought up to it, before
+        velocities or the box change under them."""
         self._rebase()
         f = self.scalars
-        dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
+        dt = f[core.F_CLOCK] - f[core.F_T_KIN]
         f[core.F_KIN_INT : core.F_KIN_INT + 6] += f[core.F_KIN_T : core.F_KIN_T + 6] * dt
         f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
         f[core.F_T_KIN] = f[core.F_CLOCK]
+
+    def rescale_velocities(self, factor: float) -> None:
+        """Multiply every velocity by ``factor`` now; everything is predicted afresh."""
+        self._settle_kinetic_integrals()
         self.spheres[:, core.VX : core.VZ + 1] *= factor
         self._kinetic_sums()
         self._build()
@@ -605,7 +613,7 @@ class Engine:
         """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``."""
         t = float(t) - self.offset
         if t < self.scalars[core.F_CLOCK]:
-            raise ValueError("a kick cannot be before the clock")
+            raise ArgumentError("a kick cannot be before the clock: give a time at or after it")
         v = [float(x) for x in velocity]
         if len(v) != self.dimensions:
             raise BoxShapeError(f"a velocity of {len(v)} components in {self.dimensions}-D space")
@@ -627,18 +635,13 @@ class Engine:
         move (:mod:`hardspheres.barostat` does).
         """
         if self.box is None or not container.periodic:
-            raise ValueError("rescale_box: the engine and the new container must be periodic boxes")
+            raise ArgumentError("rescale_box: the engine and the new container must be periodic boxes")
         if self.scalars[core.F_GROW]:
-            raise ValueError("rescale_box: not while the radii grow")
+            raise ArgumentError("rescale_box: not while the radii grow (set_growth(0) first)")
         scale = np.ones(3)
         given = np.asarray(factors, dtype=np.float64).reshape(-1)
         scale[: given.size] = given  # (2-D: two factors; z stays 0)
-        self._rebase()  # every centre at the clock
-        f = self.scalars
-        dt = f[core.F_CLOCK] - f[core.F_T_KIN]  # the kinetic integrals up to now
-        f[core.F_KIN_INT : core.F_KIN_INT + 6] += f[core.F_KIN_T : core.F_KIN_T + 6] * dt
-        f[core.F_HEAT_INT : core.F_HEAT_INT + 3] += f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3] * dt
-        f[core.F_T_KIN] = f[core.F_CLOCK]
+        self._settle_kinetic_integrals()
         self.spheres[:, core.X : core.Z + 1] *= scale
         self.container = container
         self._grid(self.n)
@@ -675,7 +678,7 @@ class Engine:
                 it are returned first, and the call after raises.
         """
         if np.isnan(until):
-            raise ValueError("until must be a time, not NaN")
+            raise ArgumentError("until must be a time, not NaN")
         max_events = np.iinfo(np.int64).max if events is None else int(events)
         max_coll = np.iinfo(np.int64).max if collisions is None else int(collisions)
         chunks = []
@@ -732,8 +735,9 @@ class Engine:
                 nc = int(np.prod(self._cells))
                 self._regrid()
                 if int(np.prod(self._cells)) >= nc and self._grid_limit() <= limit:
-                    raise ValueError(
-                        "the spheres have grown too large for the periodic box (three diameters at least)"
+                    raise ArgumentError(
+                        "the spheres have grown too large for the periodic box (three diameters at "
+                        "least): stop the growth sooner or take a larger box"
                     )
                 continue
             if reason == StopReason.UNTIL or reason == StopReason.MAX_COLLISIONS:

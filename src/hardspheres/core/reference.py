@@ -62,7 +62,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..containers import Container, as_container
-from ..errors import BoxShapeError
+from ..errors import ArgumentError, BoxShapeError
 from ..events import EventKind, StopReason
 from ..physics import (
     FROZEN_RELATIVE,
@@ -423,7 +423,7 @@ class Reference:
         self._v = [_row(row, d, "velocities") for row in velocities]
         n = len(self.masses)
         if not len(self._radii) == len(self._p) == len(self._v) == n:
-            raise ValueError(
+            raise ArgumentError(
                 f"{n} masses but {len(self._radii)} radii, {len(self._p)} positions "
                 f"and {len(self._v)} velocities; give one of each per sphere"
             )
@@ -488,7 +488,7 @@ class Reference:
         """
         rate = float(rate)
         if not (rate >= 0.0 and math.isfinite(rate)):
-            raise ValueError(f"growth rate must be a finite number >= 0, got {rate}")
+            raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         t = self._clock
         for k in range(len(self._p)):
             self._move_sphere(self._p, self._v, self._tloc, k, t)
@@ -699,7 +699,7 @@ class Reference:
         from ..events import EVENT_DTYPE
 
         if until != until:
-            raise ValueError("until must be a time, not NaN")
+            raise ArgumentError("until must be a time, not NaN")
         max_events = _NEVER if events is None else int(events)
         max_coll = _NEVER if collisions is None else int(collisions)
         rows = []
