@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -58,6 +59,17 @@ def hs_cmd(*args, cwd=ROOT, env=None, timeout=300, stdout=subprocess.PIPE, check
         assert res.returncode == 0, (args, res.stderr)
         assert "Traceback" not in res.stderr, res.stderr
     return res
+
+
+def default_sigint() -> None:
+    """``preexec_fn`` of a child that a test sends Ctrl-C: SIGINT handled as in a terminal.
+
+    A test run started in the background by a non-interactive shell (``cmd &``)
+    inherits SIGINT ignored, and so would every child; Python then installs no
+    KeyboardInterrupt handler and a Ctrl-C test hangs (seen 2026-12-02: three
+    Ctrl-C tests failed in a backgrounded full run, each passing in the
+    foreground)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def hs_popen(*args, cwd=ROOT, env=None):

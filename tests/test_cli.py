@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers import spheres_cmd
+from helpers import default_sigint, spheres_cmd
 
 from hardspheres.cli import run_spheres
 from hardspheres.io.report import PROMPT
@@ -379,6 +379,7 @@ def test_ctrl_c_exits_130(engine, tmp_path):
             stderr=subprocess.PIPE,
             cwd=ROOT,
             env={**os.environ, "HARDSPHERES_ENGINE": engine},
+            preexec_fn=default_sigint,
         )
         try:
             # wait until the simulation is under way (imports done, events

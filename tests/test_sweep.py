@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from helpers import ENV, ROOT, hs_cmd
+from helpers import ENV, ROOT, default_sigint, hs_cmd
 
 from hardspheres import studies
 from hardspheres.studies import files as study_files
@@ -431,6 +431,7 @@ def _sweep_in_its_own_group(folder):
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        preexec_fn=default_sigint,
     )
 
 
