@@ -269,10 +269,10 @@ def test_checkpoint_resume_in_process_is_bit_identical(tmp_path, monkeypatch):
             raise Stop
         return real(name, sim, obs)
 
-    monkeypatch.setattr(study_measures, "block_value", flaky)  # run_task reads it there
+    monkeypatch.setattr(study_task, "block_value", flaky)  # run_task reads it there
     with pytest.raises(Stop):
         studies.run_task(cut)
-    monkeypatch.setattr(study_measures, "block_value", real)
+    monkeypatch.setattr(study_task, "block_value", real)
     assert not study_files.row_path(cut).exists()
     again = studies.run_task(cut)
     assert again == ref

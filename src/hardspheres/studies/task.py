@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import StudyError
-from . import measures
+from .measures import block_value
 from .files import atomic, row_path, write_json
 from .spec import GRID, GRID_DEFAULTS, Study, Task, aspect_text
 
@@ -254,7 +254,7 @@ def run_task(task: Task) -> dict[str, Any]:
                 checkpoint(c, k + 1)
         if c >= blocks:
             for m in task["measure"]:
-                prog["values"][m].append(measures.block_value(m, sim, sim.observables))
+                prog["values"][m].append(block_value(m, sim, sim.observables))
         c, step = c + 1, 0
         if c < total:
             checkpoint(c, 0)
