@@ -72,7 +72,14 @@ def modules():
 
 
 def import_graph():
-    """``{module: {modules it imports}}``, counting every import statement."""
+    """``{module: {modules it imports}}``, counting every import statement.
+
+    The rule of ``../shared/tools/import_circles.py``: ``from P import a``
+    runs ``P`` (its ``__init__``) and, if ``P.a`` is a module, ``P.a``, so
+    it is an edge to each; ``import P.a`` is an edge to ``P.a``.  Only the
+    package root is left out (every module's import of it runs it anyway,
+    for the lazy names).
+    """
     mods = modules()
     graph = {}
     for name, path in mods.items():
@@ -85,16 +92,18 @@ def import_graph():
                     target = ".".join(base + ([node.module] if node.module else []))
                 else:
                     target = node.module or ""
-                subs = [f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in mods]
-                if subs:
-                    deps.update(subs)
-                    if len(subs) < len(node.names) and target in mods:
-                        deps.add(target)  # names defined in the package itself
-                elif target in mods:
-                    deps.add(target)
+                names = [target] + [f"{target}.{a.name}" for a in node.names]
             elif isinstance(node, ast.Import):
-                deps.update(a.name for a in node.names if a.name in mods)
+                names = [a.name for a in node.names]
+            else:
+                continue
+            for n in names:
+                while n and n not in mods:
+                    n = n.rpartition(".")[0]
+                if n:
+                    deps.add(n)
         deps.discard(name)
+        deps.discard("hardspheres")
         graph[name] = deps
     return graph
 
@@ -135,6 +144,25 @@ def test_the_graph_sees_imports_inside_functions(tmp_path):
     graph = import_graph()
     assert "hardspheres.core.engine" in graph["hardspheres.cli.assignment"]  # imported inside a function
     assert "hardspheres.core._core" in graph["hardspheres.core.engine"]  # ``from . import _core``
+    # ... and ``from . import _core`` runs ``core/__init__`` too: an edge to the
+    # package as well (the rule of ../shared/tools/import_circles.py; the old
+    # rule here missed the circle studies -> dispatch -> task -> studies that
+    # task's ``from . import measures`` closed, mended in d5e1721)
+    assert "hardspheres.core" in graph["hardspheres.core.engine"]
+    assert "hardspheres" not in graph["hardspheres.core.engine"]  # the root: lazy names only
+
+
+def test_the_rule_finds_the_circle_through_a_package(monkeypatch, tmp_path):
+    # the circle of d5e1721, rebuilt: a package whose __init__ imports a
+    # module that imports a sibling by ``from . import``
+    pkg = tmp_path / "hardspheres"
+    (pkg / "studies").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "studies" / "__init__.py").write_text("from .task import run\n")
+    (pkg / "studies" / "task.py").write_text("from . import measures\n")
+    (pkg / "studies" / "measures.py").write_text("")
+    monkeypatch.setitem(globals(), "SRC", pkg)
+    assert circles(import_graph()) == [["hardspheres.studies", "hardspheres.studies.task"]]
 
 
 def test_no_import_circles():
