@@ -32,7 +32,12 @@ correlation times.  ``--seeds`` runs independent copies.  Rows are appended
 to ``--csv`` as each run finishes (a rerun skips the packing, start and
 seed already there), so a long run can be stopped and resumed.  ``plot``
 draws the loop from the CSVs, ``table`` prints their tables, ``rescore``
-recomputes the chunk errors from the series file.
+recomputes the chunk errors from the series file, ``score`` combines all
+runs of a packing over the CSVs given (weighted by length, :func:`score`),
+``stays`` reads the series as a switching between two pressure levels
+(stays, switches, time on each: :func:`stay_times`), and ``rate`` times
+collisions per second at one size and packing (``--size``, ``--order``,
+``--measure`` per disk, ``--repeat`` times).
 
 usage:
     python3 validation/disks_loop.py small --csv validation/results/disks_loop_870.csv
@@ -42,6 +47,9 @@ usage:
     python3 validation/disks_loop.py large --csv validation/results/disks_loop_16384_crystal.csv \
         --equilibrate 5000 --measure 20000 --chunks 20 --order 0.716 --start crystal
     python3 validation/disks_loop.py plot --csv A.csv B.csv --png docs/images/disks_loop.png
+    python3 validation/disks_loop.py score --csv A.csv B.csv
+    python3 validation/disks_loop.py stays --csv validation/results/disks_loop_870_long.csv
+    python3 validation/disks_loop.py rate --size large --order 0.716 --measure 300 --repeat 3
 
 Running time (this machine, 2 cores shared, load 3-8): small with the
 defaults (5000 + 50000 collisions per disk, 15 packings) about 25 min;
@@ -343,6 +351,173 @@ def rescore(path: str) -> None:
     table(rows)
 
 
+def two_levels(values: list[float], sweeps: int = 50) -> tuple[float, float]:
+    """The low and high level of a bistable series: two-means clustering, from its minimum and maximum."""
+    lo, hi = min(values), max(values)
+    for _ in range(sweeps):
+        mid = 0.5 * (lo + hi)
+        low = [v for v in values if v < mid]
+        high = [v for v in values if v >= mid]
+        if not low or not high:
+            break
+        lo, hi = sum(low) / len(low), sum(high) / len(high)
+    return lo, hi
+
+
+def stays(bp: list[float], lo: float, hi: float) -> list[tuple[str, int]]:
+    """The stays of a chunk series on the two levels: (``low`` or ``high``, chunks), in order.
+
+    With hysteresis: the state changes to high when a chunk is above ``lo +
+    3/4 (hi - lo)``, to low when below ``lo + 1/4 (hi - lo)``; the first
+    chunk's state is its nearer level.  The last stay is cut by the end of
+    the run (censored).
+    """
+    up, down = lo + 0.75 * (hi - lo), lo + 0.25 * (hi - lo)
+    state = "low" if bp[0] < 0.5 * (lo + hi) else "high"
+    states, lengths = [state], [0]
+    for b in bp:
+        if state == "low" and b > up:
+            state = "high"
+        elif state == "high" and b < down:
+            state = "low"
+        if state != states[-1]:
+            states.append(state)
+            lengths.append(0)
+        lengths[-1] += 1
+    return list(zip(states, lengths, strict=True))
+
+
+def stay_times(paths: list[str]) -> dict[tuple[int, float], dict]:
+    """Two-level analysis of the chunk series of CSVs ``paths``' runs, by N and packing.
+
+    For each packing: the levels (:func:`two_levels` over the chunks of all
+    its runs), and per run and pooled the fraction of time on the low level,
+    the number of switches and the mean stay on each level, estimated as
+    the time spent on it over the number of times it was left (the
+    maximum-likelihood mean of exponential stays with the last one cut
+    off; with no exit, the time spent is only a lower bound).  ``tau_c``:
+    the integrated correlation time of a two-state Markov process with
+    these mean stays, ``tau_low tau_high / (tau_low + tau_high)``; the
+    error of a mean over a run of T is then ``(hi - lo) sqrt(p (1 - p) 2
+    tau_c / T)``, p the low fraction.
+    """
+    runs: dict[tuple[int, float], dict[tuple, list[dict]]] = {}
+    per_chunk: dict[tuple, float] = {}
+    for path in paths:
+        if path.endswith("_series.csv"):
+            continue
+        rows, ser = _read(path), _read(series_path(path))
+        for r in rows:
+            if "tau_bp" not in r:
+                continue
+            key = (path, r["phi"], r["start"], r["seed"])
+            chunks = sorted((s for s in ser if (s["phi"], s["start"], s["seed"]) == key[1:]),
+                            key=lambda s: s["chunk"])  # fmt: skip
+            runs.setdefault((int(r["n"]), round(r["phi"], 6)), {})[key] = chunks
+            per_chunk[key] = r["measure"] / r["chunks"]
+    out = {}
+    for n_phi, group in sorted(runs.items()):
+        lo, hi = two_levels([s["bp"] for g in group.values() for s in g])
+        pooled = {"low": 0.0, "high": 0.0, "exits_low": 0, "exits_high": 0}
+        per_run = []
+        for key, chunks in group.items():
+            st = stays([s["bp"] for s in chunks], lo, hi)
+            t = {"low": 0.0, "high": 0.0}
+            for s, k in st:
+                t[s] += k * per_chunk[key]
+            exits = {"low": sum(s == "low" for s, _ in st[:-1]), "high": sum(s == "high" for s, _ in st[:-1])}
+            per_run.append({"run": key, "stays": [(s, k * per_chunk[key]) for s, k in st], "low": t["low"],
+                            "high": t["high"], "switches": len(st) - 1})  # fmt: skip
+            for s in ("low", "high"):
+                pooled[s] += t[s]
+                pooled[f"exits_{s}"] += exits[s]
+        tau = {s: pooled[s] / max(pooled[f"exits_{s}"], 1) for s in ("low", "high")}
+        total = pooled["low"] + pooled["high"]
+        out[n_phi] = {"lo": lo, "hi": hi, "runs": per_run, "time": total, "p_low": pooled["low"] / total,
+                    "exits_low": pooled["exits_low"], "exits_high": pooled["exits_high"],
+                    "tau_low": tau["low"], "tau_high": tau["high"],
+                    "tau_c": tau["low"] * tau["high"] / (tau["low"] + tau["high"])}  # fmt: skip
+    return out
+
+
+def print_stays(paths: list[str]) -> None:
+    """The two-level tables of :func:`stay_times` (levels, stays, switches, low fraction)."""
+    ref = {(870, p): v for p, v, _ in LI_870} | {(16384, p): v for p, v, _ in LI_16384}
+    for (n, phi), a in stay_times(paths).items():
+        gap = a["hi"] - a["lo"]
+        print(f"\nN {n}, packing {phi:.3f}: levels {a['lo']:.4f}, {a['hi']:.4f} (gap {gap:.4f})")
+        print("| run | stays (l low, h high: collisions per disk) | switches | low fraction |")
+        print("|---|---|---|---|")
+        for r in a["runs"]:
+            path, _, start, seed = r["run"]
+            text = ", ".join(f"{s[0]}: {k:.0f}" for s, k in r["stays"])
+            low = r["low"] / (r["low"] + r["high"])
+            print(f"| {os.path.basename(path)} {start} seed {seed} | {text} | {r['switches']} | {low:.2f} |")
+        bound = {s: (">" if a[f"exits_{s}"] == 0 else "") for s in ("low", "high")}
+        print(f"pooled over {a['time']:.3g} collisions per disk: low fraction {a['p_low']:.3f}, "
+              f"exits low {a['exits_low']}, high {a['exits_high']}; mean stay "
+              f"low {bound['low']}{a['tau_low']:.3g}, high {bound['high']}{a['tau_high']:.3g}; "
+              f"tau_c {a['tau_c']:.3g} collisions per disk")  # fmt: skip
+        if (n, phi) in ref and gap > 0:
+            p_ref = (a["hi"] - ref[n, phi]) / gap
+            print(f"the published {ref[n, phi]:.4f}: low fraction {p_ref:.3f} between these levels")
+
+
+def rate(size: str, phi: float, per_disk: int, repeat: int, start: str = "random", seed: int = 1) -> None:
+    """Collisions per second of the runs at one size and packing: ``repeat`` runs of ``per_disk`` each.
+
+    After the start and 20 collisions per disk (the compiled core loaded);
+    wall-clock and CPU seconds (``time.process_time``, less sensitive to
+    the other jobs on the machine) and the load average around each run.
+    """
+    cells = SIZES[size]["cells"]
+    n = cells[0] * cells[1]
+    sim = _start(cells, phi, seed, start)
+    sim.run(collisions=20 * n)
+    for _ in range(repeat):
+        load0 = os.getloadavg()[0]
+        wall, cpu = time.perf_counter(), time.process_time()
+        sim.run(collisions=per_disk * n)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        c = per_disk * n
+        print(f"N {n}, packing {phi:.3f}, {start}: {c} collisions in {wall:.2f} s wall, {cpu:.2f} s CPU: "
+              f"{c / wall:.3g} per s wall, {c / cpu:.3g} per CPU s; load {load0:.2f} -> "
+              f"{os.getloadavg()[0]:.2f}", flush=True)  # fmt: skip
+
+
+def score(paths: list[str]) -> None:
+    """One estimate per N and packing from every run in CSVs ``paths``, weighted by its length.
+
+    The mean of the runs weighted by their measured collisions per disk
+    ``w``; its error the larger of the runs' own errors combined, ``sqrt(sum
+    w^2 e^2) / sum w`` (each ``e`` a run's error bar: with chunks, the larger
+    of its blocked error and its chunk series', :func:`chunk_errors`), and
+    the spread of the runs about the mean, ``sqrt(k / (k - 1) sum w^2 (b -
+    mean)^2) / sum w`` for k runs; z against the published value.
+    """
+    groups: dict[tuple[int, float], list[dict]] = {}
+    for p in paths:
+        if not p.endswith("_series.csv"):
+            for r in _read(p):
+                groups.setdefault((int(r["n"]), round(r["phi"], 6)), []).append(r)
+    print("| N | packing | runs | collisions per disk measured | ours, beta P sigma^2 "
+          "| from the runs' errors | from their spread | published | z |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|")
+    for (n, phi), g in sorted(groups.items()):
+        w = [r["measure"] for r in g]
+        total = sum(w)
+        mean = sum(wi * r["bp"] for wi, r in zip(w, g, strict=True)) / total
+        within = math.sqrt(sum((wi * r["error"]) ** 2 for wi, r in zip(w, g, strict=True))) / total
+        k = len(g)
+        dev = sum((wi * (r["bp"] - mean)) ** 2 for wi, r in zip(w, g, strict=True))
+        between = math.sqrt(k / (k - 1) * dev) / total if k > 1 else math.nan
+        err = max(within, between) if k > 1 else within
+        ref, ref_err = g[0]["ref"], g[0]["ref_error"]
+        z = (mean - ref) / math.hypot(err, ref_err)
+        print(f"| {n} | {phi:.3f} | {k} | {total:.3g} | {mean:.4f} +- {err:.4f} | {within:.4f} | "
+              f"{between:.4f} | {ref:.4f} +- {ref_err:.4f} | {z:+.2f} |")  # fmt: skip
+
+
 def _halves(r: dict) -> str:
     """The first and second halves of the measurement (a drift shows there), if recorded."""
     if "bp_first_half" not in r:
@@ -460,11 +635,13 @@ def plot(paths: list[str], png: str) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", choices=["small", "large", "plot", "table", "rescore"])
-    ap.add_argument("--csv", nargs="+", required=True)
+    ap.add_argument("what", choices=["small", "large", "plot", "table", "rescore", "stays", "rate", "score"])
+    ap.add_argument("--csv", nargs="+", help="the CSV(s) written or read (all but rate)")
+    ap.add_argument("--size", choices=list(SIZES), default="large", help="rate: the system")
     ap.add_argument("--equilibrate", type=int, default=5000, help="collisions per disk before measuring")
     ap.add_argument("--measure", type=int, default=50000, help="collisions per disk measured")
     ap.add_argument("--order", type=float, nargs="+", help="packings to run, in this order (default: all)")
+    ap.add_argument("--repeat", type=int, default=3, help="rate: timed runs of --measure per disk")
     ap.add_argument("--png", default="docs/images/disks_loop.png")
     ap.add_argument("--start", choices=STARTS, default="random", help="the start (see _start)")
     ap.add_argument("--compressed", action="store_true", help="the same as --start compressed")
@@ -479,12 +656,20 @@ def main() -> None:
     if args.chunks < 2 or args.chunks % 2:
         ap.error(f"--chunks {args.chunks}: give an even number >= 2")
     start = "compressed" if args.compressed else args.start
+    if args.what != "rate" and not args.csv:
+        ap.error(f"{args.what}: give --csv")
     if args.what == "plot":
         plot(args.csv, args.png)
     elif args.what == "table":
         for p in args.csv:
             if not p.endswith("_series.csv"):
                 table(_read(p))
+    elif args.what == "rate":
+        rate(args.size, args.order[0] if args.order else 0.716, args.measure, args.repeat, start)
+    elif args.what == "score":
+        score(args.csv)
+    elif args.what == "stays":
+        print_stays(args.csv)
     elif args.what == "rescore":
         for p in args.csv:
             if not p.endswith("_series.csv") and os.path.exists(series_path(p)):
