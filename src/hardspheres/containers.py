@@ -123,7 +123,7 @@ class Container(Protocol):
     def check_sphere(self, p: list[float], r: float, v: list[float]) -> str | None: ...
 
     def outline(
-        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None, axis: int = 2
     ) -> list[tuple[np.ndarray, bool]]: ...
 
 
@@ -322,12 +322,13 @@ class SphericalContainer(RoundWall):
         return None
 
     def outline(
-        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None, axis: int = 2
     ) -> list[tuple[np.ndarray, bool]]:
         """Its outline seen along ``right x up``: ``(line (k, 2), dashed)`` pairs [length].
 
-        The silhouette circle, and where a cut-away plane ``z = cut`` meets
-        the wall (dashed).
+        The silhouette circle, and where a cut-away plane meets the wall
+        (dashed): the plane normal to axis ``axis`` (0, 1, 2: x, y, z) at
+        that coordinate ``cut``.
         """
         import numpy as np
 
@@ -336,7 +337,9 @@ class SphericalContainer(RoundWall):
         out = [(np.column_stack([r * np.cos(u), r * np.sin(u)]), False)]
         if cut is not None and abs(cut) < r:
             rho = np.sqrt(r * r - cut * cut)
-            ring = np.column_stack([rho * np.cos(u), rho * np.sin(u), np.full_like(u, cut)])
+            ring = np.empty((len(u), 3))
+            a, b = (k for k in range(3) if k != axis)
+            ring[:, a], ring[:, b], ring[:, axis] = rho * np.cos(u), rho * np.sin(u), cut
             out.append((np.column_stack([ring @ right, ring @ up]), True))
         return out
 
@@ -563,7 +566,7 @@ class PeriodicBox:
         return None
 
     def outline(
-        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None, axis: int = 2
     ) -> list[tuple[np.ndarray, bool]]:
         """Its 12 edges (4 in 2-D) seen along ``right x up``: ``(line (2, 2), dashed)`` pairs [length]."""
         import numpy as np
@@ -658,7 +661,7 @@ class CircularContainer(RoundWall):
         return None
 
     def outline(
-        self, right: np.ndarray, up: np.ndarray, cut: float | None = None
+        self, right: np.ndarray, up: np.ndarray, cut: float | None = None, axis: int = 2
     ) -> list[tuple[np.ndarray, bool]]:
         """The circle, seen along ``right x up`` [length]."""
         import numpy as np

@@ -130,6 +130,35 @@ def finite(text: str) -> float:
     return x
 
 
+#: The cut-away plane's axes (``--slice AXIS=VALUE``).
+SLICE_AXES = ("x", "y", "z")
+
+
+def slice_plane(text: str) -> tuple[str, float]:
+    """``--slice``: ``VALUE`` (the plane ``z = VALUE``) or ``AXIS=VALUE`` with ``AXIS`` x, y or z.
+
+    Returns ``(axis, value)``; the spheres whose centre has that coordinate
+    ``<= value`` are drawn.
+    """
+    import math
+
+    axis, eq, value = text.strip().partition("=")
+    if not eq:
+        axis, value = "z", text
+    axis = axis.strip().lower()
+    allowed = (
+        f"give VALUE (the plane z = VALUE) or AXIS=VALUE with AXIS x, y or z (e.g. x=0), got {quote(text)}"
+    )
+    if axis not in SLICE_AXES:
+        raise argparse.ArgumentTypeError(allowed)
+    x = number(value.strip())
+    if math.isnan(x):
+        raise argparse.ArgumentTypeError(allowed)
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"the plane's {axis} must be a finite number, got {quote(text)}")
+    return axis, x
+
+
 def size(text: str) -> tuple[int, int]:
     """``WIDTHxHEIGHT`` in pixels."""
     w, _, h = text.lower().partition("x")
@@ -274,9 +303,14 @@ def where_args(
 
 
 def size_slice_args(q: argparse.ArgumentParser, size_help: str, slice_help: str) -> None:
-    """``--size WIDTHxHEIGHT`` (:func:`size`) and ``--slice Z`` (cut-away plane) of a picture."""
+    """``--size WIDTHxHEIGHT`` (:func:`size`) and ``--slice [AXIS=]VALUE`` (:func:`slice_plane`)."""
     q.add_argument("--size", type=size, help=size_help)
-    q.add_argument("--slice", type=finite, metavar="Z", help=slice_help)
+    q.add_argument("--slice", type=slice_plane, metavar="[AXIS=]VALUE", help=slice_help)
+
+
+def cut_of(plane: tuple[str, float] | None) -> tuple[float | None, str]:
+    """``(cut, cut_axis)`` of a picture function from ``--slice``'s ``(axis, value)`` (or ``None``)."""
+    return (None, "z") if plane is None else (plane[1], plane[0])
 
 
 def dask_args(q: argparse.ArgumentParser, scheduler_help: str, serial_help: str) -> None:

@@ -9,6 +9,7 @@ from ..errors import UsageError
 from .options import (
     MOVIES,
     STILLS,
+    cut_of,
     finite,
     note,
     picture_args,
@@ -35,14 +36,18 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     p.add_argument("--time", type=finite, help="still: draw the frame nearest this time (default: the last)")
     p.add_argument(
         "--color",
-        choices=["speed", "mass", "psi6"],
+        choices=["speed", "mass", "q6", "psi6"],
         default="speed",
-        help="colour by speed (default), mass, or for disks the local hexatic order |psi6| (needs freud)",
+        help="colour by speed (default), mass, for spheres the bond order q6 over 12 neighbours "
+        "(crystal-like near 0.5-0.57, a fluid 0.3-0.45), or for disks the local hexatic order "
+        "|psi6| (q6 and psi6 need freud)",
     )
     size_slice_args(
         p,
         "WIDTHxHEIGHT in pixels (default 1280x720 still, 960x540 movie)",
-        "cut-away: draw only the spheres whose centre has z <= Z (the inside of a full container)",
+        "cut-away: VALUE draws only the spheres whose centre has z <= VALUE (the inside of a full "
+        "container); x=VALUE (or y=) those with x <= VALUE: a slab along z seen side-on "
+        "(the camera turns to the cut's face)",
     )
     p.set_defaults(func=run)
     return p
@@ -69,8 +74,11 @@ def run(args: argparse.Namespace) -> int:
 
     frames = frames_from_args(args)
     size = args.size or ((1280, 720) if still else (960, 540))
+    cut, cut_axis = cut_of(args.slice)
     if still:
-        render_still(frames, args.output, time=args.time, size=size, cut=args.slice, color_by=args.color)
+        render_still(
+            frames, args.output, time=args.time, size=size, cut=cut, cut_axis=cut_axis, color_by=args.color
+        )
     else:
         from ..progress import duration
 
@@ -82,9 +90,10 @@ def run(args: argparse.Namespace) -> int:
             args.output,
             fps=args.fps,
             size=size,
-            cut=args.slice,
             on_estimate=estimate,
             color_by=args.color,
+            cut=cut,
+            cut_axis=cut_axis,
         )
     print(f"wrote {args.output}")
     return 0

@@ -6,7 +6,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ..errors import UsageError
-from .options import picture_args, require_suffix, size_slice_args
+from .options import picture_args, require_suffix, size_slice_args, cut_of
 from .source import check_source, frames_from_args
 
 if TYPE_CHECKING:
@@ -24,7 +24,9 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     size_slice_args(
         p,
         "screenshot size WIDTHxHEIGHT (default 960x640)",
-        "start with the cut-away plane at z = Z (spheres above it hidden; the page's cut slider moves it)",
+        "start with a cut-away plane: VALUE hides the spheres whose centre has z > VALUE, x=VALUE "
+        "(or y=) those with x > VALUE, a slab along z seen side-on (the page's cut slider and axis "
+        "menu move it)",
     )
     p.add_argument(
         "--color",
@@ -52,7 +54,10 @@ def run(args: argparse.Namespace) -> int:
 
     # the page shows at most frame_indices' frames: only those are recorded
     frames = frames_from_args(args, most=lambda n: len(frame_indices(2**62, n)))
-    write_viewer(frames, args.output, title=args.title or args.input, cut=args.slice, color_by=args.color)
+    cut, cut_axis = cut_of(args.slice)
+    write_viewer(
+        frames, args.output, title=args.title or args.input, cut=cut, cut_axis=cut_axis, color_by=args.color
+    )
     noun = "disks" if frames.positions.shape[-1] == 2 else "spheres"
     print(f"wrote {args.output} ({frames.n} {noun}, {len(frames.times)} frames)")
     if args.screenshot:

@@ -12,3 +12,15 @@ Modules:
     viewer: the self-contained three.js page (``_static/`` holds its files).
     screenshot: a viewer page rendered to PNG in headless Chromium.
 """
+
+#: The axes a cut-away plane can be normal to (``cut_axis``).
+CUT_AXES = ("x", "y", "z")
+
+
+def cut_axis_index(cut_axis: str, what: str) -> int:
+    """0, 1 or 2 for a cut-away plane normal to x, y or z; :class:`~hardspheres.errors.PictureError` else."""
+    from ..errors import PictureError
+
+    if not isinstance(cut_axis, str) or cut_axis.lower() not in CUT_AXES:
+        raise PictureError(f"{what}: cut_axis must be 'x', 'y' or 'z' (the plane's normal), got {cut_axis!r}")
+    return CUT_AXES.index(cut_axis.lower())

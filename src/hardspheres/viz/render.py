@@ -7,10 +7,11 @@
     render_movie(frames, "run.mp4")            # needs ffmpeg on PATH
     render_still(frames, "last.png")           # one frame (the last, or time=T)
     render_still(frames, "inside.png", cut=0.0)  # only spheres with z <= 0
+    render_still(frames, "side.png", cut=0.0, cut_axis="x", color_by="q6")  # x <= 0: a slab side-on
 
 Spheres are shaded disks at their true radii (orthographic projection, so
 the scale is the same everywhere; nearer spheres hide farther ones),
-coloured by speed (or by mass) with a colour bar, inside the outline of the
+coloured by speed, by mass or by their bond order q6 (freud) with a colour bar, inside the outline of the
 spherical container (or the edges of the periodic box), captioned with N,
 the packing fraction and the time.  Disks (a 2-D box or a circle) are drawn
 flat, as seen from above (x right, y up), with a thin dark rim and no
@@ -33,6 +34,7 @@ import numpy as np
 from ..errors import PictureError
 from ..frames import frame_indices
 from ..progress import Progress, duration
+from . import cut_axis_index
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -62,6 +64,9 @@ def _writer(path: Path, fps: int, dpi: int) -> Any:
 
 #: Viewing direction: azimuth and elevation [degrees] of the camera (z up).
 AZIMUTH, ELEVATION = -60.0, 22.0
+#: The camera's azimuth [degrees] with a cut normal to x, y, z: it looks at the cut's face
+#: (from +x, from +y, from above), most squarely at a cut along x or y.
+CUT_AZIMUTH = (-30.0, 60.0, AZIMUTH)
 
 
 def _camera(
@@ -84,11 +89,13 @@ def packing_fraction(frames: Frames) -> float | None:
     return of_radii(frames.radii, frames.container)
 
 
-def _draw_container(ax: Axes, frames: Frames, right: np.ndarray, up: np.ndarray, cut: float | None) -> None:
+def _draw_container(
+    ax: Axes, frames: Frames, right: np.ndarray, up: np.ndarray, cut: float | None, axis: int
+) -> None:
     if frames.container is None:
         return
     style: dict[str, Any] = dict(color="0.45", linewidth=0.8, alpha=0.6)
-    for line, dashed in frames.container.outline(right, up, cut):
+    for line, dashed in frames.container.outline(right, up, cut, axis):
         ax.plot(line[:, 0], line[:, 1], **(dict(style, linestyle="--") if dashed else style))
 
 
@@ -100,13 +107,16 @@ def _scene(
     title: str | None,
     dpi: int,
     cut: float | None = None,
+    cut_axis: str = "z",
 ) -> tuple[Figure, Callable[[int], None]]:
     """The figure a movie or a still draws, and ``show(f)`` that puts frame ``keep[f]`` on it.
 
     Spheres are shaded disks (a dark rim, the body, a highlight towards the
     light at the upper left) drawn far to near in an orthographic view, so
     nearer spheres hide farther ones.  ``cut`` keeps only the spheres whose
-    centre has ``z <= cut`` (a cut-away that shows the inside).
+    centre has ``z <= cut`` (a cut-away that shows the inside), or ``x`` or
+    ``y`` with ``cut_axis``; the camera then looks at the cut's face
+    (:data:`CUT_AZIMUTH`).
 
     Longer than 80 lines: the figure and the ``show`` closure that draws on
     it share their arrays and artists, and its annotated signature takes a
@@ -125,14 +135,17 @@ def _scene(
     pos = frames.wrapped_positions(keep)
     speeds = np.linalg.norm(vel, axis=2)
     flat = pos.shape[-1] == 2
+    axis = cut_axis_index(cut_axis, "render")
     if flat and cut is not None:
         raise PictureError("render: cut is for spheres; disks lie in the plane z = 0 (leave cut out)")
+    if flat and color_by == "q6":
+        raise PictureError("render: color_by='q6' is for spheres; for disks use 'psi6'")
     if flat:  # disks, seen from above: the plane's own axes, z = 0
         pos = np.concatenate([pos, np.zeros(pos.shape[:-1] + (1,))], axis=-1)
         right, up, towards = np.eye(3)
         extent = 1.04 * frames.extent(pos[..., :2], cover="cube")
     else:
-        right, up, towards = _camera()
+        right, up, towards = _camera() if cut is None else _camera(CUT_AZIMUTH[axis])
         extent = 1.04 * frames.extent(pos, cover="sphere")
 
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi, facecolor="white")
@@ -144,7 +157,7 @@ def _scene(
     ax.set_ylim(-extent, extent)
     ax.set_aspect("equal", adjustable="box")
     ax.set_axis_off()
-    _draw_container(ax, frames, right, up, cut)
+    _draw_container(ax, frames, right, up, cut, axis)
 
     if color_by == "psi6":  # disks: the local hexatic order, on the fixed scale 0 to 1
         from matplotlib import colors
@@ -158,6 +171,12 @@ def _scene(
             psi6_magnitudes(pos[..., :2], frames.container),
             "|psi6|",
         )
+    elif color_by == "q6":  # spheres: Steinhardt q6 over 12 neighbours, the viewer's fixed scale
+        from matplotlib import colors
+
+        from .viewer import Q6_RANGE, _q6
+
+        norm, values, label = colors.Normalize(*Q6_RANGE), _q6(frames, pos), "bond order q6"
     else:
         norm, values, label = _colour_scale(color_by, speeds, masses)
     cmap = colormaps["viridis"]
@@ -172,14 +191,14 @@ def _scene(
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     cax = fig.add_axes(((x0 + side) / width + 0.03, 0.2, 0.018, 0.6))
     fig.colorbar(sm, cax=cax, label=label)
-    header, caption = _caption(frames, n, cut, title)
+    header, caption = _caption(frames, n, cut, title, "xyz"[axis])
     label_t = fig.text(
         0.015, 0.975, "", va="top", ha="left", family="monospace", fontsize=max(9, round(height / 48))
     )
 
     def show(f: int) -> None:
         p = pos[f]
-        visible = np.ones(n, bool) if cut is None else p[:, 2] <= cut
+        visible = np.ones(n, bool) if cut is None else p[:, axis] <= cut
         order = np.nonzero(visible)[0]
         order = order[np.argsort(p[order] @ towards, kind="stable")]  # far to near
         x, y = p @ right, p @ up
@@ -206,12 +225,14 @@ def _scene(
     return fig, show
 
 
-def _caption(frames: Frames, n: int, cut: float | None, title: str | None) -> tuple[str, str]:
+def _caption(
+    frames: Frames, n: int, cut: float | None, title: str | None, axis: str = "z"
+) -> tuple[str, str]:
     """``(header, caption)`` of a picture: the title, then N, the packing fraction and the cut."""
     phi = packing_fraction(frames)
     caption = f"N = {n}" + (f", phi = {phi:.3g}" if phi is not None else "")
     if cut is not None:
-        caption += f"\ncut-away: z <= {cut:.4g}"
+        caption += f"\ncut-away: {axis} <= {cut:.4g}"
     return (f"{title}\n" if title else ""), caption
 
 
@@ -231,8 +252,10 @@ def _check(size: tuple[int, int], color_by: str, what: str) -> None:
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
         raise PictureError(f"{what}: bad size {size}; give (width, height) in pixels, both > 0")
-    if color_by not in ("speed", "mass", "psi6"):
-        raise PictureError(f"{what}: color_by must be 'speed', 'mass' or (disks) 'psi6'")
+    if color_by not in ("speed", "mass", "q6", "psi6"):
+        raise PictureError(
+            f"{what}: color_by must be 'speed', 'mass', (spheres) 'q6' or (disks) 'psi6', got {color_by!r}"
+        )
 
 
 def _check_movie(path: Path, fps: int, size: tuple[int, int], color_by: str) -> None:
@@ -257,6 +280,7 @@ def render_movie(
     title: str | None = None,
     dpi: int = 100,
     cut: float | None = None,
+    cut_axis: str = "z",
     on_estimate: Callable[[int, float], None] | None = None,
 ) -> Path:
     """Render ``frames`` to a movie file and return ``path``.
@@ -273,12 +297,14 @@ def render_movie(
             will take (after the first frames) and show a progress bar.
         max_frames: render at most this many frames, evenly spaced (default:
             all).
-        color_by: ``"speed"``, ``"mass"`` or, for disks, ``"psi6"`` (the local hexatic order, 0 to 1; freud).
+        color_by: ``"speed"``, ``"mass"``, ``"q6"`` (spheres: bond order, the viewer's scale;
+            freud) or ``"psi6"`` (disks: the local hexatic order, 0 to 1; freud).
         title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure (the pixel size is
             ``size`` whatever it is).
-        cut: draw only the spheres whose centre has ``z <= cut`` [length]
-            (a cut-away that shows the inside of a full container).
+        cut: draw only the spheres whose centre has ``z <= cut`` [length] (a cut-away).
+        cut_axis: the cut's normal, ``"x"``, ``"y"`` or ``"z"`` (``"x"``: only ``x <= cut``,
+            a slab along z seen side-on); the camera turns to the cut's face.
         on_estimate: called once, after the first frames, with the number
             of frames and the expected total time [s] (terminal or not).
 
@@ -293,7 +319,7 @@ def render_movie(
     if n_frames == 0:
         raise PictureError("render_movie: no frames; record at least one")
     keep = frame_indices(n_frames, 0, max_frames or n_frames)
-    fig, show = _scene(frames, size, keep, color_by, title, dpi, cut)
+    fig, show = _scene(frames, size, keep, color_by, title, dpi, cut, cut_axis)
 
     bar = Progress(len(keep), enabled=None if progress else False, unit="frames", every=0.1)
     start = _time.monotonic()
@@ -338,6 +364,7 @@ def render_still(
     title: str | None = None,
     dpi: int = 100,
     cut: float | None = None,
+    cut_axis: str = "z",
 ) -> Path:
     """Draw one frame of ``frames``, as :func:`render_movie` draws it, to a picture.
 
@@ -346,10 +373,12 @@ def render_still(
         path: the ``.png`` (or ``.pdf``, ``.svg``) to write.
         time: draw the frame nearest this time [time] (default: the last).
         size: ``(width, height)`` in pixels; the default suits a 16:9 slide.
-        color_by: ``"speed"``, ``"mass"`` or, for disks, ``"psi6"`` (the local hexatic order, 0 to 1; freud).
+        color_by: ``"speed"``, ``"mass"``, ``"q6"`` (spheres) or ``"psi6"`` (disks), as for
+            :func:`render_movie`.
         title: text above the caption (N, packing fraction, time).
         dpi: resolution used to lay out the figure.
         cut: draw only the spheres whose centre has ``z <= cut`` [length].
+        cut_axis: the cut plane's normal, ``"x"``, ``"y"`` or ``"z"``, as for :func:`render_movie`.
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
@@ -368,7 +397,7 @@ def render_still(
         raise PictureError(f"render_still: time must be a finite number, got {time!r}")
     else:
         k = int(np.argmin(np.abs(times - float(time))))
-    fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut)
+    fig, show = _scene(frames, size, np.array([k]), color_by, title, dpi, cut, cut_axis)
     show(0)
     from ..fileio import atomic_write
 

@@ -10,7 +10,8 @@ can be mailed or opened from disk with no server and no network::
 In the page: drag to orbit, wheel to zoom, right-drag to pan; space plays or
 pauses, the arrow keys step frames; click a sphere to see its name, mass,
 radius and speed; the "cut" slider hides the spheres above a plane ``z = c``
-to show the inside of a full container.  Spheres are drawn at their true radii in perspective,
+to show the inside of a full container (or beyond ``x = c`` or ``y = c``,
+the axis picked beside it: a slab along z seen side-on).  Spheres are drawn at their true radii in perspective,
 coloured by speed, by mass or by their Steinhardt bond order q6 (with a
 legend; ``color_by="q6"``: crystal-like spheres stand out from a fluid or a
 jammed packing); collisions flash red and reflections off the container
@@ -26,8 +27,10 @@ In a periodic box each sphere is drawn once, at its centre wrapped into the
 box.  The page sets
 ``window.viewerReady = true`` once it has drawn the first frame and keeps
 ``window.viewerState = {frame, time, playing}`` current, for tests;
-``window.viewerControl`` has ``setPlaying(bool)`` and ``setCut(z or null)``
-for scripts (the screenshot plays the page through it, without clicks).
+``window.viewerControl`` has ``setPlaying(bool)``, ``setCut(value or null,
+axis)`` (``axis`` ``"x"``, ``"y"`` or ``"z"``, default the current one) and
+``visible()`` (the indices of the spheres drawn) for scripts (the screenshot
+plays the page through it, without clicks).
 
 :func:`hardspheres.viz.screenshot.screenshot` opens such a page in headless
 Chromium and saves a PNG.  The page itself (HTML, CSS and the JavaScript that
@@ -51,6 +54,7 @@ from numpy.typing import ArrayLike, DTypeLike
 from ..errors import PictureError
 from ..events import EventKind
 from ..frames import even_indices, frame_indices
+from . import cut_axis_index
 
 if TYPE_CHECKING:
     from ..frames import Frames
@@ -141,6 +145,7 @@ def _payload(
     max_events: int,
     color_by: str,
     cut: float | None = None,
+    cut_axis: str = "z",
 ) -> dict[str, Any]:
     """The page's data: frames, sizes, colours and events, checked.
 
@@ -235,6 +240,7 @@ def _payload(
         "color_by": color_by,
         "scalar": scalar,
         "cut": None if cut is None else float(cut),
+        "cut_axis": cut_axis.lower(),
         "events": events,
     }
 
@@ -290,6 +296,7 @@ def write_viewer(
     max_values: int = 12_000_000,
     max_events: int = 200_000,
     cut: float | None = None,
+    cut_axis: str = "z",
 ) -> Path:
     """Write an interactive, self-contained HTML viewer of ``frames``.
 
@@ -314,6 +321,9 @@ def write_viewer(
         cut: start with the cut-away plane at ``z = cut`` [length]: spheres
             whose centre lies above it are hidden (the page's "cut" slider
             moves it; ``None``: no cut).
+        cut_axis: the plane's normal, ``"x"``, ``"y"`` or ``"z"``: with
+            ``"x"`` only the spheres with ``x <= cut`` are drawn (a slab
+            along z seen side-on); the page's axis menu changes it.
 
     Returns:
         ``path`` as a :class:`pathlib.Path`.
@@ -327,6 +337,7 @@ def write_viewer(
         max_values=max_values,
         max_events=max_events,
         cut=cut,
+        cut_axis=cut_axis,
     )
     from ..fileio import atomic_write
 
@@ -344,6 +355,7 @@ def viewer_page(
     max_values: int = 12_000_000,
     max_events: int = 200_000,
     cut: float | None = None,
+    cut_axis: str = "z",
 ) -> str:
     """The viewer's self-contained HTML page of ``frames``, as text (what :func:`write_viewer` writes).
 
@@ -351,7 +363,8 @@ def viewer_page(
     """
     if cut is not None and not np.isfinite(cut):
         raise PictureError(f"write_viewer: cut must be a finite number, got {cut!r}")
-    data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut)
+    cut_axis_index(cut_axis, "write_viewer")
+    data = _payload(frames, title, max_frames, max_values, max_events, color_by, cut, cut_axis)
     return (
         _static("viewer.html")
         .replace("__TITLE__", html.escape(data["title"]))
