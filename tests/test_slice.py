@@ -187,3 +187,20 @@ def test_the_page_draws_only_the_spheres_below_the_cut_in_chromium(tmp_path):
             assert page.evaluate("window.viewerControl.visible()") == list(range(50))
         finally:
             browser.close()
+
+
+def test_q6_in_a_rectangular_box_uses_its_own_sides():
+    """A perfect FCC crystal in an elongated box: every sphere crystal-like, those at the faces too.
+
+    (The viewer's and the stills' q6 took a cube of the longest side, so the
+    spheres near the short sides missed their images and looked fluid.)
+    """
+    pytest.importorskip("freud")
+    from hardspheres.builders import crystal
+    from hardspheres.viz.viewer import _q6
+
+    state, box = crystal("fcc", (3, 3, 8), 0.55)
+    p = np.asarray(state.positions)[None]
+    frames = Frames(np.zeros(1), p, np.zeros_like(p), state.radii, state.masses, state.names, container=box)
+    q6 = _q6(frames, box.wrap(p))
+    assert q6.shape == (1, state.n) and q6.min() > 0.55

@@ -107,15 +107,18 @@ Q6_RANGE = (0.25, 0.6)
 def _q6(frames: Frames, positions: np.ndarray) -> np.ndarray:
     """Steinhardt q6 of each sphere in each frame ``(F, N)``, 12 nearest neighbours (freud).
 
-    ``positions`` are the embedded frames' (wrapped into a periodic box).  In
-    a spherical container or open space the spheres sit in a box wide enough
-    that none sees an image (:class:`hardspheres.analysis.structure.BondOrder`).
+    ``positions`` are the embedded frames' (wrapped into a periodic box of
+    the box's own sides: a rectangular box's images are its own, not a
+    cube's of its longest side).  In a spherical container or open space
+    the spheres sit in a box wide enough that none sees an image
+    (:class:`hardspheres.analysis.structure.BondOrder`).
     """
     from ..analysis.structure import BondOrder
 
     c = frames.container
+    width: float | tuple[float, ...]
     if c is not None and c.periodic:
-        width = float(c.size)
+        width = tuple(float(x) for x in c.sides)  # type: ignore[attr-defined]  # a box's own sides
     else:
         reach = float(np.max(np.abs(positions))) if positions.size else 1.0
         if c is not None:
