@@ -1,8 +1,11 @@
 """Direct coexistence of hard-sphere crystal and fluid: the pressure by the drift, and from the virial.
 
-The published value: Fernandez, Martinez-Ruiz and Vega, Phys. Rev. Lett.
-108, 165701 (2012), beta P sigma^3 = 11.5727(10), coexisting packings
-0.4917 (fluid) and 0.5433 (solid).
+The published value: Fernandez, Martin-Mayor, Seoane and Verrocchio, Phys.
+Rev. Lett. 108, 165701 (2012), beta P sigma^3 = 11.5727(10) (its abstract,
+arXiv:1103.2599); the coexisting packings 0.4917 (fluid) and 0.5433 (solid)
+quoted with it since the issue were not checked against the paper (the
+abstract gives only the pressure); validation/coexisting_packings.py
+measures each phase at 11.5727 in bulk.
 
 Two measurements, on an FCC slab ((100) or (111) normal to z) beside a
 fluid slab as long (hardspheres.analysis.coexistence.crystal_fluid_slab:
@@ -54,61 +57,152 @@ from hardspheres import fileio
 from hardspheres.analysis.coexistence import SlabProfile, crystal_fluid_slab
 from hardspheres.eos import hansen_goos, packing_at_pressure, speedy_fcc
 
-#: Fernandez, Martinez-Ruiz and Vega, PRL 108, 165701 (2012).
+#: Fernandez, Martin-Mayor, Seoane and Verrocchio, PRL 108, 165701 (2012): the pressure (abstract);
+#: the packings as quoted since issue 28 (not checked against the paper).
 P_COEX, PHI_FLUID, PHI_SOLID = 11.5727, 0.4917, 0.5433
 
 FIELDS = ["mode", "pressure", "t", "n", "crystal_fraction", "Lz", "packing", "pzz_interval", "seconds"]
 
 
 def _slope(ts: list[float], ys: list[float], skip: float) -> float:
+    return _fit(ts, ys, skip)[0]
+
+
+def _fit(ts: list[float], ys: list[float], skip: float) -> tuple[float, float]:
+    """Least-squares slope after ``skip`` and its standard error from the residuals.
+
+    The residuals are correlated in time (the interfaces wander), so the
+    error is a lower bound on the slope's noise.
+    """
     t, y = np.array(ts), np.array(ys)
-    keep = t >= skip
-    return float(np.polyfit(t[keep], y[keep], 1)[0]) if keep.sum() >= 2 else math.nan
+    keep = t >= skip - 1e-9
+    if keep.sum() < 3:
+        return (float(np.polyfit(t[keep], y[keep], 1)[0]) if keep.sum() == 2 else math.nan), math.nan
+    t, y = t[keep], y[keep]
+    b, a = np.polyfit(t, y, 1)
+    r = y - (a + b * t)
+    se = math.sqrt(float(np.sum(r * r)) / (len(t) - 2) / float(np.sum((t - t.mean()) ** 2)))
+    return float(b), se
 
 
-def drift(pressure: float, args: argparse.Namespace, rows: list[dict]) -> tuple[float, float]:
-    """Slopes [1/time] of the crystal fraction and [length/time] of Lz after ``--skip``, at constant P_zz."""
-    phi_s = packing_at_pressure(pressure, speedy_fcc, bounds=(0.5, 0.74))
-    phi_f = packing_at_pressure(pressure, hansen_goos)
-    state, box = crystal_fluid_slab(
-        tuple(args.cells), plane=args.plane, crystal_packing=phi_s, fluid_packing=phi_f, seed=args.seed
-    )
-    sim = hs.Simulation(state, box)
-    sim.set_barostat(hs.Barostat(pressure=pressure, kT=1.0, axes="z", seed=args.seed))
-    print(
-        f"beta P {pressure:g}: crystal at {phi_s:.4f} (Speedy), fluid at {phi_f:.4f} (Hansen-Goos), N {sim.n}"
-    )
+#: The relaxed start shared by every pressure of a run with ``--crystal-packing`` (built once).
+_START: dict[str, tuple[hs.State, hs.PeriodicBox]] = {}
+
+
+def _start(pressure: float, args: argparse.Namespace, rows: list[dict]) -> hs.Simulation:
+    """The slab a constant-pressure run starts from.
+
+    By default built at ``pressure``'s own packings (Speedy's crystal,
+    Hansen-Goos's fluid).  With ``--crystal-packing`` and ``--fluid-packing``
+    built once at those (the coexisting ones) and run ``--relax`` at
+    constant volume, where the crystal grows or melts until the slab is at
+    the coexistence pressure: every pressure then starts from that same
+    state, near coexistence, so the drift is the pressure's and not the
+    build's.
+    """
+    if args.crystal_packing is None:
+        phi_s = packing_at_pressure(pressure, speedy_fcc, bounds=(0.5, 0.74))
+        phi_f = packing_at_pressure(pressure, hansen_goos)
+        state, box = crystal_fluid_slab(
+            tuple(args.cells), plane=args.plane, crystal_packing=phi_s, fluid_packing=phi_f, seed=args.seed
+        )
+        print(
+            f"beta P {pressure:g}: crystal at {phi_s:.4f} (Speedy), fluid at {phi_f:.4f} (Hansen-Goos), "
+            f"N {state.n}"
+        )
+        return hs.Simulation(state, box)
+    if "relaxed" not in _START:
+        t0 = time.time()
+        state, box = crystal_fluid_slab(
+            tuple(args.cells),
+            plane=args.plane,
+            crystal_packing=args.crystal_packing,
+            fluid_packing=args.fluid_packing,
+            seed=args.seed,
+        )
+        sim = hs.Simulation(state, box)
+        print(
+            f"start: crystal at {args.crystal_packing:.4f}, fluid at {args.fluid_packing:.4f}, N {sim.n}, "
+            f"box {tuple(round(x, 3) for x in box.sides)}; built in {time.time() - t0:.0f} s; "
+            f"{args.relax:g} time units at constant volume:",
+            flush=True,
+        )
+        _series(sim, args, rows, "relax", math.nan, args.relax)
+        _START["relaxed"] = (sim.state(), box)
+    state, box = _START["relaxed"]
+    return hs.Simulation(state, box)
+
+
+def _series(
+    sim: hs.Simulation, args: argparse.Namespace, rows: list[dict], mode: str, pressure: float, until: float
+) -> tuple[list[float], list[float], list[float]]:
+    """Run ``sim`` for ``until`` time units, a profile every ``--every``: the times, crystal fractions, Lz."""
     ts, fs, ls = [], [], []
     profile = SlabProfile(bins=_bins(args))
     t0 = time.time()
+    start = sim.time
+    sim.observables.reset()
+    integral = elapsed = 0.0
     while True:
         profile.compute(sim)
-        ts.append(sim.time)
+        ts.append(sim.time - start)
         fs.append(profile.crystal_fraction)
         ls.append(sim.container.sides[2])
+        e = sim.observables.elapsed
+        now = sim.observables.pressure_tensor()[2, 2] * e if e > 0 else 0.0
+        pzz = (now - integral) / (e - elapsed) if e > elapsed else math.nan
+        integral, elapsed = now, e
         rows.append(
             dict(
-                mode="npt",
+                mode=mode,
                 pressure=pressure,
-                t=sim.time,
+                t=ts[-1],
                 n=sim.n,
                 crystal_fraction=fs[-1],
                 Lz=ls[-1],
                 packing=sim.packing,
-                pzz_interval=math.nan,
+                pzz_interval=pzz,
                 seconds=time.time() - t0,
             )
         )
         _write(args.csv, rows)
+        bar = sim.barostat
         print(
-            f"  t {sim.time:7.1f}  crystal fraction {fs[-1]:.4f}  packing {sim.packing:.4f}  "
-            f"Lz {ls[-1]:.3f}  acceptance {sim.barostat.acceptance:.2f}  ({time.time() - t0:.0f} s)",
+            f"  t {ts[-1]:7.1f}  crystal fraction {fs[-1]:.4f}  packing {sim.packing:.4f}  Lz {ls[-1]:.3f}"
+            + (f"  P_zz(last) {pzz:.3f}" if bar is None else f"  acceptance {bar.acceptance:.2f}")
+            + f"  ({time.time() - t0:.0f} s)",
             flush=True,
         )
-        if sim.time >= args.until - 1e-9:
+        if ts[-1] >= until - 1e-9:
             break
-        sim.run(until=min(args.until, sim.time + args.every))
-    return _slope(ts, fs, args.skip), _slope(ts, ls, args.skip)
+        sim.run(until=start + min(until, ts[-1] + args.every))
+    return ts, fs, ls
+
+
+def _barostat(sim: hs.Simulation, pressure: float, args: argparse.Namespace) -> hs.Barostat:
+    """``Barostat(axes="z")`` making ``--moves-per-free-time`` moves per (auto) mean free time."""
+    probe = hs.Barostat(pressure=pressure, kT=1.0, axes="z", seed=args.seed)
+    probe.attach(sim)  # sets the auto interval (the Enskog mean free time) and step from the state
+    every = float(probe.every) / args.moves_per_free_time  # type: ignore[arg-type]
+    return hs.Barostat(pressure=pressure, kT=1.0, axes="z", every=every, seed=args.seed)
+
+
+def drift(pressure: float, args: argparse.Namespace, rows: list[dict]) -> tuple[float, float]:
+    """Slopes [1/time] of the crystal fraction and [length/time] of Lz after ``--skip``, at constant P_zz."""
+    sim = _start(pressure, args, rows)
+    if pressure > 0:
+        sim.set_barostat(_barostat(sim, pressure, args))
+        print(f"beta P {pressure:g}, constant normal pressure:", flush=True)
+    else:
+        print("control: the same start at constant volume:", flush=True)
+    ts, fs, ls = _series(sim, args, rows, "npt" if pressure > 0 else "nve", pressure, args.until)
+    (d, d_err), (dl, dl_err) = _fit(ts, fs, args.skip), _fit(ts, ls, args.skip)
+    ERRORS[pressure] = (d_err, dl_err)
+    return d, dl
+
+
+#: The slopes' standard errors by pressure (0: the constant-volume control), set by :func:`drift`.
+ERRORS: dict[float, tuple[float, float]] = {}
 
 
 def constant_volume(args: argparse.Namespace, rows: list[dict]) -> None:
@@ -121,6 +215,10 @@ def constant_volume(args: argparse.Namespace, rows: list[dict]) -> None:
         seed=args.seed,
     )
     sim = hs.Simulation(state, box)
+    if args.trajectory:  # frames for the pictures (render --slice x=0: the slab side-on)
+        from hardspheres.io.trajectory import GSDWriter
+
+        sim.writers.append(GSDWriter(args.trajectory, every=args.every, events=False))
     profile = SlabProfile(bins=_bins(args))
     print(
         f"constant volume: N {sim.n}, box {tuple(round(s, 3) for s in box.sides)}, packing {sim.packing:.4f}"
@@ -277,6 +375,27 @@ def main() -> None:
     ap.add_argument("--profile", default=None, help="CSV of the constant-volume run's mean profile")
     ap.add_argument("--plot", default=None, help="PNG of --profile's profile")
     ap.add_argument(
+        "--trajectory", default=None, help="GSD of the constant-volume run, a frame every --every"
+    )
+    ap.add_argument(
+        "--crystal-packing",
+        type=float,
+        default=None,
+        help="--pressures: build the slab once at this crystal packing (and --fluid-packing), relax it",
+    )
+    ap.add_argument("--fluid-packing", type=float, default=None, help="with --crystal-packing")
+    ap.add_argument(
+        "--relax", type=float, default=40.0, help="with --crystal-packing: time at constant volume first"
+    )
+    ap.add_argument(
+        "--moves-per-free-time", type=float, default=1.0, help="--pressures: volume moves per mean free time"
+    )
+    ap.add_argument(
+        "--control",
+        action="store_true",
+        help="with --crystal-packing: also the same start at constant volume",
+    )
+    ap.add_argument(
         "--plot-drift",
         nargs="+",
         default=None,
@@ -287,16 +406,29 @@ def main() -> None:
     if args.plot_drift:
         plot_drift(args.plot_drift[1:], args.plot_drift[0])
         return
+    if (args.crystal_packing is None) != (args.fluid_packing is None):
+        ap.error("give --crystal-packing and --fluid-packing together")
+    if args.control and args.crystal_packing is None:
+        ap.error("--control needs --crystal-packing (a shared start)")
     t0 = time.time()
     rows: list[dict] = []
     if args.nve:
         constant_volume(args, rows)
-    table = [(p, *drift(p, args, rows)) for p in args.pressures]
+    table = [(p, *drift(p, args, rows)) for p in args.pressures + ([0.0] if args.control else [])]
     if table:
-        print("\n| beta P sigma^3 | crystal fraction drift [1/time] | Lz drift [sigma/time] | the crystal |")
-        print("|---|---|---|---|")
+        print(
+            "\n| beta P sigma^3 | crystal fraction drift [1/time] | +- | Lz drift [sigma/time] | +- "
+            "| the crystal |"
+        )
+        print("|---|---|---|---|---|---|")
         for p, d, dl in table:
-            print(f"| {p:g} | {d:+.2e} | {dl:+.2e} | {'grows' if d > 0 else 'melts'} |")
+            e, el = ERRORS.get(p, (math.nan, math.nan))
+            what = "grows" if d > 0 else "melts"
+            if abs(d) < 2 * e:
+                what += " (within 2 errors of 0)"
+            name = "constant volume" if p == 0 else f"{p:g}"
+            print(f"| {name} | {d:+.2e} | {e:.1e} | {dl:+.2e} | {el:.1e} | {what} |")
+        table = [r for r in table if r[0] > 0]
         grows = [p for p, d, _ in table if d > 0]
         melts = [p for p, d, _ in table if not d > 0]
         if grows and melts and max(melts) < min(grows):
