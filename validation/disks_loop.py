@@ -399,17 +399,21 @@ def stay_times(paths: list[str]) -> dict[tuple[int, float], dict]:
     the integrated correlation time of a two-state Markov process with
     these mean stays, ``tau_low tau_high / (tau_low + tau_high)``; the
     error of a mean over a run of T is then ``(hi - lo) sqrt(p (1 - p) 2
-    tau_c / T)``, p the low fraction.
+    tau_c / T)``, p the low fraction.  Of runs with the same start and seed
+    (one trajectory) only the longest is read.
     """
     runs: dict[tuple[int, float], dict[tuple, list[dict]]] = {}
     per_chunk: dict[tuple, float] = {}
+    longest: dict[tuple, dict] = {}  # one trajectory per start and seed (see score)
     for path in paths:
-        if path.endswith("_series.csv"):
-            continue
-        rows, ser = _read(path), _read(series_path(path))
-        for r in rows:
-            if "tau_bp" not in r:
-                continue
+        if not path.endswith("_series.csv"):
+            for r in _read(path):
+                same = (int(r["n"]), round(r["phi"], 6), r["start"], r["seed"])
+                if "tau_bp" in r and (same not in longest or _length(r) > _length(longest[same])):
+                    longest[same] = r | {"path": path}
+    for path in dict.fromkeys(r["path"] for r in longest.values()):
+        ser = _read(series_path(path))
+        for r in (r for r in longest.values() if r["path"] == path):
             key = (path, r["phi"], r["start"], r["seed"])
             chunks = sorted((s for s in ser if (s["phi"], s["start"], s["seed"]) == key[1:]),
                             key=lambda s: s["chunk"])  # fmt: skip
@@ -530,6 +534,52 @@ def score(paths: list[str]) -> None:
               f"{between:.4f} | {ref:.4f} +- {ref_err:.4f} | {z:+.2f} |")  # fmt: skip
 
 
+BUDGET_EQUILIBRATE, BUDGET_MEASURE = 5, 50  # a run: 5 correlation times dropped, 50 measured
+
+
+def budget(paths: list[str], rate: float, starts: int = 2) -> None:
+    """What runs at N = 16384 would cost, scaled from the N = 870 series of CSVs ``paths``.
+
+    For each packing of :data:`LI_16384` measured at N = 870: the
+    correlation time there, the larger of the two-state ``tau_c``
+    (:func:`stay_times`) and the longest ``tau_bp`` of its runs (the chunk
+    series' integrated time); scaled to 16384 disks by ``16384 / 870``
+    (the assumption: ordered and liquid-like regions rearrange over the
+    box, diffusively, in a time ~ L^2 ~ N at fixed packing); per start
+    ``BUDGET_EQUILIBRATE`` correlation times dropped and ``BUDGET_MEASURE``
+    measured (enough blocks for an error bar good to about 15%), for
+    ``starts`` starts; core-hours at ``rate`` collisions per CPU second.
+    """
+    small = SIZES["small"]["cells"][0] * SIZES["small"]["cells"][1]
+    large = SIZES["large"]["cells"][0] * SIZES["large"]["cells"][1]
+    lengths = stay_times(paths)
+    taus: dict[float, float] = {}
+    for p in paths:
+        if not p.endswith("_series.csv"):
+            for r in _read(p):
+                if "tau_bp" in r and int(r["n"]) == small:
+                    phi = round(r["phi"], 6)
+                    taus[phi] = max(taus.get(phi, 0.0), r["tau_bp"])
+    per = BUDGET_EQUILIBRATE + BUDGET_MEASURE
+    print(f"scaled by {large} / {small} = {large / small:.1f}; {starts} starts x ({BUDGET_EQUILIBRATE} + "
+          f"{BUDGET_MEASURE}) correlation times; {rate:.3g} collisions per CPU second")  # fmt: skip
+    print("| packing | tau at N = 870: two-state, chunk series | at N = 16384 | collisions per disk, "
+          "all starts | core-hours |")  # fmt: skip
+    print("|---|---|---|---|---|")
+    total = 0.0
+    for phi, _, _ in LI_16384:
+        if phi not in taus:
+            print(f"| {phi:.3f} | not measured | | | |")
+            continue
+        tau_c = lengths[small, phi]["tau_c"] if (small, phi) in lengths else math.nan
+        tau = max(taus[phi], tau_c) * large / small
+        per_disk = starts * per * tau
+        hours = per_disk * large / rate / 3600.0
+        total += hours
+        print(f"| {phi:.3f} | {tau_c:.3g}, {taus[phi]:.3g} | {tau:.3g} | {per_disk:.3g} | {hours:.0f} |")
+    print(f"all measured packings: {total:.0f} core-hours")
+
+
 def _halves(r: dict) -> str:
     """The first and second halves of the measurement (a drift shows there), if recorded."""
     if "bp_first_half" not in r:
@@ -647,13 +697,15 @@ def plot(paths: list[str], png: str) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", choices=["small", "large", "plot", "table", "rescore", "stays", "rate", "score"])
+    what = ["small", "large", "plot", "table", "rescore", "stays", "rate", "score", "budget"]
+    ap.add_argument("what", choices=what)
     ap.add_argument("--csv", nargs="+", help="the CSV(s) written or read (all but rate)")
     ap.add_argument("--size", choices=list(SIZES), default="large", help="rate: the system")
     ap.add_argument("--equilibrate", type=int, default=5000, help="collisions per disk before measuring")
     ap.add_argument("--measure", type=int, default=50000, help="collisions per disk measured")
     ap.add_argument("--order", type=float, nargs="+", help="packings to run, in this order (default: all)")
     ap.add_argument("--repeat", type=int, default=3, help="rate: timed runs of --measure per disk")
+    ap.add_argument("--rate", type=float, default=5e5, help="budget: collisions per CPU second at 16384")
     ap.add_argument("--png", default="docs/images/disks_loop.png")
     ap.add_argument("--start", choices=STARTS, default="random", help="the start (see _start)")
     ap.add_argument("--compressed", action="store_true", help="the same as --start compressed")
@@ -678,6 +730,8 @@ def main() -> None:
                 table(_read(p))
     elif args.what == "rate":
         rate(args.size, args.order[0] if args.order else 0.716, args.measure, args.repeat, start)
+    elif args.what == "budget":
+        budget(args.csv, args.rate)
     elif args.what == "score":
         score(args.csv)
     elif args.what == "stays":
