@@ -672,23 +672,35 @@ def plot(paths: list[str], png: str) -> None:
             return (r["equilibrate"] + r["measure"], r["equilibrate"], r["start"])
 
         mine = [r for r in rows if r["n"] == n]
-        longest = {r["start"]: max(key(q)[0] for q in mine if q["start"] == r["start"]) for r in mine}
+
+        def same(r: dict) -> tuple[float, str, int]:
+            return (round(r["phi"], 6), r["start"], r["seed"])
+
+        # a run is superseded where a longer one has the same packing, start and seed (score's rule)
+        longest: dict[tuple[float, str, int], float] = {}
+        for r in mine:
+            longest[same(r)] = max(longest.get(same(r), 0.0), key(r)[0])
         for k, run_key in enumerate(sorted({key(r) for r in mine})):
             ours = [r for r in mine if key(r) == run_key]
             marker, start = STYLE[run_key[2]]
-            short = run_key[0] < longest[run_key[2]]  # a longer run from this start: open, faded
-            ax.errorbar(
-                [r["phi"] + 0.00025 * k + 0.0001 * (r["seed"] - 1) for r in ours],
-                [r["bp"] for r in ours],
-                [r["error"] for r in ours],
-                fmt=marker,
-                ms=4,
-                color=COLOURS[k % len(COLOURS)],
-                mfc="none" if short else None,
-                alpha=0.55 if short else 1.0,
-                capsize=3,
-                label=f"hardspheres EDMD, {start}, {run_key[1]:.0f} + {run_key[0] - run_key[1]:.0f} per disk",
-            )
+            label = f"hardspheres EDMD, {start}, {run_key[1]:.0f} + {run_key[0] - run_key[1]:.0f} per disk"
+            for short in (False, True):  # superseded points open and faded
+                pts = [r for r in ours if (run_key[0] < longest[same(r)]) == short]
+                if not pts:
+                    continue
+                ax.errorbar(
+                    [r["phi"] + 0.00025 * k + 0.0001 * (r["seed"] - 1) for r in pts],
+                    [r["bp"] for r in pts],
+                    [r["error"] for r in pts],
+                    fmt=marker,
+                    ms=4,
+                    color=COLOURS[k % len(COLOURS)],
+                    mfc="none" if short else None,
+                    alpha=0.55 if short else 1.0,
+                    capsize=3,
+                    label=label,
+                )
+                label = "_nolegend_"
         ax.set(title=title, xlabel="packing fraction", ylabel="beta P sigma^2 (sigma: diameter)")
         ax.legend(fontsize=6.5, loc="best")
     with fileio.atomic_path(png) as tmp:
