@@ -13,6 +13,9 @@ Conventions (dimensions in brackets):
 * times returned are *durations from now* [time], ``inf`` for never;
 * quadratic roots use the numerically stable form (no subtraction of nearly
   equal numbers), see :func:`pair_time` and :func:`wall_time`.
+* ``planar=True`` (disks, 2-D): the z components are not read, and no
+  term of z is formed (the same arithmetic as in 3-D with z left out, so a
+  2-D result equals the 3-D one with z = 0 up to the sign of a zero).
 """
 
 import math
@@ -106,7 +109,9 @@ def frozen_limit(n: int) -> int:
     return 100_000 + 1000 * n
 
 
-def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma: float) -> float:
+def pair_time(
+    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma: float, planar: bool = False
+) -> float:
     """Time until two spheres reach contact distance ``sigma``.
 
     Args:
@@ -123,11 +128,19 @@ def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: floa
         >>> pair_time(-10.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0)
         4.0
     """
-    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, INF)
+    return pair_time_within(dx, dy, dz, dvx, dvy, dvz, sigma, INF, planar)
 
 
 def pair_time_within(
-    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma: float, horizon: float
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    sigma: float,
+    horizon: float,
+    planar: bool = False,
 ) -> float:
     """:func:`pair_time`, or ``inf`` early if the pair surely meets after ``horizon``.
 
@@ -147,18 +160,32 @@ def pair_time_within(
         >>> pair_time_within(-10.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 5.0)
         4.0
     """
-    b = dx * dvx + dy * dvy + dz * dvz
+    if planar:
+        # (2-D: z is not read)
+        dz = dvz = 0.0
+        b = dx * dvx + dy * dvy
+    else:
+        b = dx * dvx + dy * dvy + dz * dvz
     if b > 0.0:
         return INF
-    a = dvx * dvx + dvy * dvy + dvz * dvz
-    r2 = dx * dx + dy * dy + dz * dz
+    if planar:
+        a = dvx * dvx + dvy * dvy
+        r2 = dx * dx + dy * dy
+    else:
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
     shift = 0
     if not RANGE_LO <= a * r2 <= RANGE_HI or a < SQUARES_LO or r2 < SQUARES_LO:
         dx, dy, dz, sigma, dvx, dvy, dvz, _, shift = order_one(dx, dy, dz, sigma, dvx, dvy, dvz, 0.0)
         horizon = math.ldexp(horizon, -shift)
-        a = dvx * dvx + dvy * dvy + dvz * dvz
-        b = dx * dvx + dy * dvy + dz * dvz
-        r2 = dx * dx + dy * dy + dz * dz
+        if planar:
+            a = dvx * dvx + dvy * dvy
+            b = dx * dvx + dy * dvy
+            r2 = dx * dx + dy * dy
+        else:
+            a = dvx * dvx + dvy * dvy + dvz * dvz
+            b = dx * dvx + dy * dvy + dz * dvz
+            r2 = dx * dx + dy * dy + dz * dz
     if b >= 0.0:
         return INF
     c = r2 - sigma * sigma
@@ -170,10 +197,13 @@ def pair_time_within(
     if r2 > LAGRANGE_RATIO * s2:
         # far apart: b^2 and a c agree to many digits, so take
         # b^2 - a c = |dv|^2 sigma^2 - |dr x dv|^2 (Lagrange's identity)
-        ux = dy * dvz - dz * dvy
-        uy = dz * dvx - dx * dvz
         uz = dx * dvy - dy * dvx
-        disc = a * s2 - (ux * ux + uy * uy + uz * uz)
+        if planar:
+            disc = a * s2 - uz * uz
+        else:
+            ux = dy * dvz - dz * dvy
+            uy = dz * dvx - dx * dvz
+            disc = a * s2 - (ux * ux + uy * uy + uz * uz)
     else:
         disc = b * b - a * c
     if disc <= 0.0:
@@ -183,7 +213,9 @@ def pair_time_within(
     return t if shift == 0 else math.ldexp(t, shift)
 
 
-def wall_time(px: float, py: float, pz: float, vx: float, vy: float, vz: float, reach: float) -> float:
+def wall_time(
+    px: float, py: float, pz: float, vx: float, vy: float, vz: float, reach: float, planar: bool = False
+) -> float:
     """Time until a sphere's centre reaches distance ``reach`` from the origin.
 
     Args:
@@ -200,11 +232,19 @@ def wall_time(px: float, py: float, pz: float, vx: float, vy: float, vz: float, 
         >>> wall_time(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 10.0)
         5.0
     """
-    return wall_time_grow(px, py, pz, vx, vy, vz, reach, 0.0)
+    return wall_time_grow(px, py, pz, vx, vy, vz, reach, 0.0, planar)
 
 
 def collide(
-    m1: float, m2: float, dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float
+    m1: float,
+    m2: float,
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    planar: bool = False,
 ) -> tuple[float, float]:
     """Velocity changes of an elastic collision (assignment §2.3.1).
 
@@ -221,12 +261,15 @@ def collide(
         >>> collide(1.0, 1.0, -2.0, 0.0, 0.0, 3.0, 0.0, 0.0)
         (-1.5, -1.5)
     """
-    s = (dvx * dx + dvy * dy + dvz * dz) / (dx * dx + dy * dy + dz * dz)
+    if planar:
+        s = (dvx * dx + dvy * dy) / (dx * dx + dy * dy)
+    else:
+        s = (dvx * dx + dvy * dy + dvz * dz) / (dx * dx + dy * dy + dz * dz)
     msum = m1 + m2
     return 2.0 * m2 / msum * s, 2.0 * m1 / msum * s
 
 
-def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float) -> float:
+def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float, planar: bool = False) -> float:
     """Factor of a reflection off the container at centre ``p``.
 
     Returns:
@@ -237,6 +280,8 @@ def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float) ->
         >>> reflect(5.0, 0.0, 0.0, 2.0, 1.0, 0.0)
         0.8
     """
+    if planar:
+        return 2.0 * (vx * px + vy * py) / (px * px + py * py)
     return 2.0 * (vx * px + vy * py + vz * pz) / (px * px + py * py + pz * pz)
 
 
@@ -253,7 +298,16 @@ GROW_MARGIN = 1e-9
 
 
 def pair_time_grow(
-    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, s: float, u: float, horizon: float
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    s: float,
+    u: float,
+    horizon: float,
+    planar: bool = False,
 ) -> float:
     """Time until two spheres meet while their contact distance grows.
 
@@ -281,9 +335,15 @@ def pair_time_grow(
         >>> pair_time_grow(-10.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 1.0, math.inf)
         4.0
     """
-    b0 = dx * dvx + dy * dvy + dz * dvz
-    a0 = dvx * dvx + dvy * dvy + dvz * dvz
-    r2 = dx * dx + dy * dy + dz * dz
+    if planar:
+        dz = dvz = 0.0
+        b0 = dx * dvx + dy * dvy
+        a0 = dvx * dvx + dvy * dvy
+        r2 = dx * dx + dy * dy
+    else:
+        b0 = dx * dvx + dy * dvy + dz * dvz
+        a0 = dvx * dvx + dvy * dvy + dvz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
     shift = 0
     a2, l2 = a0 + u * u, r2 + s * s
     if not RANGE_LO <= a2 * l2 <= RANGE_HI or a2 < SQUARES_LO or l2 < SQUARES_LO:
@@ -291,9 +351,14 @@ def pair_time_grow(
             return INF  # at rest (a0 alone underflows for speeds below 1e-154)
         dx, dy, dz, s, dvx, dvy, dvz, u, shift = order_one(dx, dy, dz, s, dvx, dvy, dvz, u)
         horizon = math.ldexp(horizon, -shift)
-        b0 = dx * dvx + dy * dvy + dz * dvz
-        a0 = dvx * dvx + dvy * dvy + dvz * dvz
-        r2 = dx * dx + dy * dy + dz * dz
+        if planar:
+            b0 = dx * dvx + dy * dvy
+            a0 = dvx * dvx + dvy * dvy
+            r2 = dx * dx + dy * dy
+        else:
+            b0 = dx * dvx + dy * dvy + dz * dvz
+            a0 = dvx * dvx + dvy * dvy + dvz * dvz
+            r2 = dx * dx + dy * dy + dz * dz
     a = a0 - u * u
     b = b0 - s * u
     s2 = s * s
@@ -318,13 +383,16 @@ def pair_time_grow(
         # the margin and the discriminant below is negative too
         return INF
     if r2 > LAGRANGE_RATIO * s2:
-        ux = dy * dvz - dz * dvy
-        uy = dz * dvx - dx * dvz
         uz = dx * dvy - dy * dvx
         wx = s * dvx - u * dx
         wy = s * dvy - u * dy
-        wz = s * dvz - u * dz
-        disc = (wx * wx + wy * wy + wz * wz) - (ux * ux + uy * uy + uz * uz)
+        if planar:
+            disc = (wx * wx + wy * wy) - uz * uz
+        else:
+            ux = dy * dvz - dz * dvy
+            uy = dz * dvx - dx * dvz
+            wz = s * dvz - u * dz
+            disc = (wx * wx + wy * wy + wz * wz) - (ux * ux + uy * uy + uz * uz)
     else:
         disc = b * b - a * c
     if disc <= 0.0:
@@ -340,7 +408,15 @@ def pair_time_grow(
 
 
 def wall_time_grow(
-    px: float, py: float, pz: float, vx: float, vy: float, vz: float, reach: float, w: float
+    px: float,
+    py: float,
+    pz: float,
+    vx: float,
+    vy: float,
+    vz: float,
+    reach: float,
+    w: float,
+    planar: bool = False,
 ) -> float:
     """:func:`wall_time` for a sphere whose radius grows at speed ``w`` [length/time].
 
@@ -353,18 +429,30 @@ def wall_time_grow(
         >>> wall_time_grow(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 10.0, 1.0)
         5.0
     """
-    a0 = vx * vx + vy * vy + vz * vz
-    pp = px * px + py * py + pz * pz
+    if planar:
+        pz = vz = 0.0
+        a0 = vx * vx + vy * vy
+        pp = px * px + py * py
+    else:
+        a0 = vx * vx + vy * vy + vz * vz
+        pp = px * px + py * py + pz * pz
     shift = 0
     a2, l2 = a0 + w * w, pp + reach * reach
     if not RANGE_LO <= a2 * l2 <= RANGE_HI or a2 < SQUARES_LO or l2 < SQUARES_LO:
         if vx == 0.0 and vy == 0.0 and vz == 0.0 and w == 0.0:
             return INF  # at rest (a0 alone underflows for speeds below 1e-154)
         px, py, pz, reach, vx, vy, vz, w, shift = order_one(px, py, pz, reach, vx, vy, vz, w)
-        a0 = vx * vx + vy * vy + vz * vz
-        pp = px * px + py * py + pz * pz
+        if planar:
+            a0 = vx * vx + vy * vy
+            pp = px * px + py * py
+        else:
+            a0 = vx * vx + vy * vy + vz * vz
+            pp = px * px + py * py + pz * pz
     a = a0 - w * w
-    b = px * vx + py * vy + pz * vz + reach * w
+    if planar:
+        b = px * vx + py * vy + reach * w
+    else:
+        b = px * vx + py * vy + pz * vz + reach * w
     c = pp - reach * reach
     if c >= 0.0 and b > 0.0:
         return 0.0
@@ -381,7 +469,16 @@ def wall_time_grow(
 
 
 def collide_grow(
-    m1: float, m2: float, dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, u: float
+    m1: float,
+    m2: float,
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    u: float,
+    planar: bool = False,
 ) -> tuple[float, float]:
     """:func:`collide` with the Lubachevsky-Stillinger rule.
 
@@ -395,9 +492,12 @@ def collide_grow(
         >>> collide_grow(1.0, 1.0, -2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 1.0)
         (-2.0, -2.0)
     """
-    d2 = dx * dx + dy * dy + dz * dz
-    d = math.sqrt(d2)
-    vn = (dvx * dx + dvy * dy + dvz * dz) / d
+    if planar:
+        d = math.sqrt(dx * dx + dy * dy)
+        vn = (dvx * dx + dvy * dy) / d
+    else:
+        d = math.sqrt(dx * dx + dy * dy + dz * dz)
+        vn = (dvx * dx + dvy * dy + dvz * dz) / d
     gap = vn - u  # < 0: closing
     change = -2.0 * gap
     least = -gap + GROW_MARGIN * (abs(vn) + u)
@@ -409,7 +509,9 @@ def collide_grow(
     return 2.0 * m2 / msum * s, 2.0 * m1 / msum * s
 
 
-def reflect_grow(px: float, py: float, pz: float, vx: float, vy: float, vz: float, w: float) -> float:
+def reflect_grow(
+    px: float, py: float, pz: float, vx: float, vy: float, vz: float, w: float, planar: bool = False
+) -> float:
     """:func:`reflect` off a wall closing at speed ``w`` relative to the sphere.
 
     The radial speed is reflected in the frame of the wall: the new inward
@@ -420,8 +522,12 @@ def reflect_grow(px: float, py: float, pz: float, vx: float, vy: float, vz: floa
         >>> reflect_grow(5.0, 0.0, 0.0, 2.0, 1.0, 0.0, 1.0)
         1.2
     """
-    d = math.sqrt(px * px + py * py + pz * pz)
-    vr = (vx * px + vy * py + vz * pz) / d
+    if planar:
+        d = math.sqrt(px * px + py * py)
+        vr = (vx * px + vy * py) / d
+    else:
+        d = math.sqrt(px * px + py * py + pz * pz)
+        vr = (vx * px + vy * py + vz * pz) / d
     change = 2.0 * (vr + w)
     least = vr + w + GROW_MARGIN * (abs(vr) + w)
     if change < least:

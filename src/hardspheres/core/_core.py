@@ -201,6 +201,15 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
+#   axes       ((),) * d                 the dimension, as a type: d = len(axes), 2 or 3
+#
+# The dimension is a compile-time constant: ``len(axes)`` of a tuple of d
+# empty tuples is folded by numba, so every ``if len(axes) == 3`` below
+# decides when the machine code is made, and each d gets a loop of its own
+# (compiled on first use of that d).  In 2-D no z term is formed and z is
+# never read: the stored z and vz are 0 and stay so; there is one layer of
+# cells (9 around a disk, no third layer), and the image code of a pair
+# has z digit 0 (no shift).
 
 
 #: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
@@ -227,6 +236,7 @@ ARRAYS = (
     "scratch",
     "images",
     "calendar",
+    "axes",
 )
 
 
@@ -662,13 +672,13 @@ def _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz):
 
 
 @_inline
-def _block_range(ncz, bz):
-    """The cells ``q`` of the 3x3x3 block to visit: all 27, or the middle layer's 9 (disks).
+def _block_range(axes):
+    """The cells ``q`` of the 3x3x3 block to visit: all 27, or in 2-D the middle layer's 9.
 
-    One layer along z and no box along it: the layers above and below do
-    not exist, so only ``q`` in 9..17 (z offset 0) are looked at.
+    In 2-D there is one layer of cells and no box along z: only ``q`` in
+    9..17 (z offset 0) are looked at.
     """
-    if ncz == 1 and bz == 0.0:
+    if len(axes) == 2:
         return 9, 18
     return 0, 27
 
@@ -702,7 +712,7 @@ def _cell_remove(cell_head, cell_next, cell_prev, book, i):
 
 
 @_inline
-def _crossing(spheres, book, due, scalars, counts, i, t):
+def _crossing(spheres, book, due, scalars, counts, i, t, axes):
     """Store the time sphere ``i`` leaves its cell, from time ``t`` (cell mode)."""
     box = scalars[F_BOX]
     dt_i = t - spheres[i, T_OWN]
@@ -712,7 +722,7 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
     # _box_exit gives (looked at only from the cells along them)
     wrap_t = np.inf
     wrap_code = -1
-    for ax in range(3):
+    for ax in range(len(axes)):
         lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         v = spheres[i, VX + ax]
         k = book[i, CELL_X + ax]
@@ -754,7 +764,7 @@ def _crossing(spheres, book, due, scalars, counts, i, t):
 
 
 @_inline
-def _box_exit(spheres, shells, scalars, i, t):
+def _box_exit(spheres, shells, scalars, i, t, axes):
     """When and where sphere ``i``'s centre next leaves the periodic box, if before its shell.
 
     Returns ``(time, face)``, ``face = 2 * axis + (1 up, 0 down)``, or
@@ -769,7 +779,7 @@ def _box_exit(spheres, shells, scalars, i, t):
     best = np.inf
     code = -1
     delta = (scalars[F_SHELL] - 1.0) * shells[i, REACH] * (1.0 + 1e-9)
-    for ax in range(3):
+    for ax in range(len(axes)):
         edge = scalars[F_EDGE + ax]
         v = spheres[i, VX + ax]
         if edge == 0.0 or v == 0.0:
@@ -793,7 +803,7 @@ def _box_exit(spheres, shells, scalars, i, t):
 
 
 @_inline
-def _shell_exit(spheres, shells, due, scalars, i, t):
+def _shell_exit(spheres, shells, due, scalars, i, t, axes):
     """Store the time sphere ``i`` leaves its shell, from time ``t``.
 
     The shell is the ball of radius ``(F_SHELL - 1) * reach`` around the
@@ -803,11 +813,17 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
     dt_i = t - spheres[i, T_OWN]
     dx = (spheres[i, X] + spheres[i, VX] * dt_i) - shells[i, SHELL_X]
     dy = (spheres[i, Y] + spheres[i, VY] * dt_i) - shells[i, SHELL_Y]
-    dz = (spheres[i, Z] + spheres[i, VZ] * dt_i) - shells[i, SHELL_Z]
-    vx, vy, vz = spheres[i, VX], spheres[i, VY], spheres[i, VZ]
-    a = vx * vx + vy * vy + vz * vz
-    b = dx * vx + dy * vy + dz * vz
-    c = delta * delta - (dx * dx + dy * dy + dz * dz)  # >= 0 inside (up to rounding)
+    vx, vy = spheres[i, VX], spheres[i, VY]
+    if len(axes) == 3:
+        dz = (spheres[i, Z] + spheres[i, VZ] * dt_i) - shells[i, SHELL_Z]
+        vz = spheres[i, VZ]
+        a = vx * vx + vy * vy + vz * vz
+        b = dx * vx + dy * vy + dz * vz
+        c = delta * delta - (dx * dx + dy * dy + dz * dz)  # >= 0 inside (up to rounding)
+    else:
+        a = vx * vx + vy * vy
+        b = dx * vx + dy * vy
+        c = delta * delta - (dx * dx + dy * dy)
     if not (a > 0.0 and delta > 0.0):
         due[i, CROSS_T] = np.inf
         return
@@ -825,7 +841,26 @@ def _shell_exit(spheres, shells, due, scalars, i, t):
 
 @_inline
 def _pair(
-    spheres, book, i, oi, j, sx, sy, sz, shifted, ti, now, soon, clock, grow, one, n, best_t, best_key, best_p
+    spheres,
+    book,
+    i,
+    oi,
+    j,
+    sx,
+    sy,
+    sz,
+    shifted,
+    ti,
+    now,
+    soon,
+    clock,
+    grow,
+    one,
+    n,
+    best_t,
+    best_key,
+    best_p,
+    axes,
 ):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
 
@@ -851,37 +886,46 @@ def _pair(
     # two ulps of best_t more, as a root that rounds to
     # best_t ties with it and the tie order decides
     horizon = (best_t - t0) + 4.5e-16 * abs(best_t) if best_t >= soon else np.inf
+    planar = len(axes) == 2  # (a constant: 2-D reads and forms no z)
     xi = spheres[i, X] + spheres[i, VX] * di
     yi = spheres[i, Y] + spheres[i, VY] * di
-    zi = spheres[i, Z] + spheres[i, VZ] * di
     xj = spheres[j, X] + spheres[j, VX] * dj
     yj = spheres[j, Y] + spheres[j, VY] * dj
-    zj = spheres[j, Z] + spheres[j, VZ] * dj
+    zi = zj = dz = dvz = 0.0
+    if not planar:
+        zi = spheres[i, Z] + spheres[i, VZ] * di
+        zj = spheres[j, Z] + spheres[j, VZ] * dj
     if not shifted:
         # (no shift added: xj + 0.0 differs from xj only in the sign of a
         # zero, and so would dx; no time the kernels give depends on the
         # sign of a zero difference, docs/numerics.md "Signed zeros")
         dx = xi - xj
         dy = yi - yj
-        dz = zi - zj
+        if not planar:
+            dz = zi - zj
     elif oi > book[j, ORIGIN]:
         # across the periodic box the subtraction is not antisymmetric:
         # the lower input index minus the higher's image, negated (the
         # reference's arithmetic, whichever sphere predicts the pair)
         dx = -(xj - (xi - sx))
         dy = -(yj - (yi - sy))
-        dz = -(zj - (zi - sz))
+        if not planar:
+            dz = -(zj - (zi - sz))
     else:
         dx = xi - (xj + sx)
         dy = yi - (yj + sy)
-        dz = zi - (zj + sz)
+        if not planar:
+            dz = zi - (zj + sz)
     dvx = spheres[i, VX] - spheres[j, VX]
     dvy = spheres[i, VY] - spheres[j, VY]
-    dvz = spheres[i, VZ] - spheres[j, VZ]
+    if not planar:
+        dvz = spheres[i, VZ] - spheres[j, VZ]
     sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
     if grow != 0.0:
         # growing (the one branch a plain run pays here)
-        dt = pair_time_grow(dx, dy, dz, dvx, dvy, dvz, sigma * (1.0 + grow * t0), sigma * grow, horizon)
+        dt = pair_time_grow(
+            dx, dy, dz, dvx, dvy, dvz, sigma * (1.0 + grow * t0), sigma * grow, horizon, planar
+        )
     # pair_time_within's own tests up to the root,
     # the same expressions, combined without branches (half
     # the pairs recede, at random, and a branch on that
@@ -891,9 +935,14 @@ def _pair(
     # The miss test is b^2 - a c < 0 by a margin that
     # covers its rounding and that of the kernel's own
     # discriminant (physics.MISS_MARGIN).
-    b = dx * dvx + dy * dvy + dz * dvz
-    a = dvx * dvx + dvy * dvy + dvz * dvz
-    r2 = dx * dx + dy * dy + dz * dz
+    if planar:
+        b = dx * dvx + dy * dvy
+        a = dvx * dvx + dvy * dvy
+        r2 = dx * dx + dy * dy
+    else:
+        b = dx * dvx + dy * dvy + dz * dvz
+        a = dvx * dvx + dvy * dvy + dvz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
     cc = r2 - sigma * sigma
     ar2 = a * r2
     recede = b >= 0.0
@@ -913,7 +962,7 @@ def _pair(
         | (r2 < physics.SQUARES_LO)
         | ((recede ^ True) & (touch | ((beyond ^ True) & (miss ^ True))))
     ):
-        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one, sigma, horizon)
+        dt = pair_time_within(dx, dy, dz, dvx * one, dvy * one, dvz * one, sigma, horizon, planar)
     else:
         dt = np.inf
     if dt < np.inf:
@@ -966,7 +1015,7 @@ _IMAGE_STEPS = np.array([[a - 1.0, b - 1.0, c - 1.0] for a in range(3) for b in 
 
 
 @_inline
-def _scan_list(spheres, book, due, neighbours, scalars, i):
+def _scan_list(spheres, book, due, neighbours, scalars, i, axes):
     """Improve sphere ``i``'s stored event with the pairs of its neighbour list."""
     n = spheres.shape[0]
     bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
@@ -986,7 +1035,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
         # the image of j next to i (periodic box): -1, 0, 1 box edges per axis
         sx = _IMAGE_STEPS[code, 0] * bx
         sy = _IMAGE_STEPS[code, 1] * by
-        sz = _IMAGE_STEPS[code, 2] * bz
+        sz = _IMAGE_STEPS[code, 2] * bz if len(axes) == 3 else 0.0
         best_t, best_key, best_p = _pair(
             spheres,
             book,
@@ -1007,6 +1056,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i):
             best_t,
             best_key,
             best_p,
+            axes,
         )
     _store(due, book, i, best_t, best_key, best_p)
 
@@ -1023,7 +1073,9 @@ def _cell_near(k, o, nc):
 
 
 @_inline
-def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi):
+def _scan_cells(
+    spheres, book, due, cell_head, cell_next, scalars, counts, i, zlo, zhi, ylo, yhi, xlo, xhi, axes
+):
     """Improve sphere ``i``'s stored event with the pairs in a block of cells.
 
     Longer than 80 lines: the pair kernel's call written out, argument by
@@ -1048,9 +1100,9 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
     # of cells along z (disks): that layer alone, the 9 cells around a
     # disk's (the layers above and below do not exist this side of the box,
     # and there is no box along z)
-    layers = 1 if (ncz == 1 and zlo != zhi) else zhi - zlo + 1
+    layers = 1 if len(axes) == 2 else zhi - zlo + 1
     for qz in range(layers):
-        oz = zlo if zlo == zhi else (qz if qz < 2 else -1)
+        oz = 0 if len(axes) == 2 else (zlo if zlo == zhi else (qz if qz < 2 else -1))
         nz, there = _cell_near(cz0, oz, ncz)
         if not there:
             continue
@@ -1086,6 +1138,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
                             best_t,
                             best_key,
                             best_p,
+                            axes,
                         )
                     j = cell_next[j]
     if scalars[F_BOX] != 0.0 and (
@@ -1093,7 +1146,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
         or (cx0 == ncx - 1 and xhi > 0)
         or (cy0 == 0 and ylo < 0)
         or (cy0 == ncy - 1 and yhi > 0)
-        or (scalars[F_EDGE + 2] != 0.0 and ((cz0 == 0 and zlo < 0) or (cz0 == ncz - 1 and zhi > 0)))
+        or (len(axes) == 3 and ((cz0 == 0 and zlo < 0) or (cz0 == ncz - 1 and zhi > 0)))
     ):
         # a cell of the block lies across the periodic box
         best_t, best_key, best_p = _scan_across(
@@ -1118,6 +1171,7 @@ def _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl
             best_t,
             best_key,
             best_p,
+            axes,
         )
     _store(due, book, i, best_t, best_key, best_p)
 
@@ -1145,6 +1199,7 @@ def _scan_across(
     best_t,
     best_key,
     best_p,
+    axes,
 ):
     """:func:`_scan_cells`'s cells across the periodic box: sphere ``i``'s best event so far improved.
 
@@ -1160,7 +1215,7 @@ def _scan_across(
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     ti = spheres[i, T_OWN]
     oi = book[i, ORIGIN]
-    for oz in range(zlo, zhi + 1):
+    for oz in range(0, 1) if len(axes) == 2 else range(zlo, zhi + 1):
         nz, sz, there = _cell_step(cz0, oz, ncz, bz)
         if not there:
             continue
@@ -1197,13 +1252,14 @@ def _scan_across(
                             best_t,
                             best_key,
                             best_p,
+                            axes,
                         )
                     j = cell_next[j]
     return best_t, best_key, best_p
 
 
 @_inline
-def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes):
     """Find sphere ``i``'s earliest collision or reflection and its next crossing.
 
     Against its neighbours and leaving its shell (``F_SHELL > 0``), or
@@ -1231,6 +1287,7 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
             spheres[i, VZ],
             scalars[F_CONTAINER] - spheres[i, RADIUS] * (1.0 + grow * spheres[i, T_OWN]),
             spheres[i, RADIUS] * grow,
+            len(axes) == 2,
         )
         if dt < np.inf:
             te = spheres[i, T_OWN] + dt
@@ -1242,40 +1299,41 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
             book[i, EVENT_KEY] = _key(REFLECTION, book[i, ORIGIN], -1, n)
             book[i, EVENT_KIND] = REFLECTION
     if scalars[F_SHELL] > 0.0:
-        _scan_list(spheres, book, due, neighbours, scalars, i)
-        _shell_exit(spheres, shells, due, scalars, i, t)
+        _scan_list(spheres, book, due, neighbours, scalars, i, axes)
+        _shell_exit(spheres, shells, due, scalars, i, t, axes)
         if scalars[F_BOX] != 0.0:
             # leaving the periodic box, if before its shell (CROSS_FACE >= 0)
-            wrap_t, wrap_code = _box_exit(spheres, shells, scalars, i, t)
+            wrap_t, wrap_code = _box_exit(spheres, shells, scalars, i, t, axes)
             book[i, CROSS_FACE] = -1
             if wrap_t < due[i, CROSS_T]:
                 due[i, CROSS_T] = wrap_t
                 book[i, CROSS_FACE] = BOX_FACE + wrap_code
     else:
-        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1)
-        _crossing(spheres, book, due, scalars, counts, i, t)
+        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1, axes)
+        _crossing(spheres, book, due, scalars, counts, i, t, axes)
 
 
 @_jit
-def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t):
+def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes):
     """:func:`predict`, called rather than inlined: for the callers outside the event loop.
 
     (Each inlined copy holds both scans and costs compile time.)
     """
-    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes)
 
 
 @_inline
-def _advance(spheres, i, t):
+def _advance(spheres, i, t, axes):
     dt = t - spheres[i, T_OWN]
     spheres[i, X] += spheres[i, VX] * dt
     spheres[i, Y] += spheres[i, VY] * dt
-    spheres[i, Z] += spheres[i, VZ] * dt
+    if len(axes) == 3:
+        spheres[i, Z] += spheres[i, VZ] * dt
     spheres[i, T_OWN] = t
 
 
 @_inline
-def _pair_code(scalars, shells, i, j):
+def _pair_code(scalars, shells, i, j, axes):
     """Image code of ``j`` next to ``i`` (periodic box), and whether their shells are neighbours.
 
     The code is ``9 (kx + 1) + 3 (ky + 1) + (kz + 1)`` with ``j``'s image
@@ -1285,7 +1343,7 @@ def _pair_code(scalars, shells, i, j):
     """
     code = 0
     r2 = 0.0
-    for ax in range(3):
+    for ax in range(len(axes)):
         box = scalars[F_EDGE + ax]
         half = 0.5 * box
         d = shells[i, SHELL_X + ax] - shells[j, SHELL_X + ax]
@@ -1299,12 +1357,16 @@ def _pair_code(scalars, shells, i, j):
                 d += box
         code = 3 * code + (k + 1)
         r2 += d * d
+    if len(axes) == 2:
+        code = 3 * code + 1  # (no shift along z)
     cut = scalars[F_SHELL] * (shells[i, REACH] + shells[j, REACH]) * (1.0 + 1e-9)
     return code, r2 < cut * cut
 
 
 @_inline
-def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, insert):
+def _set_shell(
+    spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, insert, axes
+):
     """Sphere ``i``'s shell centre becomes its centre at ``t``, in its cell.
 
     In a periodic box the centre is in the box (up to rounding: it moves by
@@ -1312,7 +1374,7 @@ def _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, s
     no cell list yet.
     """
     dt = t - spheres[i, T_OWN]
-    for ax in range(3):
+    for ax in range(len(axes)):
         lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
         x = spheres[i, X + ax] + spheres[i, VX + ax] * dt
         shells[i, SHELL_X + ax] = x
@@ -1335,7 +1397,20 @@ def _nearest(d, box):
 
 @_inline
 def _relist(
-    spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts, scratch, i, t
+    spheres,
+    book,
+    shells,
+    neighbours,
+    cell_head,
+    cell_next,
+    cell_prev,
+    images,
+    scalars,
+    counts,
+    scratch,
+    i,
+    t,
+    axes,
 ):
     """Sphere ``i`` left its shell at ``t``: a new shell, and its neighbour list anew.
 
@@ -1352,13 +1427,15 @@ def _relist(
     # (in a periodic box the centre is in the box, up to rounding: cell_of clamps)
     cx = spheres[i, X] + spheres[i, VX] * dt
     cy = spheres[i, Y] + spheres[i, VY] * dt
-    cz = spheres[i, Z] + spheres[i, VZ] * dt
     kx = cell_of(cx, lx, scalars[F_WIDTH], ncx)
     ky = cell_of(cy, ly, scalars[F_WIDTH + 1], ncy)
-    kz = cell_of(cz, lz, scalars[F_WIDTH + 2], ncz)
+    cz, kz = 0.0, 0
+    if len(axes) == 3:
+        cz = spheres[i, Z] + spheres[i, VZ] * dt
+        kz = cell_of(cz, lz, scalars[F_WIDTH + 2], ncz)
     found = 0
     cut0 = scalars[F_SHELL] * (1.0 + 1e-9)
-    q0, q1 = _block_range(ncz, bz)
+    q0, q1 = _block_range(axes)
     for q in range(q0, q1):
         cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
         if cell < 0:
@@ -1368,8 +1445,11 @@ def _relist(
             if j != i:
                 ddx = _nearest(cx - shells[j, SHELL_X], bx)
                 ddy = _nearest(cy - shells[j, SHELL_Y], by)
-                ddz = _nearest(cz - shells[j, SHELL_Z], bz)
-                r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                if len(axes) == 3:
+                    ddz = _nearest(cz - shells[j, SHELL_Z], bz)
+                    r2 = ddx * ddx + ddy * ddy + ddz * ddz
+                else:
+                    r2 = ddx * ddx + ddy * ddy
                 cut = cut0 * (shells[i, REACH] + shells[j, REACH])
                 if r2 < cut * cut:
                     if found >= cap or book[j, NEIGHBOURS] >= cap:
@@ -1388,11 +1468,13 @@ def _relist(
                 neighbours[j, r] = neighbours[j, m - 1]
                 book[j, NEIGHBOURS] = m - 1
                 break
-    _set_shell(spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, False)
+    _set_shell(
+        spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, False, axes
+    )
     book[i, NEIGHBOURS] = 0
     for q in range(found):
         j = scratch[q]
-        code, near = _pair_code(scalars, shells, i, j)
+        code, near = _pair_code(scalars, shells, i, j, axes)
         if near:
             neighbours[i, book[i, NEIGHBOURS]] = (j << 5) | code
             book[i, NEIGHBOURS] += 1
@@ -1413,7 +1495,7 @@ def build(arrays, per_bucket):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, axes = arrays[16], arrays[17]
     n = spheres.shape[0]
     cell_head[:] = -1
     t = scalars[F_CLOCK]
@@ -1423,24 +1505,26 @@ def build(arrays, per_bucket):
         for i in range(n):
             # (the centres at t; the stored ones, at their own times, are kept)
             dt = t - spheres[i, T_OWN]
-            for ax in range(3):
+            for ax in range(len(axes)):
                 lo, w, nc = scalars[F_LOW + ax], scalars[F_WIDTH + ax], counts[C_GRID + ax]
                 book[i, CELL_X + ax] = cell_of(spheres[i, X + ax] + spheres[i, VX + ax] * dt, lo, w, nc)
             _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
     else:
         longest = _build_lists(
-            spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts
+            spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts, axes
         )
         if longest > neighbours.shape[1]:
             return longest
     for i in range(n):
-        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes)
     requeue(heap, heap_t, heap_key, calendar, due, book, scalars, counts, per_bucket, 0.0)
     return longest
 
 
 @_inline
-def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts):
+def _build_lists(
+    spheres, book, shells, neighbours, cell_head, cell_next, cell_prev, images, scalars, counts, axes
+):
     """Shells from the clock (in the box), cells by shell centre, every neighbour list.
 
     Returns the longest list (the lists are only filled up to their width).
@@ -1459,7 +1543,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         # half the largest (a sphere of radius 0 still needs a shell)
         shells[i, REACH] = max(spheres[i, RADIUS], 0.5 * rmax) * (1.0 + grow * t) * scalars[F_HEADROOM]
         _set_shell(
-            spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, True
+            spheres, shells, book, cell_head, cell_next, cell_prev, images, scalars, counts, i, t, True, axes
         )
     cap = neighbours.shape[1]
     longest = 0
@@ -1467,7 +1551,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
         book[i, NEIGHBOURS] = 0
     for i in range(n):
         kx, ky, kz = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
-        q0, q1 = _block_range(ncz, bz)
+        q0, q1 = _block_range(axes)
         for q in range(q0, q1):
             cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
             if cell < 0:
@@ -1475,7 +1559,7 @@ def _build_lists(spheres, book, shells, neighbours, cell_head, cell_next, cell_p
             j = cell_head[cell]
             while j >= 0:
                 if j > i:
-                    code, near = _pair_code(scalars, shells, i, j)
+                    code, near = _pair_code(scalars, shells, i, j, axes)
                     if near:
                         a, b = book[i, NEIGHBOURS], book[j, NEIGHBOURS]
                         if a < cap and b < cap:
@@ -1501,7 +1585,7 @@ def refresh_window(arrays):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, axes = arrays[16], arrays[17]
     n = heap.shape[0]
     if n == 0:
         return
@@ -1546,7 +1630,9 @@ def refresh_window(arrays):
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
-            predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+            predict_one(
+                spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes
+            )
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
@@ -1554,22 +1640,29 @@ def refresh_window(arrays):
 
 
 @_inline
-def _kinetic_terms(scalars, m, vx, vy, vz, sign):
-    """Add ``sign`` times one sphere's share to the kinetic tensor and energy current now."""
+def _kinetic_terms(scalars, m, vx, vy, vz, sign, axes):
+    """Add ``sign`` times one sphere's share to the kinetic tensor and energy current now.
+
+    (2-D: the components with z stay 0.)
+    """
     scalars[F_KIN_T] += sign * m * vx * vx
     scalars[F_KIN_T + 1] += sign * m * vy * vy
-    scalars[F_KIN_T + 2] += sign * m * vz * vz
     scalars[F_KIN_T + 3] += sign * m * vx * vy
-    scalars[F_KIN_T + 4] += sign * m * vx * vz
-    scalars[F_KIN_T + 5] += sign * m * vy * vz
-    e = 0.5 * m * (vx * vx + vy * vy + vz * vz)
+    if len(axes) == 3:
+        scalars[F_KIN_T + 2] += sign * m * vz * vz
+        scalars[F_KIN_T + 4] += sign * m * vx * vz
+        scalars[F_KIN_T + 5] += sign * m * vy * vz
+        e = 0.5 * m * (vx * vx + vy * vy + vz * vz)
+    else:
+        e = 0.5 * m * (vx * vx + vy * vy)
     scalars[F_HEAT_KIN] += sign * vx * e
     scalars[F_HEAT_KIN + 1] += sign * vy * e
-    scalars[F_HEAT_KIN + 2] += sign * vz * e
+    if len(axes) == 3:
+        scalars[F_HEAT_KIN + 2] += sign * vz * e
 
 
 @_inline
-def _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2):
+def _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2, axes):
     """Before the velocities of ``a`` and ``b`` change at ``te``: the transport tallies.
 
     The Helfand moments of momentum (``sum m x v``) and energy (``sum x E``)
@@ -1583,39 +1676,48 @@ def _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2):
     dtk = te - scalars[F_T_KIN]
     for q in range(6):
         scalars[F_KIN_INT + q] += scalars[F_KIN_T + q] * dtk
-    for q in range(3):
+    for q in range(len(axes)):
         scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
     scalars[F_T_KIN] = te
     ma, mb = masses[a], masses[b]
-    px, py, pz = -ma * k1 * dx, -ma * k1 * dy, -ma * k1 * dz  # impulse on a
+    px, py = -ma * k1 * dx, -ma * k1 * dy  # impulse on a
     scalars[F_VIR_T] += dx * px
     scalars[F_VIR_T + 1] += dy * py
-    scalars[F_VIR_T + 2] += dz * pz
     scalars[F_VIR_T + 3] += dx * py
-    scalars[F_VIR_T + 4] += dx * pz
-    scalars[F_VIR_T + 5] += dy * pz
-    ax, ay, az = spheres[a, VX], spheres[a, VY], spheres[a, VZ]
-    bx, by, bz = spheres[b, VX], spheres[b, VY], spheres[b, VZ]
-    _kinetic_terms(scalars, ma, ax, ay, az, -1.0)
-    _kinetic_terms(scalars, mb, bx, by, bz, -1.0)
-    ax2, ay2, az2 = ax - k1 * dx, ay - k1 * dy, az - k1 * dz
-    _kinetic_terms(scalars, ma, ax2, ay2, az2, 1.0)
-    _kinetic_terms(scalars, mb, bx + k2 * dx, by + k2 * dy, bz + k2 * dz, 1.0)
-    de = 0.5 * ma * ((ax2 * ax2 + ay2 * ay2 + az2 * az2) - (ax * ax + ay * ay + az * az))
+    ax, ay = spheres[a, VX], spheres[a, VY]
+    bx, by = spheres[b, VX], spheres[b, VY]
+    ax2, ay2 = ax - k1 * dx, ay - k1 * dy
+    if len(axes) == 3:
+        pz = -ma * k1 * dz
+        scalars[F_VIR_T + 2] += dz * pz
+        scalars[F_VIR_T + 4] += dx * pz
+        scalars[F_VIR_T + 5] += dy * pz
+        az, bz = spheres[a, VZ], spheres[b, VZ]
+        az2 = az - k1 * dz
+        bz2 = bz + k2 * dz
+        de = 0.5 * ma * ((ax2 * ax2 + ay2 * ay2 + az2 * az2) - (ax * ax + ay * ay + az * az))
+    else:
+        az = bz = az2 = bz2 = 0.0
+        de = 0.5 * ma * ((ax2 * ax2 + ay2 * ay2) - (ax * ax + ay * ay))
+    _kinetic_terms(scalars, ma, ax, ay, az, -1.0, axes)
+    _kinetic_terms(scalars, mb, bx, by, bz, -1.0, axes)
+    _kinetic_terms(scalars, ma, ax2, ay2, az2, 1.0, axes)
+    _kinetic_terms(scalars, mb, bx + k2 * dx, by + k2 * dy, bz2, 1.0, axes)
     scalars[F_HEAT_COLL] += dx * de
     scalars[F_HEAT_COLL + 1] += dy * de
-    scalars[F_HEAT_COLL + 2] += dz * de
+    if len(axes) == 3:
+        scalars[F_HEAT_COLL + 2] += dz * de
 
 
 @_jit
-def kinetic_sums(spheres, masses, scalars):
+def kinetic_sums(axes, spheres, masses, scalars):
     """Set the kinetic tensor and the energy current from the velocities now."""
     for q in range(6):
         scalars[F_KIN_T + q] = 0.0
     for q in range(3):
         scalars[F_HEAT_KIN + q] = 0.0
     for i in range(spheres.shape[0]):
-        _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], 1.0)
+        _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], 1.0, axes)
 
 
 # ---- the event loop ------------------------------------------------------------
@@ -1670,7 +1772,8 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, axes = arrays[16], arrays[17]
+    planar = len(axes) == 2  # (a constant: see "the arrays")
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = buffers
     n = spheres.shape[0]
     if n == 0:
@@ -1721,7 +1824,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 # partners' with it are made anew, from the new centre
                 book[i, CHANGES] += 1
                 predict_one(
-                    spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, te
+                    spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, te, axes
                 )
                 _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
                 continue
@@ -1732,8 +1835,10 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh)
-            _crossing(spheres, book, due, scalars, counts, i, te)
+            _scan_cells(
+                spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh, axes
+            )
+            _crossing(spheres, book, due, scalars, counts, i, te, axes)
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
@@ -1763,6 +1868,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 scratch,
                 i,
                 te,
+                axes,
             ):
                 if face >= 0:
                     spheres[i, X + ax] = x_before
@@ -1797,38 +1903,44 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             counts[C_FROZEN] += 1
             scalars[F_CLOCK] = te
             scalars[F_ANCHOR] = te
-            _advance(spheres, i, te)
-            _advance(spheres, j, te)
+            _advance(spheres, i, te, axes)
+            _advance(spheres, j, te, axes)
             # lower input index minus higher (the tie rule's order)
             a, b = (i, j) if book[i, ORIGIN] < book[j, ORIGIN] else (j, i)
             dx = spheres[a, X] - spheres[b, X]
             dy = spheres[a, Y] - spheres[b, Y]
-            dz = spheres[a, Z] - spheres[b, Z]
+            dz = dvz = 0.0
+            if not planar:
+                dz = spheres[a, Z] - spheres[b, Z]
             if box != 0.0:
                 # the partner may be an image across the box
                 # (the sides read here: kept out of the loop's registers)
                 bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
                 dx -= bx * np.round(dx / bx)
                 dy -= by * np.round(dy / by)
-                if bz != 0.0:  # (2-D: z is not periodic, and 0)
+                if not planar:
                     dz -= bz * np.round(dz / bz)
             dvx = spheres[a, VX] - spheres[b, VX]
             dvy = spheres[a, VY] - spheres[b, VY]
-            dvz = spheres[a, VZ] - spheres[b, VZ]
+            if not planar:
+                dvz = spheres[a, VZ] - spheres[b, VZ]
             if scalars[F_GROW] != 0.0:
                 u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
-                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u)
+                k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u, planar)
             else:
-                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz)
+                k1, k2 = collide(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, planar)
             if box != 0.0:
-                _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2)
+                _transfer(spheres, masses, scalars, a, b, te, dx, dy, dz, k1, k2, axes)
             spheres[a, VX] -= k1 * dx
             spheres[a, VY] -= k1 * dy
-            spheres[a, VZ] -= k1 * dz
             spheres[b, VX] += k2 * dx
             spheres[b, VY] += k2 * dy
-            spheres[b, VZ] += k2 * dz
-            d2 = dx * dx + dy * dy + dz * dz
+            if planar:
+                d2 = dx * dx + dy * dy
+            else:
+                spheres[a, VZ] -= k1 * dz
+                spheres[b, VZ] += k2 * dz
+                d2 = dx * dx + dy * dy + dz * dz
             scalars[F_VIRIAL] -= masses[a] * k1 * d2
             book[a, CHANGES] += 1
             book[b, CHANGES] += 1
@@ -1844,14 +1956,17 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             rec_imp[row] = -masses[a] * k1 * np.sqrt(d2)
             rec_dp[row, 0] = -masses[a] * k1 * dx
             rec_dp[row, 1] = -masses[a] * k1 * dy
-            rec_dp[row, 2] = -masses[a] * k1 * dz
+            rec_dp[row, 2] = 0.0 if planar else -masses[a] * k1 * dz
             done += 1
         elif kind == REFLECTION:
             clock0 = scalars[F_CLOCK]
             scalars[F_CLOCK] = te
             scalars[F_ANCHOR] = te
-            _advance(spheres, i, te)
-            px, py, pz = spheres[i, X], spheres[i, Y], spheres[i, Z]
+            _advance(spheres, i, te, axes)
+            px, py = spheres[i, X], spheres[i, Y]
+            pz = vz = 0.0
+            if not planar:
+                pz, vz = spheres[i, Z], spheres[i, VZ]
             if scalars[F_GROW] != 0.0:
                 k = reflect_grow(
                     px,
@@ -1859,11 +1974,12 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                     pz,
                     spheres[i, VX],
                     spheres[i, VY],
-                    spheres[i, VZ],
+                    vz,
                     spheres[i, RADIUS] * scalars[F_GROW],
+                    planar,
                 )
             else:
-                k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], spheres[i, VZ])
+                k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], vz, planar)
             if k == 0.0:
                 # nothing would change, and the same reflection would come
                 # again: not an event (the clock keeps its time)
@@ -1873,8 +1989,11 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             counts[C_FROZEN] += 1
             spheres[i, VX] -= k * px
             spheres[i, VY] -= k * py
-            spheres[i, VZ] -= k * pz
-            imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
+            if planar:
+                imp = masses[i] * k * np.sqrt(px * px + py * py)
+            else:
+                spheres[i, VZ] -= k * pz
+                imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
             scalars[F_WALL_IMPULSE] += imp
             book[i, CHANGES] += 1
             counts[C_REFLECTIONS] += 1
@@ -1887,13 +2006,15 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             rec_imp[row] = imp
             rec_dp[row, 0] = -masses[i] * k * px
             rec_dp[row, 1] = -masses[i] * k * py
-            rec_dp[row, 2] = -masses[i] * k * pz
+            rec_dp[row, 2] = 0.0 if planar else -masses[i] * k * pz
             done += 1
         elif not stale:
             return done, STOP_UNTIL
         for q in range(1 if p1 < 0 else 2):
             x = p0 if q == 0 else p1
-            predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp)
+            predict(
+                spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, x, tp, axes
+            )
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, x)
         if stale:
             continue
@@ -1910,25 +2031,26 @@ def kick(arrays, i, t, vx, vy, vz):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar = arrays[16]
+    calendar, axes = arrays[16], arrays[17]
     scalars[F_CLOCK] = t
-    _advance(spheres, i, t)
+    _advance(spheres, i, t, axes)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
     dtk = t - scalars[F_T_KIN]
     for q in range(6):
         scalars[F_KIN_INT + q] += scalars[F_KIN_T + q] * dtk
-    for q in range(3):
+    for q in range(len(axes)):
         scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
     scalars[F_T_KIN] = t
-    _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], -1.0)
-    _kinetic_terms(scalars, masses[i], vx, vy, vz, 1.0)
+    _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], -1.0, axes)
+    _kinetic_terms(scalars, masses[i], vx, vy, vz, 1.0, axes)
     spheres[i, VX] = vx
     spheres[i, VY] = vy
-    spheres[i, VZ] = vz
+    if len(axes) == 3:
+        spheres[i, VZ] = vz
     book[i, CHANGES] += 1
     counts[C_SERIAL] += 1
     book[i, FRESH] = counts[C_SERIAL]
-    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+    predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes)
     _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
 
 
@@ -1936,12 +2058,15 @@ def kick(arrays, i, t, vx, vy, vz):
 
 
 @_jit
-def positions_at(spheres, t, out, edges):
-    """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box; ``edges`` its sides, 0: none)."""
+def positions_at(axes, spheres, t, out, edges):
+    """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box; ``edges`` its sides, 0: none).
+
+    ``out`` has 3 columns; in 2-D only the first two are written.
+    """
     n = spheres.shape[0]
     for i in range(n):
         dt = t - spheres[i, T_OWN]
-        for k in range(3):
+        for k in range(len(axes)):
             box = edges[k]
             x = spheres[i, X + k] + spheres[i, VX + k] * dt
             if box != 0.0:
@@ -1950,12 +2075,12 @@ def positions_at(spheres, t, out, edges):
 
 
 @_jit
-def unwrapped_at(spheres, images, t, out, edges):
-    """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift."""
+def unwrapped_at(axes, spheres, images, t, out, edges):
+    """Unwrapped centres at time ``t`` into ``out``: the stored centre plus its image's shift (2-D: two columns)."""
     n = spheres.shape[0]
     for i in range(n):
         dt = t - spheres[i, T_OWN]
-        for k in range(3):
+        for k in range(len(axes)):
             out[i, k] = (spheres[i, X + k] + spheres[i, VX + k] * dt) + images[i, k] * edges[k]
 
 
@@ -1963,19 +2088,19 @@ def unwrapped_at(spheres, images, t, out, edges):
 def predict_all(arrays):
     """Every sphere predicted afresh at the clock (the cells and lists as they are; no calendar)."""
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
-    scalars, counts = arrays[12], arrays[13]
+    scalars, counts, axes = arrays[12], arrays[13], arrays[17]
     t = scalars[F_CLOCK]
     for i in range(spheres.shape[0]):
-        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t)
+        predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes)
 
 
 @_jit
-def rebase(spheres, due, heap_t, scalars):
+def rebase(axes, spheres, due, heap_t, scalars):
     """Move the time origin to the clock: advance everyone, shift all times."""
     t = scalars[F_CLOCK]
     n = spheres.shape[0]
     for i in range(n):
-        _advance(spheres, i, t)
+        _advance(spheres, i, t, axes)
         spheres[i, T_OWN] = 0.0
         due[i, EVENT_T] -= t
         due[i, CROSS_T] -= t
@@ -1996,7 +2121,7 @@ def rebase(spheres, due, heap_t, scalars):
 
 
 @_jit
-def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
+def max_overlap(axes, x, spheres, book, cell_head, cell_next, grid, edges, scale):
     """Largest ``1 - d / (R_i + R_j)`` over touching-or-overlapping pairs (0 if none).
 
     ``x`` are the centres at one time, ``scale`` the radii's factor then
@@ -2008,7 +2133,7 @@ def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
     ncx, ncy, ncz = grid[0], grid[1], grid[2]
     bx, by, bz = edges[0], edges[1], edges[2]
     for i in range(n):
-        for oz in range(-1 if ncz > 1 else 0, 2 if ncz > 1 else 1):
+        for oz in range(0, 1) if len(axes) == 2 else range(-1 if ncz > 1 else 0, 2 if ncz > 1 else 1):
             nz = book[i, CELL_Z] + oz
             for oy in range(-1, 2):
                 ny = book[i, CELL_Y] + oy
@@ -2021,15 +2146,18 @@ def max_overlap(x, spheres, book, cell_head, cell_next, grid, edges, scale):
                         if j > i:
                             dx = x[i, 0] - x[j, 0]
                             dy = x[i, 1] - x[j, 1]
-                            dz = x[i, 2] - x[j, 2]
                             if bx != 0.0:
                                 dx -= bx * np.round(dx / bx)
                                 dy -= by * np.round(dy / by)
+                            r2 = dx * dx + dy * dy
+                            if len(axes) == 3:
+                                dz = x[i, 2] - x[j, 2]
                                 if bz != 0.0:
                                     dz -= bz * np.round(dz / bz)
+                                r2 = dx * dx + dy * dy + dz * dz
                             sigma = (spheres[i, RADIUS] + spheres[j, RADIUS]) * scale
                             if sigma > 0.0:
-                                ov = 1.0 - np.sqrt(dx * dx + dy * dy + dz * dz) / sigma
+                                ov = 1.0 - np.sqrt(r2) / sigma
                                 if ov > worst:
                                     worst = ov
                         j = cell_next[j]

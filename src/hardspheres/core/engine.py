@@ -66,6 +66,10 @@ REORDER_EVERY = 10.0
 # names (properties): kept in the engine's order under these
 _INTERNAL = {"masses": "_masses", "images": "_images"}
 
+# the dimension as the core takes it: a tuple of d empty tuples, whose length
+# numba folds (each d compiles a loop of its own; _core, "the arrays")
+_AXES = {2: ((),) * 2, 3: ((),) * 3}
+
 # the engine's arrays, by name, as the core takes them (one C call)
 _core_arrays = operator.attrgetter(*(_INTERNAL.get(k, k) for k in core.ARRAYS))
 
@@ -191,6 +195,11 @@ class Engine:
         return int(getattr(self.container, "dimensions", 3))
 
     @property
+    def axes(self) -> tuple[tuple[()], ...]:
+        """The dimension as the compiled core takes it: ``d`` empty tuples."""
+        return _AXES[self.dimensions]
+
+    @property
     def order(self) -> np.ndarray:
         """``(N,)`` int64: the input index of the engine's sphere ``i`` (a view: do not write)."""
         return self.book[:, core.ORIGIN]
@@ -238,8 +247,8 @@ class Engine:
     # ---- the engine's order of the spheres ------------------------------------
     def _inside_at(self, t: float) -> np.ndarray:
         """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
-        out = np.empty((self.n, 3))
-        core.positions_at(self.spheres, t, out, self._edges)
+        out = np.zeros((self.n, 3))  # (2-D: the third column stays 0)
+        core.positions_at(self.axes, self.spheres, t, out, self._edges)
         return out
 
     @property
@@ -345,9 +354,9 @@ class Engine:
     def _kinetic_sums(self) -> None:
         """The core's kinetic tensor and energy current, summed in the input order."""
         if self._rank is None:
-            core.kinetic_sums(self.spheres, self._masses, self.scalars)
+            core.kinetic_sums(self.axes, self.spheres, self._masses, self.scalars)
         else:
-            core.kinetic_sums(self.spheres[self._rank], self._masses[self._rank], self.scalars)
+            core.kinetic_sums(self.axes, self.spheres[self._rank], self._masses[self._rank], self.scalars)
 
     @property
     def box(self) -> float | None:
@@ -471,7 +480,7 @@ class Engine:
         calendar's layout and the spheres' order.  A prediction per sphere
         every REBASE_EVERY events per sphere.)
         """
-        self.offset += core.rebase(self.spheres, self.due, self.heap_t, self.scalars)
+        self.offset += core.rebase(self.axes, self.spheres, self.due, self.heap_t, self.scalars)
         core.predict_all(self.arrays)
         self._requeue()
         self._since_rebase = 0
@@ -764,7 +773,7 @@ class Engine:
 
     # ---- checkpoints -------------------------------------------------------
     # the core's arrays but its work space and the calendar (made anew on restore)
-    _SAVED = tuple(name for name in core.ARRAYS if name not in ("scratch", "calendar"))
+    _SAVED = tuple(name for name in core.ARRAYS if name not in ("scratch", "calendar", "axes"))
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays.
@@ -871,7 +880,7 @@ class Engine:
     ) -> np.ndarray:
         """:meth:`positions_at` with three columns (in 2-D the last is 0)."""
         t = self.time if t is None else t
-        out = np.empty((self.n, 3)) if out is None else out
+        out = np.zeros((self.n, 3)) if out is None else out
         if spheres is not None and self.box is None:
             t -= self.offset
             rank = self._rank
@@ -882,7 +891,7 @@ class Engine:
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
         if self._rank is None:
-            core.positions_at(self.spheres, t - self.offset, out, self._edges)
+            core.positions_at(self.axes, self.spheres, t - self.offset, out, self._edges)
         else:
             out[self.order] = self._inside_at(t - self.offset)
         return out
@@ -900,12 +909,12 @@ class Engine:
 
     def _unwrapped_at(self, t: float | None, out: np.ndarray | None) -> np.ndarray:
         t = self.time if t is None else t
-        out = np.empty((self.n, 3)) if out is None else out
+        out = np.zeros((self.n, 3)) if out is None else out
         if self._rank is None:
-            core.unwrapped_at(self.spheres, self._images, t - self.offset, out, self._edges)
+            core.unwrapped_at(self.axes, self.spheres, self._images, t - self.offset, out, self._edges)
         else:
-            inside = np.empty((self.n, 3))
-            core.unwrapped_at(self.spheres, self._images, t - self.offset, inside, self._edges)
+            inside = np.zeros((self.n, 3))
+            core.unwrapped_at(self.axes, self.spheres, self._images, t - self.offset, inside, self._edges)
             out[self.order] = inside
         return out
 
@@ -968,6 +977,7 @@ class Engine:
         scale = 1.0 + g * (t - self.offset) if g else 1.0
         return float(
             core.max_overlap(
+                self.axes,
                 x,
                 self.spheres,
                 self.book,

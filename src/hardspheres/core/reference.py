@@ -105,6 +105,7 @@ def next_event(
     clock: float,
     window: float,
     grow: float = 0.0,
+    planar: bool = False,
 ) -> tuple[float, int, int, int]:
     """Earliest event in the spherical (or circular) container as ``(t, kind, i, j)`` (``j = -1`` for walls).
 
@@ -116,6 +117,7 @@ def next_event(
         clock: the time of the last event [time].
         window: events before ``clock + window`` are put at ``clock`` [time].
         grow: the radii grow as ``radii * (1 + grow * t)`` [1/time] (0: they do not).
+        planar: 2-D (the kernels read no z).
 
     Returns:
         ``(t, kind, i, j)``, or ``(inf, -1, -1, -1)`` when nothing will ever
@@ -128,10 +130,12 @@ def next_event(
     for i in range(n):
         pi, vi = p[i], v[i]
         if grow == 0.0:
-            te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], wall - radii[i])
+            te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], wall - radii[i], planar)
         else:  # (the core's arithmetic: wall_time_grow is wall_time at growth 0)
             reach = wall - radii[i] * (1.0 + grow * tloc[i])
-            te = tloc[i] + wall_time_grow(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], reach, radii[i] * grow)
+            te = tloc[i] + wall_time_grow(
+                pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], reach, radii[i] * grow, planar
+            )
         if te < soon:
             te = clock
         if te < best:
@@ -147,7 +151,7 @@ def next_event(
             dz = (pi[2] + vi[2] * di) - (pj[2] + vj[2] * dj)
             sigma = ri + radii[j]
             if grow == 0.0:
-                te = t0 + pair_time(dx, dy, dz, vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2], sigma)
+                te = t0 + pair_time(dx, dy, dz, vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2], sigma, planar)
             else:
                 te = t0 + pair_time_grow(
                     dx,
@@ -159,6 +163,7 @@ def next_event(
                     sigma * (1.0 + grow * t0),
                     sigma * grow,
                     INF,
+                    planar,
                 )
             if te < soon:
                 te = clock
@@ -219,6 +224,7 @@ def next_event_periodic(
     window: float,
     grow: float,
     now: float,
+    planar: bool = False,
 ) -> tuple[float, int, int, int]:
     """Earliest event in the periodic box as ``(t, kind, i, j)``: a collision or a centre leaving the box.
 
@@ -237,6 +243,7 @@ def next_event_periodic(
         p, v, tloc, radii, clock, window, grow: as :func:`next_event`.
         edges: the box's sides ``(Lx, Ly, Lz)`` [length] (``Lz = 0`` in 2-D).
         now: the time of the last move or event [time] (a move is never earlier).
+        planar: 2-D (the kernels read no z).
     """
     n = len(p)
     soon = clock + window
@@ -277,10 +284,10 @@ def next_event_periodic(
                         if abs(dz) > (reach + abs(dvz) * bound) * (1.0 + 1e-9):
                             continue
                         if grow == 0.0:
-                            te = t0 + pair_time(dx, dy, dz, dvx, dvy, dvz, sigma)
+                            te = t0 + pair_time(dx, dy, dz, dvx, dvy, dvz, sigma, planar)
                         else:
                             s0, u = sigma * (1.0 + grow * t0), sigma * grow
-                            te = t0 + pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s0, u, INF)
+                            te = t0 + pair_time_grow(dx, dy, dz, dvx, dvy, dvz, s0, u, INF, planar)
                         if te < soon:
                             te = clock
                         if _earlier(te, COLLISION, i, j, best, best_kind, best_i, best_j):
@@ -288,13 +295,16 @@ def next_event_periodic(
     return best, best_kind, best_i, best_j
 
 
-def move_sphere(p: list[list[float]], v: list[list[float]], tloc: list[float], i: int, t: float) -> None:
-    """Move sphere ``i`` along its line to time ``t`` (its centre and own time change)."""
+def move_sphere(
+    p: list[list[float]], v: list[list[float]], tloc: list[float], i: int, t: float, planar: bool = False
+) -> None:
+    """Move sphere ``i`` along its line to time ``t`` (its centre and own time change; 2-D: not z)."""
     pi, vi = p[i], v[i]
     dt = t - tloc[i]
     pi[0] += vi[0] * dt
     pi[1] += vi[1] * dt
-    pi[2] += vi[2] * dt
+    if not planar:
+        pi[2] += vi[2] * dt
     tloc[i] = t
 
 
@@ -308,12 +318,14 @@ def apply_event(
     radii: Sequence[float] = (),
     edges: tuple[float, float, float] = (0.0, 0.0, 0.0),
     grow: float = 0.0,
+    planar: bool = False,
 ) -> tuple[float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
 
     ``radii`` (at the time origin) and ``grow`` as :func:`next_event`
     (needed only while growing); ``edges``: the periodic box's sides (zeros:
-    none), the pair taken at its nearest image.
+    none), the pair taken at its nearest image; ``planar``: 2-D (z is
+    neither read nor changed).
 
     Returns:
         ``(impulse, dpx, dpy, dpz, virial)``: the magnitude and the vector of
@@ -325,13 +337,15 @@ def apply_event(
         pi, vi = p[i], v[i]
         px, py, pz = pi[0], pi[1], pi[2]
         if grow == 0.0:
-            k = reflect(px, py, pz, vi[0], vi[1], vi[2])
+            k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
         else:
-            k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], radii[i] * grow)
+            k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], radii[i] * grow, planar)
         vi[0] -= k * px
         vi[1] -= k * py
-        vi[2] -= k * pz
         mi = masses[i]
+        if planar:
+            return mi * k * math.sqrt(px * px + py * py), -mi * k * px, -mi * k * py, 0.0, 0.0
+        vi[2] -= k * pz
         imp = mi * k * math.sqrt(px * px + py * py + pz * pz)
         return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0
     pi, pj, vi, vj = p[i], p[j], v[i], v[j]
@@ -344,16 +358,20 @@ def apply_event(
             dz -= edges[2] * round(dz / edges[2])
     dvx, dvy, dvz = vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]
     if grow == 0.0:
-        k1, k2 = collide(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz)
+        k1, k2 = collide(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, planar)
     else:
-        k1, k2 = collide_grow(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, (radii[i] + radii[j]) * grow)
+        u = (radii[i] + radii[j]) * grow
+        k1, k2 = collide_grow(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, u, planar)
     vi[0] -= k1 * dx
     vi[1] -= k1 * dy
-    vi[2] -= k1 * dz
     vj[0] += k2 * dx
     vj[1] += k2 * dy
-    vj[2] += k2 * dz
     mi = masses[i]
+    if planar:
+        d2 = dx * dx + dy * dy
+        return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, 0.0, -mi * k1 * d2
+    vi[2] -= k1 * dz
+    vj[2] += k2 * dz
     d2 = dx * dx + dy * dy + dz * dz
     return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2
 
@@ -491,7 +509,7 @@ class Reference:
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         t = self._clock
         for k in range(len(self._p)):
-            self._move_sphere(self._p, self._v, self._tloc, k, t)
+            self._move_sphere(self._p, self._v, self._tloc, k, t, self.dimensions == 2)
             self._tloc[k] = 0.0
         self._streak -= t
         self._origin += t
@@ -595,13 +613,18 @@ class Reference:
                 self._window,
                 self._grow,
                 self._now,
-            )
-        if self._grow:
-            return self._next_event(
-                self._p, self._v, self._tloc, self._radii, self._wall, self._clock, self._window, self._grow
+                self.dimensions == 2,
             )
         return self._next_event(
-            self._p, self._v, self._tloc, self._radii, self._wall, self._clock, self._window
+            self._p,
+            self._v,
+            self._tloc,
+            self._radii,
+            self._wall,
+            self._clock,
+            self._window,
+            self._grow,
+            self.dimensions == 2,
         )
 
     def _next_physical(self, until: float) -> tuple[float, int, int, int]:
@@ -638,20 +661,23 @@ class Reference:
         if kind == REFLECTION:
             pi, vi = p[i], v[i]
             dt = t - tloc[i]
-            px, py, pz = pi[0] + vi[0] * dt, pi[1] + vi[1] * dt, pi[2] + vi[2] * dt
+            planar = self.dimensions == 2
+            px, py = pi[0] + vi[0] * dt, pi[1] + vi[1] * dt
+            pz = 0.0 if planar else pi[2] + vi[2] * dt
             if self._grow:
-                k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], self._radii[i] * self._grow)
+                k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], self._radii[i] * self._grow, planar)
             else:
-                k = reflect(px, py, pz, vi[0], vi[1], vi[2])
+                k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
             if k == 0.0:
                 raise StuckError("sliding", t + self._origin, i)
         self._frozen += 1
         self._clock = self._now = t
-        self._move_sphere(p, v, tloc, i, t)
+        planar = self.dimensions == 2
+        self._move_sphere(p, v, tloc, i, t, planar)
         if j >= 0:
-            self._move_sphere(p, v, tloc, j, t)
+            self._move_sphere(p, v, tloc, j, t, planar)
         imp, dpx, dpy, dpz, vir = self._apply_event(
-            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow
+            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow, planar
         )
         if kind == REFLECTION:
             self._refl += 1
