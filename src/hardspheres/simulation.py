@@ -140,7 +140,7 @@ class Simulation:
         images = container.image_counts(state.positions)
         if state.images is not None:
             images += np.asarray(state.images, dtype=np.int64).reshape(images.shape)
-        _compiled()
+        _compiled(container.dimensions)
         self._engine = Engine(
             state.masses,
             state.radii,
@@ -540,8 +540,7 @@ class Simulation:
         th = data.pop("thermostat", None)
         bs = data.pop("barostat", None)
         try:
-            _compiled()
-            sim._engine = Engine.restore(data)  # it reads and checks the container
+            sim._engine = Engine.restore(data, before_core=_compiled)  # it reads and checks the container
         except CheckpointError as e:
             raise CheckpointError(f"{path}: {e}") from None
         sim.container = sim._engine.container
@@ -577,20 +576,19 @@ class Simulation:
         return sim
 
 
-_WARM = False
+_WARM: set[int] = set()
 
 
-def _compiled() -> None:
-    """Compile the event core now if numba's cache is cold (once per process).
+def _compiled(dimensions: int = 3) -> None:
+    """Compile the event core for ``dimensions`` now if numba's cache is cold (once per process).
 
     :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
     which a notebook shows under the cell, so the first simulation of a fresh
     install is not a silent wait of half a minute.
     """
-    global _WARM
-    if not _WARM:
-        _WARM = True
-        ensure_compiled()
+    if dimensions not in _WARM:
+        _WARM.add(dimensions)
+        ensure_compiled(dimensions=dimensions)
 
 
 def _restore_slot(path: str | os.PathLike, what: str, restore: Callable[[], object]) -> None:

@@ -8,7 +8,7 @@ benchmark all go through it.
 from __future__ import annotations
 
 import operator
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 import numpy as np
@@ -813,11 +813,13 @@ class Engine:
         return out
 
     @classmethod
-    def restore(cls, data: dict[str, np.ndarray]) -> Engine:
+    def restore(cls, data: dict[str, np.ndarray], before_core: Callable[[int], None] | None = None) -> Engine:
         """An engine from :meth:`checkpoint`'s arrays, in exactly the saved state.
 
         Every array is checked first (:func:`hardspheres.core.checkpoint.check_arrays`): the compiled
         core trusts its indices, so a damaged file must not reach it.
+        ``before_core(d)``, if given, is called with the dimension before
+        the compiled core is first called (e.g. to announce its compilation).
 
         Raises:
             CheckpointError: an array is missing or inconsistent.
@@ -850,6 +852,8 @@ class Engine:
             eng.container = as_container(None if np.isnan(radius) else radius, None if np.isnan(box) else box)
         eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
         eng._event_buffers = _events.empty_buffers(CHUNK)
+        if before_core is not None:
+            before_core(eng.dimensions)
         if kinetic_sums_missing:  # a checkpoint from before the transport tallies
             eng._kinetic_sums()
         edges = np.array(eng.container.core_params()["edges"])

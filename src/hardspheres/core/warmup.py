@@ -7,6 +7,12 @@ commands call :func:`ensure_compiled` before they start any clock: when the
 cache is cold it says so once on stderr and compiles the core on a two-sphere
 system, so that no rate a command reports includes compilation.
 
+The dimension is a compile-time constant of the core (``_core``, "the
+arrays"): 2-D and 3-D each have machine code of their own, compiled on first
+use of that dimension and cached side by side.  numba's index files do not
+say which were compiled, so after compiling dimension ``d`` a marker file
+``compiled-{d}d`` is written beside them (to a temporary, then renamed).
+
 Example:
     >>> from hardspheres.core.warmup import ensure_compiled
     >>> ensure_compiled(quiet=True) >= 0.0  # compiles silently if needed
@@ -42,48 +48,74 @@ def _index_paths() -> list[str]:
     return paths
 
 
-def is_cold() -> bool:
-    """True when numba's on-disk cache lacks part of the compiled core.
+def _marker(dimensions: int) -> str | None:
+    """The file that says the core was compiled for ``dimensions`` (None: numba cannot tell where)."""
+    paths = _index_paths()
+    return os.path.join(os.path.dirname(paths[0]), f"compiled-{dimensions}d") if paths else None
 
-    Cheap: looks for the cache's index files, compiles nothing.  When numba
-    cannot tell (its internals changed), answers False: no note is better than
-    a wrong one.
+
+# the dimensions compiled (or loaded from the cache) in this process
+_DONE: set[int] = set()
+
+
+def is_cold(dimensions: int = 3) -> bool:
+    """True when numba's on-disk cache lacks part of the compiled core for ``dimensions`` (2 or 3).
+
+    Cheap: looks for the cache's index files and the dimension's marker,
+    compiles nothing.  When numba cannot tell (its internals changed),
+    answers False: no note is better than a wrong one.
     """
-    if os.environ.get("NUMBA_DISABLE_JIT") == "1":
+    if os.environ.get("NUMBA_DISABLE_JIT") == "1" or dimensions in _DONE:
         return False
     paths = _index_paths()
-    return bool(paths) and not all(os.path.exists(p) for p in paths)
+    if not paths:
+        return False
+    marker = _marker(dimensions)
+    return not all(os.path.exists(p) for p in paths) or not (marker and os.path.exists(marker))
 
 
-def _compile() -> None:
-    """Run every entry point of the core once, on two spheres (compiles them)."""
-    from ..containers import SphericalContainer
+def _compile(dimensions: int = 3) -> None:
+    """Run every entry point of the core once, on two spheres in ``dimensions`` (compiles them)."""
+    from ..containers import CircularContainer, SphericalContainer
     from .engine import Engine
 
+    d = dimensions
     engine = Engine(
         [1.0, 1.0],
         [1.0, 1.0],
-        [[-3.0, 0, 0], [3.0, 0, 0]],
-        [[1.0, 0, 0], [-1.0, 0, 0]],
-        SphericalContainer(10.0),
+        [[-3.0, 0, 0][:d], [3.0, 0, 0][:d]],
+        [[1.0, 0, 0][:d], [-1.0, 0, 0][:d]],
+        SphericalContainer(10.0) if d == 3 else CircularContainer(10.0),
     )
     engine.max_overlap()
     engine.advance(events=2000)  # past the first rebase of the time origin
     engine.positions_at()
+    _DONE.add(d)
+    marker = _marker(d)
+    if marker:
+        try:
+            tmp = f"{marker}.{os.getpid()}.tmp"
+            with open(tmp, "w") as fh:
+                fh.write("compiled\n")
+            os.replace(tmp, marker)
+        except OSError:
+            pass  # a read-only cache: the note may come again, nothing else changes
 
 
-def ensure_compiled(quiet: bool = False, stream: TextIO | None = None) -> float:
+def ensure_compiled(quiet: bool = False, stream: TextIO | None = None, dimensions: int = 3) -> float:
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
     Args:
         quiet: compile without a word.
         stream: where the one-line note goes (default: ``sys.stderr`` as it
             is when called).
+        dimensions: the dimension of space to compile for (2 or 3: each
+            has machine code of its own).
 
     Returns:
         Seconds spent compiling (0.0 when the cache was warm).
     """
-    if not is_cold():
+    if not is_cold(dimensions):
         return 0.0
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
@@ -92,7 +124,7 @@ def ensure_compiled(quiet: bool = False, stream: TextIO | None = None) -> float:
         )
         stream.flush()
     t0 = time.perf_counter()
-    _compile()
+    _compile(dimensions)
     seconds = time.perf_counter() - t0
     if stream is not None:
         stream.write(f" done in {seconds:.1f} s\n")
