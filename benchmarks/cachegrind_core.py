@@ -26,10 +26,11 @@ run AVX-512 code, so the core is compiled for Haswell
 valgrind first.  ``--anchor Single|Cell``: the anchor's code instead, built
 by ``../shared/anchor/anchor.sh`` with ``-march=haswell`` (its other flags
 as in its Makefile), from its own initial configuration, N warm-up
-collisions.
+collisions.  ``--dimensions 2``: disks (a periodic square, or with
+``--sphere`` the circle).
 
 usage: python3 benchmarks/cachegrind_core.py N PHI [--sphere] [--tree TREE] [--warm W] [--ir-only]
-       [--anchor VARIANT] [--c1 C1] [--c2 C2]
+       [--dimensions 2|3] [--anchor VARIANT] [--c1 C1] [--c2 C2]
 (from the project's root; needs valgrind)
 """
 
@@ -56,13 +57,13 @@ CACHEGRIND = [
 ]
 
 
-def inner(n, phi, c, sphere, warm):
+def inner(n, phi, c, sphere, warm, dimensions=3):
     from hardspheres.core import _core as core
     from hardspheres.core.bench import container_for, warm_up
     from hardspheres.builders import random_arrays
     from hardspheres.core.engine import Engine
 
-    where = container_for(n, phi, box=not sphere)
+    where = container_for(n, phi, box=not sphere, dimensions=dimensions)
     eng = Engine(*random_arrays(n, phi, where, seed=0), container=where)
     warm_up(eng, warm)
     before = eng.counts.copy()
@@ -98,7 +99,7 @@ def ours_cmd(a, c):
         "--inner",
         str(c),
     ]
-    cmd += ["--warm", str(a.warm)] + (["--sphere"] if a.sphere else [])
+    cmd += ["--warm", str(a.warm), "--dimensions", str(a.dimensions)] + (["--sphere"] if a.sphere else [])
     return cmd, env, None
 
 
@@ -127,10 +128,11 @@ def main():
     p.add_argument("--tree", default=os.getcwd(), help="the source tree whose src/ is run (default: here)")
     p.add_argument("--warm", type=float, default=10.0, help="warm-up collisions per sphere")
     p.add_argument("--ir-only", action="store_true", help="instructions only (no cache or branch simulation)")
+    p.add_argument("--dimensions", type=int, default=3, choices=(2, 3), help="disks (2) or spheres (3)")
     p.add_argument("--inner", type=int, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.inner is not None:
-        inner(a.n, a.phi, a.inner, a.sphere, a.warm)
+        inner(a.n, a.phi, a.inner, a.sphere, a.warm, a.dimensions)
         return
     make = anchor_cmd if a.anchor else ours_cmd
     if not a.anchor:
@@ -153,7 +155,8 @@ def main():
             sys.exit(f"cachegrind_core: a valgrind run failed; see the logs in {out}")
     s1, s2 = summary(os.path.join(out, f"{a.c1}.out")), summary(os.path.join(out, f"{a.c2}.out"))
     d = {k: (s2[k] - s1[k]) / (a.c2 - a.c1) for k in s1}
-    who = f"anchor {a.anchor}" if a.anchor else f"ours ({'sphere' if a.sphere else 'box'}, {a.tree})"
+    shape = ("circle" if a.sphere else "square") if a.dimensions == 2 else ("sphere" if a.sphere else "box")
+    who = f"anchor {a.anchor}" if a.anchor else f"ours ({shape}, {a.tree})"
     line = f"{who}, N {a.n}, PHI {a.phi}, per collision: instructions {d['Ir']:.0f}"
     if "Dr" in d:
         line += (

@@ -6,6 +6,7 @@ formats, progress, pictures of many spheres, and the small things.
 """
 
 import io
+import pathlib
 import re
 
 import numpy as np
@@ -61,7 +62,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     from hardspheres.core import warmup
 
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
-    monkeypatch.setattr(warmup, "is_cold", lambda: True)
+    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3: True)
     out = io.StringIO()
     data = (ROOT / "examples" / "three.txt").read_bytes()
     assert run_spheres(["120", "105"], io.BytesIO(data), out) == 0
@@ -79,6 +80,19 @@ def test_cold_cache_detection(tmp_path, monkeypatch):
     assert paths and all(p.endswith(".nbi") for p in paths)
     monkeypatch.setattr(warmup, "_index_paths", lambda: [str(tmp_path / "missing.nbi")])
     assert warmup.is_cold()
+
+
+def test_cold_cache_detection_per_dimension(tmp_path, monkeypatch):
+    """2-D and 3-D have machine code of their own: each is cold until its marker is there."""
+    from hardspheres.core import warmup
+
+    for d in (2, 3):
+        assert warmup.ensure_compiled(quiet=True, dimensions=d) >= 0.0
+        assert not warmup.is_cold(d) and pathlib.Path(warmup._marker(d)).exists()
+    monkeypatch.setattr(warmup, "_marker", lambda d: str(tmp_path / f"compiled-{d}d"))
+    assert warmup.is_cold(2) and warmup.is_cold(3)
+    (tmp_path / "compiled-2d").write_text("compiled\n")
+    assert not warmup.is_cold(2) and warmup.is_cold(3)
 
 
 # ---- 2. trajectories: events opt-in, size estimated -------------------------------------

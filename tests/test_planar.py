@@ -160,3 +160,47 @@ def test_two_dimensional_containers_geometry_and_files():
     assert from_record(c.record()) == c and from_fields(c.fields()) == c
     assert c.outside(np.array([[1.5, 0.0], [0.0, 0.0]]), np.array([0.6, 0.5])).tolist() == [True, False]
     assert hs.CircularContainer is CircularContainer
+
+
+@pytest.mark.parametrize(
+    "container,phi",
+    [
+        (PeriodicBox((30.0, 26.0)), 0.3),  # cells
+        (PeriodicBox((30.0, 26.0)), 0.68),  # neighbour lists
+        (CircularContainer(14.0), 0.3),
+        (CircularContainer(14.0), 0.6),
+    ],
+)
+def test_the_2d_core_never_reads_z(container, phi):
+    """True 2-D: with z and vz made NaN behind the engine's back, every bit is the same.
+
+    (On the flat 3-D core of before, the NaN reached every pair time.)
+    """
+    m, r, x, v = disks(400, phi, container, seed=11, ratio=1.1)
+    runs = []
+    for poison in (False, True):
+        eng = Engine(m, r, x, v, container=container)
+        if poison:
+            eng.spheres[:, core.Z] = np.nan
+            eng.spheres[:, core.VZ] = np.nan
+            eng.shells[:, core.SHELL_Z] = np.nan
+        ev = eng.advance(collisions=8000)
+        if container.periodic:
+            eng.set_growth(0.01)
+            ev = np.concatenate([ev, eng.advance(collisions=2000)])
+        runs.append((ev, eng.positions_at(), eng.velocities, eng.virial, eng.wall_impulse, eng.max_overlap()))
+    (a, xa, va, *ra), (b, xb, vb, *rb) = runs
+    assert same_events(a, b)
+    assert np.array_equal(xa, xb) and np.array_equal(va, vb)
+    assert ra == rb and not np.isnan(ra).any()
+
+
+def test_the_dimension_reaches_the_core_as_a_type():
+    """``Engine.axes`` is ``d`` empty tuples, the last of the core's arrays (numba folds its length)."""
+    for container, d in ((PeriodicBox((10.0, 10.0)), 2), (CircularContainer(5.0), 2), (PeriodicBox(10.0), 3)):
+        k = 2 if d == 2 else 1
+        x = [[-2.0, 0, 0][:d], [2.0, 0, 0][:d]][:k]
+        v = [[1.0, 0, 0][:d], [-1.0, 0, 0][:d]][:k]
+        eng = Engine([1.0] * k, [0.5] * k, x, v, container=container)
+        assert eng.axes == ((),) * d and eng.arrays[-1] is eng.axes and core.ARRAYS[-1] == "axes"
+        assert "axes" not in eng.checkpoint()

@@ -54,10 +54,6 @@ def _marker(dimensions: int) -> str | None:
     return os.path.join(os.path.dirname(paths[0]), f"compiled-{dimensions}d") if paths else None
 
 
-# the dimensions compiled (or loaded from the cache) in this process
-_DONE: set[int] = set()
-
-
 def is_cold(dimensions: int = 3) -> bool:
     """True when numba's on-disk cache lacks part of the compiled core for ``dimensions`` (2 or 3).
 
@@ -65,7 +61,7 @@ def is_cold(dimensions: int = 3) -> bool:
     compiles nothing.  When numba cannot tell (its internals changed),
     answers False: no note is better than a wrong one.
     """
-    if os.environ.get("NUMBA_DISABLE_JIT") == "1" or dimensions in _DONE:
+    if os.environ.get("NUMBA_DISABLE_JIT") == "1":
         return False
     paths = _index_paths()
     if not paths:
@@ -90,7 +86,6 @@ def _compile(dimensions: int = 3) -> None:
     engine.max_overlap()
     engine.advance(events=2000)  # past the first rebase of the time origin
     engine.positions_at()
-    _DONE.add(d)
     marker = _marker(d)
     if marker:
         try:
