@@ -553,7 +553,7 @@ class PeriodicBox:
         ``box`` and ``span`` are the x side's; ``edges`` and ``spans`` per axis.
         """
         x = self.sides[0]
-        if self.dimensions == 2:  # one layer of cells along z, not periodic (the core keeps z = 0)
+        if self.dimensions == 2:  # one layer of cells, not periodic along z (the core never reads z)
             # that layer as wide as the widest side: the cells' narrowest width, which
             # bounds growing radii, is then in the plane (a width of 1 stopped growth at diameter 1)
             sides = self.sides
@@ -641,7 +641,7 @@ class CircularContainer(RoundWall):
         return [side, side, 0.0, 0.0, 0.0, 0.0]
 
     def core_params(self) -> dict:
-        """What the compiled core reads: the wall, no box, the grid (one layer of cells along z: z = 0)."""
+        """What the compiled core reads: the wall, no box, the grid (one layer of cells: 2-D)."""
         span = 2.0 * self.radius
         return {
             "wall_radius": self.radius,

@@ -139,7 +139,7 @@ class Engine:
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
         n = self._masses.shape[0]
         d = self.dimensions
-        # one 64-byte row per sphere: x y z vx vy vz t_own radius (in 2-D z = vz = 0)
+        # one 64-byte row per sphere: x y z vx vy vz t_own radius (in 2-D z = vz = 0, never read)
         self.spheres = np.zeros((n, core.SPHERE_COLS))
         self.spheres[:, core.X : core.X + d] = _columns(positions, n, d, "positions")
         self.spheres[:, core.VX : core.VX + d] = _columns(velocities, n, d, "velocities")
@@ -394,7 +394,7 @@ class Engine:
             most = int(np.ceil(2.0 * max(n, 1) ** (1.0 / d) * (span / longest))) + 1
             nc = max(1, min(nc, most, 1 << 10 if d == 3 else 1 << 15))
             if ax >= d:
-                nc = 1  # 2-D: one layer of cells along z (the 9 cells around a disk's)
+                nc = 1  # 2-D: one layer of cells (the core visits the 9 cells around a disk's)
             if edge and nc < 3:
                 if sigma * 3.0 > edge:
                     raise BoxShapeError(
