@@ -1414,6 +1414,11 @@ def _relist(
 ):
     """Sphere ``i`` left its shell at ``t``: a new shell, and its neighbour list anew.
 
+    Longer than 80 lines: the candidates' search (its 3-D and 2-D
+    distances side by side, the dimension a compile-time constant), then the
+    old lists left and the new ones made, in one pass that changes nothing
+    if a list would overflow.
+
     Returns False, changing nothing, if a list would overflow (the engine
     widens the lists and calls again).
     """
