@@ -92,12 +92,46 @@ def _write_api_index():
         path.write_text(text)
 
 
+# Modules without a page of their own: the commands (documented in the user
+# guide, "Commands"), the engine's internals behind ``Simulation``, and helpers
+# that only the package itself calls.  Their names are public for the package's
+# own imports, not for scripts; a package listed here takes its modules along.
+# tests/test_docs.py reads this list (every other public module has a page).
+INTERNAL_MODULES = [
+    "hardspheres.cli",
+    "hardspheres.core.bench",
+    "hardspheres.core.contacts",
+    "hardspheres.core.engine",
+    "hardspheres.core.reference",
+    "hardspheres.core.warmup",
+    "hardspheres.analysis.compute",
+    "hardspheres.fileio",
+    "hardspheres.messages",
+    "hardspheres.progress",
+    "hardspheres.studies.cluster",
+    "hardspheres.studies.dispatch",
+    "hardspheres.studies.files",
+    "hardspheres.studies.tables",
+    "hardspheres.studies.task",
+    "hardspheres.version",
+]
+
 _write_api_index()
 autosummary_generate = True
+autosummary_context = {"internal_modules": INTERNAL_MODULES}
 autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
+# numpy's array-like annotations by their names, not their expansions
+# (``_Buffer | _SupportsArray[dtype[Any]] | ...``); applies to modules with
+# ``from __future__ import annotations`` (every module of the package)
+autodoc_type_aliases = {
+    "ArrayLike": "numpy.typing.ArrayLike",
+    "DTypeLike": "numpy.typing.DTypeLike",
+    "NDArray": "numpy.typing.NDArray",
+}
+autodoc_typehints_format = "short"
 napoleon_google_docstring = True
 napoleon_numpy_docstring = False
 napoleon_use_rtype = False
@@ -134,7 +168,9 @@ def _note_module(app, what, name, obj, options, lines):
 
 
 def _public_module(name):
-    return name.startswith("hardspheres") and not any(p.startswith("_") for p in name.split("."))
+    """A module with an API page of its own: public and not in ``INTERNAL_MODULES``."""
+    internal = any(name == m or name.startswith(m + ".") for m in INTERNAL_MODULES)
+    return name.startswith("hardspheres") and not internal and not any(p.startswith("_") for p in name.split("."))
 
 
 def _skip_described_elsewhere(app, what, name, obj, skip, options):

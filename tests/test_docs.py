@@ -7,7 +7,9 @@ executed) in a temporary folder, check that every public name has its page,
 and open the index and the executed tutorial in headless Debian Chromium.
 """
 
+import ast
 import importlib
+import inspect
 import os
 import pkgutil
 import re
@@ -30,13 +32,61 @@ pytest.importorskip("sphinx", reason="the docs extra is missing (pip install -e 
 pytest.importorskip("myst_nb", reason="the docs extra is missing (pip install -e '.[docs]')")
 
 
+def internal_modules():
+    """docs/conf.py's ``INTERNAL_MODULES``: the modules without an API page (the commands, the engine's insides)."""
+    tree = ast.parse((DOCS / "conf.py").read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+            getattr(t, "id", "") == "INTERNAL_MODULES" for t in node.targets
+        ):
+            return ast.literal_eval(node.value)
+    raise AssertionError("docs/conf.py has no INTERNAL_MODULES")
+
+
+def _internal(name, internal):
+    return any(name == m or name.startswith(m + ".") for m in internal)
+
+
 def public_subpackages():
-    """Every module of the package whose dotted name has no part starting with ``_``."""
+    """Every module of the package with an API page: no part of its name starts with ``_``, not internal."""
+    internal = internal_modules()
     out = []
     for m in pkgutil.walk_packages(hs.__path__, "hardspheres."):
-        if not any(part.startswith("_") for part in m.name.split(".")):
+        if not any(part.startswith("_") for part in m.name.split(".")) and not _internal(m.name, internal):
             out.append(m.name)
     return out
+
+
+def test_property_summaries_are_not_read_as_types():
+    """Napoleon reads a property's (or a ``#:`` constant's) first line ``A: b`` as ``type: description``.
+
+    The page would then show "Type: A" (docs/check_html.py fails the built site on it).
+    """
+    from sphinx.ext.napoleon import Config
+    from sphinx.ext.napoleon.docstring import GoogleDocstring
+    from sphinx.pycode import ModuleAnalyzer
+
+    split = GoogleDocstring([""], Config())._partition_field_on_colon
+    bad = []
+    for modname in public_subpackages():
+        mod = importlib.import_module(modname)
+        for cls in vars(mod).values():
+            if not inspect.isclass(cls) or cls.__module__ != modname:
+                continue
+            for name, attr in vars(cls).items():
+                if isinstance(attr, property) and attr.__doc__:
+                    first = inspect.cleandoc(attr.__doc__).splitlines()[0]
+                    _type, colon, desc = split(first)
+                    if colon and desc:
+                        bad.append(f"{modname}.{cls.__name__}.{name}: {first!r}")
+        # constants and class attributes documented by ``#:`` comments: read the same way
+        analyzer = ModuleAnalyzer.for_module(modname)
+        for (owner, name), lines in analyzer.find_attr_docs().items():
+            first = next((line for line in lines if line.strip()), "")
+            _type, colon, desc = split(first)
+            if colon and desc and not name.startswith("_"):
+                bad.append(f"{modname}.{owner}{'.' if owner else ''}{name}: {first!r}")
+    assert bad == [], "first lines with a colon (rephrase without one):\n" + "\n".join(bad)
 
 
 @pytest.fixture(scope="module")
@@ -97,6 +147,26 @@ def test_every_public_name_has_a_page(site):
             # a re-export is described once, on its home module's page
             home = f"{getattr(obj, '__module__', modname)}.{getattr(obj, '__qualname__', name)}"
             assert at_root or f"{modname}.{name}" in ids or home in ids, f"{modname}.{name} has no entry"
+
+
+def test_internal_modules_have_no_page(site):
+    """The sidebar lists what scripts use: no command module, no engine insides."""
+    generated = {p.stem for p in (site / "api" / "generated").glob("*.html")}
+    internal = internal_modules()
+    assert not [g for g in generated if _internal(g, internal)]
+    index = (site / "api" / "index.html").read_text()
+    for name in ("hardspheres.cli.options", "hardspheres.core.reference", "hardspheres.core.engine"):
+        assert name not in index, name
+
+
+def test_built_html_passes_the_site_checks(site):
+    """docs/check_html.py (run by .ci/run on the full site): no summary read as a type, no ArrayLike in full."""
+    sys.path.insert(0, str(DOCS))
+    try:
+        import check_html
+    finally:
+        sys.path.remove(str(DOCS))
+    assert check_html.faults(site) == []
 
 
 def test_tutorial_executed_with_figures(site):

@@ -87,12 +87,12 @@ if TYPE_CHECKING:
         def thermostat(self) -> Thermostat | None: ...
 
 
-#: Moves per unit of the auto interval: the mean free time of the fluid
+#: Moves per unit of the auto interval, the mean free time of the fluid
 #: (Enskog, from Carnahan-Starling at the packing when first attached)
 #: divided by this.
 MOVES_PER_FREE_TIME = 1.0
 
-#: The default step is this over ``N (Z - 1)``: squeezing ``ln V`` by ``d``
+#: The default step is this over ``N (Z - 1)``, since squeezing ``ln V`` by ``d``
 #: makes an overlap with a probability of about ``N (Z - 1) d`` (the pairs
 #: within ``d / 3`` of contact; Eppenga & Frenkel 1984), so steps of this
 #: size are accepted about half the time in dense matter.  ``Z`` is the

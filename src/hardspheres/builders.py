@@ -494,7 +494,7 @@ def crystal(
     return State.from_arrays(masses, np.full(n, float(radius)), positions, velocities), box
 
 
-#: The densest packing of equal disks (the triangular lattice): :data:`hardspheres.containers.MAX_PACKING_2D`.
+#: The densest packing of equal disks (the triangular lattice), :data:`hardspheres.containers.MAX_PACKING_2D`.
 MAX_PACKING_2D = _MAX_PACKING_2D
 
 #: Random disks are built up to this area fraction (a random subset of a

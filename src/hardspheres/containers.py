@@ -57,7 +57,7 @@ if TYPE_CHECKING:
     #: A tally or a time: one number, or an array of them (the observables' blocks).
     _Tally = TypeVar("_Tally", float, np.ndarray)
 
-#: Relative tolerance for "touching within rounding": two spheres overlap only
+#: Relative tolerance for "touching within rounding", so two spheres overlap only
 #: if their distance is below ``(1 - TOUCH_TOL)`` times the sum of their
 #: radii; a sphere is outside only if it pokes out by more than ``TOUCH_TOL``
 #: times the container radius.
@@ -169,7 +169,7 @@ class RoundWall:
 
     @property
     def size(self) -> float:
-        """The one number that sets the container: its radius [length]."""
+        """The one number that sets the container, its radius [length]."""
         return self.radius
 
     @property
@@ -184,12 +184,12 @@ class RoundWall:
 
     @property
     def half_width(self) -> float:
-        """Half the side of the cube (2-D: square) that encloses it [length]."""
+        """Half the side of the cube (a square in 2-D) that encloses it [length]."""
         return self.radius
 
     @property
     def bounding_radius(self) -> float:
-        """Radius of the sphere (2-D: circle) that encloses it [length]."""
+        """Radius of the sphere (a circle in 2-D) that encloses it [length]."""
         return self.radius
 
     def wrap(self, positions: np.ndarray) -> np.ndarray:
@@ -228,7 +228,7 @@ class RoundWall:
 
     @property
     def wall_area(self) -> float:
-        """Area (2-D: length) of the wall [length^(d-1)]: each subclass's own."""
+        """Area of the wall (its length in 2-D) [length^(d-1)], each subclass's own."""
         raise NotImplementedError
 
     def fields(self) -> dict[str, float]:
@@ -286,7 +286,7 @@ class SphericalContainer(RoundWall):
 
     @property
     def gsd_box(self) -> list[float]:
-        """GSD's ``configuration/box``: the enclosing cube (not periodic)."""
+        """GSD's ``configuration/box``, the enclosing cube (not periodic)."""
         side = 2.0 * self.radius
         return [side, side, side, 0.0, 0.0, 0.0]
 
@@ -435,12 +435,12 @@ class PeriodicBox:
 
     @property
     def dimensions(self) -> int:
-        """The dimension of space: 3, or 2 for ``(Lx, Ly)``."""
+        """The dimension of space, 3, or 2 for ``(Lx, Ly)``."""
         return len(self.sides)
 
     @property
     def size(self) -> float:
-        """The one number that sets a cube: its edge; a box's longest side [length]."""
+        """The one number that sets a cube, its edge; a box's longest side [length]."""
         return max(self.sides)
 
     @property
@@ -470,7 +470,7 @@ class PeriodicBox:
 
     @property
     def wall_area(self) -> float:
-        """No walls: 0 [length^2]."""
+        """No walls, so 0 [length^2]."""
         return 0.0
 
     @property
@@ -636,7 +636,7 @@ class CircularContainer(RoundWall):
 
     @property
     def gsd_box(self) -> list[float]:
-        """GSD's ``configuration/box``: the enclosing square, ``Lz = 0`` (2-D; not periodic)."""
+        """GSD's ``configuration/box``, the enclosing square with ``Lz = 0`` (2-D; not periodic)."""
         side = 2.0 * self.radius
         return [side, side, 0.0, 0.0, 0.0, 0.0]
 

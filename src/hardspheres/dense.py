@@ -43,7 +43,7 @@ from .writers import SimulationView
 if TYPE_CHECKING:
     from .observables import Observables
 
-#: Densest packing of equal spheres (FCC/HCP): :data:`hardspheres.containers.MAX_PACKING`.
+#: Densest packing of equal spheres (FCC/HCP), :data:`hardspheres.containers.MAX_PACKING`.
 MAX_PACKING_EQUAL = MAX_PACKING
 
 #: Default reduced pressure ``Z = PV/(NkT)`` at which compression stops as

@@ -30,6 +30,8 @@ The two accurate ones agree with each other to about 1e-4 for
     True
 """
 
+from __future__ import annotations
+
 import math
 from collections.abc import Callable
 
@@ -81,7 +83,7 @@ _KR_DISKS = (
     (22, -5.24672938e-9),
     (57, 5.88054639e-23),
 )
-#: The largest area fraction Kolafa & Rottner's fit covers: ``pi/4 * 0.90``.
+#: The largest area fraction Kolafa & Rottner's fit covers, ``pi/4 * 0.90``.
 KOLAFA_ROTTNER_MAX = math.pi * 0.90 / 4.0
 
 

@@ -110,10 +110,10 @@ class KindLabel(str):
         return (KindLabel, (str(self),))
 
 
-#: Event kind names by number: ``KIND_LABELS[kind]`` (each a :class:`KindLabel`).
+#: Event kind names by number, ``KIND_LABELS[kind]`` (each a :class:`KindLabel`).
 KIND_LABELS = tuple(KindLabel(k.label) for k in EventKind)
 
-#: The fields of an event, in order: ``(name, numpy dtype, shape)``.
+#: The fields of an event, in order, as ``(name, numpy dtype, shape)``.
 #:
 #: * ``time`` [time];
 #: * ``kind``: an :class:`EventKind`;

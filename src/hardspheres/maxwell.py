@@ -100,8 +100,8 @@ def speed_cdf(v: ArrayLike, kT: float = 1.0, m: float = 1.0, dimensions: int = 3
     return erf(x / math.sqrt(2.0)) - np.sqrt(2.0 / math.pi) * x * np.exp(-0.5 * x * x)
 
 
-#: Mean of the Kolmogorov distribution, sqrt(pi/2) ln 2: ``sqrt(n) E[D]`` for
-#: n independent samples of the right distribution.
+#: Mean of the Kolmogorov distribution, sqrt(pi/2) ln 2, which is ``sqrt(n) E[D]``
+#: for n independent samples of the right distribution.
 KS_MEAN = math.sqrt(math.pi / 2.0) * math.log(2.0)
 
 

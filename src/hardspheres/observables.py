@@ -403,7 +403,7 @@ class Observables:
         return out
 
 
-#: Old names of the time averages: ``estimate("compressibility")`` is ``estimate("Z")``.
+#: Old names of the time averages (``estimate("compressibility")`` is ``estimate("Z")``).
 ALIASES = {"compressibility": "Z"}
 
 

@@ -26,8 +26,8 @@ from .messages import quote
 if TYPE_CHECKING:
     from .containers import Container
 
-#: Largest magnitude of an input number: squares (``|v|^2``, ``|p|^2``) and energies
-#: (``m |v|^2``) of numbers up to this stay finite doubles.
+#: Largest magnitude of an input number, so that squares (``|v|^2``, ``|p|^2``) and
+#: energies (``m |v|^2``) of numbers up to this stay finite doubles.
 MAX_MAGNITUDE = 1e100
 
 FIELDS = ("mass", "radius", "x", "y", "z", "vx", "vy", "vz", "name")

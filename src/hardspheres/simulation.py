@@ -205,7 +205,7 @@ class Simulation:
     # ---- running -------------------------------------------------------------
     @property
     def time(self) -> float:
-        """The simulation's clock [time]: where the last run stopped."""
+        """The simulation's clock [time], where the last run stopped."""
         return float(max(self._engine.time, self._clock))
 
     @property
@@ -215,7 +215,7 @@ class Simulation:
 
     @property
     def run_end(self) -> float:
-        """Where the current (or last) run was asked to end [time] (``inf``: by a count).
+        """Where the current (or last) run was asked to end [time] (``inf`` when it ends by a count).
 
         Trajectory writers record it, so that a file cut short shows.
         """
@@ -223,12 +223,12 @@ class Simulation:
 
     @property
     def engine(self) -> Engine:
-        """The compiled engine: its running tallies and velocities (read, do not change)."""
+        """The compiled engine, with its running tallies and velocities (read, do not change)."""
         return self._engine
 
     @property
     def counters(self) -> dict[str, int]:
-        """Events processed so far: collisions, reflections, crossings, stale."""
+        """Events processed so far (collisions, reflections, crossings, stale)."""
         return self._engine.counters
 
     def run(
@@ -402,7 +402,7 @@ class Simulation:
 
     @property
     def packing(self) -> float:
-        """Packing fraction now: volume of the spheres over the container's."""
+        """Packing fraction now, the volume of the spheres over the container's."""
         from .dense import packing_fraction
 
         return packing_fraction(self._engine.radii_at(), self.container)

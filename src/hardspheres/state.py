@@ -61,7 +61,7 @@ class State:
 
     @property
     def dimensions(self) -> int:
-        """The dimension of space, ``d``: the positions' columns (2 for disks, else 3)."""
+        """The dimension of space ``d``, the positions' columns (2 for disks, else 3)."""
         p = np.asarray(self.positions)
         return 2 if p.ndim == 2 and p.shape[1] == 2 else 3
 

@@ -92,11 +92,11 @@ class Trigger(Protocol):
 
     @property
     def next_time(self) -> float:
-        """Absolute time it is next due [time] (``inf``: not by time)."""
+        """Absolute time it is next due [time] (``inf`` when not by time)."""
 
     @property
     def next_collisions(self) -> float:
-        """Collision count at which it is next due (``inf``: not by count)."""
+        """Collision count at which it is next due (``inf`` when not by count)."""
 
     def fired(self) -> None:
         """The writer wrote: move on to the next due point."""

@@ -83,12 +83,12 @@ if TYPE_CHECKING:
     from ..containers import Container, PeriodicBox
     from ..frames import Frames
 
-    #: What the correlators accept: Frames, a ``.gsd`` path, or unwrapped positions ``(F, N, d)``.
+    #: What the correlators accept (Frames, a ``.gsd`` path, or unwrapped positions ``(F, N, d)``).
     Source: TypeAlias = "Frames | str | os.PathLike[str] | ArrayLike | _Source"
     #: ``(lag, origins i, frames j)`` for each lag.
     Plan: TypeAlias = list[tuple[float, np.ndarray, np.ndarray]]
 
-#: ``1/e``: F_s at the alpha-relaxation time.
+#: F_s at the alpha-relaxation time, ``1/e``.
 INV_E = math.exp(-1.0)
 
 

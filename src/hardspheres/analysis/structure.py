@@ -47,7 +47,7 @@ if TYPE_CHECKING:
     from ..simulation import Simulation
     from ..state import State
 
-    #: What the compute methods accept: frames, a simulation, a state or bare positions.
+    #: What the compute methods accept (frames, a simulation, a state or bare positions).
     Source: TypeAlias = Frames | Simulation | State | ArrayLike
     #: A periodic box's edge (a cube) or its sides [length].
     Edge: TypeAlias = float | tuple[float, ...]

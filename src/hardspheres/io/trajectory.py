@@ -123,7 +123,7 @@ class _FrameWriter:
 
     @property
     def next_collisions(self) -> float:
-        """The collision count at which the next frame is due (``inf``: not by count)."""
+        """The collision count at which the next frame is due (``inf`` when not by count)."""
         return self.trigger.next_collisions if self._started else math.inf
 
     def _open(self) -> None:

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from ..observables import Observables
     from ..simulation import Simulation
 
-#: How a study reads one observable: ``f(sim, observables)``, a number.
+#: How a study reads one observable, ``f(sim, observables)`` giving a number.
 Measure = Callable[["Simulation", "Observables"], float]
 
 
@@ -45,7 +45,7 @@ def _ks(sim: Simulation, obs: Observables) -> float:
     return ks_distance(x, 1.0, 1.0, st.dimensions)
 
 
-#: Observables a study can measure: name -> ``f(sim, observables)`` giving a
+#: Observables a study can measure, name -> ``f(sim, observables)`` giving a
 #: number for one block (the :class:`~hardspheres.observables.Observables`
 #: averaged since the block began).  Any other public method of
 #: ``Observables`` that takes no argument and returns a number is measured

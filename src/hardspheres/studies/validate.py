@@ -383,8 +383,8 @@ def mean_free_time_from_eos(phi: float, n: int) -> tuple[float, float]:
     return t, t / n
 
 
-#: Transport validation: packing fractions (rho = 0.5, i.e. 0.2618, where DynamO
-#: gives eta and lambda; 0.3 and 0.45 as the issue asks) and system sizes.
+#: The transport validation's packing fractions (rho = 0.5, i.e. 0.2618, where DynamO
+#: gives eta and lambda; 0.3 and 0.45) and system sizes.
 TRANSPORT_PACKINGS = (0.5 * math.pi / 6.0, 0.3, 0.45)
 
 

@@ -62,9 +62,9 @@ def _writer(path: Path, fps: int, dpi: int) -> Any:
     raise PictureError(f"render_movie: unknown movie format {path.suffix!r} (use .gif or .mp4)")
 
 
-#: Viewing direction: azimuth and elevation [degrees] of the camera (z up).
+#: The viewing direction, azimuth and elevation [degrees] of the camera (z up).
 AZIMUTH, ELEVATION = -60.0, 22.0
-#: The camera's azimuth [degrees] with a cut normal to x, y, z: it looks at the cut's face
+#: The camera's azimuth [degrees] with a cut normal to x, y, z, looking at the cut's face
 #: (from +x, from +y, from above), most squarely at a cut along x or y.
 CUT_AZIMUTH = (-30.0, 60.0, AZIMUTH)
 

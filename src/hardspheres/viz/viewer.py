@@ -95,11 +95,11 @@ def _round_up(x: float, digits: int = 2) -> float:
     return float(f"{np.ceil(x / scale - 1e-9) * scale:.{digits}g}")
 
 
-#: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``): q6 for
-#: spheres, psi6 for disks.
+#: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``), q6
+#: for spheres and psi6 for disks.
 COLOR_BY = ("speed", "mass", "q6", "psi6")
 
-#: The colour scale of q6, fixed so that pictures compare: a fluid or a jammed
+#: The colour scale of q6, fixed so that pictures compare, puts a fluid or a jammed
 #: packing near its bottom (0.3-0.45), FCC at its top (0.575 at rest).
 Q6_RANGE = (0.25, 0.6)
 
