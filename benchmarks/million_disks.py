@@ -1,4 +1,4 @@
-"""A million disks: set-up and run of N = K^2 disks at area fraction 0.70 (issue 24, item 5).
+"""A million disks: set-up and run of N = K^2 disks at area fraction 0.70.
 
 Two starts, each in a fresh engine: ``random_spheres`` in the sqrt(3)/2 box
 (seed 1) and the perfect crystal ``builders.hexagonal((K, K), 0.70)``.  For

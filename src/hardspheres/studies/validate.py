@@ -258,10 +258,10 @@ def verdict(rows: Sequence[Row], bar: float = 3.0) -> list[str]:
 #: number density ``rho sigma^3``, from Pieprzyk, Bannerman, Branka, Chudak and
 #: Heyes, "Thermodynamic and dynamical properties of the hard sphere system
 #: revisited by molecular dynamics simulation", Phys. Chem. Chem. Phys. 21,
-#: 6886 (2019) (the issue's citation; the transcription names Pieprzyk,
-#: Bannerman, Chudak and Heyes), as transcribed (densities ``rho``, values to 5-6 digits) in a public GitHub
-#: source file that compares an event-driven code with them (the search index's
-#: file id 1226713813; the paper itself was not reachable from here).  The
+#: 6886 (2019), doi:10.1039/C9CP00903E (the transcription names Pieprzyk,
+#: Bannerman, Chudak and Heyes), as transcribed (densities ``rho``, values to
+#: 5-6 digits) in a public evaluation script that compares an event-driven code
+#: with them; not checked against the paper's table.  The
 #: transcription does not say whether these are the N -> infinity values;
 #: they are: at rho = 0.5 DynamO's 1372-sphere value 0.247 (below) plus the
 #: Yeh-Hummer correction with DynamO's eta gives 0.2655, against 0.2650 here.
@@ -590,7 +590,7 @@ def score_transport(
 
     z-scores use the combined error ``sqrt(error^2 + reference_error^2)``.
     A value passes within ``rel_bar`` relative or ``z_bar`` combined errors
-    (the issue: "within 2% (or within combined error bars)").
+    ("within 2% (or within combined error bars)").
 
     Returns:
         list of :class:`TransportScore`.
