@@ -156,6 +156,8 @@ nb_merge_streams = True
 html_theme = "furo"
 html_title = f"hardspheres {release}"
 html_static_path = ["_static"]
+# wide tables scroll, the validation summary is compact (docs/_static/custom.css)
+html_css_files = ["custom.css"]
 html_theme_options = {"navigation_with_keys": True}
 
 

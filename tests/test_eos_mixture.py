@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from hardspheres import eos
 
-D, X = [1.4, 1.0], [0.5, 0.5]  # the 50:50 mixture of docs/validation.md
+D, X = [1.4, 1.0], [0.5, 0.5]  # the 50:50 mixture of docs/validation/dense.md
 
 
 def _bmcsl_xi(eta, diameters, fractions):

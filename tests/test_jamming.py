@@ -266,7 +266,7 @@ def test_jammed_disks_are_isostatic_after_rattler_removal(jammed_disks):
     assert 0.0 < c.rattler_fraction < 0.15
     by_force = Contacts().compute(sim, forces=ContactForces().compute(rec))
     # by forces the record also holds near contacts that collide now and then (more the
-    # longer the record: docs/validation.md, "Marginal stability"), so z may exceed the
+    # longer the record: docs/validation/glass-jamming.md, "Marginal stability"), so z may exceed the
     # isostatic count by a few contacts, never fall short of it by more than the gaps' 1%
     # (1.3% above on main after the box crossings' change of bits)
     assert -0.01 <= (by_force.z - by_force.z_isostatic) / by_force.z_isostatic <= 0.03

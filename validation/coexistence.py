@@ -36,7 +36,7 @@ machine at load average 6 to 8, ``nice -n 15``): ``--nve --until 200``
 ``--pressures 11.0 12.2 --until 150`` 1112 s (3.0 s per time unit
 at constant normal pressure: the volume moves cost 9 ms each, about 47 per
 time unit; 1 to 3 minutes to build each slab); 2.4 s per profile (q6 of
-every sphere).  Results and the commands: docs/validation.md, "Direct
+every sphere).  Results and the commands: docs/validation/coexistence.md, "Direct
 coexistence".
 
 usage: python3 validation/coexistence.py [--pressures 11.0 12.2] [--nve] [--cells X Y Z] [--plane 100|111]

@@ -36,7 +36,7 @@ the running time; ``--csv`` writes them, ``--rescore CSV ...`` prints the
 table of such files again (with the references as they are now), and
 ``--refit LOG`` fits the virial lines of a ``--nvt`` run's log again (the
 run of 2026-12-02 printed a straight line's fit, which the curvature biases
-by 6e-5; its points are refitted so: docs/validation.md).
+by 6e-5; its points are refitted so: docs/validation/coexistence.md).
 
 usage: python3 validation/coexisting_packings.py [--nvt] [--npt] [--only FCC,fluid] [--cells C] [--n N]
        [--moves M] [--equilibrate E] [--time T] [--crystal PHI ...] [--fluid PHI ...] [--csv FILE]

@@ -7,7 +7,7 @@
     python validation/compress.py mixlong N PHI SEED [SEED ...]  # the same, longer, per seed
 
 Everything is in a periodic box with equal masses and kT = 1; results
-print as Markdown table rows (docs/validation.md quotes them).  Pressure
+print as Markdown table rows (docs/validation/dense.md quotes them).  Pressure
 error bars are from block averages (20 blocks; sigma of the mean).
 """
 
@@ -21,7 +21,7 @@ import hardspheres as hs
 from hardspheres import eos
 from hardspheres.builders import _fcc, maxwell_boltzmann
 
-# ---- equations of state (sources in docs/validation.md) -----------------------------
+# ---- equations of state (sources in docs/validation/dense.md) -----------------------------
 
 
 def z_cs(eta):

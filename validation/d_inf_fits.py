@@ -1,7 +1,7 @@
 """D_inf at packing 0.3 from the fit over all system sizes, and its spread across fitting choices.
 
 The infinite-system self-diffusion at packing 0.3, from the
-eight runs of docs/validation.md (N = 500 to 4000, validation/results/
+eight runs of docs/validation/transport.md (N = 500 to 4000, validation/results/
 transport_030_runs.csv), by every reasonable way of extrapolating them:
 
 * a straight line in 1/L through all sizes, weighted by 1/err^2 or not;

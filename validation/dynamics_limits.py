@@ -1,4 +1,4 @@
-"""The exact limits of F_s and alpha_2 (docs/validation.md, "Dynamics: exact limits").
+"""The exact limits of F_s and alpha_2 (docs/validation/glass-jamming.md, "Dynamics: exact limits").
 
 1. Short times in a dilute gas (packing 1e-3, N = 4000, t up to 1/20 of the
    mean free time): F_s(k, t) = exp(-k^2 kT t^2 / (2 m)) and alpha_2 = 0

@@ -1,4 +1,4 @@
-"""Mean free time from the event record against the exact one from Z (docs/validation.md).
+"""Mean free time from the event record against the exact one from Z (docs/validation/glass-jamming.md).
 
 N = 1000 equal spheres (sigma = m = kT = 1) in a periodic box, 5 collisions
 per sphere to equilibrate, then 200 recorded with an EventRecorder: the

@@ -1,4 +1,4 @@
-"""Fits of tau_alpha(phi) from validation/glass.py's JSON (docs/validation.md, "Slow dynamics").
+"""Fits of tau_alpha(phi) from validation/glass.py's JSON (docs/validation/glass-jamming.md, "Slow dynamics").
 
 For each trial divergence point phi_x on a fine grid the two other
 parameters follow by weighted linear least squares (weights from the errors

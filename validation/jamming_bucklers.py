@@ -1,4 +1,4 @@
-"""theta of P(f) with and without the forces on spheres of d + 1 contacts (docs/validation.md).
+"""theta of P(f) with and without the forces on spheres of d + 1 contacts (docs/validation/glass-jamming.md).
 
 Reads the packings ``validation/jamming.py --save DIR`` wrote, runs each
 2000 collisions per sphere at fixed radii (new velocities, seed 0) for the

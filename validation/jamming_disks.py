@@ -1,4 +1,4 @@
-"""Jammed disks: isostaticity, rattlers, phi_J, g(h) and P(f) in 2-D (docs/validation.md).
+"""Jammed disks: isostaticity, rattlers, phi_J, g(h) and P(f) in 2-D (docs/validation/glass-jamming.md).
 
 50:50 binary disks of diameters 1.4 : 1 (largest diameter 0.8: when these
 runs were made the engine's growth limit for disks counted a unit z cell

@@ -7,7 +7,7 @@ For each compression history (rate, seed): a fluid of N equal spheres at
 25 collisions per sphere for 2000 collisions per sphere; each block's Z
 (collision virial) is written with the collisions per sphere since the end
 of the compression, and every 8th block the crystal-like fraction (freud,
-12 neighbours).  docs/validation.md, "Dense matter", quotes the summary this
+12 neighbours).  docs/validation/dense.md quotes the summary this
 prints (Z over windows of the run, with the standard error of the window's
 block means from their spread, blocks of 100 collisions per sphere).
 """

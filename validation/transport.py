@@ -4,7 +4,7 @@ Runs :func:`hardspheres.studies.validate.validate_transport`: at packing 0.2618
 (rho sigma^3 = 0.5, DynamO's test system of 1372 spheres), 0.3 and 0.45,
 with N = 500 and 1372, prints the measurements (with the Enskog ratios) and
 the z-scores against the published values (sources in
-``hardspheres.studies.validate`` and docs/validation.md), and writes the scores to
+``hardspheres.studies.validate`` and docs/validation/transport.md), and writes the scores to
 docs/validation-transport.csv (``hardspheres plot transport`` draws it).
 
 usage:

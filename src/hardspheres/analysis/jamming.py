@@ -345,7 +345,7 @@ def isostatic_tolerance(
     tolerance separates them cleanly.  This one takes the pairs in order of
     their gap and stops at the first that makes the network (after rattler
     removal) isostatic: 36-85 / Z at Z = 10^6 and 133-352 / Z at Z = 10^7
-    for 500 spheres (docs/validation.md, "Marginal stability").
+    for 500 spheres (docs/validation/glass-jamming.md, "Marginal stability").
 
     Args:
         source, box, radii: the packing, as :meth:`Contacts.compute` takes it.
@@ -406,7 +406,7 @@ def force_exponent(
             500 spheres at Z = 10^6 and 10^7 for f/<f> <= 0.1 is 0.32-0.43
             (+- 0.06) with records of 2000 and 20000 collisions per sphere;
             with every colliding pair it falls from 0.28-0.34 to -0.04-0.19
-            between those records (docs/validation.md, "Marginal stability").
+            between those records (docs/validation/glass-jamming.md, "Marginal stability").
 
     Maximum likelihood of a power-law density on the range, bootstrap error
     (200 resamples, seed 0).
@@ -540,7 +540,7 @@ def summarize_packing(
     (free volume: about ``d / Z`` of the contact distance) while the other
     gaps follow g(h), so a contact is a gap below ``c / Z``.  At ``Z ~
     10^5 - 10^6`` there is no clean plateau between the two: z is given for
-    ``c = 30`` and ``c = 100`` (docs/validation.md, "Jamming": isostatic
+    ``c = 30`` and ``c = 100`` (docs/validation/glass-jamming.md, "Isostaticity": isostatic
     within 1% between them at ``Z > 10^6``).  ``phi_J`` is
     :class:`JammingPoint`'s fit to the compression's ``(phi, Z)`` when it
     reached ``Z >= 100`` (``nan`` otherwise).

@@ -387,7 +387,7 @@ class BondOrder(Compute):
 
     Example:
         A jammed packing is amorphous, a slowly compressed one crystallises
-        (docs/validation.md, "Dense matter")::
+        (docs/validation/dense.md)::
 
             order = hs.BondOrder(num_neighbors=12).compute(sim)
             order.mean_q, order.crystal_fraction

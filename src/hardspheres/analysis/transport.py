@@ -375,7 +375,7 @@ class VACF(_Blocked):
         about 40 mean free times, then positive (the hydrodynamic long-time
         tail, ~t^-3/2 until the box cuts it off) to about 160, and that tail
         holds about 2% of D.  At packing 0.45, N = 500 (2000 mean free times,
-        ``python3 validation/transport.py --vacf``; docs/validation.md) the
+        ``python3 validation/transport.py --vacf``; docs/validation/transport.md) the
         integral to 50 mean free times is 2.1% (2.1 standard errors) below
         the MSD's D, to 100 0.3% below, to 150 and 250 within 0.3%; at
         N = 1372 (2500 mean free times) 1.1% below at 50, within 0.25% from

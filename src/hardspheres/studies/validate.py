@@ -688,7 +688,7 @@ def line_extrapolations(rows: Sequence[TransportRow]) -> list[str]:
 
     The cross-check of Yeh-Hummer's slope ``-xi kT / (6 pi eta)``: the two
     differ at the 1-2% level with runs of ~10^4 mean free times
-    (docs/validation.md).
+    (docs/validation/transport.md).
     """
     from ..analysis.transport import XI_CUBIC
 

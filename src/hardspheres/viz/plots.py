@@ -645,7 +645,7 @@ def plot_contacts(
     ``per_sphere`` collisions per sphere at fixed radii
     (:class:`hardspheres.analysis.collisions.ContactForces`; 2000 by
     default: with 200 a contact sees about 70 collisions and the weak
-    forces are missed, docs/validation.md "Marginal stability").  Returns ``path``.
+    forces are missed, docs/validation/glass-jamming.md, "Marginal stability").  Returns ``path``.
     """
     from ..analysis.collisions import ContactForces, EventRecorder
     from ..analysis.jamming import near_pairs
