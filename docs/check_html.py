@@ -10,7 +10,10 @@ It prints one line per fault and exits 1 if there is any:
   annotations, so such a field is a property's first line that Napoleon read
   as ``type: description`` (a summary with a colon in it);
 * numpy's ``ArrayLike`` printed as its expansion (``_SupportsArray``, ...)
-  instead of its name.
+  instead of its name;
+* a page that loads a script or a style from the network (MathJax from a
+  CDN, say): the site is opened from the disk, offline;
+* a page with math but without the local MathJax (``_static/mathjax``).
 """
 
 from __future__ import annotations
@@ -23,6 +26,9 @@ TYPE_FIELD = re.compile(
     r'<dt class="field-(?:odd|even)">Type<span class="colon">:</span></dt>\s*<dd[^>]*>(.*?)</dd>', re.S
 )
 EXPANDED = ("_SupportsArray", "_NestedSequence", "_Buffer")
+REMOTE = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="(?:https?:)?//[^"]+"', re.I)
+MATH = re.compile(r'class="math[" ]')
+MATHJAX_LOCAL = re.compile(r'<script[^>]*src="(?:\.\./)*_static/mathjax/[a-z-]+\.js"')
 
 
 def _text(fragment: str) -> str:
@@ -44,6 +50,12 @@ def faults(site: Path) -> list[str]:
                 if word in html:
                     out.append(f"{rel}: numpy's ArrayLike printed in full ({word})")
                     break
+        for m in REMOTE.finditer(html):
+            out.append(f"{rel}: loads from the network: {m.group(0)[:120]}")
+        if MATH.search(html) and not MATHJAX_LOCAL.search(html):
+            out.append(f"{rel}: has math but not the local MathJax (_static/mathjax)")
+    if not (site / "_static" / "mathjax" / "tex-chtml.js").is_file():
+        out.append("_static/mathjax/tex-chtml.js is missing (sphinx-mathjax-offline, docs/conf.py)")
     return out
 
 

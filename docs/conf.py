@@ -39,6 +39,9 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    # MathJax 3 from the package (copied to _static/mathjax), not from a CDN:
+    # the site is opened from the disk, offline (docs/check_html.py checks it)
+    "sphinx-mathjax-offline",
     "sphinx.ext.viewcode",
     "myst_nb",
 ]

@@ -230,3 +230,49 @@ def test_index_and_tutorial_render_in_chromium(site, tmp_path):
         finally:
             browser.close()
     assert not errors, errors
+
+
+def test_math_and_wide_tables_render_offline_in_chromium(site):
+    """With the network off, the tutorial's math is typeset by the local MathJax (no raw ``\\(``
+    left), and the validation pages' wide tables scroll inside the page instead of being cut off."""
+    if not os.path.exists(CHROMIUM):
+        pytest.skip(f"{CHROMIUM} is missing (apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Python playwright is missing")
+    from hardspheres.viz.screenshot import CHROMIUM_ARGS
+
+    requested = []
+
+    def local_only(route):
+        if route.request.url.startswith("file:"):
+            route.continue_()
+        else:
+            requested.append(route.request.url)
+            route.abort()
+
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            context = browser.new_context(offline=True, viewport={"width": 1100, "height": 800})
+            context.route("**/*", local_only)
+            page = context.new_page()
+            page.goto((site / "tutorials" / f"{TUTORIAL}.html").as_uri())
+            page.wait_for_load_state("load")
+            maths = page.locator("article .math").count()
+            assert maths >= 1, "the tutorial has no math to check"
+            page.locator("mjx-container").nth(maths - 1).wait_for(timeout=30_000)
+            text = page.locator("article").inner_text()
+            assert "\\(" not in text and "\\[" not in text and "$$" not in text, "raw LaTeX on the page"
+
+            page.goto((site / "validation" / "disks.html").as_uri())
+            page.wait_for_load_state("load")
+            clipped = page.evaluate(
+                """() => [...document.querySelectorAll('article table')].filter(t => {
+                    const box = t.parentElement;
+                    const scrolls = getComputedStyle(box).overflowX;
+                    return box.scrollWidth > box.clientWidth + 1 && !['auto', 'scroll'].includes(scrolls);
+                }).length"""
+            )
+            assert clipped == 0, f"{clipped} wide tables cut off"
+        finally:
+            browser.close()
+    assert requested == [], f"the pages asked the network for {requested}"
