@@ -20,6 +20,7 @@ LAYERS = (
     # assignment's program needs them)
     (
         "errors",
+        "extras",
         "version",
         "messages",
         "fileio",

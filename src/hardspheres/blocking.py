@@ -60,7 +60,9 @@ class Blocking(NamedTuple):
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """The estimate against the blocking level, with the chosen one marked; returns Axes."""
-        import matplotlib.pyplot as plt
+        from .extras import need
+
+        plt = need("matplotlib.pyplot", "plot")
 
         ax = plt.figure().add_subplot() if ax is None else ax
         lv = np.arange(len(self.sems))

@@ -142,3 +142,21 @@ class StudyError(ValueError):
 
 class BarostatError(ValueError):
     """Constant pressure that cannot be held here (not a periodic box, a bad option); the message says why."""
+
+
+class MissingExtraError(ModuleNotFoundError):
+    """A feature needs an optional package that is not installed; the message names the extra to install.
+
+    A :class:`ModuleNotFoundError` (an :class:`ImportError`), so ``except ImportError`` still catches it.
+
+    Attributes:
+        extra: the extra of ``pyproject.toml`` that installs the package (``"analysis"``, ``"io"``, ...).
+    """
+
+    def __init__(self, what: str, module: str, extra: str) -> None:
+        self.extra = extra
+        super().__init__(
+            f'{what} needs {module}, which is not installed: pip install "hardspheres[{extra}]" '
+            f'(from a checkout: pip install ".[{extra}]")',
+            name=module,
+        )

@@ -29,7 +29,9 @@ class Compute:
     def _axes(self, ax: Axes | None) -> Axes:
         """Where :meth:`plot` draws: ``ax``, or a new figure's axes (results computed first)."""
         self._need()
-        import matplotlib.pyplot as plt
+        from ..extras import need
+
+        plt = need("matplotlib.pyplot", f"{type(self).__name__}.plot")
 
         return plt.figure().add_subplot() if ax is None else ax
 

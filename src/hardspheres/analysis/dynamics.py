@@ -177,12 +177,13 @@ def _source(
 
 def _gsd_source(path: str, what: str) -> _Source:
     """Frames of a GSD trajectory read on demand (the file stays open for the object's life)."""
-    import gsd.hoomd
+    from ..extras import need
 
+    gsd_hoomd = need("gsd.hoomd", f"{what} of a GSD trajectory")
     from ..containers import from_fields
 
     try:
-        traj = gsd.hoomd.open(path, mode="r")
+        traj = gsd_hoomd.open(path, mode="r")
     except (OSError, RuntimeError) as e:
         raise TrajectoryError(f"{path}: cannot read as GSD ({e}); give a complete .gsd file") from None
     if len(traj) == 0:
@@ -406,9 +407,9 @@ def _isotropic(kr: np.ndarray, dim: int) -> np.ndarray:
     if dim == 3:
         return np.sinc(kr / math.pi)  # sin(x)/x
     if dim == 2:
-        from scipy.special import j0
+        from ..extras import need
 
-        return j0(kr)
+        return need("scipy.special", "an isotropic average in two dimensions").j0(kr)
     return np.cos(kr)
 
 

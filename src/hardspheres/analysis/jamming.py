@@ -102,8 +102,9 @@ def near_pairs(
     positions: np.ndarray, radii: np.ndarray, lengths: ArrayLike, h_max: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(pairs (M, 2), gaps (M,))`` of the pairs with gap ``r/(R_i + R_j) - 1 <= h_max`` (periodic)."""
-    from scipy.spatial import cKDTree
+    from ..extras import need
 
+    cKDTree = need("scipy.spatial", "finding contacts").cKDTree
     lengths = np.asarray(lengths, float)
     x = np.mod(positions, lengths)
     # cKDTree wants points in [0, L): mod can round up to L

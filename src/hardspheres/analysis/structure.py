@@ -56,11 +56,9 @@ if TYPE_CHECKING:
 
 
 def _freud() -> ModuleType:
-    try:
-        import freud
-    except ImportError:  # pragma: no cover - depends on the environment
-        raise ImportError("structure needs freud: pip install 'hardspheres[analysis]'") from None
-    return freud
+    from ..extras import need
+
+    return need("freud", "this structural analysis (freud)")
 
 
 def configurations(source: Source, box: Edge | None = None) -> Configurations:

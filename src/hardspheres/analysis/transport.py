@@ -1,18 +1,17 @@
 """Transport: self-diffusion from the mean squared displacement and the velocity autocorrelation.
 
-* :class:`MSD`: the mean squared displacement over all time origins
-  (:class:`freud.msd.MSD` in its ``"window"`` mode, FFT-based) of the
-  unwrapped positions (exact image counts, :meth:`hardspheres.Frames.unwrapped`),
+* :class:`MSD`: the mean squared displacement over all time origins (the
+  FFT algorithm of freud's :class:`freud.msd.MSD` in its ``"window"`` mode,
+  done here with numpy in double precision: no optional package needed) of
+  the unwrapped positions (exact image counts, :meth:`hardspheres.Frames.unwrapped`),
   and D from its slope, ``MSD = 2 d D t`` at long times (``6 D t`` in 3-D,
-  ``4 D t`` for disks, which freud is given with z = 0).  freud computes in
-  single precision: the MSD carries an absolute error of about 1e-7 of the
-  squared unwrapped positions, far below the statistical error of D.
+  ``4 D t`` for disks).
 * :class:`VACF`: the velocity autocorrelation over all time origins and
   ``D = (1/d) int C(t) dt`` (Green-Kubo), cut where :meth:`VACF.diffusion`
   says (at least 150 mean free times in a dense fluid: its long-time tail
-  holds ~2% of D).  freud has no VACF; it is the same FFT correlation as its
-  MSD, done here with numpy, a chunk of spheres at a time (bounded memory);
-  it needs only the velocities (no image counts).
+  holds ~2% of D).  The same FFT correlation as the MSD's, a chunk of
+  spheres at a time (bounded memory); it needs only the velocities (no
+  image counts).
 * :func:`yeh_hummer`: the finite-size correction of D in a periodic box.
 * :func:`enskog`: the Enskog transport coefficients, the usual yardstick.
 
@@ -261,7 +260,7 @@ def plateau_window(
 
 
 class MSD(_Blocked):
-    """Mean squared displacement over all time origins (freud, FFT) and D from its slope.
+    """Mean squared displacement over all time origins (FFT) and D from its slope.
 
     Args:
         blocks: segments the trajectory is cut into for the error bar of D.
@@ -286,11 +285,18 @@ class MSD(_Blocked):
 
     @staticmethod
     def _msd(x: np.ndarray) -> np.ndarray:
-        import freud
-
-        if x.shape[2] == 2:  # freud takes 3-D positions: disks with z = 0 (the MSD is the same)
-            x = np.concatenate([x, np.zeros(x.shape[:2] + (1,))], axis=2)
-        return np.asarray(freud.msd.MSD(mode="window").compute(x).msd, float).copy()
+        """``(F,)`` mean over spheres of ``|r(t0 + t) - r(t0)|^2`` over all origins (FFT, float64)."""
+        x = np.asarray(x, float)
+        x = x - x[:1]  # the MSD is blind to a shift per sphere: small numbers, less rounding
+        f, n = x.shape[:2]
+        sq = np.append(np.sum(x * x, axis=(1, 2)) / n, 0.0)  # mean over spheres of |r(t0)|^2
+        s2 = _autocorrelation(x)  # mean over spheres of r(t0) . r(t0 + t)
+        q = 2.0 * sq.sum()
+        s1 = np.zeros(f)
+        for m in range(f):  # mean of |r(t0)|^2 + |r(t0 + t)|^2 over the f - m origins
+            q -= sq[m - 1] + sq[f - m]
+            s1[m] = q / (f - m)
+        return s1 - 2.0 * s2
 
     def _window(self, t: np.ndarray, t_min: float | None, t_max: float | None) -> np.ndarray:
         t_max = 0.5 * t[-1] if t_max is None else t_max

@@ -12,6 +12,7 @@ import signal
 import sys
 from collections.abc import Sequence
 
+from ..errors import MissingExtraError
 from ..messages import oserror_line
 from . import _checked_stdout, _guarded, bench, compress, generate, plot, render, run, sweep, validate, view
 from .options import Parser, one_line, sides_last, version_action
@@ -42,7 +43,7 @@ def main(argv: Sequence[str]) -> int:
             raise  # stdout's: the caller names it
         print(f"hardspheres {args.command}: {oserror_line(e)}", file=sys.stderr)
         return 1
-    except ValueError as e:
+    except (ValueError, MissingExtraError) as e:
         print(f"hardspheres {args.command}: {one_line(e)}", file=sys.stderr)
         return 1
 

@@ -64,7 +64,10 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, STILLS, "a plot")
+    from ..extras import need
     from ..viz import plots
+
+    need("matplotlib", "hardspheres plot")  # before a simulation, not after
 
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)

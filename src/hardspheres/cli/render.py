@@ -60,8 +60,9 @@ def run(args: argparse.Namespace) -> int:
     if args.time is not None and not still:
         raise UsageError("--time picks the frame of a still picture: use -o NAME.png")
     if not still and suffix(args.output) != ".gif":
-        from matplotlib import animation
+        from ..extras import need
 
+        animation = need("matplotlib.animation", "a movie")
         if not animation.FFMpegWriter.isAvailable():
             raise UsageError(
                 f"-o {args.output}: {suffix(args.output)} needs the ffmpeg program, "

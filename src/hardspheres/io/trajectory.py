@@ -277,7 +277,7 @@ class GSDWriter(_FrameWriter):
     a simulation (:meth:`attach`), not when it is made.
 
     Raises:
-        ImportError: ``gsd`` is not installed (``pip install hardspheres[io]``).
+        MissingExtraError: ``gsd`` is not installed (``pip install "hardspheres[io]"``).
     """
 
     def __init__(
@@ -290,9 +290,9 @@ class GSDWriter(_FrameWriter):
         trigger: Trigger | None = None,
     ) -> None:
         super().__init__(every, events, trigger=trigger)
-        import gsd.hoomd  # optional dependency: pip install hardspheres[io]
+        from ..extras import need
 
-        self._hoomd = gsd.hoomd
+        self._hoomd = need("gsd.hoomd", "GSDWriter")
         self.path = os.fspath(path)
         self._append_wanted = bool(append)
 
@@ -515,10 +515,11 @@ def _gsd_last(traj: Any) -> dict[str, Any]:
 
 
 def _read_gsd(path: str) -> Frames:
-    import gsd.hoomd
+    from ..extras import need
 
+    gsd_hoomd = need("gsd.hoomd", f"reading {path}")
     try:
-        traj = gsd.hoomd.open(path, mode="r")
+        traj = gsd_hoomd.open(path, mode="r")
     except (OSError, RuntimeError) as e:
         raise TrajectoryError(f"{path}: cannot read as GSD ({e}); give a complete .gsd file") from None
     with traj:

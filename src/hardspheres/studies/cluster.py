@@ -20,10 +20,11 @@ def connect(address: str, timeout: float = 10.0) -> Client:
         StudyError: the scheduler cannot be reached within ``timeout``
             seconds (the message names the address).
     """
-    from distributed import Client
+    from ..extras import need
 
+    client = need("distributed", "a study on a Dask scheduler").Client
     try:
-        return Client(address, timeout=timeout)
+        return client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError) as e:
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise StudyError(

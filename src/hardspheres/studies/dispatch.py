@@ -70,6 +70,10 @@ def sweep(
         StudyError: a bad study, an unreachable cluster, or a failed task
             (the message names it).
     """
+    from ..extras import need
+
+    for module in ("pandas", "pyarrow") + (() if serial else ("distributed",)):
+        need(module, "a study")
     study = load_study(spec) if isinstance(spec, (str, os.PathLike)) else parse_study(spec)
     all_tasks = tasks(study)
     folder = Path(study["output"])

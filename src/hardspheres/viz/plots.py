@@ -42,6 +42,9 @@ SIZE = (960, 720)
 
 
 def _figure(size: tuple[int, int], dpi: int) -> Figure:
+    from ..extras import need
+
+    need("matplotlib", "a plot")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -556,7 +559,7 @@ def plot_msd(
 ) -> Path:
     """Mean squared displacement of a periodic-box trajectory (all origins), with D.
 
-    Uses :class:`hardspheres.analysis.transport.MSD` (freud) on the unwrapped
+    Uses :class:`hardspheres.analysis.transport.MSD` on the unwrapped
     positions.  Returns ``path``.
     """
     from ..analysis.transport import MSD

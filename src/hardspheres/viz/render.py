@@ -44,7 +44,9 @@ if TYPE_CHECKING:
 
 
 def _writer(path: Path, fps: int, dpi: int) -> Any:
-    from matplotlib import animation
+    from ..extras import need
+
+    animation = need("matplotlib.animation", "a movie")
 
     suffix = path.suffix.lower()
     if suffix == ".gif":
@@ -122,6 +124,9 @@ def _scene(
     it share their arrays and artists, and its annotated signature takes a
     line per parameter.
     """
+    from ..extras import need
+
+    need("matplotlib", "a picture")
     from matplotlib import cm, colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

@@ -79,14 +79,10 @@ def screenshot(
             "screenshot: needs Chromium, which was not found (/usr/bin/chromium "
             "or chromium on PATH; e.g. apt-get install chromium)"
         )
-    try:
-        from playwright.sync_api import Error as PlaywrightError
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        raise PictureError(
-            "screenshot: needs the Python package playwright "
-            "(pip install playwright; its browser download is not needed)"
-        ) from None
+    from ..extras import need
+
+    sync_api = need("playwright.sync_api", "a screenshot (its browser download is not needed)")
+    PlaywrightError, sync_playwright = sync_api.Error, sync_api.sync_playwright
     errors = []
     try:
         with sync_playwright() as pw:
