@@ -507,6 +507,7 @@ def test_one_sphere_alone_gets_no_advice_that_cannot_help(tmp_path):
     assert done.returncode == 0, done.stderr
     text = done.stdout + done.stderr
     assert "run longer" not in text and "one sphere: it never collides" in text
+    assert not re.search(r"\+- 0(\s|$)", text), text  # no spread is no error bar, not "+- 0"
 
 
 def test_summaries_say_only_what_happened(tmp_path):

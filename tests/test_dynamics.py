@@ -362,3 +362,62 @@ def test_disks_chi4_is_n_times_the_variance_of_q_over_origins(disk_fluid):
         assert q == pytest.approx(per.mean(), rel=1e-12)
         assert chi == pytest.approx(fr.n * per.var(), rel=1e-9)
     assert np.all(ov.chi4 > 0)
+
+
+def _fs_with(t, F, error):
+    """A SelfIntermediate holding the given lags and F_s (one k), as if computed."""
+    fs = SelfIntermediate(k=2 * np.pi)
+    fs.t, fs.F, fs.error = (
+        np.asarray(t, float),
+        np.asarray(F, float)[:, None],
+        np.asarray(error, float)[:, None],
+    )
+    fs._computed = True
+    return fs
+
+
+def test_tau_alpha_below_one_over_e_at_the_first_lag_is_refused():
+    """README's first glass run: F_s = 0.13 at the first frame. t[0] is not tau_alpha."""
+    from hardspheres.errors import AnalysisInputError
+
+    fs = _fs_with([0.5, 1.0, 2.0], [0.13, 0.05, 0.01], [0.0, 0.0, 0.0])
+    with pytest.raises(AnalysisInputError, match=r"first lag t = 0\.5.*shorter lags \(run --log-frames"):
+        fs.tau_alpha()
+
+
+def test_tau_alpha_between_the_last_two_lags_warns():
+    from hardspheres.errors import ResolutionWarning
+
+    fs = _fs_with([0.5, 1.0, 2.0], [0.9, 0.6, 0.3], [0.01, 0.01, 0.01])
+    with pytest.warns(ResolutionWarning, match="last two lags"):
+        tau, err = fs.tau_alpha()
+    assert 1.0 < tau < 2.0 and err > 0
+
+
+def test_tau_alpha_without_error_bars_has_a_nan_error_not_zero():
+    """Lags from one origin have no error bar (NaN): the crossing's error is NaN, never 0."""
+    fs = _fs_with([0.1, 0.2, 0.4, 0.8], [0.9, 0.5, 0.2, 0.1], [np.nan] * 4)
+    tau, err = fs.tau_alpha()
+    assert 0.2 < tau < 0.4 and math.isnan(err)
+
+
+@pytest.mark.parametrize("where", ["first", "last"])
+def test_chi4_largest_at_an_end_is_no_peak(where):
+    from hardspheres.errors import AnalysisInputError
+
+    ov = Overlap()
+    ov.t = np.array([0.5, 1.0, 2.0, 4.0])
+    ov.chi4 = np.array([0.155, 0.1, 0.05, 0.01]) if where == "first" else np.array([0.01, 0.05, 0.1, 0.2])
+    ov._computed = True
+    with pytest.raises(AnalysisInputError, match=f"largest at the {where} lag"):
+        ov.peak()
+    ov.chi4 = np.array([0.01, 0.2, 0.1, 0.05])
+    t, c = ov.peak()
+    assert 0.5 < t < 2.0 and c >= 0.2
+
+
+def test_no_error_bar_is_printed_as_zero():
+    from hardspheres.messages import plus_minus
+
+    assert "+-" not in plus_minus(0.5, 0.0) and "+-" not in plus_minus(0.5, float("nan"))
+    assert plus_minus(0.5, 0.01) == "0.5 +- 0.01"

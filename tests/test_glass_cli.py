@@ -2,6 +2,8 @@
 
 import re
 
+import numpy as np
+
 import pytest
 
 import hardspheres as hs
@@ -80,3 +82,35 @@ def test_bad_input_is_one_line(fluid, capsys):
     assert main(argv) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "k = 0.1 is below 2 pi / L" in err[0]
+
+
+def test_readme_glass_frames_resolve_tau_alpha_and_the_chi4_peak(fluid, capsys):
+    """run --log-frames: log-spaced lags from many origins; plot fs and chi4 mark tau_alpha and the peak
+    without a warning, while equally spaced frames far apart are refused with one (no "0.5 +- 0")."""
+    tmp, box = fluid
+    log = tmp / "log.gsd"
+    argv = ["run", str(tmp / "f.txt"), "--box", str(box), "--until", "10", "--trajectory"]
+    assert main([*argv, str(log), "--log-frames", "0.01", "--every", "1"]) == 0
+    t = hs.read_trajectory(log).times
+    np.testing.assert_allclose(t[:4], [0.0, 0.01, 0.01 * 10**0.1, 0.01 * 10**0.2])
+    assert len(t) == 10 * 21 + 1  # 10 origins of 21 frames (lags 0.01 .. 1 at 10 per decade), and 10
+    capsys.readouterr()
+    for what in ("fs", "chi4"):
+        assert main(["plot", what, str(log), "-o", str(tmp / f"{what}_log.png")]) == 0
+        assert capsys.readouterr().err == ""
+    even = tmp / "even.gsd"
+    assert main([*argv, str(even), "--every", "0.5"]) == 0
+    capsys.readouterr()
+    for what, said in (("fs", "no tau_alpha marked"), ("chi4", "no peak marked")):
+        assert main(["plot", what, str(even), "-o", str(tmp / f"{what}_even.png")]) == 0
+        err = capsys.readouterr().err
+        assert err.startswith(f"hardspheres plot: warning: {said}") and "first lag t = 0.5" in err, err
+
+
+def test_log_frames_need_a_trajectory_and_a_first_lag_below_every(fluid, capsys):
+    tmp, box = fluid
+    argv = ["run", str(tmp / "f.txt"), "--box", str(box), "--until", "10"]
+    assert main([*argv, "--log-frames", "0.01"]) == 1
+    assert "--log-frames is for the trajectory" in capsys.readouterr().err
+    assert main([*argv, "--log-frames", "2", "--every", "1", "--trajectory", str(tmp / "x.gsd")]) == 1
+    assert "--log-frames 2 is not shorter" in capsys.readouterr().err

@@ -160,3 +160,8 @@ class MissingExtraError(ModuleNotFoundError):
             f'(from a checkout: pip install ".[{extra}]")',
             name=module,
         )
+
+
+class ResolutionWarning(UserWarning):
+    """An estimate at the edge of what the data resolve (a crossing or a peak at the last lag); the
+    message says what to record instead."""

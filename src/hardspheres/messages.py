@@ -47,3 +47,27 @@ def oserror_line(err: OSError, path: object = None) -> str:
     name = str(name)
     shown = name if name.isprintable() and len(name) <= 200 else quote(name, 200)
     return f"{shown}: {reason}".replace("\n", " ")
+
+
+def plus_minus(mean: float, error: float | None, fmt: str = ".4g", error_fmt: str = ".2g") -> str:
+    """``"mean +- error"``, or the mean alone, saying so, when there is no error bar to show.
+
+    An error of exactly 0, NaN or infinity is never printed as if it were an
+    error bar (it means too few independent samples, not an exact value).
+
+    Args:
+        mean: the estimate.
+        error: its standard error (``None``: none was computed).
+        fmt, error_fmt: format specifications of the two.
+
+    Example:
+        >>> plus_minus(0.51234, 0.0123)
+        '0.5123 +- 0.012'
+        >>> plus_minus(0.5, 0.0)
+        '0.5 (no error bar: too few independent samples)'
+    """
+    if error is None:
+        return f"{mean:{fmt}}"
+    if not (error > 0 and error != float("inf")):  # NaN fails the first test
+        return f"{mean:{fmt}} (no error bar: too few independent samples)"
+    return f"{mean:{fmt}} +- {error:{error_fmt}}"

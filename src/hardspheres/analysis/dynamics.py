@@ -66,12 +66,19 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from ..errors import AnalysisInputError, NotComputedError, PeriodicBoxRequired, TrajectoryError
+from ..errors import (
+    AnalysisInputError,
+    NotComputedError,
+    PeriodicBoxRequired,
+    ResolutionWarning,
+    TrajectoryError,
+)
 from .compute import Compute
 
 if TYPE_CHECKING:
@@ -543,13 +550,21 @@ class SelfIntermediate(_Dynamic):
         """The alpha-relaxation time: the first lag where F_s falls to ``level`` (1/e).
 
         Interpolated linearly in ``log t`` between the lags on either side;
-        the error comes from doing the same to ``F +- error``.
+        the error comes from doing the same to ``F +- error`` (NaN when the
+        lags there have too few origins for an error bar).
 
         Returns:
             ``(tau, error)`` [time].
 
         Raises:
-            ValueError: F_s stays above ``level`` over the lags (run longer).
+            AnalysisInputError: F_s stays above ``level`` over the lags (run
+                longer), or is below it already at the first lag (the
+                crossing is earlier than the frames resolve: record frames
+                at shorter lags, e.g. ``run --log-frames``).
+
+        Warns:
+            ResolutionWarning: the crossing is between the last two lags,
+                the ones with the fewest time origins.
         """
         self._need()
         return _crossing(self.t, self.F[:, k_index], self.error[:, k_index], level, "F_s")
@@ -585,7 +600,23 @@ def _crossing(t: np.ndarray, f: np.ndarray, e: np.ndarray, level: float, what: s
             f"{what} stays above {level:.4g} up to t = {t[-1]:g}: no alpha relaxation in the lags; "
             "record a longer run"
         )
-    e = np.nan_to_num(e)
+    b = int(np.flatnonzero(f <= level)[0])
+    if b == 0:
+        raise AnalysisInputError(
+            f"{what} is {f[0]:.3g}, already below {level:.4g}, at the first lag t = {t[0]:g}: the "
+            "crossing is earlier than the frames resolve; record frames at shorter lags "
+            "(run --log-frames, writers.LogOrigins)"
+        )
+    if b == len(t) - 1:
+        warnings.warn(
+            ResolutionWarning(
+                f"{what} crosses {level:.4g} only between the last two lags (t = {t[-2]:g} .. {t[-1]:g}), "
+                "the ones with the fewest time origins; record a longer run"
+            ),
+            stacklevel=3,
+        )
+    if not (np.isfinite(e[b - 1]) and np.isfinite(e[b])):
+        return tau, math.nan  # too few origins there for an error bar
     hi, lo = cross(f + e), cross(f - e)
     spread = [abs(x - tau) for x in (hi, lo) if not math.isnan(x)]
     return tau, (max(spread) if spread else math.nan)
@@ -781,9 +812,27 @@ class Overlap(_Dynamic):
         return self
 
     def peak(self) -> tuple[float, float]:
-        """``(t*, chi_4(t*))``: the lag where chi_4 is largest (a parabola in log t through the top three)."""
+        """``(t*, chi_4(t*))``: the lag where chi_4 is largest (a parabola in log t through the top three).
+
+        Raises:
+            AnalysisInputError: chi_4 is largest at the first lag (the peak is
+                earlier than the frames resolve: record frames at shorter
+                lags, e.g. ``run --log-frames``) or at the last (still
+                growing: record a longer run); neither is a peak.
+        """
         self._need()
         b = int(np.argmax(self.chi4))
+        if b == 0 or b == len(self.t) - 1:
+            first = b == 0
+            raise AnalysisInputError(
+                f"chi_4 is largest at the {'first' if first else 'last'} lag t = {self.t[b]:g}: no peak "
+                + (
+                    "within the lags; it is earlier than the frames resolve: record frames at shorter "
+                    "lags (run --log-frames, writers.LogOrigins)"
+                    if first
+                    else "within the lags; chi_4 still grows: record a longer run"
+                )
+            )
         if 0 < b < len(self.t) - 1:
             x = np.log(self.t[b - 1 : b + 2])
             c = np.polyfit(x, self.chi4[b - 1 : b + 2], 2)

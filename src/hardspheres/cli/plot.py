@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import sys
+import warnings
+from types import ModuleType
 from typing import TYPE_CHECKING
 
-from ..errors import UsageError
+from ..errors import ResolutionWarning, UsageError
 from .options import STILLS, picture_args, positive, require_suffix, suffix
 from .source import TRAJECTORY_SUFFIXES, check_source, frames_from_args, starting_simulation
 
@@ -68,7 +71,19 @@ def run(args: argparse.Namespace) -> int:
     from ..viz import plots
 
     need("matplotlib", "hardspheres plot")  # before a simulation, not after
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResolutionWarning)
+        _plot(args, plots)
+    for w in caught:  # one line each, not Python's two-line warning format
+        if issubclass(w.category, ResolutionWarning):
+            print(f"hardspheres plot: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    print(f"wrote {args.output}")
+    return 0
 
+
+def _plot(args: argparse.Namespace, plots: ModuleType) -> None:
     if args.what == "eos":
         plots.plot_eos(args.input, args.output)
     elif args.what == "transport":
@@ -94,8 +109,6 @@ def run(args: argparse.Namespace) -> int:
             plots.plot_chi4(frames, args.output, a=args.a)
         else:
             plots.plot_speeds(frames, args.output)
-    print(f"wrote {args.output}")
-    return 0
 
 
 def _packing_sim(args: argparse.Namespace) -> Simulation:

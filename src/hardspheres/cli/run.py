@@ -146,7 +146,11 @@ def _check_args(args: argparse.Namespace) -> None:
     if args.pressure_axes is not None and args.pressure is None:
         raise UsageError("--pressure-axes is for constant pressure: give --pressure P too")
     if args.trajectory is None:
-        for option, value in (("--every", args.every), ("--events", args.events)):
+        for option, value in (
+            ("--every", args.every),
+            ("--events", args.events),
+            ("--log-frames", args.log_frames),
+        ):
             if value:
                 raise UsageError(f"{option} is for the trajectory: give --trajectory FILE.gsd")
     else:
@@ -157,7 +161,36 @@ def _check_args(args: argparse.Namespace) -> None:
             raise UsageError("--events needs a .gsd trajectory (XYZ files hold no events)")
 
 
-def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWriter | XYZWriter:
+#: Lags per decade of ``--log-frames``.
+LOG_FRAMES_PER_DECADE = 10
+
+
+def frame_schedule(args: argparse.Namespace, span: float) -> tuple[Trigger, int]:
+    """``(trigger, frames)``: when the trajectory's frames are written over a run of ``span`` [s].
+
+    Evenly every ``--every`` (default ``span / 100``), or with ``--log-frames
+    FIRST`` on the multiple-origin log schedule
+    (:class:`hardspheres.writers.LogOrigins`): lags ``FIRST .. --every``
+    from an origin every ``--every`` (default ``span / 10``).  ``frames`` is
+    about how many are written (for the size checks).
+    """
+    from ..writers import LogOrigins, Periodic
+
+    if args.log_frames is None:
+        every = args.every or span / 100.0
+        return Periodic(every), int(span / every) + 1
+    every = args.every or span / 10.0
+    if args.log_frames >= every:
+        raise UsageError(
+            f"--log-frames {args.log_frames:g} is not shorter than the time between origins "
+            f"(--every {every:g}); give a shorter first lag or a longer --every"
+        )
+    trigger = LogOrigins(args.log_frames, every, per_decade=LOG_FRAMES_PER_DECADE, until=every)
+    per_origin = 2 + math.ceil(LOG_FRAMES_PER_DECADE * math.log10(every / args.log_frames))
+    return trigger, (int(span / every) + 1) * per_origin
+
+
+def _writer(args: argparse.Namespace, sim: Simulation, trigger: Trigger) -> GSDWriter | XYZWriter:
     """The trajectory writer: continuing the file on resume, refusing to clobber it."""
     from ..io.trajectory import GSDWriter, NotAContinuation, XYZWriter
 
@@ -168,9 +201,9 @@ def _writer(args: argparse.Namespace, sim: Simulation, every: float) -> GSDWrite
     append = bool(args.resume) and not args.overwrite
     writer: GSDWriter | XYZWriter
     if path.lower().endswith(".gsd"):
-        writer = GSDWriter(path, every, events=args.events, append=append)
+        writer = GSDWriter(path, events=args.events, append=append, trigger=trigger)
     else:
-        writer = XYZWriter(path, every, append=append)
+        writer = XYZWriter(path, append=append, trigger=trigger)
     writer.until = args.until  # the run goes there in pieces: a cut-short file shows
     try:
         writer.attach(sim)
@@ -272,6 +305,8 @@ def _value(summary: dict[str, Any], key: str, fmt: str = ".6g") -> str:
         return f"{mean:{fmt}}"
     if not math.isfinite(err):
         return f"{mean:{fmt}} (error unknown: run longer)"
+    if err <= 0:  # no spread at all (one sphere: no collision): not an error bar of 0
+        return f"{mean:{fmt}} (no error bar)"
     text = f"{mean:{fmt}} +- {err:.2g}"
     if summary.get(f"{key}_converged") is False:
         text += " (error not converged: a lower bound)"
@@ -379,8 +414,8 @@ def _check_trajectory_size(args: argparse.Namespace, sim: Simulation) -> None:
     The frames alone (the events' share is known only once the run has
     started, and is warned of then).
     """
+    _, frames = frame_schedule(args, args.until - sim.time)
     every = args.every or (args.until - sim.time) / 100.0
-    frames = int((args.until - sim.time) / every) + 1
     size = estimate_trajectory_bytes(sim.n, frames, 0.0, args.until - sim.time, False)
     folder = os.path.dirname(os.path.abspath(args.trajectory))
     try:
@@ -493,9 +528,8 @@ def _trajectory_writer(args: argparse.Namespace, sim: Simulation, start_time: fl
     """The run's trajectory writer (or ``None``) and the size check after the first progress step."""
     if not args.trajectory:
         return None, None
-    every = args.every or (args.until - sim.time) / 100.0
-    writer = _writer(args, sim, every)
-    frames = int((args.until - start_time) / every) + 1
+    trigger, frames = frame_schedule(args, args.until - start_time)
+    writer = _writer(args, sim, trigger)
 
     def warn(events: int, elapsed: float) -> None:
         if args.events:  # the frames alone were checked before the first
@@ -555,7 +589,18 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
     p.add_argument(
-        "--every", type=positive, help="time between trajectory frames [s] (default: the run / 100)"
+        "--every",
+        type=positive,
+        help="time between trajectory frames [s] (default: the run / 100); with --log-frames, "
+        "between time origins (default: the run / 10)",
+    )
+    p.add_argument(
+        "--log-frames",
+        type=positive,
+        metavar="FIRST",
+        help="frames at log-spaced lags FIRST, ..., --every (10 per decade) from a new time origin "
+        "every --every: what F_s, tau_alpha and chi_4 need (plot fs, plot chi4) to resolve short "
+        "times with few frames",
     )
     p.add_argument(
         "--events",

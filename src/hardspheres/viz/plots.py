@@ -21,6 +21,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -28,8 +29,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..eos import carnahan_starling, hansen_goos, packing_at_pressure
-from ..errors import PictureError, StudyError
+from ..errors import AnalysisInputError, PictureError, ResolutionWarning, StudyError
 from ..maxwell import reduced_density, speed_density
+from ..messages import plus_minus
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -545,8 +547,8 @@ def plot_gr(
             [1.0],
             [g],
             "o",
-            label=f"g(sigma+) = {g:.4g} +- {err:.2g}: Z = 1 + {2 if rdf.dimensions == 2 else 4} phi g "
-            f"= {z:.4g} +- {z_err:.2g}",
+            label=f"g(sigma+) = {plus_minus(g, err)}: Z = 1 + {2 if rdf.dimensions == 2 else 4} phi g "
+            f"= {plus_minus(z, z_err)}",
         )
         ax.legend()
     except ValueError:  # unequal spheres: no single contact value
@@ -568,7 +570,7 @@ def plot_msd(
     D, err = msd.diffusion()
     fig = _figure(size, dpi)
     ax = msd.plot(fig.add_subplot())
-    title = f"D = {D:.4g} +- {err:.2g} (slope over 0.2-0.5 of a fifth of the run)"
+    title = f"D = {plus_minus(D, err)} (slope over 0.2-0.5 of a fifth of the run)"
     if frames.positions.shape[-1] == 2:  # the 2-D tail: D grows as ln t (analysis.transport)
         title += "\ndisks: D at this time scale and box (it grows as ln t)"
     ax.set_title(title)
@@ -602,11 +604,20 @@ def plot_fs(
     ax = fs.plot(fig.add_subplot())
     try:
         tau, err = fs.tau_alpha()
-        ax.plot([tau], [INV_E], "o", label=f"tau_alpha = {tau:.4g} +- {err:.2g}")
+    except AnalysisInputError as e:
+        _unmarked(ax, "tau_alpha", e)
+    else:
+        ax.plot([tau], [INV_E], "o", label=f"tau_alpha = {plus_minus(tau, err)}")
         ax.legend()
-    except ValueError:
-        ax.set_title("F_s stays above 1/e: no tau_alpha within the run")
     return _save(fig, path, dpi)
+
+
+def _unmarked(ax: Axes, what: str, why: Exception) -> None:
+    """Say on the plot, and as a :class:`~hardspheres.errors.ResolutionWarning`, why no ``what``."""
+    import textwrap
+
+    ax.set_title(textwrap.fill(f"no {what}: {why}", 90), fontsize="small")
+    warnings.warn(ResolutionWarning(f"no {what} marked: {why}"), stacklevel=3)
 
 
 def plot_chi4(
@@ -626,9 +637,13 @@ def plot_chi4(
     ov = Overlap(a=a).compute(frames)
     fig = _figure(size, dpi)
     ax = ov.plot(fig.add_subplot())
-    t, c = ov.peak()
-    ax.plot([t], [c], "o", label=f"peak chi_4 = {c:.3g} at t = {t:.3g}")
-    ax.legend()
+    try:
+        t, c = ov.peak()
+    except AnalysisInputError as e:
+        _unmarked(ax, "peak", e)
+    else:
+        ax.plot([t], [c], "o", label=f"peak chi_4 = {c:.3g} at t = {t:.3g}")
+        ax.legend()
     return _save(fig, path, dpi)
 
 
