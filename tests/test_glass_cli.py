@@ -114,3 +114,39 @@ def test_log_frames_need_a_trajectory_and_a_first_lag_below_every(fluid, capsys)
     assert "--log-frames is for the trajectory" in capsys.readouterr().err
     assert main([*argv, "--log-frames", "2", "--every", "1", "--trajectory", str(tmp / "x.gsd")]) == 1
     assert "--log-frames 2 is not shorter" in capsys.readouterr().err
+
+
+def test_a_compression_short_of_isostatic_is_not_called_jammed(fluid, capsys):
+    """Too fast (--rate 0.03 here): z after rattler removal below isostatic at both tolerances; the
+    report says stopped, not jammed, and a warning suggests a slower rate."""
+    tmp, box = fluid
+    argv = ["compress", str(tmp / "f.txt"), "--box", str(box), "--rate", "0.03", "--pressure", "1e6"]
+    assert main([*argv, "-o", str(tmp / "fast.txt")]) == 0
+    out, err = capsys.readouterr()
+    first, jam = out.strip().splitlines()
+    assert first.startswith("stopped at packing") and "(not jammed: short of isostatic)" in first
+    z_hi, z_iso = (float(x) for x in re.search(r"to ([\d.]+) after .* isostatic ([\d.]+)\)", jam).groups())
+    assert z_hi < z_iso
+    assert len(err.strip().splitlines()) == 1 and err.startswith("hardspheres compress: warning: z = ")
+    assert "short of isostatic" in err and "compress more slowly (--rate 0.003)" in err
+
+
+def test_compress_rate_defaults_to_the_library_and_a_missing_file_is_named(fluid, capsys, tmp_path):
+    from hardspheres.cli.compress import add_parser
+    from hardspheres.dense import compress
+    import argparse
+    import inspect
+
+    sub = argparse.ArgumentParser().add_subparsers()
+    assert add_parser(sub).parse_args(["x.txt", "--box", "5", "-o", "y.txt"]).rate == (
+        inspect.signature(compress).parameters["rate"].default
+    )
+    missing = tmp_path / "missing.txt"
+    assert (
+        main(["compress", str(missing), "--box", "5", "--pressure", "1e3", "-o", str(tmp_path / "o.txt")])
+        == 1
+    )
+    err = capsys.readouterr().err
+    assert f"{missing}: No such file or directory" in err and "--rate" not in err
+    assert main(["compress", "--box", "5", "--pressure", "1e3", "-o", str(tmp_path / "o.txt")]) == 1
+    assert "give a scenario file" in capsys.readouterr().err

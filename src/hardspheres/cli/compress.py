@@ -16,12 +16,15 @@ from typing import TYPE_CHECKING, TextIO
 from ..builders import random_spheres
 from ..dense import CompressionError, compress, max_packing
 from ..fileio import atomic_write
+from ..messages import plus_minus
 from ..progress import Progress
 from ..simulation import Simulation
+from ..errors import UsageError
 from .options import positive, where_args, whole
 from .source import starting_simulation
 
 if TYPE_CHECKING:
+    from ..analysis.jamming import PackingSummary
     from ..containers import Container
     from ..state import State
     from .options import Subcommands
@@ -110,6 +113,8 @@ def run(args: argparse.Namespace) -> int:
     """``hardspheres compress``; returns the exit status."""
     if args.packing is None and args.collisions is None and args.pressure is None:
         raise CompressionError("give --packing, --pressure or --collisions")
+    if not args.scenario and not args.resume:
+        raise UsageError("give a scenario file to compress (or --resume CHECKPOINT)")
     sim = starting_simulation(args)
     phi0 = sim.packing
     target = args.packing
@@ -144,26 +149,48 @@ def run(args: argparse.Namespace) -> int:
         fh.write(text)
     if args.checkpoint:
         sim.save(args.checkpoint)
+    summary = None
+    if sim.container.periodic and max((z for _, z in history), default=0.0) >= 100:
+        from ..analysis.jamming import summarize_packing
+
+        phi, z = zip(*history)
+        summary = summarize_packing(sim, phi, z, pressure=res.pressure)
+    short = summary is not None and summary.short_of_isostatic
     if res.jammed:
         what = (
-            f"jammed at packing {res.packing:.6f}: Z = {res.pressure:.4g} passed --pressure {args.pressure:g}"
+            f"{'stopped' if short else 'jammed'} at packing {res.packing:.6f}: Z = {res.pressure:.4g} "
+            f"passed --pressure {args.pressure:g}" + (" (not jammed: short of isostatic)" if short else "")
         )
     elif res.reason == "collisions":
         what = f"stopped after {res.collisions} collisions at packing {res.packing:.6f}"
     else:
         what = f"packing {res.packing:.6f} reached, Z = {res.pressure:.4g}"
     print(f"{what}; {res.collisions} collisions; wrote {args.output}", file=sys.stdout)
-    if sim.container.periodic and max((z for _, z in history), default=0.0) >= 100:
-        print(jamming_line(sim, history, res.pressure), file=sys.stdout)
+    if summary is not None:
+        print(jamming_line(summary), file=sys.stdout)
+    if short:
+        assert summary is not None
+        print(
+            f"hardspheres compress: warning: {short_of_isostatic(summary, args.rate, args.pressure)}",
+            file=sys.stderr,
+        )
     return 0
 
 
-def jamming_line(sim: Simulation, history: list[tuple[float, float]], pressure: float) -> str:
-    """The report's jamming line: z and rattlers (Z >= 1e3) and phi_J from the compression's (phi, Z)."""
-    from ..analysis.jamming import CONTACT_GAPS_Z, summarize_packing
+def short_of_isostatic(s: PackingSummary, rate: float, pressure: float) -> str:
+    """What to say of a packing whose z after rattler removal is below isostatic, and what to do."""
+    further = " or further (--pressure 1e6)" if pressure < 1e6 else ""
+    return (
+        f"z = {s.z_low:.3f} to {s.z_high:.3f} is short of isostatic ({s.z_isostatic:.3f}): the spheres "
+        f"are stuck, not jammed (--rate {rate:g} is too fast); compress more slowly "
+        f"(--rate {rate / 10:g}){further}"
+    )
 
-    phi, z = zip(*history) if history else ((), ())
-    s = summarize_packing(sim, phi, z, pressure=pressure)
+
+def jamming_line(s: PackingSummary) -> str:
+    """The report's jamming line: z and rattlers (Z >= 1e3) and phi_J from the compression's (phi, Z)."""
+    from ..analysis.jamming import CONTACT_GAPS_Z
+
     parts = []
     if math.isfinite(s.z_low):
         lo, hi = CONTACT_GAPS_Z
@@ -176,7 +203,7 @@ def jamming_line(sim: Simulation, history: list[tuple[float, float]], pressure: 
         parts.append("z: not at Z < 1e3 (no contacts yet)")
     if math.isfinite(s.phi_J):
         parts.append(
-            f"phi_J = {s.phi_J:.6f} +- {s.phi_J_error:.1g} (Z = d phi_J / (phi_J - phi) fitted "
+            f"phi_J = {plus_minus(s.phi_J, s.phi_J_error, '.6f', '.1g')} (Z = d phi_J / (phi_J - phi) fitted "
             f"to {s.fit_points} points)"
         )
     else:
@@ -199,10 +226,10 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     p.add_argument(
         "--rate",
         type=positive,
-        required=True,
+        default=1e-3,
         help="growth speed of the largest diameter per thermal speed "
-        "sqrt(kT/m) (1e-1 fast, 1e-4 slow; Skoge et al.'s program's "
-        "growthrate g is 2 sqrt(3) g)",
+        "sqrt(kT/m) (default 0.001, slow enough to jam isostatic; 1e-1 fast, 1e-4 slow; "
+        "Skoge et al.'s program's growthrate g is 2 sqrt(3) g)",
     )
     p.add_argument(
         "--pressure",
