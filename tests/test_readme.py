@@ -126,3 +126,14 @@ def test_readme_constant_pressure_block_prints_what_readme_quotes(tmp_path, monk
     assert f"(Hansen-Goos: {packing_at_pressure(5.0):.3f})" in text
     start = hs.Simulation(*crystal_fluid_slab((3, 3, 6), plane="100", seed=1))
     assert f"{SlabProfile(bins=20).compute(start).crystal_fraction:.2f} at the start" in text
+
+
+def test_readme_quotes_what_its_example_prints(tmp_path, monkeypatch, capsys):
+    """The line README says its first simulation prints is the line it prints."""
+    block = re.search(r"```python\n(.*?)```", README, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    printed = capsys.readouterr().out.strip().splitlines()[-1]
+    quoted = re.search(r"```\n\nIt prints `([^`]+)`", README)
+    assert quoted, "README does not quote what its first simulation prints"
+    assert quoted.group(1) == printed
