@@ -194,3 +194,31 @@ def test_binary_mixture_and_the_uniform_ratio_named_for_what_it_is():
         hs_cmd("generate", "--n", 40, "--box", 8, "--packing", 0.2, "--uniform-radius-ratio", 2).returncode
         == 0
     )
+
+
+def test_the_perfect_crystals_are_at_the_package_root():
+    """``hs.crystal`` (FCC, HCP) and ``hs.hexagonal`` (disks) beside ``hs.random_spheres``."""
+    for name in ("crystal", "hexagonal", "random_spheres"):
+        assert name in hs.__all__ and name in dir(hs), name
+        assert getattr(hs, name) is getattr(builders, name)
+    state, box = hs.crystal("fcc", (2, 2, 2), 0.5)
+    assert state.n == 32 and box.sides == (box.sides[0],) * 3
+    disks, box2d = hs.hexagonal((4, 4), 0.7)
+    assert disks.n == 16 and disks.dimensions == 2 and len(box2d.sides) == 2
+
+
+def test_the_user_guide_crystal_example_matches_speedy(tmp_path, monkeypatch, capsys):
+    """The guide's crystal example (docs/guide/containers.md) runs and lands on Speedy's equation of state."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "containers.md").read_text()
+    block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "hs.crystal(" in b)
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    exec(compile(block, "containers.md", "exec"), scope)
+    m = re.search(r"Z = (\d+\.\d+) \+- (\d+\.\d+); Speedy: (\d+\.\d+)", capsys.readouterr().out)
+    assert m, "the example printed no comparison"
+    z, sem, speedy = (float(g) for g in m.groups())
+    assert abs(z - speedy) < 4 * sem
+    assert scope["disks"].n == 1024

@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
     from .analysis.structure import RDF, BondOrder, Hexatic, StructureFactor
     from .analysis.transport import MSD, VACF, ShearViscosity, ThermalConductivity, enskog, yeh_hummer
     from .barostat import Barostat
-    from .builders import random_spheres
+    from .builders import crystal, hexagonal, random_spheres
     from .frames import Frames
     from .io.trajectory import GSDWriter, XYZWriter, read_trajectory
     from .maxwell import maxwell_boltzmann
@@ -50,6 +50,8 @@ _LAZY = {
     "Barostat": "barostat",
     "maxwell_boltzmann": "maxwell",
     "random_spheres": "builders",
+    "crystal": "builders",
+    "hexagonal": "builders",
     "Event": "simulation",
     "Observables": "observables",
     "Simulation": "simulation",
@@ -202,7 +204,9 @@ __all__ = [
     "VACF",
     "VanHove",
     "XYZWriter",
+    "crystal",
     "enskog",
+    "hexagonal",
     "maxwell_boltzmann",
     "parse_scenario",
     "random_spheres",
