@@ -13,7 +13,9 @@ It prints one line per fault and exits 1 if there is any:
   instead of its name;
 * a page that loads a script or a style from the network (MathJax from a
   CDN, say): the site is opened from the disk, offline;
-* a page with math but without the local MathJax (``_static/mathjax``).
+* a page with math but without the local MathJax (``_static/mathjax``);
+* a notebook's output that links a Dask dashboard (gone once the page is
+  built).
 """
 
 from __future__ import annotations
@@ -54,6 +56,8 @@ def faults(site: Path) -> list[str]:
             out.append(f"{rel}: loads from the network: {m.group(0)[:120]}")
         if MATH.search(html) and not MATHJAX_LOCAL.search(html):
             out.append(f"{rel}: has math but not the local MathJax (_static/mathjax)")
+        if "dashboard: http" in html:
+            out.append(f"{rel}: a cell prints a Dask dashboard's address")
     if not (site / "_static" / "mathjax" / "tex-chtml.js").is_file():
         out.append("_static/mathjax/tex-chtml.js is missing (sphinx-mathjax-offline, docs/conf.py)")
     return out

@@ -9,6 +9,7 @@ build (myst-nb, cached in ``docs/_build/.jupyter_cache``); a cell that
 raises fails the build.
 """
 
+import logging
 import os
 import sys
 from pathlib import Path
@@ -27,6 +28,23 @@ if os.environ.get("MPLBACKEND", "").lower() == "agg":
     del os.environ["MPLBACKEND"]
 
 from hardspheres.version import package_version  # noqa: E402
+
+# --- a quiet build ---------------------------------------------------------------
+# The notebooks' kernels: ipykernel warns on stderr, for every notebook, that it
+# talks to the build over local TCP; an IPython profile of the build's own
+# (docs/_build/.ipython) sets the kernels' log level to errors.
+_IPYTHON = ROOT / "docs" / "_build" / ".ipython"
+(_IPYTHON / "profile_default").mkdir(parents=True, exist_ok=True)
+(_IPYTHON / "profile_default" / "ipython_kernel_config.py").write_text('c.IPKernelApp.log_level = "ERROR"\n')
+os.environ["IPYTHONDIR"] = str(_IPYTHON)
+# accessible-pygments (furo's colour schemes) sets the root logger to INFO when
+# imported, which prints each notebook client's "Executing notebook" line: back
+# to warnings once it is imported
+try:
+    import a11y_pygments  # noqa: E402, F401
+except ImportError:
+    pass
+logging.getLogger().setLevel(logging.WARNING)
 
 project = "hardspheres"
 author = "the hardspheres developers"
@@ -175,7 +193,8 @@ def _note_module(app, what, name, obj, options, lines):
 def _public_module(name):
     """A module with an API page of its own: public and not in ``INTERNAL_MODULES``."""
     internal = any(name == m or name.startswith(m + ".") for m in INTERNAL_MODULES)
-    return name.startswith("hardspheres") and not internal and not any(p.startswith("_") for p in name.split("."))
+    private = any(p.startswith("_") for p in name.split("."))
+    return name.startswith("hardspheres") and not internal and not private
 
 
 def _skip_described_elsewhere(app, what, name, obj, skip, options):
