@@ -526,7 +526,7 @@ class PackingSummary(NamedTuple):
 
     @property
     def short_of_isostatic(self) -> bool:
-        """z below isostatic at both contact tolerances: the compression stopped short of jamming.
+        """z below isostatic at both contact tolerances, so the compression stopped short of jamming.
 
         Too fast a compression leaves the contact network hypostatic (at
         ``rate = 0.01``, 2-4% short of isostatic; at 0.001 within 1%): the
