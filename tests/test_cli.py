@@ -189,7 +189,7 @@ def events_of(out):
     ]
 
 
-ENGINES = pytest.mark.parametrize("engine", ["reference", "compiled"])
+ENGINES = pytest.mark.parametrize("engine", ["reference", "scan", "compiled"])
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -91,10 +91,10 @@ def test_program_output_matches(row):
     _check(res.stdout, row)
 
 
-@pytest.mark.parametrize("engine", ["reference", "compiled"])
+@pytest.mark.parametrize("engine", ["reference", "scan", "compiled"])
 @pytest.mark.parametrize("row", CASES)
 def test_both_engines_match(row, engine, monkeypatch, capsys):
-    """The same report in-process, from the pure-Python loop and from the compiled core."""
+    """The same report in-process, from the pure-Python loop, the numpy scan and the compiled core."""
     monkeypatch.setenv("HARDSPHERES_ENGINE", engine)
     assert choose_engine(1) == choose_engine(10**6) == engine
     if engine == "compiled":

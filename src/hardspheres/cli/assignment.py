@@ -1,12 +1,12 @@
 """The assignment's simulation and report, given a checked scenario.
 
 Small inputs run the pure-Python reference engine (no numba or numpy
-start-up); larger ones run the compiled event core (or, on a Python
-without numpy or numba, the reference engine too).  Both speak one interface
-and follow the same rules with the same arithmetic
-(:mod:`hardspheres.core.reference`), so one loop writes the report and the
-reports are identical;
-``HARDSPHERES_ENGINE=reference|compiled`` forces one (the tests do).
+start-up); larger ones run the compiled event core, or, while numba's
+cache does not hold it yet, the numpy engine :class:`~hardspheres.core.scan.Scan`
+(O(N) per event, no compilation).  All three speak one interface and follow
+the same rules with the same arithmetic (:mod:`hardspheres.core.reference`),
+so one loop writes the report and the reports are identical;
+``HARDSPHERES_ENGINE=reference|scan|compiled`` forces one (the tests do).
 """
 
 from __future__ import annotations
@@ -28,28 +28,44 @@ if TYPE_CHECKING:
 SMALL = 24
 
 
+def _found(name: str) -> bool:
+    """Whether module ``name`` can be imported (looked up, not imported)."""
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ImportError, ValueError):
+        return False
+
+
 def compiled_available() -> bool:
     """Whether numpy and numba can be imported (looked up, not imported)."""
-    for name in ("numpy", "numba"):
-        try:
-            if importlib.util.find_spec(name) is None:
-                return False
-        except (ImportError, ValueError):
-            return False
-    return True
+    return _found("numpy") and _found("numba")
 
 
 def choose_engine(n: int) -> str:
-    """``"reference"`` or ``"compiled"`` for ``n`` spheres.
+    """``"reference"``, ``"scan"`` or ``"compiled"`` for ``n`` spheres.
 
-    The compiled core for more than :data:`SMALL` spheres, if numpy and
-    numba are installed; else the reference loop, which needs neither and
-    writes the same bytes (only slower: O(N^2) per event).
+    All three write the same bytes.  Up to :data:`SMALL` spheres the
+    reference loop (pure Python, O(N^2) per event: no numpy to load).  Above,
+    the compiled core when numba's cache holds it; while it does not (the
+    first compilation takes far longer than a short run), :class:`Scan`
+    (numpy, O(N) per event) for up to :data:`~hardspheres.core.scan.MAX_SPHERES`
+    spheres.  Without numba, :class:`Scan`; without numpy, the reference.
+    ``HARDSPHERES_ENGINE=reference|scan|compiled`` forces one.
     """
     forced = os.environ.get("HARDSPHERES_ENGINE", "")
-    if forced in ("reference", "compiled"):
+    if forced in ("reference", "scan", "compiled"):
         return forced
-    return "reference" if n <= SMALL or not compiled_available() else "compiled"
+    if n <= SMALL or not _found("numpy"):
+        return "reference"
+    from ..core.scan import MAX_SPHERES
+
+    if not _found("numba"):
+        return "scan" if n <= MAX_SPHERES else "reference"
+    if n > MAX_SPHERES:
+        return "compiled"
+    from ..core.warmup import is_cold
+
+    return "scan" if is_cold(3) else "compiled"
 
 
 def write_report(scn: Scenario, container: float, end: float, out: IO[str], fmt: str = "text") -> None:
@@ -71,8 +87,13 @@ def _write_events(scn: Scenario, container: float, end: float, out: IO[str], fmt
     rep = (TextReport if fmt == "text" else JSONLReport)(scn.names, scn.masses, scn.radii, out)
     rep.initial(container, end, scn.positions, scn.velocities)
     engine: type[Reference] | type[Engine]
-    if choose_engine(len(scn)) == "reference":
+    choice = choose_engine(len(scn))
+    if choice == "reference":
         engine = Reference
+    elif choice == "scan":
+        from ..core.scan import Scan
+
+        engine = Scan
     else:
         from ..core.engine import Engine
         from ..core.warmup import ensure_compiled
