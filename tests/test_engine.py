@@ -444,3 +444,20 @@ def test_calendar_made_anew_on_schedule_without_a_record(monkeypatch):
     eng.advance(collisions=20 * n, record=False)
     assert [every for _, every in due] == [n, 2 * n, 4 * n, 8 * n]
     assert all(since == every for since, every in due)
+
+
+def test_link_arrays_are_int32_in_the_engine_and_int64_in_checkpoints():
+    """The cell lists, heads and heap hold sphere indices in 4 bytes; files keep 8 (one format at any N)."""
+    from hardspheres.core import engine as engine_module
+
+    eng = engine_module.Engine(
+        [1.0] * 3, [0.5] * 3, [[-2.0, 0, 0], [0.0, 0, 0], [2.0, 0, 0]], [[1.0, 0, 0], [0.0, 0, 0], [-1.0, 0, 0]], box=8.0
+    )
+    for name in engine_module._LINKED + ("scratch",):
+        assert getattr(eng, name).dtype == np.int32, name
+    data = eng.checkpoint()
+    for name in engine_module._LINKED:
+        assert data[name].dtype == np.int64, name
+    again = engine_module.Engine.restore(data)
+    assert again.cell_next.dtype == np.int32
+    assert again.advance(events=50).tobytes() == eng.advance(events=50).tobytes()

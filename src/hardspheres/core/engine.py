@@ -65,6 +65,13 @@ REORDER_EVERY = 10.0
 # the core's arrays that the engine shows in the input order under their own
 # names (properties): kept in the engine's order under these
 _INTERNAL = {"masses": "_masses", "images": "_images"}
+#: The dtype of the sphere indices the core links by (cell lists and heads,
+#: the calendar's heap, the work space): 4 bytes while N < 2^31, half the
+#: cache lines of int64 (benchmarks/README.md, "Memory").  Checkpoints keep
+#: them as int64.
+LINK = np.int32
+_LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
+
 
 # the dimension as the core takes it: a tuple of d empty tuples, whose length
 # numba folds (each d compiles a loop of its own; _core, "the arrays")
@@ -137,6 +144,8 @@ class Engine:
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
+        if self._masses.shape[0] >= 2**31:
+            raise ArgumentError(f"{self._masses.shape[0]} spheres: the engine takes fewer than 2^31")
         n = self._masses.shape[0]
         d = self.dimensions
         # one 64-byte row per sphere: x y z vx vy vz t_own radius (in 2-D z = vz = 0, never read)
@@ -148,13 +157,13 @@ class Engine:
         self.due = np.zeros((n, core.DUE_COLS))
         self.shells = np.zeros((n, core.SHELL_COLS))
         self.neighbours = np.zeros((n, 0), np.int32)  # widened as needed (_build, advance)
-        self.cell_next = np.zeros(n, np.int64)
-        self.cell_prev = np.zeros(n, np.int64)
-        self.heap = np.zeros(n, np.int64)
+        self.cell_next = np.zeros(n, LINK)
+        self.cell_prev = np.zeros(n, LINK)
+        self.heap = np.zeros(n, LINK)
         self.heap_t = np.zeros(n)
         self.heap_key = np.zeros(n, np.int64)
         self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
-        self.scratch = np.zeros(2 * n + 2, np.int64)
+        self.scratch = np.zeros(2 * n + 2, LINK)
         self._images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         # the engine's order: sphere i here is sphere order[i] of the input
         # (book[:, ORIGIN]; _rank the other way round, None while the two agree)
@@ -323,8 +332,8 @@ class Engine:
         by = np.argsort(cell, kind="stable")
         c = cell[by]
         same = c[1:] == c[:-1]
-        self.cell_next = np.full(n, -1, np.int64)
-        self.cell_prev = np.full(n, -1, np.int64)
+        self.cell_next = np.full(n, -1, LINK)
+        self.cell_prev = np.full(n, -1, LINK)
         self.cell_next[by[:-1][same]] = by[1:][same]
         self.cell_prev[by[1:][same]] = by[:-1][same]
         first = np.concatenate(([True], ~same))
@@ -411,7 +420,7 @@ class Engine:
         self.counts[core.C_CELLS] = self.counts[core.C_GRID]
         self.scalars[core.F_LO] = self.scalars[core.F_LOW]
         self.scalars[core.F_W] = self.scalars[core.F_WIDTH]
-        self.cell_head = np.full(int(np.prod(self._cells)), -1, np.int64)
+        self.cell_head = np.full(int(np.prod(self._cells)), -1, LINK)
 
     def _into_box(self) -> None:
         """The centres into the periodic box, whole sides at a time (the image counts the other way).
@@ -789,6 +798,8 @@ class Engine:
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
         out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
+        for k in _LINKED:  # (files keep int64: the same format at any N)
+            out[k] = out[k].astype(np.int64)
         # the calendar's own counters and width (the last of each) are made anew on restore
         # (the per-axis grid after them; zeros in their place)
         out["counts"] = self.counts.copy()
@@ -830,7 +841,7 @@ class Engine:
         eng = cls.__new__(cls)
         n = len(data["masses"])
         for k in cls._SAVED:
-            setattr(eng, _INTERNAL.get(k, k), np.array(data[k]))
+            setattr(eng, _INTERNAL.get(k, k), np.array(data[k], dtype=LINK if k in _LINKED else None))
         eng._reorder_every, eng._since_reorder = data["reorder"][0], int(data["reorder"][1])
         eng._set_rank()
         offset, since, rebase_on, radius, box = data["meta"].tolist()
@@ -850,7 +861,7 @@ class Engine:
                 raise CheckpointError("damaged checkpoint: the container disagrees with the core's")
         else:
             eng.container = as_container(None if np.isnan(radius) else radius, None if np.isnan(box) else box)
-        eng.scratch = np.zeros(2 * eng.n + 2, np.int64)
+        eng.scratch = np.zeros(2 * eng.n + 2, LINK)
         eng._event_buffers = _events.empty_buffers(CHUNK)
         if before_core is not None:
             before_core(eng.dimensions)
