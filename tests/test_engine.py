@@ -451,7 +451,11 @@ def test_link_arrays_are_int32_in_the_engine_and_int64_in_checkpoints():
     from hardspheres.core import engine as engine_module
 
     eng = engine_module.Engine(
-        [1.0] * 3, [0.5] * 3, [[-2.0, 0, 0], [0.0, 0, 0], [2.0, 0, 0]], [[1.0, 0, 0], [0.0, 0, 0], [-1.0, 0, 0]], box=8.0
+        [1.0] * 3,
+        [0.5] * 3,
+        [[-2.0, 0, 0], [0.0, 0, 0], [2.0, 0, 0]],
+        [[1.0, 0, 0], [0.0, 0, 0], [-1.0, 0, 0]],
+        box=8.0,
     )
     for name in engine_module._LINKED + ("scratch",):
         assert getattr(eng, name).dtype == np.int32, name

@@ -30,7 +30,10 @@ def _system(n: int, seed: int, d: int, lattice: bool):
         if all(sum((a - b) ** 2 for a, b in zip(p, q)) > (r + s) ** 2 for q, s in zip(pos, radii)):
             pos.append(p)
             radii.append(r)
-    vel = [[rnd.choice([-1.0, 0.0, 1.0, 0.5]) if lattice else rnd.gauss(0, 1) for _ in range(d)] for _ in range(n)]
+    vel = [
+        [rnd.choice([-1.0, 0.0, 1.0, 0.5]) if lattice else rnd.gauss(0, 1) for _ in range(d)]
+        for _ in range(n)
+    ]
     masses = [rnd.choice([1.0, 2.0]) for _ in range(n)]
     return masses, radii, pos, vel, (SphericalContainer(wall) if d == 3 else CircularContainer(wall))
 

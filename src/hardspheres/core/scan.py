@@ -1,4 +1,4 @@
-"""The reference's rules at O(N) work per event, with numpy: the assignment's program's start without compiling.
+"""The reference's rules at O(N) numpy work per event: the assignment's program with no compilation.
 
 :class:`Scan` is :class:`~hardspheres.core.reference.Reference` (same
 constructor, methods and results, bit for bit) in a spherical or circular
@@ -61,7 +61,7 @@ def _pair_times(
     sigma: np.ndarray,
     planar: bool,
 ) -> np.ndarray:
-    """Absolute collision times of pairs ``(i, j)``, ``i`` the lower index: the reference's arithmetic, elementwise.
+    """Collision times of pairs ``(i, j)``, ``i`` the lower index: the reference's arithmetic, elementwise.
 
     ``pi, vi, pj, vj`` are ``(k, 3)`` (or ``(3,)``, broadcast), ``ti, tj``
     own times, ``sigma`` the contact distances.  Each operation is the one
@@ -138,7 +138,7 @@ class Scan(Reference):
         super().__init__(masses, radii, positions, velocities, container, box, window, time, rebase)
         n = self.n
         if self._edges[0]:
-            raise ArgumentError("Scan runs in a spherical or circular container; use Engine for a periodic box")
+            raise ArgumentError("Scan runs in a sphere or a circle; use Engine for a periodic box")
         if n > MAX_SPHERES:
             raise ArgumentError(f"Scan takes at most {MAX_SPHERES} spheres, not {n}; use Engine")
         self._P = np.array(self._p, dtype=float).reshape(n, 3)
@@ -220,7 +220,7 @@ class Scan(Reference):
         return done
 
     def _next(self) -> tuple[float, int, int, int]:
-        """The next event, ``(t, kind, i, j)``: :func:`~hardspheres.core.reference.next_event` from the tables."""
+        """The next event ``(t, kind, i, j)``, as :func:`~hardspheres.core.reference.next_event` finds it."""
         clock = self._clock
         soon = clock + self._window
         walls, least = self._walls, self._least
