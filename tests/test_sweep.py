@@ -589,3 +589,102 @@ def test_a_full_disk_on_a_local_cluster_is_one_line_and_the_rerun_is_right(tmp_p
         )
     finally:
         subprocess.run(["umount", str(disk)], check=False)
+
+
+#: Sends Ctrl-C to its own process group at one point of a sweep (argv[1]), then runs
+#: ``hardspheres sweep s.toml --workers 1``: the points are where a Ctrl-C was, or could be, lost.
+CTRL_C_AT = """
+import os, signal, sys, time
+
+
+def ctrl_c():
+    os.killpg(0, signal.SIGINT)
+
+
+def patch(point):
+    import distributed
+    from hardspheres.studies import dispatch
+
+    if point in ("cluster-start", "cluster-end"):  # while this process ignores it (the workers start)
+        Real = distributed.LocalCluster
+
+        class Cluster(Real):
+            def __init__(self, *a, **k):
+                if point == "cluster-start":
+                    ctrl_c()
+                super().__init__(*a, **k)
+                if point == "cluster-end":  # the last instant before Ctrl-C is handled again
+                    ctrl_c()
+
+        distributed.LocalCluster = Cluster
+        return
+    real = dispatch.write_table
+    sent = []
+
+    def write_table(df, stem):  # after a task's row, in the sweep's own loop
+        if not sent:
+            sent.append(1)
+            if point == "first-row":
+                ctrl_c()
+            else:  # "swallowed": a layer below that catches the KeyboardInterrupt and goes on
+                try:
+                    ctrl_c()
+                    time.sleep(30)
+                except KeyboardInterrupt:
+                    pass
+        return real(df, stem)
+
+    dispatch.write_table = write_table
+
+
+if __name__ == "__main__":  # the workers are spawned: they import this file as a module
+    patch(sys.argv[1])
+    from hardspheres.cli.commands import hardspheres_main
+
+    hardspheres_main(["sweep", "s.toml", "--workers", "1"])
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("point", ["cluster-start", "cluster-end", "first-row", "swallowed"])
+def test_ctrl_c_at_each_point_of_a_loaded_sweep_exits_130(tmp_path, point):
+    """A Ctrl-C on a sweep was lost under load (exit 0, no message, part of the rows).  One window:
+    a Ctrl-C at the end of the LocalCluster's start reached the sentinel process, which had not yet
+    run to die of it when asked whether it still ran (lost every time with two cores busy).  Sent
+    here from inside the sweep at each point, with a process spinning: 130 and "interrupted" each time.
+    """
+    (tmp_path / "s.toml").write_text(TINY_STUDY)
+    (tmp_path / "ctrl_c_at.py").write_text(CTRL_C_AT)
+    spinners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
+    try:
+        proc = subprocess.Popen(
+            [sys.executable, "ctrl_c_at.py", point],
+            cwd=tmp_path,
+            env={**os.environ, **ENV},
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,
+            preexec_fn=default_sigint,
+        )
+        code, err = _ctrl_c_sent(proc)
+    finally:
+        for s in spinners:
+            s.kill()
+            s.wait()
+    assert code == 130 and err.strip().splitlines()[-1] == "interrupted", (code, err[-2000:])
+
+
+def _ctrl_c_sent(proc):
+    """``proc``'s (returncode, stderr), the Ctrl-C sent by itself; its group killed after (180 s guard)."""
+    try:
+        _, err = proc.communicate(timeout=180)
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        if proc.poll() is None:
+            proc.communicate()
+    assert "Traceback" not in err, err[-2000:]
+    return proc.returncode, err

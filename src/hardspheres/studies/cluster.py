@@ -46,7 +46,10 @@ def local_client(workers: int | None = None) -> Client:
     # inherited): only this process stops, cancels the tasks and closes the
     # cluster, without a traceback from every worker.  A Ctrl-C during the
     # start would be lost with it (the sweep ran on): a sentinel process in
-    # the group, which Ctrl-C ends, tells it came (issue 29)
+    # the group, which Ctrl-C ends, tells it came.  It is asked after the
+    # start, and answers only if no Ctrl-C is pending for it: under load it
+    # may not yet have run since the Ctrl-C, and "is it still running?"
+    # (poll) then lost the Ctrl-C
     guard = os.name == "posix" and threading.current_thread() is threading.main_thread()
     sentinel = _ctrl_c_sentinel() if guard else None
     cluster = None
@@ -63,7 +66,7 @@ def local_client(workers: int | None = None) -> Client:
         finally:
             if guard:
                 signal.signal(signal.SIGINT, old)
-        if sentinel is not None and sentinel.poll() is not None:
+        if sentinel is not None and not _sentinel_answers(sentinel):
             raise KeyboardInterrupt  # Ctrl-C came while the cluster started
         return Client(cluster)
     except BaseException:
@@ -71,18 +74,49 @@ def local_client(workers: int | None = None) -> Client:
             cluster.close(timeout=10)
         raise
     finally:
-        if sentinel is not None and sentinel.poll() is None:
-            sentinel.kill()
+        if sentinel is not None:
+            if sentinel.poll() is None:
+                sentinel.kill()
             sentinel.wait()
+            for pipe in (sentinel.stdin, sentinel.stdout):
+                try:
+                    if pipe is not None:
+                        pipe.close()
+                except OSError:  # its stdin: the question it did not read (it is gone)
+                    pass
 
 
 def _ctrl_c_sentinel() -> subprocess.Popen[bytes]:
     """A process in this one's group that only Ctrl-C (SIGINT) ends: it tells
-    whether Ctrl-C came while this process ignored it."""
-    code = "import signal, time; signal.signal(signal.SIGINT, signal.SIG_DFL); time.sleep(86400)"
+    whether Ctrl-C came while this process ignored it (:func:`_sentinel_answers`).
+
+    It answers each line on its stdin with one on its stdout.  Before it
+    can answer, a SIGINT sent to the group (pending for it, with the default
+    action or Python's KeyboardInterrupt) ends it."""
+    code = (
+        "import signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL)\n"
+        "for line in sys.stdin.buffer:\n"
+        "    sys.stdout.buffer.write(b'alive\\n'); sys.stdout.buffer.flush()"
+    )
     return subprocess.Popen(
-        [sys.executable, "-c", code],
-        stdin=subprocess.DEVNULL,
-        stdout=subprocess.DEVNULL,
+        [sys.executable, "-S", "-c", code],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
     )
+
+
+def _sentinel_answers(sentinel: subprocess.Popen[bytes]) -> bool:
+    """Whether the sentinel answers now, i.e. no Ctrl-C was sent to the group before this call.
+
+    A signal sent before the question is pending for the sentinel when it
+    reads the question, and ends it before it returns to answer: whatever
+    the load, the answer cannot come and an empty read (its end) does.
+    """
+    assert sentinel.stdin is not None and sentinel.stdout is not None
+    try:
+        sentinel.stdin.write(b"?\n")
+        sentinel.stdin.flush()
+    except BrokenPipeError:
+        return False
+    return sentinel.stdout.readline() == b"alive\n"
