@@ -124,6 +124,7 @@ INTERNAL_MODULES = [
     "hardspheres.core.contacts",
     "hardspheres.core.engine",
     "hardspheres.core.reference",
+    "hardspheres.core.scan",
     "hardspheres.core.warmup",
     "hardspheres.analysis.compute",
     "hardspheres.fileio",
