@@ -10,7 +10,7 @@ it embeds with :func:`even_indices`).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -19,6 +19,9 @@ from .containers import Container, as_container
 from .errors import ArgumentError
 from .events import as_events, empty_events, from_columns
 from .state import kinetic_energy
+
+if TYPE_CHECKING:
+    from .state import State
 
 
 class Frames:
@@ -105,6 +108,41 @@ class Frames:
         c = self.container
         where = "" if c is None else f", {'box' if c.periodic else 'container'}={c.size:g}"
         return f"Frames(n={self.n}, frames={len(times)}{span}{where}, events={len(self.events)})"
+
+    def state(self, frame: int = -1, kT: float = 1.0, seed: int = 0) -> State:
+        """The spheres of one frame as a :class:`~hardspheres.State`, to start a simulation from.
+
+        A frame whose velocities are all zero (a Monte Carlo trajectory:
+        HOOMD-blue's HPMC writes none) gets velocities drawn from
+        Maxwell-Boltzmann at ``kT`` (zero total momentum).
+
+        Args:
+            frame: the frame's index (default the last).
+            kT: temperature of drawn velocities [energy].
+            seed: seed of the draw.
+
+        Example:
+            >>> import hardspheres as hs
+            >>> f = Frames([0.0], [[[0, 0, 0], [2, 0, 0]]], np.zeros((1, 2, 3)), [0.5, 0.5], [1.0, 1.0],
+            ...            ["a", "b"], box=5.0)
+            >>> sim = hs.Simulation(f.state(), f.container)
+            >>> round(sim.state().kinetic_energy(), 6)  # (d/2) (N - 1) kT
+            1.5
+        """
+        from .maxwell import maxwell_boltzmann
+        from .state import State
+
+        try:
+            k = range(len(self.times))[frame]
+        except IndexError:
+            raise ArgumentError(f"frame {frame} of {len(self.times)} frames; give -F .. F-1") from None
+        x = self.positions[k].copy()
+        v = self.velocities[k].copy()
+        if not np.any(v):
+            v = maxwell_boltzmann(np.random.default_rng(seed), self.masses, kT, dimensions=x.shape[1])
+        if self.container is not None and self.container.periodic:
+            x = self.container.wrap(x)
+        return State.from_arrays(self.masses, self.radii, x, v, self.names, time=float(self.times[k]))
 
     def since(self, t: float) -> Frames:
         """The frames (and events) at times ``>= t``: e.g. to leave out an equilibration.

@@ -155,7 +155,7 @@ def _source(
         if source.images is None:
             raise PeriodicBoxRequired(
                 f"{what} need image counts: a periodic-box run recorded with GSDWriter or "
-                "frames_from_simulation (XYZ files carry none)"
+                "frames_from_simulation (XYZ files carry none, nor GSD files without particles/image)"
             )
         pos, img = source.positions, source.images
         dim = pos.shape[-1]
@@ -196,10 +196,11 @@ def _gsd_source(path: str, what: str) -> _Source:
     if len(traj) == 0:
         raise TrajectoryError(f"{path}: no frames; read a trajectory its run wrote frames to")
     first = traj[0]
-    if "hardspheres/time" not in first.log:
-        raise TrajectoryError(
-            f"{path}: not written by hardspheres (no log/hardspheres/time); read a GSDWriter's file"
-        )
+    if "hardspheres/time" not in first.log:  # HOOMD-blue's schema: read whole, as read_trajectory does
+        traj.close()
+        from ..io.trajectory import read_trajectory
+
+        return _source(read_trajectory(path), what)
     container = from_fields(first.log)
     if not container.periodic:
         raise PeriodicBoxRequired(f"{what} need a periodic box; {path} is in a {container.label}")

@@ -54,7 +54,7 @@ from typing import IO, TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..containers import Container, from_fields
+from ..containers import Container, PeriodicBox, from_fields
 from ..errors import NotAContinuation, TruncatedTrajectory  # noqa: F401 (re-exported)
 from ..errors import ArgumentError, TrajectoryError
 from ..events import EVENT_DTYPE, empty_events, from_columns
@@ -483,6 +483,98 @@ def read_trajectory(path: str | os.PathLike) -> Frames:
     raise TrajectoryError(f"{path}: not a trajectory (use a .gsd or .xyz file)")
 
 
+#: The shapes of HOOMD-blue's ``particles/type_shapes`` that are spheres (3-D) or disks (2-D).
+ROUND_SHAPES = ("Sphere", "Disk")
+
+
+def _hoomd_radii(path: str, traj: Any) -> np.ndarray:
+    """``(N,)`` radii of a HOOMD-blue file's first frame: its spheres' or disks' diameters over 2.
+
+    HPMC's ``particles/type_shapes`` (``{"type": "Sphere", "diameter": d}``
+    per type) decide when given: they are the shapes it simulated.  Else
+    ``particles/diameter``, which defaults to 1 (as in HOOMD-blue).
+    """
+    import json
+
+    first = traj[0]
+    n = int(first.particles.N)
+    shapes = [s if isinstance(s, dict) else json.loads(s) for s in (first.particles.type_shapes or [])]
+    types = list(first.particles.types or [])
+    for k, shape in enumerate(shapes):
+        kind = shape.get("type", "?") if shape else "?"
+        if shape and kind not in ROUND_SHAPES:
+            name = types[k] if k < len(types) else str(k)
+            raise TrajectoryError(
+                f"{path}: particles of type {name!r} are a {kind} (particles/type_shapes); "
+                "hardspheres reads spheres and disks only"
+            )
+    typeid = np.asarray(first.particles.typeid, np.int64).reshape(n)
+    if shapes and all(s and "diameter" in s for s in shapes) and (n == 0 or typeid.max() < len(shapes)):
+        return np.array([float(s["diameter"]) for s in shapes])[typeid] / 2.0
+    return np.asarray(first.particles.diameter, np.float64).reshape(n) / 2.0
+
+
+def read_hoomd(path: str, traj: Any) -> Frames:
+    """Frames of a GSD file written by HOOMD-blue (or any writer of its schema), open as ``traj``.
+
+    Read: ``configuration/box`` (a rectangular periodic box),
+    ``configuration/dimensions`` (2: disks), ``configuration/step`` (the
+    frames' times, in steps; the frame index if they do not increase),
+    ``particles/position``, ``velocity`` (0 by default, as HPMC writes
+    none: :meth:`hardspheres.Frames.state` then draws them),
+    ``image`` (when a frame after the first has it, i.e. the writer
+    recorded it per frame: unwrapped positions for the correlators),
+    ``mass`` and the radii of :func:`_hoomd_radii` (diameter 1 by default).
+
+    Raises:
+        TrajectoryError: what cannot be read, named: a triclinic box (tilt
+            factors), non-spherical shapes, a box or a particle count that
+            changes between frames.
+    """
+    first = traj[0]
+    n = int(first.particles.N)
+    dim = int(first.configuration.dimensions or 3)
+    box = np.asarray(first.configuration.box, np.float64).reshape(6)
+    if np.any(box[3:] != 0.0):
+        raise TrajectoryError(
+            f"{path}: a triclinic box (tilt factors xy, xz, yz = {', '.join(f'{x:g}' for x in box[3:])}); "
+            "hardspheres reads rectangular boxes only"
+        )
+    sides = box[:dim]
+    if dim not in (2, 3) or not np.all(np.isfinite(sides) & (sides > 0)):
+        raise TrajectoryError(f"{path}: configuration/box {box.tolist()} in {dim} dimensions is not a box")
+    radii = _hoomd_radii(path, traj)
+    # images: a frame without the chunk repeats frame 0's, which HOOMD-blue's writer also does
+    # when it does not record them (``dynamic`` without "momentum"): trusted only when a later
+    # frame has them (or there is one frame)
+    stored = [bool(traj.file.chunk_exists(frame=k, name="particles/image")) for k in range(len(traj))]
+    has_images = any(stored[1:]) or stored == [True]
+    times, pos, vel, images = [], [], [], []
+    for k, f in enumerate(traj):
+        if int(f.particles.N) != n or not np.array_equal(np.asarray(f.configuration.box, np.float64), box):
+            what = "particle count" if int(f.particles.N) != n else "box"
+            raise TrajectoryError(
+                f"{path}: the {what} changes at frame {k}; hardspheres reads a fixed box of fixed particles"
+            )
+        times.append(float(f.configuration.step))
+        pos.append(np.asarray(f.particles.position, np.float64).reshape(n, 3)[:, :dim])
+        vel.append(np.asarray(f.particles.velocity, np.float64).reshape(n, 3)[:, :dim])
+        images.append(np.asarray(f.particles.image, np.int64).reshape(n, 3)[:, :dim])
+    t = np.array(times)
+    if len(t) > 1 and np.any(np.diff(t) <= 0):
+        t = np.arange(len(t), dtype=np.float64)
+    return Frames(
+        t,
+        np.array(pos).reshape(-1, n, dim),
+        np.array(vel).reshape(-1, n, dim),
+        radii,
+        np.asarray(first.particles.mass, np.float64).reshape(n).copy(),
+        [f"p{i}" for i in range(n)],
+        container=PeriodicBox(tuple(float(s) for s in sides)),
+        images=np.array(images).reshape(-1, n, dim) if has_images else None,
+    )
+
+
 def _warn_if_cut(path: str, last_time: float, run_end: Any) -> None:
     """Warn if the run that wrote the last frame had another frame due before its end."""
     try:
@@ -528,9 +620,7 @@ def _read_gsd(path: str) -> Frames:
         first = traj[0]
         log = first.log
         if "hardspheres/time" not in log:
-            raise TrajectoryError(
-                f"{path}: not written by hardspheres (no log/hardspheres/time); read a GSDWriter's file"
-            )
+            return read_hoomd(path, traj)
         n = int(first.particles.N)
         raw = bytes(np.asarray(log.get("hardspheres/names", np.zeros(0, np.uint8)), dtype=np.uint8))
         names = raw.decode("utf-8").split("\n") if n else []
