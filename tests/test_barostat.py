@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import hardspheres as hs
+from hardspheres import eos
 from hardspheres.barostat import Barostat, barostat_from_state
 from hardspheres.blocking import blocking
 from hardspheres.core.contacts import closest_ratio
@@ -27,7 +28,7 @@ def test_one_move_of_two_spheres_follows_the_rule_exactly():
     seen = set()
     for seed in range(12):
         sim = _two()
-        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, seed=seed)
+        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, seed=seed, approach=False)
         sim.set_barostat(bar)
         before = sim.state().positions
         sim.run(until=0.5)
@@ -50,7 +51,7 @@ def test_one_move_of_two_spheres_follows_the_rule_exactly():
 def test_a_move_that_makes_an_overlap_is_rejected():
     # at rest, 1 + 1e-6 diameters apart: squeezing ln V by more than 3e-6 overlaps them
     sim = _two(gap=1.000001, L=4.0, v=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
-    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=1)
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=1, approach=False)
     sim.set_barostat(bar)
     sim.run(until=200.0)
     assert bar.attempted == 200
@@ -63,7 +64,7 @@ def test_a_move_that_makes_an_overlap_is_rejected():
 
 def test_a_squeeze_that_fits_is_accepted_and_leaves_no_overlap():
     sim = _two(gap=1.05, L=4.0, v=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
-    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=3)
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, seed=3, approach=False)
     sim.set_barostat(bar).run(until=400.0)
     assert 0 < bar.accepted < bar.attempted
     x = sim.state().positions
@@ -83,7 +84,7 @@ def test_the_volume_is_distributed_as_the_npt_ensemble():
         container=hs.PeriodicBox(1.5),
     )
     bp = 1.5
-    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, seed=7)
+    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, seed=7, approach=False)
     sim.set_barostat(bar)
     vols = []
     for _ in range(12000):
@@ -217,7 +218,7 @@ def test_damaged_barostat_in_a_checkpoint(tmp_path):
 
 
 def test_state_round_trips():
-    b = Barostat(pressure=2.5, kT=1.0, every=0.1, step=0.01, seed=9)
+    b = Barostat(pressure=2.5, kT=1.0, every=0.1, step=0.01, seed=9, approach=False)
     b2 = barostat_from_state(b.state())
     assert b2.state() == b.state() and repr(b2) == repr(b)
 
@@ -227,7 +228,7 @@ def test_one_move_of_one_side_follows_the_rule_exactly():
     seen = set()
     for seed in range(12):
         sim = _two()
-        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, axes="xz", seed=seed)
+        bar = Barostat(pressure=0.01, kT=1.0, every=0.5, step=0.4, axes="xz", seed=seed, approach=False)
         sim.set_barostat(bar).run(until=0.5)
         rng = np.random.Generator(np.random.PCG64(seed))
         axis = "xz"[int(rng.integers(2))]
@@ -270,7 +271,7 @@ def test_one_free_side_or_an_area_is_distributed_as_the_npt_ensemble(container, 
     # whole box scales or one side moves (the others fixed); N + 1 from the ln walk
     sim = _points(3, container, seed=2)
     bp = 1.5
-    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, axes=axes, seed=11)
+    bar = Barostat(pressure=bp, kT=1.0, every=0.01, step=1.5, axes=axes, seed=11, approach=False)
     sim.set_barostat(bar)
     vols = []
     for _ in range(12000):
@@ -381,12 +382,12 @@ def test_a_side_move_scales_that_side_only():
     # bound (three diameters) while Lx, Lz and the pair's x distance stay exactly
     rest = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     sim = _two(gap=1.000001, L=4.0, v=rest)
-    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="x", seed=1)
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="x", seed=1, approach=False)
     sim.set_barostat(bar).run(until=100.0)
     assert bar.accepted == 0 and bar.overlaps > 25 and sim.container.sides == (4.0, 4.0, 4.0)
     sim = _two(gap=1.000001, L=4.0, v=rest)
     x0 = sim.state().positions
-    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="y", seed=1)
+    bar = Barostat(pressure=1e3, kT=1.0, every=1.0, step=0.05, axes="y", seed=1, approach=False)
     sim.set_barostat(bar).run(until=100.0)
     lx, ly, lz = sim.container.sides
     assert bar.overlaps == 0 and bar.accepted > 5 and lx == lz == 4.0 and 3.0 < ly < 3.0 * math.exp(0.05)
@@ -426,3 +427,63 @@ def test_per_side_moves_resume_bit_for_bit(tmp_path):
     assert len(set(sim.container.sides)) == 3 and sim.barostat.accepted > 5
     a, b = sim.state(), again.state()
     assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities)
+
+
+@pytest.mark.parametrize(
+    "dim, n, reference",
+    [
+        (3, 500, lambda: eos.packing_at_pressure(5.0)),  # Hansen-Goos: 0.3929
+        (2, 400, lambda: eos.packing_at_pressure(5.0, eos.kolafa_rottner, bounds=(0.0, 0.7), dimensions=2)),
+    ],
+)
+def test_from_packing_0_3_the_mean_is_the_equation_of_state_s_by_t_200(dim, n, reference):
+    """`run --pressure 5 --until 200 --equilibrate 50` from 0.3 averaged 0.3186 against Hansen-Goos's 0.3932
+    (compressions refused near contact: the approach crawled, and the mean included it).  Now the box is
+    squeezed to the equation of state's packing first, and the averages start after."""
+    box = hs.PeriodicBox.for_packing(n, 0.3) if dim == 3 else hs.PeriodicBox.for_packing(n, 0.3, (1, 1))
+    sim = hs.Simulation(hs.random_spheres(n, 0.3, box, seed=1), box)
+    bar = Barostat(pressure=5.0, seed=1)
+    sim.set_barostat(bar).run(until=50.0)
+    assert bar.squeezes > 0 and not bar.approaching and bar.target == pytest.approx(reference(), rel=1e-12)
+    bar.reset_averages()
+    sim.run(until=200.0)
+    assert bar.mean_packing == pytest.approx(reference(), rel=0.01)
+
+
+def test_the_approach_is_quick_and_not_averaged():
+    box = hs.PeriodicBox.for_packing(500, 0.3)
+    sim = hs.Simulation(hs.random_spheres(500, 0.3, box, seed=1), box)
+    bar = Barostat(pressure=5.0, seed=1)
+    sim.set_barostat(bar).run(until=20.0)  # there after about 2, Metropolis moves since
+    assert not bar.approaching and sim.packing == pytest.approx(bar.target, rel=0.02)
+    assert bar.samples == bar.attempted > 0  # only the Metropolis moves are samples
+    # a checkpoint keeps the approach's state: the same moves after a resume
+    mid = hs.PeriodicBox.for_packing(500, 0.3)
+    a = hs.Simulation(hs.random_spheres(500, 0.3, mid, seed=1), mid).set_barostat(
+        Barostat(pressure=5.0, seed=1)
+    )
+    a.run(until=0.2)  # the approach takes about 2 here
+    assert a.barostat.approaching
+    from hardspheres.barostat import barostat_from_state
+
+    b = barostat_from_state(a.barostat.state())
+    assert (b.target, b.approaching, b.squeezes) == (a.barostat.target, True, a.barostat.squeezes)
+
+
+def test_a_drifting_packing_is_said_to_drift(capsys):
+    """Without the approach, the old crawl from 0.3: the packing still rises over the averaged moves;
+    `run`'s summary warns of it on stderr."""
+    from hardspheres.cli.run import barostat_line
+
+    box = hs.PeriodicBox.for_packing(300, 0.3)
+    sim = hs.Simulation(hs.random_spheres(300, 0.3, box, seed=1), box)
+    bar = Barostat(pressure=5.0, seed=1, approach=False)
+    sim.set_barostat(bar).run(until=60.0)
+    assert bar.drifting and bar.packing_drift > 0.01 * bar.mean_packing
+    barostat_line(sim)
+    assert capsys.readouterr().err.startswith("hardspheres run: warning: the packing drifts by +0.0")
+    box = hs.PeriodicBox.for_packing(300, 0.3)
+    sim = hs.Simulation(hs.random_spheres(300, 0.3, box, seed=1), box)
+    bar = Barostat(pressure=0.5, seed=1)  # already denser than the equation of state's (0.07): no approach
+    sim.set_barostat(bar).run(until=0.5)
+    assert bar.target is not None and not bar.approaching and bar.squeezes == 0

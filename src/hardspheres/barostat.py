@@ -44,6 +44,23 @@ the kinetic temperature when the barostat is first attached (constant in a
 run without a thermostat), or the ``kT`` given.  In reduced units (``kT =
 1``, diameter 1) ``pressure`` is ``beta P sigma^3``.
 
+The approach (isotropic moves, equal spheres or disks): from below, the
+volume moves crawl (a compression is refused as soon as one pair would
+overlap, so each accepted move changes ``ln V`` by about ``1 / (N (Z -
+1))``: hundreds of mean free times from packing 0.3 to ``beta P = 5``).
+So when first attached below the packing the equation of state gives at
+``P`` (:func:`hardspheres.eos.packing_at_pressure`: Hansen-Goos for
+spheres, Kolafa-Rottner for disks, in the fluid's range), the barostat
+first squeezes the box to it, ten squeezes per mean free time, each closing
+nine tenths of the narrowest gap between two spheres (no overlap, no
+Metropolis test: the approach is not a sample).  Not from above (a crystal
+is denser than the fluid at its pressure; expansions are not refused), not
+with per-side moves (a slab keeps its cross-section).  Then the
+Metropolis moves above, with the step and interval of the packing reached.
+The averages (:attr:`Barostat.mean_packing`, ...) take only the moves after
+the approach, and :attr:`Barostat.drifting` says when the packing still
+drifts over them.
+
 Deterministic given ``seed`` (numpy's PCG64); :meth:`Barostat.state` is
 saved in checkpoints (:meth:`hardspheres.Simulation.save`), so a resumed
 run makes the same moves bit for bit.  Refused in a spherical or circular
@@ -91,6 +108,21 @@ if TYPE_CHECKING:
 #: (Enskog, from Carnahan-Starling at the packing when first attached)
 #: divided by this.
 MOVES_PER_FREE_TIME = 1.0
+
+#: Squeezes per mean free time while approaching the equation of state's packing.
+APPROACH_MOVES_PER_FREE_TIME = 10.0
+
+#: Each squeeze of the approach closes this fraction of the narrowest gap.
+APPROACH_GAP_FRACTION = 0.9
+
+#: No approach when the packing is already within this (relative) of the equation of state's.
+APPROACH_TOLERANCE = 2e-3
+
+#: Most block means of the packing kept for its trend (:attr:`Barostat.drifting`).
+DRIFT_BLOCKS = 16
+
+#: A trend of the packing over the averaged moves beyond this (relative) is a drift.
+DRIFT_TOLERANCE = 0.01
 
 #: The default step is this over ``N (Z - 1)``, since squeezing ``ln V`` by ``d``
 #: makes an overlap with a probability of about ``N (Z - 1) d`` (the pairs
@@ -142,6 +174,10 @@ class Barostat:
             1)))`` when first attached, ``Z`` the equation of state's at the
             packing then (squeezing by more than about ``1 / (N (Z - 1))``
             makes an overlap almost surely).
+        approach: when first attached below the equation of state's
+            packing at ``P``, squeeze to it first (isotropic moves, equal
+            spheres or disks; see the module docstring); ``False``:
+            Metropolis moves from the start.
         axes: ``None`` (isotropic: every side scaled alike), or the sides
             that move one at a time (a random one per move): ``"xyz"`` (or
             ``"xy"`` in 2-D) lets a crystal relax its shape, ``"z"`` changes
@@ -154,10 +190,14 @@ class Barostat:
         accepted: moves accepted.
         overlaps: moves rejected because two spheres would overlap.
         next_time: when it next acts [time] (``None`` until attached).
-        samples: moves since :meth:`reset_averages`, each a sample of the
-            box after its move (equally spaced in time), for
-            :attr:`mean_volume`, :attr:`volume_variance` and
+        samples: moves since :meth:`reset_averages` (after the approach),
+            each a sample of the box after its move (equally spaced in
+            time), for :attr:`mean_volume`, :attr:`volume_variance` and
             :attr:`mean_packing`.
+        target: the equation of state's packing the approach goes to
+            (``None``: no approach).
+        approaching: whether the approach is still under way.
+        squeezes: the approach's moves.
     """
 
     def __init__(
@@ -168,8 +208,14 @@ class Barostat:
         step: float | None = None,
         axes: str | None = None,
         seed: int = 0,
+        approach: bool = True,
     ) -> None:
         self.pressure = _positive(pressure, "pressure")
+        self.approach = bool(approach)
+        self.target: float | None = None
+        self.approaching = False
+        self.squeezes = 0
+        self._auto = (step is None, every is None)
         self.kT = None if kT is None else _positive(kT, "kT")
         self.every = None if every is None else _positive(every, "every")
         self.step = None if step is None else _positive(step, "step")
@@ -202,7 +248,46 @@ class Barostat:
         self.samples = 0
         self._sums = [0.0, 0.0, 0.0]  # sums of V, (V - V0)^2 and solid / V; V0 the first V
         self._v0: float | None = None
+        # the packing's block means, for its trend: blocks of _block samples, at most
+        # DRIFT_BLOCKS (pairs merged, the size doubled, when full); the block being filled
+        self._blocks: list[float] = []
+        self._block = 1
+        self._filling = [0.0, 0]
         return self
+
+    def _trend(self) -> tuple[float, float]:
+        """``(change, its standard error)`` of the packing over the blocks, from a straight line fit."""
+        y = np.array(self._blocks)
+        m = len(y)
+        if m < DRIFT_BLOCKS // 4:
+            return math.nan, math.nan
+        x = np.arange(m, dtype=float) - (m - 1) / 2.0
+        slope = float(x @ (y - y.mean()) / (x @ x))
+        resid = y - y.mean() - slope * x
+        se = math.sqrt(float(resid @ resid) / (m - 2) / float(x @ x))
+        return slope * m, se * m
+
+    @property
+    def packing_drift(self) -> float:
+        """The packing's change over the samples, from a straight line fitted to its block means.
+
+        NaN before :data:`DRIFT_BLOCKS` / 4 blocks.
+        """
+        return self._trend()[0]
+
+    @property
+    def drifting(self) -> bool:
+        """Whether the packing drifts over the averaged moves: a trend the mean should not hide.
+
+        True when the change fitted to the block means is over 4 of its
+        standard errors (from their scatter about the line) and over
+        :data:`DRIFT_TOLERANCE` of the mean packing: an approach not over, or
+        fluctuations slower than the run (the volume moves relax the box
+        slowly), either way a mean uncertain at that level.  ``False`` when
+        too few moves to tell.
+        """
+        change, err = self._trend()
+        return bool(abs(change) > 4.0 * err and abs(change) > DRIFT_TOLERANCE * self.mean_packing)
 
     @property
     def mean_volume(self) -> float:
@@ -228,15 +313,25 @@ class Barostat:
     def _sample(self, volume: float) -> None:
         if self._v0 is None:
             self._v0 = volume
+        phi = self._solid / volume
         self.samples += 1
         self._sums[0] += volume
         self._sums[1] += (volume - self._v0) ** 2
-        self._sums[2] += self._solid / volume
+        self._sums[2] += phi
+        self._filling[0] += phi
+        self._filling[1] += 1
+        if self._filling[1] == self._block:
+            self._blocks.append(self._filling[0] / self._block)
+            self._filling = [0.0, 0]
+            if len(self._blocks) == DRIFT_BLOCKS:
+                b = self._blocks
+                self._blocks = [0.5 * (b[k] + b[k + 1]) for k in range(0, len(b), 2)]
+                self._block *= 2
 
     def __repr__(self) -> str:
         return (
             f"Barostat(pressure={self.pressure!r}, kT={self.kT!r}, every={self.every!r}, "
-            f"step={self.step!r}, axes={self.axes!r}, seed={self.seed!r})"
+            f"step={self.step!r}, axes={self.axes!r}, seed={self.seed!r}, approach={self.approach!r})"
         )
 
     @property
@@ -260,34 +355,48 @@ class Barostat:
     def attach(self, sim: HeldSimulation) -> None:
         """Called as each run starts: fixes ``kT``, ``every``, ``step`` (once) and the first move."""
         self.check(sim)
-        n = sim.n
         self._solid = float(sim.packing) * float(sim.container.volume)
         if self.kT is None:
             th_kT = getattr(sim.thermostat, "kT", None)
             self.kT = float(th_kT) if th_kT is not None else float(sim.observables.temperature())
             if not (math.isfinite(self.kT) and self.kT > 0):
                 raise BarostatError("barostat: the spheres are at rest (kT = 0); give them velocities or kT")
+        if self.next_time is None and self.approach and self.axes is None:
+            self.target = _eos_packing(sim, self.pressure, self.kT)
+            self.approaching = self.target is not None and (
+                float(sim.packing) < self.target * (1.0 - APPROACH_TOLERANCE)
+            )
+        self._scales(sim)
+        if self.next_time is None:
+            self.next_time = sim.time + self._interval()
+
+    def _interval(self) -> float:
+        every = cast(float, self.every)
+        return every / APPROACH_MOVES_PER_FREE_TIME if self.approaching and self._auto[1] else every
+
+    def _scales(self, sim: HeldSimulation) -> None:
+        """``step`` and ``every`` from the packing now, where not given."""
+        n = sim.n
         if self.step is None or self.every is None:
             from .eos import carnahan_starling, collision_rate_from_z
 
+            kT = cast(float, self.kT)  # set before
             radii = sim.engine.radii_at()
             phi = min(float(sim.packing), 0.7)
             sigma = 2.0 * float(np.mean(radii))
             m = float(np.mean(sim.engine.masses))
             if len(_sides(sim.container)) == 3:
                 z = float(carnahan_starling(phi)) if phi < 0.55 else 3.0 / (1.0 - phi / 0.74048)
-                nu = collision_rate_from_z(z, sigma, self.kT, m) if sigma > 0 else 0.0
+                nu = collision_rate_from_z(z, sigma, kT, m) if sigma > 0 else 0.0
             else:  # disks: Henderson's Z, and Enskog's rate in 2-D (2/3 of the 3-D formula's)
                 phi = min(phi, 0.88)
                 z = (1.0 + phi * phi / 8.0) / (1.0 - phi) ** 2 if phi < 0.7 else 2.0 / (1.0 - phi / 0.9069)
-                nu = collision_rate_from_z(z, sigma, self.kT, m) * 2.0 / 3.0 if sigma > 0 else 0.0
+                nu = collision_rate_from_z(z, sigma, kT, m) * 2.0 / 3.0 if sigma > 0 else 0.0
             if self.step is None:
                 self.step = min(0.5 / math.sqrt(n), STEP_SCALE / max(n * (z - 1.0), 1.0))
             if self.every is None:
-                free = 1.0 / nu if nu > 0 else sigma / math.sqrt(self.kT / m) if sigma > 0 else 1.0
+                free = 1.0 / nu if nu > 0 else sigma / math.sqrt(kT / m) if sigma > 0 else 1.0
                 self.every = free / MOVES_PER_FREE_TIME
-        if self.next_time is None:
-            self.next_time = sim.time + self.every
 
     def apply(self, sim: HeldSimulation, t: float) -> bool:
         """Try one volume move at ``t`` (the simulation calls this at :attr:`next_time`)."""
@@ -300,11 +409,44 @@ class Barostat:
         step = cast(float, self.step)  # kT, every and step are set when attached
         u = float(rng.uniform(-step, step))
         r = float(rng.random())
+        if self.approaching:
+            return self._squeeze(sim, eng, t, box, sides)
         self.attempted += 1
         self.next_time = t + cast(float, self.every)
         accepted = self._move(sim, eng, t, box, sides, axis, u, r)
         self._sample(float(sim.container.volume))
         return accepted
+
+    def _squeeze(
+        self, sim: HeldSimulation, eng: Engine, t: float, box: Container, sides: tuple[float, ...]
+    ) -> bool:
+        """One move of the approach: toward :attr:`target`, without overlap (the random draws are kept)."""
+        from .core.contacts import closest_ratio
+
+        d = len(sides)
+        self.squeezes += 1
+        want = (float(sim.packing) / cast(float, self.target)) ** (1.0 / d)  # linear factor to the target
+        radii = eng.radii_at()
+        bound = 6.0 * float(radii.max()) * (1.0 + 1e-9) / min(sides)  # the engine's least box
+        f = want
+        if want < 1.0:
+            ratio = closest_ratio(eng.positions_at(t), radii, np.array(sides))
+            # close APPROACH_GAP_FRACTION of the narrowest gap (ratio - 1 of the contact distance)
+            f = max(want, 1.0 / (1.0 + APPROACH_GAP_FRACTION * (ratio - 1.0)), bound)
+        if f != 1.0:
+            new = [x * f for x in sides]
+            new_box = _box_like(box, new)
+            eng.rescale_box(new_box, [f] * d)
+            sim.container = new_box
+        if f == want or f == bound:
+            self.approaching = False  # there (or at the engine's least box: no further)
+            if self._auto[0]:
+                self.step = None
+            if self._auto[1]:
+                self.every = None
+            self._scales(sim)  # the Metropolis moves' step and interval at the packing reached
+        self.next_time = t + self._interval()
+        return f != 1.0
 
     def _move(
         self,
@@ -358,12 +500,14 @@ class Barostat:
                 "step": self.step,
                 "axes": self.axes,
                 "seed": self.seed,
+                "approach": [self.approach, self.target, self.approaching, self.squeezes, *self._auto],
                 "next_time": self.next_time,
                 "attempted": self.attempted,
                 "accepted": self.accepted,
                 "overlaps": self.overlaps,
                 "samples": self.samples,
                 "sums": self._sums,
+                "blocks": [self._blocks, self._block, self._filling],
                 "v0": self._v0,
                 "rng": self._rng.bit_generator.state,
             }
@@ -377,12 +521,44 @@ def barostat_from_state(text: str) -> Barostat:
         raise BarostatError(f"unknown barostat {d.get('kind')!r}")
     b = Barostat(d["pressure"], d["kT"], d["every"], d["step"], d["axes"], d["seed"])
     b._rng.bit_generator.state = d["rng"]
+    if "approach" in d:  # (checkpoints before the approach: none)
+        a = d["approach"]
+        b.approach, b.target, b.approaching, b.squeezes = bool(a[0]), a[1], bool(a[2]), int(a[3])
+        b._auto = (bool(a[4]), bool(a[5]))
     b.next_time = d["next_time"]
     b.attempted, b.accepted, b.overlaps = int(d["attempted"]), int(d["accepted"]), int(d["overlaps"])
     b.samples = int(d.get("samples", 0))  # (checkpoints before the averages: none)
     b._sums = [float(x) for x in d.get("sums", [0.0, 0.0, 0.0])]
+    if "blocks" in d:  # (checkpoints before the trend: it starts afresh)
+        blocks, size, filling = d["blocks"]
+        b._blocks, b._block, b._filling = (
+            [float(x) for x in blocks],
+            int(size),
+            [float(filling[0]), int(filling[1])],
+        )
     b._v0 = None if d.get("v0") is None else float(d["v0"])
     return b
+
+
+def _eos_packing(sim: HeldSimulation, pressure: float, kT: float | None) -> float | None:
+    """The fluid's packing at ``pressure`` by the equation of state (equal sizes only; else ``None``).
+
+    Hansen-Goos (spheres, packings up to 0.55) or Kolafa-Rottner (disks, up
+    to 0.70): ``None`` outside, or for a mixture.
+    """
+    from .eos import hansen_goos, kolafa_rottner, packing_at_pressure
+
+    radii = sim.engine.radii_at()
+    if kT is None or len(radii) == 0 or float(radii.min()) != float(radii.max()) or radii[0] <= 0:
+        return None
+    d = len(_sides(sim.container))
+    sigma = 2.0 * float(radii[0])
+    reduced = pressure * sigma**d / kT
+    eos, top = (hansen_goos, 0.55) if d == 3 else (kolafa_rottner, 0.70)
+    try:
+        return packing_at_pressure(reduced, eos, bounds=(0.0, top), dimensions=d)
+    except ValueError:
+        return None  # beyond the fluid's range: no approach
 
 
 def _positive(x: float, what: str) -> float:

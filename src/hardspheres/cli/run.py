@@ -552,18 +552,33 @@ def _exit_status(failure: OSError | None, signum: int | None, checkpoint: str | 
 
 
 def barostat_line(sim: Simulation) -> str:
-    """The summary's line on constant pressure: the pressure held, the moves, the mean packing."""
+    """The summary's line on constant pressure: the pressure held, the moves, the mean packing.
+
+    A packing that drifts over the averaged moves is warned of on stderr.
+    """
     b = sim.barostat
     assert b is not None
+    if b.drifting:
+        print(
+            f"hardspheres run: warning: the packing drifts by {b.packing_drift:+.4f} over the averaged "
+            f"moves (mean {b.mean_packing:.6g}): the mean is uncertain at that level; run longer",
+            file=sys.stderr,
+        )
     moves = "isotropic" if b.axes is None else f"sides {b.axes}"
     mean = (
         f"mean packing {b.mean_packing:.6g} over {b.samples} moves"
         if b.samples
         else "no move since the averages started"
     )
+    approach = ""
+    if b.target is not None and b.squeezes:
+        approach = (
+            f"; {'still approaching' if b.approaching else 'approached'} the equation of state's "
+            f"packing {b.target:.4f} ({b.squeezes} squeezes, not averaged)"
+        )
     return (
         f"constant pressure {b.pressure:g} (barostat, {moves} moves): {b.accepted} of "
-        f"{b.attempted} moves accepted ({b.acceptance:.0%}); {mean}"
+        f"{b.attempted} moves accepted ({b.acceptance:.0%}); {mean}{approach}"
     )
 
 
