@@ -38,6 +38,7 @@ LAYERS = (
     ),
     ("core",),  # the exact dynamics: nothing of Simulation, files or commands
     ("writers", "observables", "dense", "barostat", "simulation"),  # the run loop a physicist scripts
+    ("mc",),  # Monte Carlo: event chains on the same states, containers and writers
     ("io",),
     ("analysis",),
     ("studies",),

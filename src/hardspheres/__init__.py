@@ -37,6 +37,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs (tests/test_layo
     from .barostat import Barostat
     from .builders import crystal, hexagonal, random_spheres
     from .frames import Frames
+    from .mc.chain import EventChain
     from .io.trajectory import GSDWriter, XYZWriter, read_trajectory
     from .maxwell import maxwell_boltzmann
     from .observables import Observables
@@ -53,6 +54,7 @@ _LAZY = {
     "crystal": "builders",
     "hexagonal": "builders",
     "Event": "simulation",
+    "EventChain": "mc.chain",
     "Observables": "observables",
     "Simulation": "simulation",
     "State": "state",
@@ -173,6 +175,7 @@ __all__ = [
     "Contacts",
     "Container",
     "Event",
+    "EventChain",
     "EventKind",
     "EventRecorder",
     "FileInUseError",
