@@ -58,8 +58,8 @@ if TYPE_CHECKING:
     from ..simulation import Simulation
     from ..writers import SimulationView, Writer
 
-#: The default chain length over ``V^(1/d)``: Li et al.'s straight ECMC
-#: (github jellyfysh/HistoricDisks, ``CPP/StraightECMC``) moves each chain
+#: The default chain length over ``V^(1/d)``, as in Li et al.'s straight ECMC
+#: (github jellyfysh/HistoricDisks, ``CPP/StraightECMC``), which moves each chain
 #: ``3.125 sqrt(N) lambda_0`` with ``lambda_0 = 0.0768 / sqrt(N)`` in a box of
 #: unit area, that is 0.24 of the side of a square box.
 CHAIN_FRACTION = 0.24
@@ -218,7 +218,7 @@ class EventChain:
 
     @property
     def time(self) -> float:
-        """Chains done (the Monte Carlo clock): whole at chain ends, a fraction in between."""
+        """Chains done, the Monte Carlo clock (whole at chain ends, a fraction in between)."""
         done = float(self._ints[core.I_CHAINS])
         if self._ints[core.I_ACTIVE] >= 0:
             done += 1.0 - float(self._floats[core.F_LEFT]) / self.chain_length
@@ -232,7 +232,7 @@ class EventChain:
 
     @property
     def run_end(self) -> float:
-        """Where the current run was asked to end [chains] (``inf``: by a count of events)."""
+        """Where the current run was asked to end [chains] (``inf`` when it ends by a count of events)."""
         return self._run_end
 
     def totals(self) -> np.ndarray:

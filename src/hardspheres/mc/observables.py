@@ -88,7 +88,7 @@ class ChainObservables:
 
     @property
     def width(self) -> int:
-        """Numbers per sample: events, chains, lift sums (d), displacements (d)."""
+        """Numbers per sample (events, chains, lift sums (d), displacements (d))."""
         return 2 + 2 * self._chain.container.dimensions
 
     def reset(self, every: int | None = None) -> ChainObservables:
