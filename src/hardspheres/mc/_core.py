@@ -56,8 +56,8 @@ The arrays (owned by :class:`~hardspheres.mc.chain.EventChain`):
     images  int64   (N, d)  box crossings per axis
     sides   float64 (d,)    the box [length]
     ncell   int64   (d,)    cells per axis (>= 3)
-    count   int64   (C,)    spheres per cell
-    members int64   (C, cap) the spheres of each cell (the first ``count``)
+    members int32   (C, 1 + cap) per cell: its count, then its spheres (one
+                            cache line for a cell of up to 15)
     cell    int64   (N,)    each sphere's cell
     slot    int64   (N,)    its place in ``members``
     ints    int64   (N_INTS,)   active sphere (-1: between chains), events, chains
@@ -97,6 +97,13 @@ CELL_FULL = 2  # a cell would overflow: grow ``members`` and call again (nothing
 #: than the best contact: its edge minus ``SCAN_TOL`` times the side
 #: (covers the rounding of the cell index and of the edge, a few ulps).
 SCAN_TOL = 2.0**-40
+
+#: A pair whose lead along the axis, less its contact distance, exceeds the
+#: best lift by more than ``SKIP`` times their sum is not solved: its lift is
+#: at least that difference, and the kernel's rounding is below ``100 u``
+#: of it (so it could not have come out equal to the best: the tie rule, and
+#: the brute force's agreement, are kept).
+SKIP = 1e-12
 
 # SplitMix64's constants
 _GAMMA = np.uint64(0x9E3779B97F4A7C15)
@@ -198,7 +205,11 @@ def across(xj, xi, side):
 
 @_kernel
 def cell_coord(x, side, n):
-    """The cell of coordinate ``x`` in ``[-side/2, side/2)`` along an axis of ``n`` cells."""
+    """The cell of coordinate ``x`` in ``[-side/2, side/2)`` along an axis of ``n`` cells.
+
+    ``(x + side/2) (n / side)``, rounded down: monotonic in ``x`` (so a sphere
+    in an earlier column is behind), the same bits wherever it is computed.
+    """
     c = np.int64((x + 0.5 * side) * (n / side))
     if c < 0:
         return 0
@@ -217,19 +228,19 @@ def cell_of(pos, i, sides, ncell, axes):
 
 
 @_jit
-def build_cells(pos, sides, ncell, count, members, cell, slot, axes):
+def build_cells(pos, sides, ncell, members, cell, slot, axes):
     """Put every sphere in its cell; returns the largest count (> the capacity: nothing valid)."""
-    count[:] = 0
-    cap = members.shape[1]
+    members[:, 0] = 0
+    cap = members.shape[1] - 1
     most = 0
     for i in range(pos.shape[0]):
         c = cell_of(pos, i, sides, ncell, axes)
-        k = count[c]
+        k = members[c, 0]
         if k < cap:
-            members[c, k] = i
+            members[c, 1 + k] = i
         cell[i] = c
         slot[i] = k
-        count[c] = k + 1
+        members[c, 0] = k + 1
         if k + 1 > most:
             most = k + 1
     return most
@@ -239,11 +250,14 @@ def build_cells(pos, sides, ncell, count, members, cell, slot, axes):
 def consider(i, j, a, p1, p2, pos, radii, sides, best, jbest, axes):
     """``(s, j)`` of pair ``(i, j)`` if it beats ``(best, jbest)`` by the tie rule, else those."""
     dxa = ahead(pos[j, a], pos[i, a], sides[a])
+    sigma = radii[i] + radii[j]
+    if dxa - sigma > best + SKIP * (dxa + sigma):
+        return best, jbest  # the lift is at least dxa - sigma: surely beyond the best
     dp1 = across(pos[j, p1], pos[i, p1], sides[p1])
     dp2 = 0.0
     if len(axes) == 3:
         dp2 = across(pos[j, p2], pos[i, p2], sides[p2])
-    s = lift(dxa, dp1, dp2, radii[i] + radii[j], best, axes)
+    s = lift(dxa, dp1, dp2, sigma, best, axes)
     if s < best or (s == best and jbest >= 0 and j < jbest):
         return s, j
     return best, jbest
@@ -260,7 +274,7 @@ def stride(b, ncell, axes):
 
 
 @_kernel
-def search_cells(i, a, left, pos, radii, rmax, sides, ncell, count, members, axes):
+def search_cells(i, a, left, pos, radii, rmax, sides, ncell, members, axes):
     """The next lift of ``i`` along ``a`` within ``left``: ``(s, j)``, ``j = -1`` for none (cells)."""
     d = len(axes)
     p1 = (a + 1) % d
@@ -302,8 +316,8 @@ def search_cells(i, a, left, pos, radii, rmax, sides, ncell, count, members, axe
                     elif r2 >= n2:
                         r2 -= n2
                 c = col * sa + r1 * s1 + r2 * s2
-                for m in range(count[c]):
-                    j = members[c, m]
+                for m in range(1, 1 + members[c, 0]):
+                    j = np.int64(members[c, m])
                     if j != i:
                         best, jbest = consider(i, j, a, p1, p2, pos, radii, sides, best, jbest, axes)
         # everything in the columns after k is at least this far
@@ -373,7 +387,7 @@ def wrapped(x, side, image):
 
 
 @_kernel
-def move(i, a, s, pos, images, sides, ncell, count, members, cell, slot, axes):
+def move(i, a, s, pos, images, sides, ncell, members, cell, slot, axes):
     """Move ``i`` by ``s`` along ``a`` and into its new cell; ``False`` if that cell is full (nothing moved)."""
     x, image = wrapped(pos[i, a] + s, sides[a], images[i, a])
     old = pos[i, a]
@@ -381,19 +395,20 @@ def move(i, a, s, pos, images, sides, ncell, count, members, cell, slot, axes):
     c = cell_of(pos, i, sides, ncell, axes)
     c0 = cell[i]
     if c != c0:
-        if count[c] >= members.shape[1]:
+        k = members[c, 0]
+        if k >= members.shape[1] - 1:
             pos[i, a] = old
             return False
         # out of the old cell: its last member takes i's slot
-        last = count[c0] - 1
-        k = slot[i]
-        moved = members[c0, last]
-        members[c0, k] = moved
-        slot[moved] = k
-        count[c0] = last
-        members[c, count[c]] = i
-        slot[i] = count[c]
-        count[c] += 1
+        last = members[c0, 0] - 1
+        q = slot[i]
+        moved = members[c0, 1 + last]
+        members[c0, 1 + q] = moved
+        slot[moved] = q
+        members[c0, 0] = last
+        members[c, 1 + k] = i
+        members[c, 0] = k + 1
+        slot[i] = k
         cell[i] = c
     images[i, a] = image
     return True
@@ -406,7 +421,6 @@ def run(
     images,
     sides,
     ncell,
-    count,
     members,
     cell,
     slot,
@@ -454,8 +468,8 @@ def run(
         if brute:
             s, j = search_all(i, a, left, pos, radii, sides, axes)
         else:
-            s, j = search_cells(i, a, left, pos, radii, rmax, sides, ncell, count, members, axes)
-        if not move(i, a, s, pos, images, sides, ncell, count, members, cell, slot, axes):
+            s, j = search_cells(i, a, left, pos, radii, rmax, sides, ncell, members, axes)
+        if not move(i, a, s, pos, images, sides, ncell, members, cell, slot, axes):
             return CELL_FULL, written
         add(tally, T_DISP, a, s)
         if j >= 0:  # a lift: j moves on
@@ -483,7 +497,7 @@ def run(
 
 
 @_jit
-def max_overlap(pos, radii, sides, ncell, count, members, axes):
+def max_overlap(pos, radii, sides, ncell, members, axes):
     """The largest ``(sigma - |r|) / sigma`` over neighbouring pairs (``-inf``: no pair near), with cells."""
     d = len(axes)
     n2 = ncell[2] if d == 3 else 1
@@ -501,7 +515,7 @@ def max_overlap(pos, radii, sides, ncell, count, members, axes):
                     c = x * ncell[1] + y
                     if d == 3:
                         c = c * n2 + (c2 + w) % n2
-                    for m in range(count[c]):
+                    for m in range(1, 1 + members[c, 0]):
                         j = members[c, m]
                         if j <= i:
                             continue

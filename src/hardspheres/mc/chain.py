@@ -181,14 +181,13 @@ class EventChain:
         self._sides = sides
         self._ncell = ncell
         total = int(np.prod(ncell))
-        self._count = np.zeros(total, np.int64)
         self._cell = np.zeros(self.n, np.int64)
         self._slot = np.zeros(self.n, np.int64)
-        cap = max(capacity, 8)
+        cap = max(capacity, 15)  # a cell's count and 15 spheres: one 64-byte line
         while True:
-            self._members = np.zeros((total, cap), np.int64)
+            self._members = np.zeros((total, 1 + cap), np.int32)
             most = core.build_cells(
-                self._pos, sides, ncell, self._count, self._members, self._cell, self._slot, self._axes
+                self._pos, sides, ncell, self._members, self._cell, self._slot, self._axes
             )
             if most <= cap:
                 return
@@ -200,9 +199,7 @@ class EventChain:
 
     def _max_overlap(self) -> float:
         return float(
-            core.max_overlap(
-                self._pos, self._radii, self._sides, self._ncell, self._count, self._members, self._axes
-            )
+            core.max_overlap(self._pos, self._radii, self._sides, self._ncell, self._members, self._axes)
         )
 
     # ---- what writers and observables read ----------------------------------------
@@ -306,7 +303,6 @@ class EventChain:
                 self._images,
                 self._sides,
                 self._ncell,
-                self._count,
                 self._members,
                 self._cell,
                 self._slot,
@@ -326,7 +322,7 @@ class EventChain:
             chains_left -= self.counters["chains"] - c0
             events_left -= self.counters["events"] - e0
             if reason == core.CELL_FULL:
-                self._cells(capacity=2 * self._members.shape[1])
+                self._cells(capacity=2 * (self._members.shape[1] - 1))
             for w in self.writers:
                 if w.next_time <= self.time and self._ints[core.I_ACTIVE] < 0:
                     w.write(view, self.time)
