@@ -310,3 +310,28 @@ def test_frames_at_chain_ends_through_the_trajectory_writers(tmp_path, suffix):
     pytest.importorskip("freud")
     rdf = hs.RDF().compute(frames)
     assert np.all(np.isfinite(rdf.g)) and rdf.g.max() > 1.0
+
+
+def test_the_sample_command_runs_resumes_and_refuses_in_one_line(tmp_path, capsys):
+    from hardspheres.cli.commands import main
+
+    box = hs.PeriodicBox((20.0, 20.0))
+    scn = tmp_path / "d.txt"
+    scn.write_text(hs.random_spheres(200, 0.5, box, seed=1).to_text())
+    gsd, ck = str(tmp_path / "s.gsd"), str(tmp_path / "s.npz")
+    pytest.importorskip("gsd")
+    argv = ["sample", str(scn), "--box", "20", "20", "--chains", "600", "--equilibrate", "100"]
+    assert main([*argv, "--trajectory", gsd, "--every", "100", "--checkpoint", ck]) == 0
+    out = capsys.readouterr().out
+    assert "chains 700" in out and "Z = beta P V / N" in out and "pressure_yy" in out
+    assert main(["sample", "--resume", ck, "--chains", "300", "--trajectory", gsd, "--every", "100"]) == 0
+    assert "chains 1000" in capsys.readouterr().out
+    frames = hs.read_trajectory(gsd)
+    assert frames.times.tolist() == [100.0 * k for k in range(11)]
+    # the same run in one go ends with the same bits
+    one = EventChain(hs.State.from_scenario(hs.parse_scenario(scn.read_text()), dimensions=2), box)
+    one.run(chains=1000)
+    assert np.array_equal(EventChain.load(ck).state().positions, one.state().positions)
+    assert main(["sample", str(scn), "--circle", "20", "--chains", "5"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("hardspheres sample: --container/--circle") and "\n" not in err

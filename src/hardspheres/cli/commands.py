@@ -14,11 +14,24 @@ from collections.abc import Sequence
 
 from ..errors import MissingExtraError
 from ..messages import oserror_line
-from . import _checked_stdout, _guarded, bench, compress, generate, plot, render, run, sweep, validate, view
+from . import (
+    _checked_stdout,
+    _guarded,
+    bench,
+    compress,
+    generate,
+    plot,
+    render,
+    run,
+    sample,
+    sweep,
+    validate,
+    view,
+)
 from .options import Parser, one_line, sides_last, version_action
 
 #: The subcommands, in the order ``--help`` lists them.
-SUBCOMMANDS = (generate, compress, bench, run, sweep, validate, view, render, plot)
+SUBCOMMANDS = (generate, compress, bench, run, sample, sweep, validate, view, render, plot)
 
 
 def build_parser() -> argparse.ArgumentParser:
