@@ -335,3 +335,30 @@ def test_the_sample_command_runs_resumes_and_refuses_in_one_line(tmp_path, capsy
     assert main(["sample", str(scn), "--circle", "20", "--chains", "5"]) == 1
     err = capsys.readouterr().err.strip()
     assert err.startswith("hardspheres sample: --container/--circle") and "\n" not in err
+
+
+def test_a_study_with_method_ecmc_runs_and_refuses_what_chains_cannot_do(tmp_path):
+    pytest.importorskip("pandas")
+    from hardspheres.errors import StudyError
+    from hardspheres.studies.spec import parse_study
+    from hardspheres.studies.task import run_task, tasks
+
+    keys = {"packing": 0.3, "n": 100, "dimensions": 2, "collisions": 300, "equilibrate": 30, "blocks": 4}
+    study = parse_study({**keys, "method": "ecmc", "output": str(tmp_path / "s")})
+    (task,) = tasks(study)
+    assert task["method"] == "ecmc"
+    row = run_task(task)
+    assert row["method"] == "ecmc" and row["Z_err"] > 0
+    assert abs(row["Z"] - float(kolafa_rottner(0.3))) < 0.05  # (100 disks: finite-size 0.4% low)
+    # EDMD tasks keep their keys (no method entry)
+    (edmd,) = tasks(parse_study({**keys, "output": str(tmp_path / "e")}))
+    assert "method" not in edmd
+    for bad, what in (
+        ({"container": "circle"}, 'container = "box"'),
+        ({"pressure": 5.0}, "constant volume"),
+        ({"measure": ["collision_rate"]}, "not measured by"),
+        ({"method": "mc"}, 'give "edmd" or "ecmc"'),
+    ):
+        with pytest.raises(StudyError, match=what) as e:
+            parse_study({**keys, "method": "ecmc", **bad})
+        assert "\n" not in str(e.value)

@@ -228,6 +228,10 @@ class ChainObservables:
         """``Z = beta P V / N`` since :meth:`reset`."""
         return self._whole("Z")
 
+    def compressibility(self) -> float:
+        """The old name of :meth:`Z` (as :meth:`hardspheres.Observables.compressibility`)."""
+        return self.Z()
+
     def pressure_tensor(self) -> np.ndarray:
         """``(d, d)``: the diagonal ``P_aa`` from the chains along each axis (straight chains: no more)."""
         d = self._chain.container.dimensions

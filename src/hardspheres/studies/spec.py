@@ -29,6 +29,7 @@ MAX_PACKING = _MAX_PACKING
 #: (``betaP``, the pressure a constant-pressure study holds, only in their
 #: tables: ``pressure`` is the observable.)
 GRID: tuple[str, ...] = (
+    "method",
     "container",
     "dimensions",
     "aspect",
@@ -41,13 +42,18 @@ GRID: tuple[str, ...] = (
 )
 
 #: What a grid column reads in rows written before it existed (3-D, no aspect).
-GRID_DEFAULTS: dict[str, Any] = {"dimensions": 3, "aspect": ""}
+GRID_DEFAULTS: dict[str, Any] = {"method": "edmd", "dimensions": 3, "aspect": ""}
+
+#: What an event-chain study (``method = "ecmc"``) measures.
+ECMC_MEASURES = ("Z", "compressibility", "pressure")
 
 #: The densest random disks the builder places (:data:`hardspheres.builders.RANDOM_DISKS_MAX`).
 _DISKS_MAX = 0.72
 
 _KEYS: dict[str, str] = {
     "output": "folder for the results (string)",
+    "method": '"edmd" (event-driven dynamics, the default) or "ecmc" (event-chain Monte Carlo: a box, '
+    "constant volume; collisions and equilibrate count lifting events per sphere; measures Z, pressure)",
     "container": '"box", "sphere" or "circle" (the round wall in 2-D)',
     "dimensions": "3 or 2 (disks), or a list of them",
     "aspect": "a box's sides in proportion, d numbers > 0 (e.g. [1, 1, 2], [1, 0.8660254]), or a list",
@@ -76,6 +82,7 @@ class Study(TypedDict):
     """
 
     output: str
+    method: str
     container: str
     dimensions: list[int]
     aspect: list[tuple[float, ...] | None]
@@ -100,6 +107,7 @@ class _TaskSpace(TypedDict, total=False):
     dimensions: int
     aspect: str
     betaP: float
+    method: str
 
 
 class Task(_TaskSpace):
@@ -187,6 +195,9 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
     # absolute: workers may run in another folder (on a cluster: the same
     # path on a shared file system)
     output = str((Path(base or ".") / out).resolve())
+    method = data.get("method", "edmd")
+    if method not in ("edmd", "ecmc"):
+        raise StudyError(f'{_where(source)}method = {method!r} is not allowed: give "edmd" or "ecmc"')
     container = data.get("container", "box")
     if container not in ("box", "sphere", "circle"):
         raise StudyError(
@@ -286,8 +297,21 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
     for m in measure:
         if m not in known:
             raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
+    if method == "ecmc":
+        if container != "box" or pressure is not None or length["time"] is not None:
+            raise StudyError(
+                f'{_where(source)}method = "ecmc" runs in container = "box" at constant volume, '
+                "for so many collisions (lifting events) per sphere: leave out pressure and time"
+            )
+        other = [m for m in measure if m not in ECMC_MEASURES]
+        if other:
+            raise StudyError(
+                f'{_where(source)}measure: {other[0]!r} is not measured by method = "ecmc" '
+                f"(it measures {', '.join(ECMC_MEASURES)})"
+            )
     return Study(
         output=output,
+        method=method,
         container=container,
         dimensions=dimensions,
         aspect=aspect,

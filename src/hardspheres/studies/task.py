@@ -25,6 +25,7 @@ from .spec import GRID, GRID_DEFAULTS, Study, Task, aspect_text
 
 if TYPE_CHECKING:
     from ..containers import Container
+    from ..mc.chain import EventChain
     from ..simulation import Simulation
 
 #: Most collisions run between two chances to checkpoint (about a second of work).
@@ -93,6 +94,8 @@ def tasks(study: Study) -> list[Task]:
             t["aspect"] = aspect_text(aspect)
         if pressure is not None:  # (absent otherwise: the keys of constant-volume tasks are unchanged)
             t["betaP"] = pressure
+        if study.get("method", "edmd") != "edmd":  # (absent for the default: the keys are unchanged)
+            t["method"] = study["method"]
         t["key"] = _key(t)
         out.append(t)
     return out
@@ -104,8 +107,8 @@ def _key(task: Task) -> str:
     return hashlib.sha256(json.dumps(decides, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _build(task: Task) -> Simulation:
-    """The task's starting simulation: random spheres at its packing, seeded by its seed."""
+def _build(task: Task) -> Simulation | EventChain:
+    """The task's starting simulation (or event chain): random spheres at its packing, seeded by its seed."""
     from ..builders import random_spheres
     from ..containers import CircularContainer, PeriodicBox, SphericalContainer
     from ..simulation import Simulation
@@ -131,6 +134,10 @@ def _build(task: Task) -> Simulation:
         radius_ratio=task["radius_ratio"],
         mass_ratio=task["mass_ratio"],
     )
+    if task.get("method") == "ecmc":
+        from ..mc.chain import EventChain
+
+        return EventChain(state, container, seed=task["seed"])
     sim = Simulation(state, container)
     if "betaP" in task:
         from ..barostat import Barostat
@@ -169,8 +176,10 @@ def run_task(task: Task) -> dict[str, Any]:
     import numpy as np
     import pandas as pd
 
+    from ..mc.chain import EventChain
     from ..simulation import Simulation
 
+    ecmc = task.get("method") == "ecmc"
     row_file = row_path(task)
     if row_file.exists():
         return pd.read_parquet(row_file).iloc[0].to_dict()
@@ -178,13 +187,15 @@ def run_task(task: Task) -> dict[str, Any]:
     tdir.mkdir(parents=True, exist_ok=True)
     prog_path = tdir / "progress.json"
     blocks, n = task["blocks"], task["n"]
-    eq_chunks = _split(task["equilibrate"] * n / 2, blocks)
+    # EDMD: collisions per sphere (each collision moves two); ECMC: lifting events per sphere
+    per_sphere = n if ecmc else n / 2
+    eq_chunks = _split(task["equilibrate"] * per_sphere, blocks)
     prog: dict[str, Any] | None = None
     if prog_path.exists():
         with open(prog_path, encoding="utf-8") as fh:
             prog = json.load(fh)
         if prog.get("checkpoint") and (tdir / prog["checkpoint"]).exists():
-            sim = Simulation.load(tdir / prog["checkpoint"])
+            sim = (EventChain if ecmc else Simulation).load(tdir / prog["checkpoint"])
         else:
             # its checkpoint is gone (a finished task's row deleted, before
             # progress.json went with it): computed afresh (issue 29)
@@ -210,7 +221,7 @@ def run_task(task: Task) -> dict[str, Any]:
             )
             + "\n"
         )
-    per_block = _split(task["collisions"] * n / 2, blocks) if task["collisions"] is not None else None
+    per_block = _split(task["collisions"] * per_sphere, blocks) if task["collisions"] is not None else None
     last_save = time.monotonic()
     total = 2 * blocks
 
@@ -243,10 +254,12 @@ def run_task(task: Task) -> dict[str, Any]:
             if prog["t0"] is None:
                 prog["t0"] = sim.time
             sim.observables.reset()
-            if sim.barostat is not None:
+            if isinstance(sim, Simulation) and sim.barostat is not None:
                 sim.barostat.reset_averages()
         for k in range(step, len(plan)):
-            if plan[k] is not None:
+            if isinstance(sim, EventChain):
+                sim.run(events=plan[k])
+            elif plan[k] is not None:
                 sim.run(collisions=plan[k])
             else:
                 sim.run(until=prog["t0"] + task["time"] * (c - blocks + 1) / blocks)
@@ -254,7 +267,7 @@ def run_task(task: Task) -> dict[str, Any]:
                 checkpoint(c, k + 1)
         if c >= blocks:
             for m in task["measure"]:
-                prog["values"][m].append(block_value(m, sim, sim.observables))
+                prog["values"][m].append(block_value(m, sim, sim.observables))  # type: ignore[arg-type]
         c, step = c + 1, 0
         if c < total:
             checkpoint(c, 0)
