@@ -55,6 +55,7 @@ The arrays (owned by :class:`~hardspheres.mc.chain.EventChain`):
     radii   float64 (N,)    [length]
     images  int64   (N, d)  box crossings per axis
     sides   float64 (d,)    the box [length]
+    scale   float64 (d,)    cells per length, ``ncell / sides``
     ncell   int64   (d,)    cells per axis (>= 3)
     members int32   (C, 1 + cap) per cell: its count, then its spheres (one
                             cache line for a cell of up to 15)
@@ -204,13 +205,15 @@ def across(xj, xi, side):
 
 
 @_kernel
-def cell_coord(x, side, n):
+def cell_coord(x, side, scale, n):
     """The cell of coordinate ``x`` in ``[-side/2, side/2)`` along an axis of ``n`` cells.
 
-    ``(x + side/2) (n / side)``, rounded down: monotonic in ``x`` (so a sphere
-    in an earlier column is behind), the same bits wherever it is computed.
+    ``(x + side/2) scale``, rounded down, with ``scale = n / side`` (computed
+    once, :func:`hardspheres.mc.chain.EventChain` keeps it): monotonic in ``x``
+    (so a sphere in an earlier column is behind), the same bits wherever it is
+    computed.
     """
-    c = np.int64((x + 0.5 * side) * (n / side))
+    c = np.int64((x + 0.5 * side) * scale)
     if c < 0:
         return 0
     if c >= n:
@@ -219,22 +222,24 @@ def cell_coord(x, side, n):
 
 
 @_kernel
-def cell_of(pos, i, sides, ncell, axes):
+def cell_of(pos, i, sides, scale, ncell, axes):
     """The flat cell index of sphere ``i``."""
-    c = cell_coord(pos[i, 0], sides[0], ncell[0]) * ncell[1] + cell_coord(pos[i, 1], sides[1], ncell[1])
+    c = cell_coord(pos[i, 0], sides[0], scale[0], ncell[0]) * ncell[1] + cell_coord(
+        pos[i, 1], sides[1], scale[1], ncell[1]
+    )
     if len(axes) == 3:
-        c = c * ncell[2] + cell_coord(pos[i, 2], sides[2], ncell[2])
+        c = c * ncell[2] + cell_coord(pos[i, 2], sides[2], scale[2], ncell[2])
     return c
 
 
 @_jit
-def build_cells(pos, sides, ncell, members, cell, slot, axes):
+def build_cells(pos, sides, scale, ncell, members, cell, slot, axes):
     """Put every sphere in its cell; returns the largest count (> the capacity: nothing valid)."""
     members[:, 0] = 0
     cap = members.shape[1] - 1
     most = 0
     for i in range(pos.shape[0]):
-        c = cell_of(pos, i, sides, ncell, axes)
+        c = cell_of(pos, i, sides, scale, ncell, axes)
         k = members[c, 0]
         if k < cap:
             members[c, 1 + k] = i
@@ -274,7 +279,7 @@ def stride(b, ncell, axes):
 
 
 @_kernel
-def search_cells(i, a, left, pos, radii, rmax, sides, ncell, members, axes):
+def search_cells(i, a, left, pos, radii, rmax, sides, scale, ncell, members, axes):
     """The next lift of ``i`` along ``a`` within ``left``: ``(s, j)``, ``j = -1`` for none (cells)."""
     d = len(axes)
     p1 = (a + 1) % d
@@ -283,9 +288,9 @@ def search_cells(i, a, left, pos, radii, rmax, sides, ncell, members, axes):
     n1 = ncell[p1]
     n2 = ncell[p2] if d == 3 else 1
     side = sides[a]
-    ca = cell_coord(pos[i, a], side, na)
-    c1 = cell_coord(pos[i, p1], sides[p1], n1)
-    c2 = cell_coord(pos[i, p2], sides[p2], n2) if d == 3 else 0
+    ca = cell_coord(pos[i, a], side, scale[a], na)
+    c1 = cell_coord(pos[i, p1], sides[p1], scale[p1], n1)
+    c2 = cell_coord(pos[i, p2], sides[p2], scale[p2], n2) if d == 3 else 0
     # the strides of the flat index along a, p1, p2
     sa = stride(a, ncell, axes)
     s1 = stride(p1, ncell, axes)
@@ -387,12 +392,12 @@ def wrapped(x, side, image):
 
 
 @_kernel
-def move(i, a, s, pos, images, sides, ncell, members, cell, slot, axes):
+def move(i, a, s, pos, images, sides, scale, ncell, members, cell, slot, axes):
     """Move ``i`` by ``s`` along ``a`` and into its new cell; ``False`` if that cell is full (nothing moved)."""
     x, image = wrapped(pos[i, a] + s, sides[a], images[i, a])
     old = pos[i, a]
     pos[i, a] = x
-    c = cell_of(pos, i, sides, ncell, axes)
+    c = cell_of(pos, i, sides, scale, ncell, axes)
     c0 = cell[i]
     if c != c0:
         k = members[c, 0]
@@ -420,6 +425,7 @@ def run(
     radii,
     images,
     sides,
+    scale,
     ncell,
     members,
     cell,
@@ -468,8 +474,8 @@ def run(
         if brute:
             s, j = search_all(i, a, left, pos, radii, sides, axes)
         else:
-            s, j = search_cells(i, a, left, pos, radii, rmax, sides, ncell, members, axes)
-        if not move(i, a, s, pos, images, sides, ncell, members, cell, slot, axes):
+            s, j = search_cells(i, a, left, pos, radii, rmax, sides, scale, ncell, members, axes)
+        if not move(i, a, s, pos, images, sides, scale, ncell, members, cell, slot, axes):
             return CELL_FULL, written
         add(tally, T_DISP, a, s)
         if j >= 0:  # a lift: j moves on
@@ -497,16 +503,16 @@ def run(
 
 
 @_jit
-def max_overlap(pos, radii, sides, ncell, members, axes):
+def max_overlap(pos, radii, sides, scale, ncell, members, axes):
     """The largest ``(sigma - |r|) / sigma`` over neighbouring pairs (``-inf``: no pair near), with cells."""
     d = len(axes)
     n2 = ncell[2] if d == 3 else 1
     wlo, whi = (-1, 2) if d == 3 else (0, 1)
     worst = -INF
     for i in range(pos.shape[0]):
-        c0 = cell_coord(pos[i, 0], sides[0], ncell[0])
-        c1 = cell_coord(pos[i, 1], sides[1], ncell[1])
-        c2 = cell_coord(pos[i, 2], sides[2], n2) if d == 3 else 0
+        c0 = cell_coord(pos[i, 0], sides[0], scale[0], ncell[0])
+        c1 = cell_coord(pos[i, 1], sides[1], scale[1], ncell[1])
+        c2 = cell_coord(pos[i, 2], sides[2], scale[2], n2) if d == 3 else 0
         for u in range(-1, 2):
             for v in range(-1, 2):
                 for w in range(wlo, whi):

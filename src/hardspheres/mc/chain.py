@@ -180,6 +180,7 @@ class EventChain:
             ncell = np.maximum(3, np.floor(ncell * (limit / np.prod(ncell)) ** (1.0 / d))).astype(np.int64)
         self._sides = sides
         self._ncell = ncell
+        self._scale = ncell / sides  # (one division, kept: every cell index multiplies by it)
         total = int(np.prod(ncell))
         self._cell = np.zeros(self.n, np.int64)
         self._slot = np.zeros(self.n, np.int64)
@@ -187,7 +188,7 @@ class EventChain:
         while True:
             self._members = np.zeros((total, 1 + cap), np.int32)
             most = core.build_cells(
-                self._pos, sides, ncell, self._members, self._cell, self._slot, self._axes
+                self._pos, sides, self._scale, ncell, self._members, self._cell, self._slot, self._axes
             )
             if most <= cap:
                 return
@@ -199,7 +200,9 @@ class EventChain:
 
     def _max_overlap(self) -> float:
         return float(
-            core.max_overlap(self._pos, self._radii, self._sides, self._ncell, self._members, self._axes)
+            core.max_overlap(
+                self._pos, self._radii, self._sides, self._scale, self._ncell, self._members, self._axes
+            )
         )
 
     # ---- what writers and observables read ----------------------------------------
@@ -302,6 +305,7 @@ class EventChain:
                 self._radii,
                 self._images,
                 self._sides,
+                self._scale,
                 self._ncell,
                 self._members,
                 self._cell,
