@@ -260,7 +260,8 @@ def test_small_systems_generate_and_run(n, radius, tmp_path):
 
 def test_box_too_small_for_the_engine_is_refused_by_generate(tmp_path):
     assert_one_line(
-        hs_cmd("generate", "--n", 1, "--box", 10, "--packing", 0.3, cwd=tmp_path), "three largest diameters"
+        hs_cmd("generate", "--n", 1, "--box", 10, "--packing", 0.3, cwd=tmp_path),
+        "three times the largest diameter",
     )
 
 

@@ -69,5 +69,5 @@ def test_plot_from_skips_early_frames(trajectory, tmp_path, capsys, monkeypatch,
     out = tmp_path / f"{what}.png"
     assert main(["plot", what, str(trajectory), "-o", str(out), "--from", "12"]) == 0
     assert seen[0].times[0] >= 12.0 and len(seen[0].times) == pytest.approx(101, abs=1)
-    assert main(["plot", what, str(trajectory), "-o", str(out), "--from", "1e9"]) == 1
+    assert main(["plot", what, str(trajectory), "-o", str(out), "--from", "1e9", "--overwrite"]) == 1
     assert "no frames from t = 1e+09" in capsys.readouterr().err

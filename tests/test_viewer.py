@@ -231,3 +231,41 @@ def test_q6_page_in_chromium(tmp_path):
         finally:
             browser.close()
     assert not errors, errors
+
+
+@pytest.mark.parametrize("size", [(960, 640), (600, 400)])
+def test_the_control_bar_fits_the_window(tmp_path, size):
+    """At the screenshot's default size (960 x 640) the bar's last control ("view") was cut off at
+    the right edge; the bar now wraps, and the view takes what it leaves."""
+    import inspect
+
+    from hardspheres.viz.screenshot import screenshot
+
+    assert inspect.signature(screenshot).parameters["size"].default == (960, 640)
+    sync_api = _launch()
+    path = write_viewer(synthetic_frames(), tmp_path / "viewer.html", title="synthetic spheres")
+    errors = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = _watched(browser.new_page(viewport={"width": size[0], "height": size[1]}), errors)
+            page.goto(path.as_uri())
+            page.wait_for_function("window.viewerReady === true", timeout=30_000)
+            boxes = page.evaluate(
+                "[...document.querySelectorAll('#bar > *')].map(e => {"
+                " const r = e.getBoundingClientRect(); return [e.id || e.textContent.trim(), r.left, r.top, r.right, r.bottom]; })"
+            )
+            view = page.locator("#view").bounding_box()
+            bar = page.locator("#bar").bounding_box()
+        finally:
+            browser.close()
+    assert not errors, errors
+    for name, left, top, right, bottom in boxes:
+        assert 0 <= left and right <= size[0] and 0 <= top and bottom <= size[1], (
+            name,
+            left,
+            top,
+            right,
+            bottom,
+        )
+    assert view["y"] + view["height"] <= bar["y"] + 0.5 and view["height"] > size[1] / 2

@@ -468,7 +468,7 @@ class Barostat:
         new = [x * f for x, f in zip(sides, factors)]
         radii = eng.radii_at()
         if min(new) < 6.0 * float(radii.max()) * (1.0 + 1e-9):
-            return False  # outside the engine's boxes (three largest diameters a side)
+            return False  # outside the engine's boxes (three times the largest diameter a side)
         v_old = math.prod(sides)
         v_new = math.prod(new)
         log_acc = -self.pressure * (v_new - v_old) / cast(float, self.kT) + (sim.n + 1) * math.log(

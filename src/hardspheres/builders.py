@@ -381,7 +381,7 @@ def random_arrays(
     narrowest = min(where.sides) if where.periodic else 0.0  # type: ignore[attr-defined]
     if where.periodic and n and 6.0 * rmax > narrowest:
         raise BuildError(
-            f"a periodic box must be at least three largest diameters wide "
+            f"a periodic box must be at least three times the largest diameter wide "
             f"({6.0 * rmax:.3g}), not {narrowest:g}: lower the "
             "packing or raise N"
         )
@@ -586,7 +586,7 @@ def _random_disks(
     rmax = float(radii.max()) if n else 0.0
     if where.periodic and n and 6.0 * rmax > min(where.sides):  # type: ignore[attr-defined]
         raise BuildError(
-            f"a periodic box must be at least three largest diameters wide ({6.0 * rmax:.3g}), "
+            f"a periodic box must be at least three times the largest diameter wide ({6.0 * rmax:.3g}), "
             f"not {min(where.sides):g}: lower the packing or raise N"  # type: ignore[attr-defined]
         )
     sites = _disk_sites(n, where, rmax) if n else np.zeros((0, 2))

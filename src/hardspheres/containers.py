@@ -270,6 +270,7 @@ class SphericalContainer(RoundWall):
             >>> round(SphericalContainer.for_packing(1000, 0.125).radius, 6)
             10.0
         """
+        n, packing = _n_and_packing(n, packing)
         return cls((n / (8.0 * packing)) ** (1.0 / 3.0))
 
     @property
@@ -411,6 +412,7 @@ class PeriodicBox:
             >>> [round(x, 6) for x in PeriodicBox.for_packing(400, 0.7, (1, 3**0.5 / 2)).sides]
             [22.76463, 19.714748]
         """
+        n, packing = _n_and_packing(n, packing)
         if aspect is None:
             return cls((n * math.pi / (6.0 * packing)) ** (1.0 / 3.0))
         a = [float(x) for x in aspect]
@@ -620,6 +622,7 @@ class CircularContainer(RoundWall):
     @classmethod
     def for_packing(cls, n: int, packing: float) -> CircularContainer:
         """The circle ``n`` disks of diameter 1 fill to the area fraction ``packing``."""
+        n, packing = _n_and_packing(n, packing)
         return cls(math.sqrt(n / (4.0 * packing)))
 
     @property
@@ -708,6 +711,29 @@ def from_record(record: np.ndarray) -> Container:
     if kind != PeriodicBox.kind:
         raise ContainerError(f"a {kind} has one size, not {size!r}")
     return PeriodicBox(tuple(numbers))
+
+
+def _n_and_packing(n: int, packing: float) -> tuple[int, float]:
+    """``for_packing``'s arguments checked: ``n`` a whole number >= 1, ``packing`` in (0, 1).
+
+    Raises:
+        ContainerError: either is out of range (the message names it).
+
+    Example:
+        >>> PeriodicBox.for_packing(100, 0)
+        Traceback (most recent call last):
+        ...
+        hardspheres.errors.ContainerError: packing must be a fraction in (0, 1), got 0; give e.g. 0.3
+    """
+    try:
+        count, phi = int(n), float(packing)
+    except (TypeError, ValueError, OverflowError):
+        count, phi = -1, math.nan
+    if isinstance(n, bool) or count != n or count < 1:
+        raise ContainerError(f"n must be a whole number >= 1 (the spheres), got {n!r}")
+    if isinstance(packing, bool) or not (0.0 < phi < 1.0):  # NaN fails too
+        raise ContainerError(f"packing must be a fraction in (0, 1), got {packing!r}; give e.g. 0.3")
+    return count, phi
 
 
 def from_fields(fields: dict) -> Container:

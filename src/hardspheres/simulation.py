@@ -31,7 +31,7 @@ from .containers import Container, as_container, require_periodic
 from .core import checkpoint
 from .core.engine import CheckpointError, Engine
 from .core.warmup import ensure_compiled
-from .errors import ArgumentError
+from .errors import ArgumentError, BoxShapeError
 from .events import KIND_LABELS, KindLabel, StopReason
 from .fileio import atomic_write
 from .messages import quote
@@ -136,6 +136,14 @@ class Simulation:
         self.barostat = None
         self._run_until = math.inf
         _check_inside(state, container)
+        if container.periodic and state.n:
+            narrowest = min(container.sides)  # type: ignore[attr-defined]  # a box's
+            widest = 2.0 * float(np.max(state.radii))
+            if 3.0 * widest > narrowest:  # the engine's cells: three a side at least
+                raise BoxShapeError(
+                    f"periodic box side {narrowest:g} is narrower than three times the largest diameter "
+                    f"({widest:g}); every side must be at least {3.0 * widest:g}"
+                )
         # the unwrapped centres (positions + images * L) are kept in a periodic box
         images = container.image_counts(state.positions)
         if state.images is not None:

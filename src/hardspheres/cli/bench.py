@@ -7,7 +7,7 @@ import json
 from typing import TYPE_CHECKING, Any
 
 from ..core.bench import bench
-from .options import compile_first, count, packing, ratio, warmup, whole
+from .options import check_packing, compile_first, count, packing, ratio, warmup, whole
 
 if TYPE_CHECKING:
     from .options import Subcommands
@@ -89,6 +89,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
+    check_packing(args.packing, args.dimensions)
     compile_first()
     main(
         args.n,

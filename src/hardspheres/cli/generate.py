@@ -12,7 +12,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..errors import UsageError
-from .options import count, packing, positive, ratio, where_args, whole
+from .options import check_packing, count, packing, positive, ratio, where_args, whole
 
 if TYPE_CHECKING:
     from .options import Subcommands
@@ -73,8 +73,10 @@ def run(args: argparse.Namespace) -> int:
     from ..builders import random_spheres
     from .source import container_from
 
+    container = container_from(args)
+    check_packing(args.packing, container.dimensions)
     common = dict(  # one of --container, --circle, --box is given (argparse's group)
-        container=container_from(args),
+        container=container,
         seed=args.seed,
         radius_ratio=args.radius_ratio,
         mass_ratio=args.mass_ratio,

@@ -13,7 +13,7 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn, Protocol
 
-from ..containers import MAX_PACKING
+from ..containers import MAX_PACKING, MAX_PACKING_2D
 from ..errors import UsageError
 from ..messages import QUOTE_LIMIT, quote
 
@@ -85,14 +85,29 @@ count = whole(0)
 
 
 def packing(text: str) -> float:
+    """A packing fraction (an area fraction for disks): in (0, 0.9069), the disks' limit.
+
+    The limit of the command's dimension (0.7405 for spheres) is checked
+    once the container is known (:func:`check_packing`).
+    """
     import math
 
     x = number(text)
-    if not math.isfinite(x) or not 0.0 < x < MAX_PACKING:
+    if not math.isfinite(x) or not 0.0 < x < MAX_PACKING_2D:
         raise argparse.ArgumentTypeError(
-            f"must be a packing fraction between 0 and {MAX_PACKING:.4f} (exclusive), got {quote(text)}"
+            f"must be a packing fraction between 0 and {MAX_PACKING:.4f} (spheres) or "
+            f"{MAX_PACKING_2D:.4f} (disks), exclusive, got {quote(text)}"
         )
     return x
+
+
+def check_packing(value: float, dimensions: int, option: str = "--packing") -> None:
+    """:class:`UsageError` unless ``value`` is below the densest packing in ``dimensions`` (2 or 3)."""
+    top, what = (MAX_PACKING_2D, "disks") if dimensions == 2 else (MAX_PACKING, "spheres")
+    if value >= top:
+        raise UsageError(
+            f"{option} {value:g} is not below {top:.4f}, the densest packing of equal {what}; give less"
+        )
 
 
 def warmup(text: str) -> float | None:
@@ -112,7 +127,10 @@ def packings(text: str) -> list[float]:
     values = []
     for part in text.split(","):
         try:
-            values.append(packing(part.strip()))
+            x = packing(part.strip())
+            if x >= MAX_PACKING:  # (the validation's runs are of spheres)
+                raise argparse.ArgumentTypeError(part)
+            values.append(x)
         except argparse.ArgumentTypeError:
             raise argparse.ArgumentTypeError(
                 f"must be comma-separated packing fractions between 0 and {MAX_PACKING:.4f} "
@@ -206,6 +224,19 @@ def picture_args(q: argparse.ArgumentParser, output_default: str | None, output_
     q.add_argument(
         "--every", type=positive, help="scenario: time between frames [s] (default: --until / 200)"
     )
+    q.add_argument("--overwrite", action="store_true", help="replace an existing -o file (refused otherwise)")
+
+
+def refuse_existing(option: str, path: str | None, overwrite: bool) -> None:
+    """:class:`UsageError` if the output ``path`` exists (and is not empty) and ``overwrite`` is not given.
+
+    The one rule of every command's outputs (``run --trajectory``, ``view``,
+    ``render`` and ``plot`` ``-o``): checked before any work.
+    """
+    import os
+
+    if path and not overwrite and os.path.isfile(path) and os.path.getsize(path) > 0:
+        raise UsageError(f"{option} {path} exists; give --overwrite to replace it, or another file name")
 
 
 #: The commands whose ``--box`` takes a box's sides (``bench --box`` is a switch).

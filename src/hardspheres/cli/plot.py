@@ -9,10 +9,11 @@ from types import ModuleType
 from typing import TYPE_CHECKING
 
 from ..errors import ResolutionWarning, UsageError
-from .options import STILLS, picture_args, positive, require_suffix, suffix
+from .options import STILLS, picture_args, positive, refuse_existing, require_suffix, suffix
 from .source import TRAJECTORY_SUFFIXES, check_source, frames_from_args, starting_simulation
 
 if TYPE_CHECKING:
+    from ..frames import Frames
     from ..simulation import Simulation
     from .options import Subcommands
 
@@ -67,6 +68,9 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, STILLS, "a plot")
+    if args.what not in ("eos", "transport", "sweep", "contacts"):
+        check_source(args)  # the input's options first, then the output
+    refuse_existing("-o", args.output, args.overwrite)
     from ..extras import need
     from ..viz import plots
 
@@ -91,7 +95,10 @@ def _plot(args: argparse.Namespace, plots: ModuleType) -> None:
     elif args.what == "sweep":
         plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
     elif args.what == "contacts":
-        plots.plot_contacts(_packing_sim(args), args.output)
+        from ..analysis.collisions import packing_contact_forces
+
+        sim = _packing_sim(args)
+        plots.plot_contacts(sim, args.output, packing_contact_forces(sim))
     else:
         check_source(args)
         frames = frames_from_args(args)
@@ -102,13 +109,32 @@ def _plot(args: argparse.Namespace, plots: ModuleType) -> None:
         elif args.what == "gr":
             plots.plot_gr(frames, args.output)
         elif args.what == "msd":
-            plots.plot_msd(frames, args.output)
+            _plot_msd(args, plots, frames)
         elif args.what == "fs":
             plots.plot_fs(frames, args.output, k=args.k)
         elif args.what == "chi4":
             plots.plot_chi4(frames, args.output, a=args.a)
         else:
             plots.plot_speeds(frames, args.output)
+
+
+def _plot_msd(args: argparse.Namespace, plots: ModuleType, frames: Frames) -> None:
+    """``plot msd``: the plot, and D on stdout with the frames it is from."""
+    from ..analysis.transport import MSD
+    from ..messages import plus_minus
+
+    msd = MSD().compute(frames)
+    D, err = msd.diffusion()
+    plots.plot_msd(frames, args.output, msd=msd)
+    t = frames.times
+    print(
+        f"D = {plus_minus(D, err)} from the frames t = {t[0]:.6g} .. {t[-1]:.6g} "
+        + (
+            f"(from --from {args.since:g})"
+            if args.since is not None
+            else "(all of them: a run's trajectory includes its --equilibrate part; --from T leaves it out)"
+        )
+    )
 
 
 def _packing_sim(args: argparse.Namespace) -> Simulation:

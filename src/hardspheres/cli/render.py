@@ -13,6 +13,7 @@ from .options import (
     finite,
     note,
     picture_args,
+    refuse_existing,
     require_suffix,
     size_slice_args,
     suffix,
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
         if args.size and (args.size[0] % 2 or args.size[1] % 2):
             raise UsageError(f"--size: {suffix(args.output)} needs an even width and height")
     check_source(args)
+    refuse_existing("-o", args.output, args.overwrite)
     from ..viz.render import render_movie, render_still
 
     frames = frames_from_args(args)

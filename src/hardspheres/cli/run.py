@@ -33,7 +33,7 @@ from ..errors import UsageError
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
-from .options import count, positive, where_args
+from .options import count, positive, refuse_existing, where_args
 from .source import given_container, starting_simulation
 
 if TYPE_CHECKING:
@@ -196,8 +196,8 @@ def _writer(args: argparse.Namespace, sim: Simulation, trigger: Trigger) -> GSDW
 
     path = args.trajectory
     exists = os.path.exists(path) and os.path.getsize(path) > 0
-    if exists and not args.overwrite and not args.resume:
-        raise UsageError(f"trajectory {path} exists; give --overwrite to replace it, or another file name")
+    if exists and not args.resume:
+        refuse_existing("--trajectory", path, args.overwrite)
     append = bool(args.resume) and not args.overwrite
     writer: GSDWriter | XYZWriter
     if path.lower().endswith(".gsd"):

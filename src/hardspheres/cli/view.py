@@ -6,7 +6,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ..errors import UsageError
-from .options import picture_args, require_suffix, size_slice_args, cut_of
+from .options import picture_args, refuse_existing, require_suffix, size_slice_args, cut_of
 from .source import check_source, frames_from_args
 
 if TYPE_CHECKING:
@@ -47,6 +47,9 @@ def run(args: argparse.Namespace) -> int:
     if args.screenshot:
         require_suffix("--screenshot", args.screenshot, (".png",), "the screenshot")
     check_source(args)
+    refuse_existing("-o", args.output, args.overwrite)
+    if args.screenshot:
+        refuse_existing("--screenshot", args.screenshot, args.overwrite)
     from ..viz.screenshot import screenshot
     from ..viz.viewer import write_viewer
 

@@ -41,6 +41,14 @@ READS = (1, 2)
 
 def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     """The arrays of a checkpoint file, after checking its format and version (``version`` removed)."""
+    with open(path, "rb") as fh:  # (a missing file: FileNotFoundError, named by the caller)
+        head = fh.read(6)
+    if not head.startswith((b"PK", b"\x93NUMPY")):  # numpy would take anything else for a pickle
+        raise CheckpointError(
+            f"{path}: not a checkpoint (no .npz archive: "
+            f"{'an empty file' if not head else 'it starts with ' + repr(head)}); "
+            "give a file written by --checkpoint or Simulation.save"
+        )
     try:
         with np.load(path, allow_pickle=False) as z:
             if not hasattr(z, "files"):

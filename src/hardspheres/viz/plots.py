@@ -37,6 +37,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..analysis.collisions import ContactForces
+    from ..analysis.transport import MSD
     from ..frames import Frames
     from ..simulation import Simulation
 
@@ -557,16 +559,22 @@ def plot_gr(
 
 
 def plot_msd(
-    frames: Frames, path: str | os.PathLike[str], *, size: tuple[int, int] = SIZE, dpi: int = 100
+    frames: Frames,
+    path: str | os.PathLike[str],
+    *,
+    size: tuple[int, int] = SIZE,
+    dpi: int = 100,
+    msd: MSD | None = None,
 ) -> Path:
     """Mean squared displacement of a periodic-box trajectory (all origins), with D.
 
     Uses :class:`hardspheres.analysis.transport.MSD` on the unwrapped
-    positions.  Returns ``path``.
+    positions, or ``msd`` if given (computed from ``frames``: the plot
+    draws it, and computes nothing).  Returns ``path``.
     """
     from ..analysis.transport import MSD
 
-    msd = MSD().compute(frames)
+    msd = MSD().compute(frames) if msd is None else msd
     D, err = msd.diffusion()
     fig = _figure(size, dpi)
     ax = msd.plot(fig.add_subplot())
@@ -650,7 +658,7 @@ def plot_chi4(
 def plot_contacts(
     sim: Simulation,
     path: str | os.PathLike[str],
-    per_sphere: int = 2000,
+    forces: ContactForces | None = None,
     *,
     size: tuple[int, int] = SIZE,
     dpi: int = 100,
@@ -659,20 +667,17 @@ def plot_contacts(
 
     Left: twice the pairs with gap below h per sphere (a plateau at z near
     ``2d`` in a jammed packing; Donev, Torquato and Stillinger, PRE 71,
-    011105 (2005)).  Right: the time-averaged contact forces of a copy run
-    ``per_sphere`` collisions per sphere at fixed radii
-    (:class:`hardspheres.analysis.collisions.ContactForces`; 2000 by
-    default: with 200 a contact sees about 70 collisions and the weak
-    forces are missed, docs/validation/glass-jamming.md, "Marginal stability").  Returns ``path``.
+    011105 (2005)).  Right, if ``forces`` are given: the distribution of
+    the time-averaged contact forces
+    (:func:`hardspheres.analysis.collisions.packing_contact_forces`
+    computes them, from a copy of the packing run at fixed radii).  The
+    plot runs nothing.  Returns ``path``.
     """
-    from ..analysis.collisions import ContactForces, EventRecorder
+    from ..analysis.dynamics import box_sides
     from ..analysis.jamming import near_pairs
-    from ..simulation import Simulation
 
     st = sim.state()
     dim = st.positions.shape[1]
-    from ..analysis.dynamics import box_sides
-
     box = box_sides(sim.container, dim)
     _, h = near_pairs(st.positions, st.radii, box, 0.5)
     h = np.sort(h[h > 0])
@@ -684,11 +689,11 @@ def plot_contacts(
     left.set_ylabel("Z(h): contacts per sphere with gap below h")
     left.set_ylim(0, 4 * dim)
     left.legend()
-    copy = Simulation(st, sim.container)
-    rec = EventRecorder()
-    copy.writers.append(rec)
-    copy.run(collisions=int(per_sphere) * sim.n)
-    if rec.collisions:
-        ContactForces().compute(rec).plot(right)
-        right.set_title(f"{per_sphere} collisions per sphere at fixed radii")
+    if forces is not None:
+        forces.plot(right)
+        right.set_title(
+            f"{forces.duration:.3g} time units at fixed radii, {int(forces.counts.sum())} collisions"
+        )
+    else:
+        right.set_axis_off()
     return _save(fig, path, dpi)
