@@ -68,13 +68,13 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand on its parsed arguments; returns the exit status."""
     require_suffix("-o", args.output, STILLS, "a plot")
-    if args.what not in ("eos", "transport", "sweep", "contacts"):
-        check_source(args)  # the input's options first, then the output
-    refuse_existing("-o", args.output, args.overwrite)
     from ..extras import need
     from ..viz import plots
 
     need("matplotlib", "hardspheres plot")  # before a simulation, not after
+    if args.what not in ("eos", "transport", "sweep", "contacts"):
+        check_source(args)  # the input's options first, then the output
+    refuse_existing("-o", args.output, args.overwrite)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ResolutionWarning)
         _plot(args, plots)
