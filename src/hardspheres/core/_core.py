@@ -188,19 +188,20 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   shells     float64 (N, SHELL_COLS)   shell centre and reach
 #   neighbours int32   (N, cap)          neighbour list: 32 j + image code (see _pair_code)
 #   images     int64   (N, 3)            crossings of the periodic box per axis
-#   cell_next, cell_prev  int64 (N,)     the doubly linked list of the cell of its shell centre
+#   cell_next, cell_prev  int32 (N,)     the doubly linked list of the cell of its shell centre
 #
 # and for the whole system:
 #
-#   cell_head  int64   (ncx ncy ncz,)    first sphere of each cell (-1: empty)
-#   heap       int64   (N,)              the calendar's current bucket: spheres by heap
+#   cell_head  int32   (ncx ncy ncz,)    first sphere of each cell (-1: empty)
+#   heap       int32   (N,)              the calendar's current bucket: spheres by heap
 #   heap_t, heap_key                     position, with the entry's time and tie key beside
-#   calendar   int64   (NB + 1 + 3N,)    the calendar's later buckets: first sphere of each
+#   calendar   int32   (NB + 1 + 3N,)    the calendar's later buckets: first sphere of each
 #                                        bucket's list, then of the overflow list (-1: empty),
-#                                        then per sphere its links (CAL_NEXT, CAL_PREV, CAL_BUCKET)
+#                                        then per sphere its links (CAL_NEXT, CAL_PREV, CAL_BUCKET:
+#                                        its list's slot)
 #   scalars    float64 (N_SCALARS,)      clock, geometry, running totals (F_*)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
-#   scratch    int64   (2N + 2,)         work space (refresh_window, _relist)
+#   scratch    int32   (2N + 2,)         work space (refresh_window, _relist)
 #   axes       ((),) * d                 the dimension, as a type: d = len(axes), 2 or 3
 #
 # The dimension is a compile-time constant: ``len(axes)`` of a tuple of d
@@ -342,8 +343,7 @@ STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engi
 
 # per sphere i, after the heads: calendar[NB + 1 + 3 i + CAL_NEXT, CAL_PREV, CAL_BUCKET]
 CAL_NEXT, CAL_PREV = 0, 1  # next and previous sphere in its bucket's list
-CAL_BUCKET = 2  # its bucket (CAL_HEAP: in the heap, CAL_OVERFLOW: the overflow list)
-CAL_OVERFLOW = 1 << 62  # CAL_BUCKET of an entry in the overflow list
+CAL_BUCKET = 2  # its list's slot: 0..NB-1 a bucket of the year, NB the overflow list (CAL_HEAP: in the heap)
 CAL_HEAP = -1  # CAL_BUCKET of an entry in the heap (the current bucket)
 # a current bucket past every finite time: one plain heap.  2^52: bucket
 # numbers (and a year past them) stay exact as doubles, so comparing them with
@@ -434,13 +434,11 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
         _sift_up(heap, heap_t, heap_key, book, k)
         return
     if fb < cur + nb:  # (NaN: overflow)
-        b = np.int64(fb)
-        slot = b & (nb - 1)
+        slot = np.int64(fb) & (nb - 1)
         counts[C_QUEUED] += 1
     else:
-        b = CAL_OVERFLOW
-        slot = nb
-    calendar[nb + 1 + 3 * i + CAL_BUCKET] = b
+        slot = nb  # the overflow list
+    calendar[nb + 1 + 3 * i + CAL_BUCKET] = slot
     h = calendar[slot]
     calendar[nb + 1 + 3 * i + CAL_NEXT] = h
     calendar[nb + 1 + 3 * i + CAL_PREV] = -1
@@ -453,11 +451,8 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
 def _unlink(calendar, book, counts, i):
     """Take sphere ``i`` out of its bucket's (or the overflow) list."""
     nb = _year(calendar, book)
-    b = calendar[nb + 1 + 3 * i + CAL_BUCKET]
-    if b == CAL_OVERFLOW:
-        slot = nb
-    else:
-        slot = b & (nb - 1)
+    slot = calendar[nb + 1 + 3 * i + CAL_BUCKET]
+    if slot != nb:
         counts[C_QUEUED] -= 1
     p, q = calendar[nb + 1 + 3 * i + CAL_PREV], calendar[nb + 1 + 3 * i + CAL_NEXT]
     if p >= 0:

@@ -66,8 +66,8 @@ REORDER_EVERY = 10.0
 # names (properties): kept in the engine's order under these
 _INTERNAL = {"masses": "_masses", "images": "_images"}
 #: The dtype of the sphere indices the core links by (cell lists and heads,
-#: the calendar's heap, the work space): 4 bytes while N < 2^31, half the
-#: cache lines of int64 (benchmarks/README.md, "Memory").  Checkpoints keep
+#: the calendar's heap and lists, the work space): 4 bytes (N < 2^29, so that
+#: the calendar's slots, up to 4N, fit too), half the cache lines of int64 (benchmarks/README.md, "Memory").  Checkpoints keep
 #: them as int64.
 LINK = np.int32
 _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
@@ -144,8 +144,8 @@ class Engine:
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
-        if self._masses.shape[0] >= 2**31:
-            raise ArgumentError(f"{self._masses.shape[0]} spheres: the engine takes fewer than 2^31")
+        if self._masses.shape[0] >= 2**29:
+            raise ArgumentError(f"{self._masses.shape[0]} spheres: the engine takes fewer than 2^29")
         n = self._masses.shape[0]
         d = self.dimensions
         # one 64-byte row per sphere: x y z vx vy vz t_own radius (in 2-D z = vz = 0, never read)
@@ -162,7 +162,7 @@ class Engine:
         self.heap = np.zeros(n, LINK)
         self.heap_t = np.zeros(n)
         self.heap_key = np.zeros(n, np.int64)
-        self.calendar = np.full(core.calendar_size(n), -1, np.int64)  # the buckets' lists
+        self.calendar = np.full(core.calendar_size(n), -1, LINK)  # the buckets' lists
         self.scratch = np.zeros(2 * n + 2, LINK)
         self._images = np.zeros((n, 3), np.int64)  # periodic images (crossings of the box)
         # the engine's order: sphere i here is sphere order[i] of the input
@@ -340,7 +340,7 @@ class Engine:
         self.cell_head[:] = -1
         self.cell_head[c[first]] = by[first]
         # the calendar, with the buckets as wide as they were
-        self.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        self.calendar = np.full(core.calendar_size(n), -1, LINK)
         heap = (self.heap, self.heap_t, self.heap_key, self.calendar)
         core.requeue(
             *heap,
@@ -870,7 +870,7 @@ class Engine:
         edges = np.array(eng.container.core_params()["edges"])
         if np.any(eng.scalars[core.F_EDGE : core.F_EDGE + 3] != edges):
             raise CheckpointError("damaged checkpoint: the box's sides disagree with the core's")
-        eng.calendar = np.full(core.calendar_size(n), -1, np.int64)
+        eng.calendar = np.full(core.calendar_size(n), -1, LINK)
         eng._requeue()
         eng._queue_anew(first=True)
         eng.last_reason, eng.last_done = StopReason.UNTIL, 0
