@@ -260,16 +260,20 @@ def build_cells(pos, sides, scale, ncell, members, cell, slot, axes):
 
 
 @_kernel
-def consider(i, j, a, p1, p2, pos, radii, sides, best, jbest, axes):
-    """``(s, j)`` of pair ``(i, j)`` if it beats ``(best, jbest)`` by the tie rule, else those."""
-    dxa = ahead(pos[j, a], pos[i, a], sides[a])
-    sigma = radii[i] + radii[j]
+def consider(j, xa, x1, x2, ri, a, p1, p2, pos, radii, sides, best, jbest, axes):
+    """``(s, j)`` of the lift toward ``j`` if it beats ``(best, jbest)`` by the tie rule, else those.
+
+    ``xa, x1, x2``: the moving sphere's centre along the axis and across it
+    (``x2`` unread in 2-D); ``ri``: its radius [length].
+    """
+    dxa = ahead(pos[j, a], xa, sides[a])
+    sigma = ri + radii[j]
     if dxa - sigma > best + SKIP * (dxa + sigma):
         return best, jbest  # the lift is at least dxa - sigma: surely beyond the best
-    dp1 = across(pos[j, p1], pos[i, p1], sides[p1])
+    dp1 = across(pos[j, p1], x1, sides[p1])
     dp2 = 0.0
     if len(axes) == 3:
-        dp2 = across(pos[j, p2], pos[i, p2], sides[p2])
+        dp2 = across(pos[j, p2], x2, sides[p2])
     s = lift(dxa, dp1, dp2, sigma, best, axes)
     if s < best or (s == best and jbest >= 0 and j < jbest):
         return s, j
@@ -284,6 +288,16 @@ def stride(b, ncell, axes):
     if b == 0 and len(axes) == 3:
         return ncell[1] * ncell[2]
     return ncell[len(axes) - 1]
+
+
+@_kernel
+def wrapped_row(r, n):
+    """Row ``r`` of ``n`` (``-1`` and ``n`` wrapped around)."""
+    if r < 0:
+        return r + n
+    if r >= n:
+        return r - n
+    return r
 
 
 @_kernel
@@ -309,30 +323,29 @@ def search_cells(i, a, left, pos, radii, rmax, sides, scale, ncell, members, axe
     tol = SCAN_TOL * side
     best = left
     jbest = np.int64(-1)
-    xi = pos[i, a]
+    xi, x1, ri = pos[i, a], pos[i, p1], radii[i]
+    x2 = pos[i, p2] if d == 3 else 0.0
+    # the rows around i across the axis, as offsets of the flat index (the same for every column)
+    o_lo, o_mid, o_hi = wrapped_row(c1 - 1, n1) * s1, c1 * s1, wrapped_row(c1 + 1, n1) * s1
+    q_lo, q_mid, q_hi = 0, 0, 0
+    if d == 3:
+        q_lo, q_mid, q_hi = wrapped_row(c2 - 1, n2) * s2, c2 * s2, wrapped_row(c2 + 1, n2) * s2
     for k in range(na):
         col = ca + k
         if col >= na:
             col -= na
-        for u in range(-1, 2):
-            r1 = c1 + u
-            if r1 < 0:
-                r1 += n1
-            elif r1 >= n1:
-                r1 -= n1
+        base = col * sa
+        for u in range(3):
+            ou = o_lo if u == 0 else (o_mid if u == 1 else o_hi)
             for v in range(vlo, vhi):
-                r2 = 0
-                if d == 3:
-                    r2 = c2 + v
-                    if r2 < 0:
-                        r2 += n2
-                    elif r2 >= n2:
-                        r2 -= n2
-                c = col * sa + r1 * s1 + r2 * s2
+                ov = q_mid if v == 0 else (q_lo if v < 0 else q_hi)
+                c = base + ou + ov
                 for m in range(1, 1 + members[c, 0]):
                     j = np.int64(members[c, m])
                     if j != i:
-                        best, jbest = consider(i, j, a, p1, p2, pos, radii, sides, best, jbest, axes)
+                        best, jbest = consider(
+                            j, xi, x1, x2, ri, a, p1, p2, pos, radii, sides, best, jbest, axes
+                        )
         # everything in the columns after k is at least this far
         edge = (ca + k + 1) * width - 0.5 * side
         if best <= edge - xi - reach - tol:
@@ -348,9 +361,11 @@ def search_all(i, a, left, pos, radii, sides, axes):
     p2 = (a + 2) % d
     best = left
     jbest = np.int64(-1)
+    xa, x1, ri = pos[i, a], pos[i, p1], radii[i]
+    x2 = pos[i, p2] if d == 3 else 0.0
     for j in range(pos.shape[0]):
         if j != i:
-            best, jbest = consider(i, j, a, p1, p2, pos, radii, sides, best, jbest, axes)
+            best, jbest = consider(j, xa, x1, x2, ri, a, p1, p2, pos, radii, sides, best, jbest, axes)
     return best, jbest
 
 
