@@ -247,7 +247,16 @@ def small_disk(tmp_path):
 def test_full_disk_view_keeps_the_old_page(small_disk, scenario, tmp_path):
     (small_disk / "v.html").write_text("good\n")
     r = hs_cmd(
-        "view", scenario, "--container", "20", "--until", "0.2", "-o", small_disk / "v.html", cwd=tmp_path
+        "view",
+        scenario,
+        "--container",
+        "20",
+        "--until",
+        "0.2",
+        "-o",
+        small_disk / "v.html",
+        "--overwrite",
+        cwd=tmp_path,
     )
     assert r.returncode == 1
     one_line(r.stderr, str(small_disk / "v.html"), "No space left on device")

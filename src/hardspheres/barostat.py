@@ -430,9 +430,16 @@ class Barostat:
         bound = 6.0 * float(radii.max()) * (1.0 + 1e-9) / min(sides)  # the engine's least box
         f = want
         if want < 1.0:
-            ratio = closest_ratio(eng.positions_at(t), radii, np.array(sides))
+            x = eng.positions_at(t)
+            ratio = closest_ratio(x, radii, np.array(sides))
             # close APPROACH_GAP_FRACTION of the narrowest gap (ratio - 1 of the contact distance)
             f = max(want, 1.0 / (1.0 + APPROACH_GAP_FRACTION * (ratio - 1.0)), bound)
+            # checked as a volume move is (the search above sees every pair nearer than a cell, not
+            # always the nearest beyond): halved until no pair overlaps, or skipped
+            while f < 1.0 and closest_ratio(x * f, radii, np.array(sides) * f) < 1.0:
+                f = 1.0 - 0.5 * (1.0 - f)
+                if 1.0 - f < 1e-12:
+                    f = 1.0
         if f != 1.0:
             new = [x * f for x in sides]
             new_box = _box_like(box, new)
