@@ -33,6 +33,8 @@ def _compiled(fn):
         pair_time_grow=_core.pair_time_grow,
         reflect_grow=_core.reflect_grow,
         collide_grow=_core.collide_grow,
+        collide_inelastic=_core.collide_inelastic,
+        reflect_inelastic=_core.reflect_inelastic,
     )
     if "box_exit" in fn.__code__.co_names:
         glob["box_exit"] = _compiled(reference.box_exit)

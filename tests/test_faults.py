@@ -21,6 +21,7 @@ import pytest
 from helpers import ENV, ROOT, hs_cmd, hs_popen, spheres_cmd
 
 import hardspheres as hs
+from hardspheres.core import checkpoint
 from hardspheres.core.engine import CheckpointError
 from hardspheres.fileio import FileInUseError, PathLock, atomic_write
 from hardspheres.io.trajectory import GSDWriter, TruncatedTrajectory, XYZWriter, read_trajectory
@@ -449,7 +450,7 @@ def test_unreadable_checkpoints_one_line(tmp_path, content):
 def test_checkpoint_has_format_and_version(tmp_path):
     small_sim().save(tmp_path / "c.npz")
     with np.load(tmp_path / "c.npz") as z:
-        assert str(z["format"]) == "hardspheres-checkpoint" and int(z["version"]) == 2
+        assert str(z["format"]) == "hardspheres-checkpoint" and int(z["version"]) == checkpoint.VERSION
 
 
 # ---- 11. library input -------------------------------------------------------------------

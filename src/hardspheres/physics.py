@@ -1,4 +1,4 @@
-"""The physics of perfectly elastic spheres, as small pure scalar functions.
+"""The physics of hard spheres (elastic, and inelastic for granular gases), as small pure scalar functions.
 
 Every function here takes and returns plain floats, so that the same source
 runs unchanged as Python (the small-input path of ``spheres``, which must not
@@ -283,6 +283,97 @@ def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float, pl
     if planar:
         return 2.0 * (vx * px + vy * py) / (px * px + py * py)
     return 2.0 * (vx * px + vy * py + vz * pz) / (px * px + py * py + pz * pz)
+
+
+# ---- inelastic collisions (granular gases) -------------------------------------
+# A normal restitution coefficient ``e`` (0 < e <= 1) scales the normal
+# relative speed after a collision: ``vn' = -e vn``.  The core compiles these
+# kernels into its inelastic variant only (``_core``, "the collision rule");
+# at ``e = 1`` each gives the bits of its elastic twin (``1.0 + 1.0`` is
+# ``2.0`` exactly, and the operations are the same, in the same order).
+
+
+def collide_inelastic(
+    m1: float,
+    m2: float,
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    e: float,
+    planar: bool = False,
+) -> tuple[float, float, float]:
+    """Velocity changes of a collision with normal restitution ``e``, and the energy it dissipates.
+
+    The normal relative velocity is reversed and scaled by ``e``; momentum
+    is conserved.  With ``s = dv . dr / |dr|^2``: ``k1 = (1 + e) m2 / (m1 + m2) s``,
+    ``k2 = (1 + e) m1 / (m1 + m2) s``, and the kinetic energy lost is
+    ``(1 - e^2) / 2 * mu * (dv . n)^2`` (``mu = m1 m2 / (m1 + m2)``,
+    ``n = dr / |dr|``), formed as ``(1 - e)(1 + e)`` and ``s (dv . dr)``:
+    products of numbers of one sign, without cancellation
+    (docs/numerics.md, "Inelastic collisions").
+
+    Args:
+        m1, m2: masses [mass].
+        dx, dy, dz: ``r_1 - r_2`` at contact [length].
+        dvx, dvy, dvz: ``v_1 - v_2`` before the collision [length/time].
+        e: normal restitution coefficient, ``0 < e <= 1`` (1: elastic).
+
+    Returns:
+        ``(k1, k2, lost)``: the new velocities are ``v_1 - k1 * dr`` and
+        ``v_2 + k2 * dr`` (``k`` [1/time]); ``lost`` the kinetic energy
+        dissipated [mass*length^2/time^2].
+
+    Example:
+        >>> collide_inelastic(1.0, 1.0, -2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.5)
+        (-1.125, -1.125, 1.6875)
+    """
+    if planar:
+        dot = dvx * dx + dvy * dy
+        r2 = dx * dx + dy * dy
+    else:
+        dot = dvx * dx + dvy * dy + dvz * dz
+        r2 = dx * dx + dy * dy + dz * dz
+    s = dot / r2
+    msum = m1 + m2
+    f = 1.0 + e
+    lost = 0.5 * ((1.0 - e) * f) * (m1 / msum * m2) * (s * dot)
+    return f * m2 / msum * s, f * m1 / msum * s, lost
+
+
+def reflect_inelastic(
+    m: float, px: float, py: float, pz: float, vx: float, vy: float, vz: float, e: float, planar: bool = False
+) -> tuple[float, float]:
+    """Factor of a reflection off the container with restitution ``e``, and the energy it dissipates.
+
+    The radial velocity is reversed and scaled by ``e``: the new velocity is
+    ``v - k p`` with ``k = (1 + e) (v . p) / |p|^2``; the kinetic energy lost
+    is ``(1 - e^2) / 2 * m * (v . p)^2 / |p|^2`` (the wall does not move).
+
+    Args:
+        m: the sphere's mass [mass].
+        px, py, pz: its centre at contact [length] (the container's centre at 0).
+        vx, vy, vz: its velocity before [length/time].
+        e: the wall's restitution coefficient, ``0 < e <= 1`` (1: elastic).
+
+    Returns:
+        ``(k, lost)``: ``k`` [1/time] and the energy lost [mass*length^2/time^2].
+
+    Example:
+        >>> reflect_inelastic(1.0, 5.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.5)
+        (0.6, 1.5)
+    """
+    if planar:
+        dot = vx * px + vy * py
+        p2 = px * px + py * py
+    else:
+        dot = vx * px + vy * py + vz * pz
+        p2 = px * px + py * py + pz * pz
+    f = 1.0 + e
+    lost = 0.5 * ((1.0 - e) * f) * m * (dot / p2 * dot)
+    return f * dot / p2, lost
 
 
 # ---- growth (Lubachevsky-Stillinger) ------------------------------------------

@@ -130,6 +130,8 @@ pair_time_grow = _kernel(physics.pair_time_grow)
 wall_time_grow = _kernel(physics.wall_time_grow)
 collide_grow = _kernel(physics.collide_grow)
 reflect_grow = _kernel(physics.reflect_grow)
+collide_inelastic = _kernel(physics.collide_inelastic)
+reflect_inelastic = _kernel(physics.reflect_inelastic)
 frozen_limit_of = _kernel(physics.frozen_limit)
 
 
@@ -203,6 +205,11 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 #   counts     int64   (N_COUNTS,)       grid size and event counts (C_*)
 #   scratch    int32   (2N + 2,)         work space (refresh_window, _relist)
 #   axes       ((),) * d                 the dimension, as a type: d = len(axes), 2 or 3
+#   hit_t      float64 (N,) or (0,)      inelastic rule: each sphere's time of its last
+#                                        collision or reflection (-inf: none yet; the TC
+#                                        model's clock); (0,) and never read when elastic
+#   rule       () or ((),)               the collision rule, as a type: elastic (), or
+#                                        inelastic ((),), len(rule) == 1
 #
 # The dimension is a compile-time constant: ``len(axes)`` of a tuple of d
 # empty tuples is folded by numba, so every ``if len(axes) == 3`` below
@@ -211,6 +218,18 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 # never read: the stored z and vz are 0 and stay so; there is one layer of
 # cells (9 around a disk, no third layer), and the image code of a pair
 # has z digit 0 (no shift).
+#
+# The collision rule is a compile-time variant too (granular gases): ``rule``
+# is ``()`` for elastic spheres and ``((),)`` for inelastic ones, and
+# ``len(rule) == 1`` is folded like ``len(axes)``.  Only :func:`run` reads it
+# (a collision's and a reflection's velocity change); the elastic loop's
+# machine code is that of before, and the inelastic loop has its own:
+# restitution ``F_RESTITUTION`` between spheres and ``F_WALL_RESTITUTION``
+# at the container's wall, the TC model (a collision or reflection less
+# than ``F_TC`` after either sphere's previous one, ``hit_t``, is elastic:
+# Luding and McNamara, Granular Matter 1, 113 (1998)), and the energy
+# dissipated summed in ``F_DISSIPATED``.  Predictions do not depend on the
+# rule.
 
 
 #: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
@@ -238,6 +257,8 @@ ARRAYS = (
     "images",
     "calendar",
     "axes",
+    "hit_t",
+    "rule",
 )
 
 
@@ -303,7 +324,12 @@ F_BUCKET_RATE = 42  # the calendar: buckets per unit time (one over a bucket's w
 F_EDGE = 43  # periodic box side per axis (0 for a spherical container)
 F_LOW = 46  # grid origin (lower corner) per axis
 F_WIDTH = 49  # cell width per axis
-N_SCALARS = 52
+# the inelastic rule (read only by the inelastic variant; 1, 1, 0 for elastic spheres)
+F_RESTITUTION = 52  # normal restitution coefficient between spheres, 0 < e <= 1
+F_WALL_RESTITUTION = 53  # the container wall's
+F_TC = 54  # the TC model's duration: a collision this soon after either sphere's last is elastic
+F_DISSIPATED = 55  # kinetic energy dissipated by inelastic collisions and reflections so far
+N_SCALARS = 56
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -1772,7 +1798,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
     """
     spheres, masses, book, due, shells, neighbours, cell_head, cell_next = arrays[:8]
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
-    calendar, axes = arrays[16], arrays[17]
+    calendar, axes, hit_t, rule = arrays[16], arrays[17], arrays[18], arrays[19]
     planar = len(axes) == 2  # (a constant: see "the arrays")
     rec_t, rec_kind, rec_i, rec_j, rec_imp, rec_dp = buffers
     n = spheres.shape[0]
@@ -1927,6 +1953,17 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if scalars[F_GROW] != 0.0:
                 u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
                 k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u, planar)
+            elif len(rule) == 1:
+                # inelastic (a constant: see "the arrays"); the TC model: elastic
+                # if either sphere's last collision or reflection is nearer than F_TC
+                e = scalars[F_RESTITUTION]
+                tc = scalars[F_TC]
+                if te - hit_t[a] < tc or te - hit_t[b] < tc:
+                    e = 1.0
+                k1, k2, lost = collide_inelastic(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, e, planar)
+                scalars[F_DISSIPATED] += lost
+                hit_t[a] = te
+                hit_t[b] = te
             else:
                 k1, k2 = collide(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, planar)
             if box != 0.0:
@@ -1967,6 +2004,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             pz = vz = 0.0
             if not planar:
                 pz, vz = spheres[i, Z], spheres[i, VZ]
+            lost = 0.0  # (the inelastic rule's)
             if scalars[F_GROW] != 0.0:
                 k = reflect_grow(
                     px,
@@ -1978,6 +2016,13 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                     spheres[i, RADIUS] * scalars[F_GROW],
                     planar,
                 )
+            elif len(rule) == 1:
+                e = scalars[F_WALL_RESTITUTION]
+                if te - hit_t[i] < scalars[F_TC]:
+                    e = 1.0  # (the TC model, as for a collision)
+                k, lost = reflect_inelastic(
+                    masses[i], px, py, pz, spheres[i, VX], spheres[i, VY], vz, e, planar
+                )
             else:
                 k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], vz, planar)
             if k == 0.0:
@@ -1987,6 +2032,9 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 scalars[F_ANCHOR] = anchor
                 return done, STOP_SLIDING
             counts[C_FROZEN] += 1
+            if len(rule) == 1 and scalars[F_GROW] == 0.0:
+                scalars[F_DISSIPATED] += lost
+                hit_t[i] = te
             spheres[i, VX] -= k * px
             spheres[i, VY] -= k * py
             if planar:

@@ -12,8 +12,12 @@ Versions:
 
 * 1: every layout written up to the layout by families (2026-12-01), told
   apart by their arrays (see :func:`migrate`).
-* 2: today's: the arrays :meth:`Engine.checkpoint
-  <hardspheres.core.engine.Engine.checkpoint>` writes now, all present.
+* 2: the arrays of the layout by families, all present (up to 2026-12-06).
+* 3: today's: the arrays :meth:`Engine.checkpoint
+  <hardspheres.core.engine.Engine.checkpoint>` writes now, all present:
+  version 2's and the collision rule (restitution coefficients and the TC
+  model's ``t_c`` among the scalars, ``hit_t``).  A version-2 file is
+  elastic (:func:`migrate`).
 """
 
 from __future__ import annotations
@@ -34,9 +38,9 @@ if TYPE_CHECKING:
 #: The ``format`` array of every checkpoint.
 FORMAT = "hardspheres-checkpoint"
 #: The version this hardspheres writes.
-VERSION = 2
+VERSION = 3
 #: The versions it reads (older ones migrated by :func:`migrate`).
-READS = (1, 2)
+READS = (1, 2, 3)
 
 
 def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
@@ -196,6 +200,7 @@ def check_arrays(data: Mapping[str, np.ndarray]) -> None:
         _bad("the cells per axis disagree")
     cell_head = _array(data, "cell_head", np.int64, (int(np.prod(grid)),))
     _check_state(masses, spheres, due, heap_t, scalars, counts, meta)
+    _check_rule(data, scalars, n)
     if n == 0:
         if np.any(cell_head != -1):
             _bad("cells hold spheres that do not exist")
@@ -236,6 +241,21 @@ def _check_state(
         _bad("the container size is not a finite number > 0")
     if (scalars[core.F_BOX] if np.isnan(container) else scalars[core.F_CONTAINER]) != size:
         _bad("the container size disagrees with the core's")
+
+
+def _check_rule(data: Mapping[str, np.ndarray], scalars: np.ndarray, n: int) -> None:
+    """The collision rule: restitution coefficients in (0, 1], ``t_c >= 0``, a last-collision time per sphere if inelastic."""
+    if scalars.shape[0] <= core.F_RESTITUTION:
+        if "hit_t" in data and np.asarray(data["hit_t"]).size:
+            _bad("last collision times without a restitution coefficient")
+        return  # (before the inelastic rule: elastic)
+    e, ew, tc = scalars[core.F_RESTITUTION], scalars[core.F_WALL_RESTITUTION], scalars[core.F_TC]
+    if not (0.0 < e <= 1.0 and 0.0 < ew <= 1.0 and tc >= 0.0 and scalars[core.F_DISSIPATED] >= 0.0):
+        _bad("a restitution coefficient is not in (0, 1], or t_c or the energy dissipated is negative")
+    inelastic = e != 1.0 or ew != 1.0
+    hit_t = _array(data, "hit_t", np.float64, (n if inelastic else 0,))
+    if np.any(np.isnan(hit_t)) or np.any(hit_t == np.inf):
+        _bad("a last collision time is NaN or +inf")
 
 
 def _check_cells(
@@ -349,7 +369,7 @@ def _check_lists(data: Mapping[str, np.ndarray], book: np.ndarray, n: int) -> No
 
 
 def migrate(data: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], bool]:
-    """Version 1's layouts brought to today's (version 2), array by array.
+    """Versions 1 and 2's layouts brought to today's (version 3), array by array.
 
     Version 1 covers every layout written up to the layout by families
     (2026-12-01); they are told apart by which arrays they hold and their
@@ -393,6 +413,10 @@ def migrate(data: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], bool]:
         scalars[core.F_EDGE : core.F_EDGE + 3] = scalars[core.F_BOX]
         scalars[core.F_LOW : core.F_LOW + 3] = scalars[core.F_LO]
         scalars[core.F_WIDTH : core.F_WIDTH + 3] = scalars[core.F_W]
+    if saved <= core.F_RESTITUTION:  # before the inelastic rule: elastic spheres and walls
+        scalars[core.F_RESTITUTION] = scalars[core.F_WALL_RESTITUTION] = 1.0
+    if "hit_t" not in data:
+        data["hit_t"] = np.zeros(0)
     data["scalars"] = scalars
     return data, saved <= core.F_T_KIN
 

@@ -76,6 +76,8 @@ _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
 # the dimension as the core takes it: a tuple of d empty tuples, whose length
 # numba folds (each d compiles a loop of its own; _core, "the arrays")
 _AXES = {2: ((),) * 2, 3: ((),) * 3}
+# the collision rule as the core takes it: elastic (), inelastic ((),) (each its own loop)
+_RULES = {False: (), True: ((),)}
 
 # the engine's arrays, by name, as the core takes them (one C call)
 _core_arrays = operator.attrgetter(*(_INTERNAL.get(k, k) for k in core.ARRAYS))
@@ -120,6 +122,12 @@ class Engine:
             speed depends on it: every event, every array shown and every
             sphere index (``kick``, event records) is the same, in the input
             order, bit for bit.
+        restitution: normal restitution coefficient ``e`` of every pair,
+            ``0 < e <= 1`` (1: elastic hard spheres; below 1: a granular gas,
+            compiled as the core's inelastic variant, see :meth:`set_restitution`).
+        wall_restitution: the container wall's (default: ``restitution``).
+        tc: the TC model's duration [time]: a collision or reflection less
+            than ``tc`` after either sphere's previous one is elastic (0: off).
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -141,6 +149,9 @@ class Engine:
         time: float = 0.0,
         rebase: bool = True,
         reorder: float | None = None,
+        restitution: float = 1.0,
+        wall_restitution: float | None = None,
+        tc: float = 0.0,
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
@@ -183,6 +194,8 @@ class Engine:
         self.offset = float(time)  # absolute time of the core's time origin
         self.scalars[core.F_OFFSET] = self.offset  # the core's copy (rebase keeps it)
         self.scalars[core.F_WINDOW] = window
+        self.hit_t = np.zeros(0)
+        self.set_restitution(restitution, wall_restitution, tc)
         self._grid(n)
         self._into_box()
         self._event_buffers = _events.empty_buffers(CHUNK)
@@ -207,6 +220,68 @@ class Engine:
     def axes(self) -> tuple[tuple[()], ...]:
         """The dimension as the compiled core takes it: ``d`` empty tuples."""
         return _AXES[self.dimensions]
+
+    @property
+    def rule(self) -> tuple[tuple[()], ...]:
+        """The collision rule as the compiled core takes it: ``()`` elastic, ``((),)`` inelastic."""
+        return _RULES[bool(self.hit_t.shape[0]) or (self.inelastic and self.n == 0)]
+
+    @property
+    def inelastic(self) -> bool:
+        """Whether a restitution coefficient (of the spheres or of the wall) is below 1."""
+        f = self.scalars
+        return bool(f[core.F_RESTITUTION] != 1.0 or f[core.F_WALL_RESTITUTION] != 1.0)
+
+    @property
+    def restitution(self) -> float:
+        """Normal restitution coefficient between spheres (1: elastic)."""
+        return float(self.scalars[core.F_RESTITUTION])
+
+    @property
+    def wall_restitution(self) -> float:
+        """Normal restitution coefficient at the container's wall (1: elastic)."""
+        return float(self.scalars[core.F_WALL_RESTITUTION])
+
+    @property
+    def tc(self) -> float:
+        """The TC model's duration [time] (0: off)."""
+        return float(self.scalars[core.F_TC])
+
+    @property
+    def dissipated(self) -> float:
+        """Kinetic energy dissipated by inelastic collisions and reflections so far [mass*length^2/time^2]."""
+        return float(self.scalars[core.F_DISSIPATED])
+
+    def set_restitution(self, restitution: float = 1.0, wall: float | None = None, tc: float = 0.0) -> None:
+        """The collision rule from now: restitution ``e`` between spheres, ``wall`` at the wall, the TC model's ``tc``.
+
+        ``wall`` defaults to ``restitution``.  With both 1 the core runs its
+        elastic loop (the bits of elastic hard spheres); below 1 its inelastic
+        one, which keeps each sphere's time of its last collision or
+        reflection (for the TC model; from now, none yet).  Predictions do not
+        depend on the rule, so nothing is predicted again.
+
+        Raises:
+            ArgumentError: a coefficient outside ``(0, 1]``, a negative or
+                infinite ``tc``, or inelastic while the radii grow.
+        """
+        e = float(restitution)
+        ew = e if wall is None else float(wall)
+        tc = float(tc)
+        for name, value in (("restitution", e), ("wall restitution", ew)):
+            if not 0.0 < value <= 1.0:
+                raise ArgumentError(f"{name} must be in (0, 1] (1: elastic), got {value}")
+        if not (tc >= 0.0 and np.isfinite(tc)):
+            raise ArgumentError(f"tc must be a finite time >= 0 (0: no TC model), got {tc}")
+        inelastic = e != 1.0 or ew != 1.0
+        if inelastic and self.scalars[core.F_GROW]:
+            raise ArgumentError("restitution below 1 while the radii grow: stop the growth first")
+        f = self.scalars
+        f[core.F_RESTITUTION], f[core.F_WALL_RESTITUTION], f[core.F_TC] = e, ew, tc
+        if not inelastic:
+            self.hit_t = np.zeros(0)
+        elif self.hit_t.shape[0] != self.n:
+            self.hit_t = np.full(self.n, -np.inf)
 
     @property
     def order(self) -> np.ndarray:
@@ -310,6 +385,8 @@ class Engine:
         self.spheres = self.spheres[perm]
         self._masses = self._masses[perm]
         self._images = self._images[perm]
+        if self.hit_t.shape[0]:
+            self.hit_t = self.hit_t[perm]
         book = self.book[perm]  # (with the input indices, ORIGIN)
         self.book = book
         self._set_rank()
@@ -489,7 +566,9 @@ class Engine:
         calendar's layout and the spheres' order.  A prediction per sphere
         every REBASE_EVERY events per sphere.)
         """
-        self.offset += core.rebase(self.axes, self.spheres, self.due, self.heap_t, self.scalars)
+        t = core.rebase(self.axes, self.spheres, self.due, self.heap_t, self.scalars)
+        self.offset += t
+        self.hit_t -= t  # (the inelastic rule's last collisions: the same shift as every time)
         core.predict_all(self.arrays)
         self._requeue()
         self._since_rebase = 0
@@ -521,6 +600,8 @@ class Engine:
         rate = float(rate)
         if not (rate >= 0.0 and np.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
+        if rate and self.inelastic:
+            raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
         self._rebase()  # radii to the clock
         self.scalars[core.F_GROW] = rate
         self._regrid()
@@ -782,7 +863,7 @@ class Engine:
 
     # ---- checkpoints -------------------------------------------------------
     # the core's arrays but its work space and the calendar (made anew on restore)
-    _SAVED = tuple(name for name in core.ARRAYS if name not in ("scratch", "calendar", "axes"))
+    _SAVED = tuple(name for name in core.ARRAYS if name not in ("scratch", "calendar", "axes", "rule"))
 
     def checkpoint(self) -> dict[str, Any]:
         """Everything needed to resume bit for bit, as a dict of arrays.

@@ -69,11 +69,13 @@ from ..physics import (
     INF,
     collide,
     collide_grow,
+    collide_inelastic,
     frozen_limit,
     pair_time,
     pair_time_grow,
     reflect,
     reflect_grow,
+    reflect_inelastic,
     wall_time,
     wall_time_grow,
 )
@@ -319,35 +321,43 @@ def apply_event(
     edges: tuple[float, float, float] = (0.0, 0.0, 0.0),
     grow: float = 0.0,
     planar: bool = False,
-) -> tuple[float, float, float, float, float]:
+    restitution: float = 1.0,
+    inelastic: bool = False,
+) -> tuple[float, float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
 
     ``radii`` (at the time origin) and ``grow`` as :func:`next_event`
     (needed only while growing); ``edges``: the periodic box's sides (zeros:
     none), the pair taken at its nearest image; ``planar``: 2-D (z is
-    neither read nor changed).
+    neither read nor changed); ``inelastic``: the inelastic rule (the
+    core's inelastic variant), with ``restitution`` the coefficient of this
+    event (the pair's or the wall's, 1 where the TC model makes it elastic).
 
     Returns:
-        ``(impulse, dpx, dpy, dpz, virial)``: the magnitude and the vector of
-        the momentum sphere ``i`` receives [mass*length/time], and for a
-        collision ``r_ij . dp_i`` [mass*length^2/time] (0 for a reflection),
-        with the core's arithmetic.
+        ``(impulse, dpx, dpy, dpz, virial, lost)``: the magnitude and the
+        vector of the momentum sphere ``i`` receives [mass*length/time], for
+        a collision ``r_ij . dp_i`` [mass*length^2/time] (0 for a
+        reflection), and the kinetic energy dissipated (0 unless
+        ``inelastic``), with the core's arithmetic.
     """
+    lost = 0.0
     if kind == REFLECTION:
         pi, vi = p[i], v[i]
         px, py, pz = pi[0], pi[1], pi[2]
-        if grow == 0.0:
-            k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
-        else:
+        if grow != 0.0:
             k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], radii[i] * grow, planar)
+        elif inelastic:
+            k, lost = reflect_inelastic(masses[i], px, py, pz, vi[0], vi[1], vi[2], restitution, planar)
+        else:
+            k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
         vi[0] -= k * px
         vi[1] -= k * py
         mi = masses[i]
         if planar:
-            return mi * k * math.sqrt(px * px + py * py), -mi * k * px, -mi * k * py, 0.0, 0.0
+            return mi * k * math.sqrt(px * px + py * py), -mi * k * px, -mi * k * py, 0.0, 0.0, lost
         vi[2] -= k * pz
         imp = mi * k * math.sqrt(px * px + py * py + pz * pz)
-        return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0
+        return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0, lost
     pi, pj, vi, vj = p[i], p[j], v[i], v[j]
     dx, dy, dz = pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]
     if edges[0] != 0.0:
@@ -357,11 +367,13 @@ def apply_event(
         if edges[2] != 0.0:
             dz -= edges[2] * round(dz / edges[2])
     dvx, dvy, dvz = vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]
-    if grow == 0.0:
-        k1, k2 = collide(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, planar)
-    else:
+    if grow != 0.0:
         u = (radii[i] + radii[j]) * grow
         k1, k2 = collide_grow(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, u, planar)
+    elif inelastic:
+        k1, k2, lost = collide_inelastic(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, restitution, planar)
+    else:
+        k1, k2 = collide(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, planar)
     vi[0] -= k1 * dx
     vi[1] -= k1 * dy
     vj[0] += k2 * dx
@@ -369,11 +381,11 @@ def apply_event(
     mi = masses[i]
     if planar:
         d2 = dx * dx + dy * dy
-        return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, 0.0, -mi * k1 * d2
+        return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, 0.0, -mi * k1 * d2, lost
     vi[2] -= k1 * dz
     vj[2] += k2 * dz
     d2 = dx * dx + dy * dy + dz * dz
-    return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2
+    return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2, lost
 
 
 def _row(row: Sequence[float], d: int, what: str) -> list[float]:
@@ -404,6 +416,9 @@ class Reference:
             :data:`SIMULTANEOUS`; 0 means exact times).
         time: the time the positions are given at [time].
         rebase: ignored (the engine's option; this loop keeps absolute times).
+        restitution, wall_restitution, tc: the collision rule, as the
+            engine's (restitution between spheres and at the wall, the TC
+            model's duration), with the core's arithmetic.
 
     Example:
         >>> ref = Reference([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -425,6 +440,9 @@ class Reference:
         window: float = 0.0,
         time: float = 0.0,
         rebase: bool = False,
+        restitution: float = 1.0,
+        wall_restitution: float | None = None,
+        tc: float = 0.0,
     ) -> None:
         where = as_container(container, box)
         self.container: Container = where
@@ -467,6 +485,19 @@ class Reference:
         self._coll = self._refl = 0
         self._wall_impulse = self._virial = 0.0
         self.last_reason, self.last_done = StopReason.UNTIL, 0
+        # the collision rule (the engine's set_restitution, which checks the same)
+        self._e = float(restitution)
+        self._ew = self._e if wall_restitution is None else float(wall_restitution)
+        self._tc = float(tc)
+        for name, value in (("restitution", self._e), ("wall restitution", self._ew)):
+            if not 0.0 < value <= 1.0:
+                raise ArgumentError(f"{name} must be in (0, 1] (1: elastic), got {value}")
+        if not (self._tc >= 0.0 and math.isfinite(self._tc)):
+            raise ArgumentError(f"tc must be a finite time >= 0 (0: no TC model), got {self._tc}")
+        self._inelastic = self._e != 1.0 or self._ew != 1.0
+        #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
+        self._last = [-INF] * n
+        self._dissipated = 0.0
 
     # ---- what the engine also tells ---------------------------------------------
     @property
@@ -507,10 +538,13 @@ class Reference:
         rate = float(rate)
         if not (rate >= 0.0 and math.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
+        if rate and self._inelastic:
+            raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
         t = self._clock
         for k in range(len(self._p)):
             self._move_sphere(self._p, self._v, self._tloc, k, t, self.dimensions == 2)
             self._tloc[k] = 0.0
+            self._last[k] -= t  # (the engine's rebase: the same shift)
         self._streak -= t
         self._origin += t
         self._clock = 0.0
@@ -541,6 +575,26 @@ class Reference:
     def wall_impulse(self) -> float:
         """Total impulse delivered to the container wall [mass*length/time]."""
         return self._wall_impulse
+
+    @property
+    def dissipated(self) -> float:
+        """Kinetic energy dissipated by inelastic collisions and reflections so far [mass*length^2/time^2]."""
+        return self._dissipated
+
+    @property
+    def restitution(self) -> float:
+        """Normal restitution coefficient between spheres (1: elastic)."""
+        return self._e
+
+    @property
+    def wall_restitution(self) -> float:
+        """Normal restitution coefficient at the container's wall (1: elastic)."""
+        return self._ew
+
+    @property
+    def tc(self) -> float:
+        """The TC model's duration [time] (0: off)."""
+        return self._tc
 
     @property
     def virial(self) -> float:
@@ -658,6 +712,16 @@ class Reference:
             self._frozen = 0
             self._streak = t
         p, v, tloc = self._p, self._v, self._tloc
+        # the inelastic rule's coefficient of this event: 1 within tc of either
+        # sphere's last collision or reflection (the TC model; the core's test)
+        inelastic = self._inelastic and not self._grow
+        e = 1.0
+        if inelastic:
+            last, tc = self._last, self._tc
+            if kind == REFLECTION:
+                e = 1.0 if t - last[i] < tc else self._ew
+            else:
+                e = 1.0 if (t - last[i] < tc or t - last[j] < tc) else self._e
         if kind == REFLECTION:
             pi, vi = p[i], v[i]
             dt = t - tloc[i]
@@ -666,6 +730,8 @@ class Reference:
             pz = 0.0 if planar else pi[2] + vi[2] * dt
             if self._grow:
                 k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], self._radii[i] * self._grow, planar)
+            elif inelastic:
+                k = reflect_inelastic(self.masses[i], px, py, pz, vi[0], vi[1], vi[2], e, planar)[0]
             else:
                 k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
             if k == 0.0:
@@ -676,9 +742,14 @@ class Reference:
         self._move_sphere(p, v, tloc, i, t, planar)
         if j >= 0:
             self._move_sphere(p, v, tloc, j, t, planar)
-        imp, dpx, dpy, dpz, vir = self._apply_event(
-            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow, planar
+        imp, dpx, dpy, dpz, vir, lost = self._apply_event(
+            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow, planar, e, inelastic
         )
+        if inelastic:
+            self._dissipated += lost
+            self._last[i] = t
+            if j >= 0:
+                self._last[j] = t
         if kind == REFLECTION:
             self._refl += 1
             self._wall_impulse += imp

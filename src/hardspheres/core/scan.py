@@ -120,7 +120,10 @@ class Scan(Reference):
 
     Args:
         masses, radii, positions, velocities, container, box, window, time,
-        rebase: as :class:`Reference` (at most :data:`MAX_SPHERES` spheres).
+        rebase, restitution, wall_restitution, tc: as :class:`Reference`
+            (at most :data:`MAX_SPHERES` spheres; the collision rule changes
+            velocities only, so the scan's predictions are those of elastic
+            spheres' arithmetic, as the reference's).
     """
 
     def __init__(
@@ -134,8 +137,14 @@ class Scan(Reference):
         window: float = 0.0,
         time: float = 0.0,
         rebase: bool = False,
+        restitution: float = 1.0,
+        wall_restitution: float | None = None,
+        tc: float = 0.0,
     ) -> None:
-        super().__init__(masses, radii, positions, velocities, container, box, window, time, rebase)
+        super().__init__(
+            masses, radii, positions, velocities, container, box, window, time, rebase,
+            restitution, wall_restitution, tc,
+        )  # fmt: skip
         n = self.n
         if self._edges[0]:
             raise ArgumentError("Scan runs in a sphere or a circle; use Engine for a periodic box")
