@@ -70,17 +70,40 @@ class StuckError(ScenarioError):
             reflections in a row without the clock advancing).
         time: the instant [time].
         sphere: index of a sphere involved (the one at the wall).
+        inelastic: the run's collisions are inelastic (restitution below 1):
+            a frozen clock is then most likely an inelastic collapse, and
+            the message says how to resolve it (the TC model).
     """
 
-    def __init__(self, reason: str, time: float, sphere: int, names: Sequence[str] | None = None) -> None:
-        self.reason, self.time, self.sphere = reason, time, sphere
+    def __init__(
+        self,
+        reason: str,
+        time: float,
+        sphere: int,
+        names: Sequence[str] | None = None,
+        inelastic: bool = False,
+    ) -> None:
+        self.reason, self.time, self.sphere, self.inelastic = reason, time, sphere, inelastic
         who = quote(names[sphere]) if names is not None else f"#{sphere}"
-        if reason == "sliding":
+        if reason == "sliding" and inelastic:
+            message = (
+                f"at t = {time:.6g} sphere {who} touches the container wall and moves "
+                "along it: inelastic reflections took its speed off the wall, and point "
+                "reflections cannot model sliding; give the TC model's tc (a small "
+                "fraction of the mean free time) or a wall restitution of 1"
+            )
+        elif reason == "sliding":
             message = (
                 f"at t = {time:.6g} sphere {who} touches the container wall and moves "
                 "along it: it would slide along the wall, which point reflections "
                 "cannot model (its reflection would change nothing and repeat "
                 "forever); give it a velocity component off the wall"
+            )
+        elif inelastic:
+            message = (
+                f"the clock is stuck at t = {time:.6g} (sphere {who} and others): "
+                "an inelastic collapse, infinitely many collisions in a finite time; "
+                "give the TC model's tc (a small fraction of the mean free time) to resolve it"
             )
         else:
             message = (
@@ -93,7 +116,7 @@ class StuckError(ScenarioError):
 
     def named(self, names: Sequence[str]) -> StuckError:
         """The same error, naming the sphere by ``names``."""
-        return StuckError(self.reason, self.time, self.sphere, names)
+        return StuckError(self.reason, self.time, self.sphere, names, self.inelastic)
 
 
 class NotComputedError(ValueError):

@@ -3,7 +3,14 @@
 Error bars: the tallies are also sampled on a grid of equally spaced times
 (one *block* between neighbouring samples), and the standard error of each
 average comes from Flyvbjerg-Petersen blocking of the per-block values
-(:mod:`hardspheres.blocking`).  The grid starts fine and coarsens by two
+(:mod:`hardspheres.blocking`).
+
+Granular gases (restitution below 1) cool: the temperature is no longer
+constant, so the time averages that divide by ``kT`` (pressure, ``Z``) are
+left out of :meth:`Observables.summary` for them, and the granular
+observables take their place: the energy dissipated (the core's tally), the
+cooling rate, the cooling per collision (Haff's law) and the kurtosis
+``a_2`` of the velocity distribution.  The grid starts fine and coarsens by two
 (neighbouring blocks merge) whenever :attr:`Observables.MAX_SAMPLES` is
 reached, so memory stays bounded however long the run, and, on the
 automatic grid, while blocks hold fewer than :attr:`Observables.MIN_EVENTS`
@@ -97,6 +104,8 @@ class Observables:
                 raise ArgumentError(f"max_samples must be an integer >= 16, got {max_samples!r}")
             self.MAX_SAMPLES = max_samples
         self.merges = 0
+        eng = self._sim.engine
+        self._granular_mark = (eng.kinetic_energy(), eng.dissipated)  # (energy now and dissipated)
         self._mark = self._now()
         self._samples = [self._mark]
         self._auto = every is None
@@ -201,6 +210,91 @@ class Observables:
         <hardspheres.containers.Container.degrees_of_freedom>`).
         """
         return 2.0 * self._sim.engine.kinetic_energy() / max(self._dof(), 1)
+
+    # ---- granular gases: the temperature is not conserved -----------------------
+    def dissipated(self) -> float:
+        """Kinetic energy dissipated by inelastic collisions and reflections since :meth:`reset` [energy].
+
+        The event core's tally (``Simulation.dissipated`` since the start):
+        kinetic plus dissipated energy is conserved to rounding.
+        """
+        return self._sim.engine.dissipated - self._granular_mark[1]
+
+    def energy_balance(self) -> float:
+        """``(E_kin + E_dissipated) / E_kin(reset) - 1``: zero to rounding, elastic or not [1].
+
+        The energy check of a granular gas (for elastic spheres the plain
+        energy drift).
+
+        Raises:
+            NoMeasurementError: no kinetic energy at :meth:`reset`.
+        """
+        e0 = self._granular_mark[0]
+        if not e0 > 0:
+            raise NoMeasurementError("no kinetic energy at reset(): nothing to balance")
+        return (self._sim.engine.kinetic_energy() + self.dissipated()) / e0 - 1.0
+
+    def _cooling(self) -> tuple[float, float, float]:
+        """``(ln(T_reset / T_now), elapsed time, collisions per sphere)`` since :meth:`reset`."""
+        e0, e1 = self._granular_mark[0], self._sim.engine.kinetic_energy()
+        d = self._delta()
+        if not d[_T] > 0 or not d[_COLL] > 0:
+            raise NoMeasurementError("no collision since reset(): run first")
+        if not (e0 > 0 and e1 > 0):
+            raise NoMeasurementError("no kinetic energy at reset() or now: no temperature to compare")
+        return math.log(e0 / e1), d[_T], 2.0 * d[_COLL] / self._sim.n
+
+    def cooling_rate(self) -> float:
+        """Mean cooling rate since :meth:`reset`: ``ln(T_reset / T_now) / elapsed`` [1/time].
+
+        The time average of ``zeta = -d ln T / dt``.  In the homogeneous
+        cooling state ``zeta`` falls as the gas cools (Haff's law:
+        ``T = T_0 / (1 + t / t_0)^2``); per collision it is constant
+        (:meth:`cooling_per_collision`).
+
+        Raises:
+            NoMeasurementError: no collision or no kinetic energy since reset.
+        """
+        drop, dt, _ = self._cooling()
+        return drop / dt
+
+    def cooling_per_collision(self) -> float:
+        """``-d ln T / dC`` since :meth:`reset`, ``C`` collisions per sphere (each counts for both) [1].
+
+        Haff's law to first order: ``(1 - e^2) / d`` for a Maxwellian gas
+        of equal spheres; the first Sonine correction multiplies it by
+        ``(1 + 3 a_2 / 16) / (1 - a_2 / 16)`` (docs/guide/granular.md).
+        The Enskog factor cancels: it speeds up collisions and cooling alike.
+
+        Raises:
+            NoMeasurementError: no collision or no kinetic energy since reset.
+        """
+        drop, _, c = self._cooling()
+        return drop / c
+
+    def a2(self) -> float:
+        """Kurtosis coefficient of the velocity distribution now: ``<v^4> / (<v^2>^2 (1 + 2/d)) - 1`` [1].
+
+        0 for a Maxwell-Boltzmann distribution; the homogeneous cooling
+        state's is small and negative at ``e`` near 1 (van Noije and
+        Ernst's first Sonine approximation: -0.0146 in 3-D and -0.0269 in
+        2-D at ``e = 0.9``; docs/guide/granular.md).  In a periodic box of
+        the velocities relative to their mean (the total momentum is
+        conserved).  One snapshot's statistical error is of order
+        ``1 / sqrt(N)``: average it over many.
+
+        Raises:
+            NoMeasurementError: no spheres, or all at rest.
+        """
+        v = np.asarray(self._sim.engine.velocities, dtype=float)
+        if self._sim.container.periodic and len(v):
+            v = v - v.mean(axis=0)
+        v2 = np.sum(v * v, axis=1) if len(v) else np.zeros(0)
+        m2 = float(np.mean(v2)) if len(v2) else 0.0
+        if not m2 > 0:
+            raise NoMeasurementError("no moving sphere: no velocity distribution")
+        d = self._sim.container.dimensions
+        return float(np.mean(v2 * v2)) / (m2 * m2 * (1.0 + 2.0 / d)) - 1.0
 
     def _measured(self, d: np.ndarray) -> dict[str, np.ndarray]:
         """The observables from tally differences ``d`` (columns as a sample; rows: blocks)."""
@@ -381,6 +475,20 @@ class Observables:
             "blocks": self.n_blocks,
             "sample_interval": self.every,
         }
+        if self._sim.engine.inelastic:
+            # a cooling gas: no average that divides by one kT
+            out["dissipated"] = self.dissipated()
+            if self._granular_mark[0] > 0:
+                out["energy_balance"] = self.energy_balance()
+            try:
+                out.update(
+                    cooling_rate=self.cooling_rate(), cooling_per_collision=self.cooling_per_collision()
+                )
+            except NoMeasurementError:
+                pass
+            if self._sim.n >= 2 and self.temperature() > 0:
+                out["a2"] = self.a2()
+            return out
         if self.elapsed > 0:
             for name in ("pressure", "Z", "collision_rate"):
                 est = self.estimate(name)

@@ -96,6 +96,16 @@ class Simulation:
         window: simultaneity window [time]: events less than this after
             the previous one happen at its time (the assignment's program
             uses 1e-8 s; 0, the default, keeps exact times).
+        restitution: normal restitution coefficient ``e`` of every
+            collision, ``0 < e <= 1``: 1 (the default) is elastic hard
+            spheres; below 1 a granular gas, which cools
+            (docs/guide/granular.md).
+        wall_restitution: the container wall's coefficient (default:
+            ``restitution``; unused in a periodic box).
+        tc: the TC model's duration [time] (Luding and McNamara 1998): a
+            collision within ``tc`` of either sphere's previous one is
+            elastic, which resolves inelastic collapse; 0 (the default) is
+            off.  A small fraction of the mean free time, e.g. 1e-3 of it.
 
     Attributes:
         container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
@@ -109,7 +119,8 @@ class Simulation:
         ScenarioError: a mass, radius, position or velocity that is not a
             finite number (masses > 0, radii >= 0), repeated names, spheres
             outside the container or overlapping.
-        ValueError: a window that is not a finite number >= 0.
+        ValueError: a window that is not a finite number >= 0, a
+            restitution coefficient outside (0, 1], a negative ``tc``.
     """
 
     #: Set (e.g. from a signal handler) to end the current run at its next
@@ -123,10 +134,19 @@ class Simulation:
     #: ``None`` (constant volume); :meth:`set_barostat` sets it.
     barostat: Barostat | None = None
 
-    def __init__(self, state: State, container: Container | float, window: float = 0.0) -> None:
+    def __init__(
+        self,
+        state: State,
+        container: Container | float,
+        window: float = 0.0,
+        restitution: float = 1.0,
+        wall_restitution: float | None = None,
+        tc: float = 0.0,
+    ) -> None:
         container = as_container(container)
         state.check()
         window = _number(window, "window", "a finite number >= 0 [time]", minimum=0.0)
+        restitution, wall_restitution, tc = _rule(restitution, wall_restitution, tc)
         self.container: Container = container
         self.names = list(state.names)
         #: Writers called as runs go (:class:`hardspheres.writers.Writer`).
@@ -148,7 +168,7 @@ class Simulation:
         images = container.image_counts(state.positions)
         if state.images is not None:
             images += np.asarray(state.images, dtype=np.int64).reshape(images.shape)
-        _compiled(container.dimensions)
+        _compiled(container.dimensions, inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0)
         self._engine = Engine(
             state.masses,
             state.radii,
@@ -157,6 +177,9 @@ class Simulation:
             container,
             window=window,
             time=state.time,
+            restitution=restitution,
+            wall_restitution=wall_restitution,
+            tc=tc,
         )
         self._engine.images = images
         if state.n > 1:
@@ -180,12 +203,15 @@ class Simulation:
         names: Sequence[str] | None = None,
         time: float = 0.0,
         window: float = 0.0,
+        restitution: float = 1.0,
+        wall_restitution: float | None = None,
+        tc: float = 0.0,
     ) -> Simulation:
         """Build from arrays: ``masses (N,)`` [mass], ``radii (N,)`` [length],
-        ``positions (N, 3)`` [length], ``velocities (N, 3)`` [length/time]."""
-        return cls(
-            State.from_arrays(masses, radii, positions, velocities, names, time), container, window=window
-        )
+        ``positions (N, 3)`` [length], ``velocities (N, 3)`` [length/time]
+        (the other arguments as the constructor's)."""
+        state = State.from_arrays(masses, radii, positions, velocities, names, time)
+        return cls(state, container, window, restitution, wall_restitution, tc)
 
     @classmethod
     def from_scenario(
@@ -238,6 +264,55 @@ class Simulation:
     def counters(self) -> dict[str, int]:
         """Events processed so far (collisions, reflections, crossings, stale)."""
         return self._engine.counters
+
+    # ---- the collision rule (granular gases) ----------------------------------
+    @property
+    def restitution(self) -> float:
+        """Normal restitution coefficient between spheres (1: elastic)."""
+        return self._engine.restitution
+
+    @property
+    def wall_restitution(self) -> float:
+        """Normal restitution coefficient at the container's wall (1: elastic)."""
+        return self._engine.wall_restitution
+
+    @property
+    def tc(self) -> float:
+        """The TC model's duration [time] (0: off)."""
+        return self._engine.tc
+
+    @property
+    def inelastic(self) -> bool:
+        """Whether collisions (or reflections) lose energy: a restitution coefficient below 1."""
+        return self._engine.inelastic
+
+    @property
+    def dissipated(self) -> float:
+        """Kinetic energy dissipated by inelastic collisions and reflections since the start [energy].
+
+        Kinetic plus dissipated energy is conserved to rounding
+        (docs/numerics.md, "Inelastic collisions").
+        """
+        return self._engine.dissipated
+
+    def set_restitution(
+        self, restitution: float = 1.0, wall_restitution: float | None = None, tc: float = 0.0
+    ) -> Simulation:
+        """Change the collision rule from now on (the arguments as the constructor's); returns self.
+
+        E.g. equilibrate elastic spheres, then let them cool.  Checkpoints
+        keep the rule.
+
+        Example:
+            >>> import hardspheres as hs
+            >>> sim = hs.Simulation(hs.random_spheres(100, 0.1, box=20.0, seed=1), hs.PeriodicBox(20.0))
+            >>> sim.set_restitution(0.9).restitution
+            0.9
+        """
+        restitution, wall_restitution, tc = _rule(restitution, wall_restitution, tc)
+        _compiled(self.container.dimensions, inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0)
+        self._engine.set_restitution(restitution, wall_restitution, tc)
+        return self
 
     def run(
         self, until: float | None = None, collisions: int | None = None, events: int | None = None
@@ -552,6 +627,8 @@ class Simulation:
         except CheckpointError as e:
             raise CheckpointError(f"{path}: {e}") from None
         sim.container = sim._engine.container
+        if sim._engine.inelastic:  # (the inelastic variant of the core is compiled on its own)
+            _compiled(sim.container.dimensions, inelastic=True)
         n = sim._engine.n
         if names is None or names.dtype.kind != "U" or names.shape != (n,) or len(set(names.tolist())) != n:
             raise CheckpointError(f"{path}: damaged checkpoint: not {n} distinct names")
@@ -584,19 +661,30 @@ class Simulation:
         return sim
 
 
-_WARM: set[int] = set()
+_WARM: set[tuple[int, bool]] = set()
 
 
-def _compiled(dimensions: int = 3) -> None:
+def _compiled(dimensions: int = 3, inelastic: bool = False) -> None:
     """Compile the event core for ``dimensions`` now if numba's cache is cold (once per process).
 
     :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
     which a notebook shows under the cell, so the first simulation of a fresh
-    install is not a silent wait of half a minute.
+    install is not a silent wait of half a minute.  ``inelastic``: the
+    core's inelastic variant (granular gases), compiled on its own.
     """
-    if dimensions not in _WARM:
-        _WARM.add(dimensions)
-        ensure_compiled(dimensions=dimensions)
+    if (dimensions, inelastic) not in _WARM:
+        _WARM.add((dimensions, inelastic))
+        ensure_compiled(dimensions=dimensions, inelastic=inelastic)
+
+
+def _rule(restitution: float, wall: float | None, tc: float) -> tuple[float, float | None, float]:
+    """The collision rule's arguments as floats, or a ValueError naming the one that is wrong."""
+    e = _number(restitution, "restitution", "a number in (0, 1] (1: elastic)", minimum=0.0)
+    ew = None if wall is None else _number(wall, "wall_restitution", "a number in (0, 1] (1: elastic)", 0.0)
+    for name, value in (("restitution", e), ("wall_restitution", ew)):
+        if value is not None and not 0.0 < value <= 1.0:
+            raise ArgumentError(f"{name} must be a number in (0, 1] (1: elastic), got {value!r}")
+    return e, ew, _number(tc, "tc", "a finite time >= 0 (0: no TC model) [time]", minimum=0.0)
 
 
 def _restore_slot(path: str | os.PathLike, what: str, restore: Callable[[], object]) -> None:

@@ -56,6 +56,25 @@ def positive(text: str) -> float:
     return x
 
 
+def restitution(text: str) -> float:
+    """A restitution coefficient: a number in (0, 1] (1: elastic)."""
+    import math
+
+    x = number(text)
+    if not math.isfinite(x) or not 0.0 < x <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 1] (1: elastic), got {quote(text)}")
+    return x
+
+
+def nonnegative(text: str) -> float:
+    import math
+
+    x = number(text)
+    if not math.isfinite(x) or x < 0.0:
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {quote(text)}")
+    return x
+
+
 def ratio(text: str) -> float:
     x = positive(text)
     if x < 1.0:

@@ -33,7 +33,7 @@ from ..errors import UsageError
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
-from .options import count, positive, refuse_existing, where_args
+from .options import count, nonnegative, positive, refuse_existing, restitution, where_args
 from .source import given_container, starting_simulation
 
 if TYPE_CHECKING:
@@ -138,6 +138,11 @@ def _check_args(args: argparse.Namespace) -> None:
             raise UsageError(
                 "--pressure/--pressure-axes cannot change a resumed run: the checkpoint "
                 "keeps its barostat (leave them out)"
+            )
+        if args.restitution is not None or args.wall_restitution is not None or args.tc is not None:
+            raise UsageError(
+                "--restitution/--wall-restitution/--tc cannot change a resumed run: the checkpoint "
+                "keeps its collision rule (leave them out)"
             )
     elif not args.scenario:
         raise UsageError("give a scenario file (or --resume CHECKPOINT)")
@@ -318,6 +323,8 @@ def summary_lines(
 ) -> list[str]:
     """The physics lines of the summary, labelled for what they are."""
     lines: list[str] = []
+    if sim.inelastic and summary:
+        return _granular_lines(sim, summary, averaged_from)
     if "pressure" not in summary:
         return lines
     since = f"averages over t = {averaged_from:.6g} .. {sim.time:.6g}" + (
@@ -351,6 +358,24 @@ def summary_lines(
         return lines
     lines.append(f"collision rate {_value(summary, 'collision_rate')} per sphere per unit time")
     lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
+    return lines
+
+
+def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: float) -> list[str]:
+    """A cooling gas's summary: its temperature, how fast it cools (Haff's law), its a2."""
+    lines = [f"granular temperature kT {summary['temperature']:.6g} at t = {sim.time:.6g}"]
+    if "cooling_per_collision" in summary:
+        haff = (1.0 - sim.restitution**2) / sim.container.dimensions
+        lines.append(
+            f"cooling over t = {averaged_from:.6g} .. {sim.time:.6g}: {summary['cooling_rate']:.4g} per "
+            f"unit time on average, {summary['cooling_per_collision']:.4g} per collision per sphere "
+            f"(Haff's law to first order, (1 - e^2)/d: {haff:.4g})"
+        )
+    if "a2" in summary:
+        lines.append(
+            f"a2 (velocity kurtosis) {summary['a2']:.3g} now (one snapshot: an error of order "
+            f"1/sqrt(N) = {1.0 / math.sqrt(sim.n):.2g})"
+        )
     return lines
 
 
@@ -447,6 +472,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     if args.trajectory:
         _check_trajectory_size(args, sim)
     e0 = sim.state().kinetic_energy()
+    dissipated0 = sim.dissipated
     c0 = dict(sim.counters)
     failure = None
     start_time = sim.time
@@ -501,7 +527,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         f"{_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
         f"{c1['reflections'] - c0['reflections']} reflections",
-        f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)",
+        _energy_line(sim, e0, e1, dissipated0),
     ]
     lines += summary_lines(sim, summary, averaged_from, equilibrated, resumed=bool(args.resume))
     if args.trajectory and equilibrated:
@@ -522,6 +548,23 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
     return _exit_status(failure, signum, checkpoint)
+
+
+def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float) -> str:
+    """The energy check: the drift of an elastic run, the balance of a granular one."""
+    if not sim.inelastic:
+        return f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)"
+    lost = sim.dissipated - dissipated0
+    balance = abs(e1 + lost - e0) / e0 if e0 else 0.0
+    rule = f"restitution {sim.restitution:g}"
+    if sim.container.wall_area > 0:
+        rule += f", wall {sim.wall_restitution:g}"
+    if sim.tc:
+        rule += f", tc {sim.tc:g}"
+    return (
+        f"granular ({rule}): dissipated {lost:.6g} ({lost / e0 if e0 else 0.0:.3g} of the energy at the "
+        f"start); kinetic + dissipated energy drift {balance:.3g} (relative)"
+    )
 
 
 def _trajectory_writer(args: argparse.Namespace, sim: Simulation, start_time: float) -> tuple:
@@ -646,6 +689,26 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         metavar="AXES",
         help="with --pressure: move these sides one at a time instead of scaling the box "
         "('xyz' or 'xy': a crystal's shape relaxes; 'z': only a slab's long side)",
+    )
+    p.add_argument(
+        "--restitution",
+        type=restitution,
+        metavar="E",
+        help="normal restitution coefficient of every collision, in (0, 1]: below 1 a granular gas, "
+        "which cools (default 1: elastic)",
+    )
+    p.add_argument(
+        "--wall-restitution",
+        type=restitution,
+        metavar="E",
+        help="the container wall's restitution coefficient (default: --restitution)",
+    )
+    p.add_argument(
+        "--tc",
+        type=nonnegative,
+        metavar="T",
+        help="the TC model [s]: a collision within T of either sphere's previous one is elastic, "
+        "which resolves inelastic collapse (a small fraction of the mean free time; default 0: off)",
     )
     p.set_defaults(func=run)
     return p

@@ -111,7 +111,14 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
             "kT over 3 degrees of freedom each); for disks give --circle R or --box LX LY"
         )
     compile_first()  # before any clock starts: no rate includes compilation
-    return Simulation(State.from_scenario(scn, dimensions=container.dimensions), container)
+    e = getattr(args, "restitution", None)  # (the collision rule: run's options)
+    return Simulation(
+        State.from_scenario(scn, dimensions=container.dimensions),
+        container,
+        restitution=1.0 if e is None else e,
+        wall_restitution=getattr(args, "wall_restitution", None),
+        tc=getattr(args, "tc", None) or 0.0,
+    )
 
 
 TRAJECTORY_SUFFIXES = (".gsd", ".xyz", ".extxyz")

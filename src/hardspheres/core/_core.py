@@ -119,7 +119,7 @@ _inline = _compiler(forceinline=True)
 _kernel = _compiler(inline="always")
 # kernels that other kernels call: numba compiles such a call of the plain
 # Python function (physics.py stays free of numba, for spheres' start-up)
-for _callee in (physics.order_one, physics.pair_time_within, physics.wall_time_grow):
+for _callee in (physics.order_one, physics.scaled_time, physics.pair_time_within, physics.wall_time_grow):
     numba.extending.register_jitable(inline="always")(_callee)
 pair_time_within = _kernel(physics.pair_time_within)
 pair_time = _kernel(physics.pair_time)

@@ -244,7 +244,7 @@ def _check_state(
 
 
 def _check_rule(data: Mapping[str, np.ndarray], scalars: np.ndarray, n: int) -> None:
-    """The collision rule: restitution coefficients in (0, 1], ``t_c >= 0``, a last-collision time per sphere if inelastic."""
+    """The collision rule: restitutions in (0, 1], ``t_c >= 0``, each sphere's last collision if inelastic."""
     if scalars.shape[0] <= core.F_RESTITUTION:
         if "hit_t" in data and np.asarray(data["hit_t"]).size:
             _bad("last collision times without a restitution coefficient")

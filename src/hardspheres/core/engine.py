@@ -253,7 +253,7 @@ class Engine:
         return float(self.scalars[core.F_DISSIPATED])
 
     def set_restitution(self, restitution: float = 1.0, wall: float | None = None, tc: float = 0.0) -> None:
-        """The collision rule from now: restitution ``e`` between spheres, ``wall`` at the wall, the TC model's ``tc``.
+        """The collision rule from now: restitution between spheres, at the ``wall``, the TC model's ``tc``.
 
         ``wall`` defaults to ``restitution``.  With both 1 the core runs its
         elastic loop (the bits of elastic hard spheres); below 1 its inelastic
@@ -822,6 +822,7 @@ class Engine:
                         "frozen" if reason == StopReason.FROZEN else "sliding",
                         float(self.offset + self.heap_t[0]),
                         int(self.order[self.heap[0]]),
+                        inelastic=self.inelastic,  # (the messages then say how to resolve it)
                     )
                 break  # the events before it first; the next call raises
             if reason == StopReason.UNTIL and stop < until:

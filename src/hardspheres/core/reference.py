@@ -707,7 +707,7 @@ class Reference:
             return None
         if t - self._streak <= FROZEN_RELATIVE * abs(t + self._origin):
             if self._frozen >= self._limit:
-                raise StuckError("frozen", t + self._origin, i)
+                raise StuckError("frozen", t + self._origin, i, inelastic=self._inelastic)
         else:
             self._frozen = 0
             self._streak = t
@@ -735,7 +735,7 @@ class Reference:
             else:
                 k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
             if k == 0.0:
-                raise StuckError("sliding", t + self._origin, i)
+                raise StuckError("sliding", t + self._origin, i, inelastic=self._inelastic)
         self._frozen += 1
         self._clock = self._now = t
         planar = self.dimensions == 2

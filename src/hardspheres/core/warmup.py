@@ -12,6 +12,8 @@ arrays"): 2-D and 3-D each have machine code of their own, compiled on first
 use of that dimension and cached side by side.  numba's index files do not
 say which were compiled, so after compiling dimension ``d`` a marker file
 ``compiled-{d}d`` is written beside them (to a temporary, then renamed).
+The inelastic collision rule (granular gases) is a compile-time variant
+too, with its own marker ``compiled-{d}d-inelastic``.
 
 Example:
     >>> from hardspheres.core.warmup import ensure_compiled
@@ -48,14 +50,17 @@ def _index_paths() -> list[str]:
     return paths
 
 
-def _marker(dimensions: int) -> str | None:
+def _marker(dimensions: int, inelastic: bool = False) -> str | None:
     """The file that says the core was compiled for ``dimensions`` (None: numba cannot tell where)."""
     paths = _index_paths()
-    return os.path.join(os.path.dirname(paths[0]), f"compiled-{dimensions}d") if paths else None
+    name = f"compiled-{dimensions}d" + ("-inelastic" if inelastic else "")
+    return os.path.join(os.path.dirname(paths[0]), name) if paths else None
 
 
-def is_cold(dimensions: int = 3) -> bool:
+def is_cold(dimensions: int = 3, inelastic: bool = False) -> bool:
     """True when numba's on-disk cache lacks part of the compiled core for ``dimensions`` (2 or 3).
+
+    ``inelastic``: the core's inelastic variant (its own machine code).
 
     Cheap: looks for the cache's index files and the dimension's marker,
     compiles nothing.  When numba cannot tell (its internals changed),
@@ -66,11 +71,11 @@ def is_cold(dimensions: int = 3) -> bool:
     paths = _index_paths()
     if not paths:
         return False
-    marker = _marker(dimensions)
+    marker = _marker(dimensions, inelastic)
     return not all(os.path.exists(p) for p in paths) or not (marker and os.path.exists(marker))
 
 
-def _compile(dimensions: int = 3) -> None:
+def _compile(dimensions: int = 3, inelastic: bool = False) -> None:
     """Run every entry point of the core once, on two spheres in ``dimensions`` (compiles them)."""
     from ..containers import CircularContainer, SphericalContainer
     from .engine import Engine
@@ -82,11 +87,13 @@ def _compile(dimensions: int = 3) -> None:
         [[-3.0, 0, 0][:d], [3.0, 0, 0][:d]],
         [[1.0, 0, 0][:d], [-1.0, 0, 0][:d]],
         SphericalContainer(10.0) if d == 3 else CircularContainer(10.0),
+        restitution=0.9 if inelastic else 1.0,
+        tc=1e-3 if inelastic else 0.0,
     )
     engine.max_overlap()
     engine.advance(events=2000)  # past the first rebase of the time origin
     engine.positions_at()
-    marker = _marker(d)
+    marker = _marker(d, inelastic)
     if marker:
         try:
             tmp = f"{marker}.{os.getpid()}.tmp"
@@ -97,7 +104,9 @@ def _compile(dimensions: int = 3) -> None:
             pass  # a read-only cache: the note may come again, nothing else changes
 
 
-def ensure_compiled(quiet: bool = False, stream: TextIO | None = None, dimensions: int = 3) -> float:
+def ensure_compiled(
+    quiet: bool = False, stream: TextIO | None = None, dimensions: int = 3, inelastic: bool = False
+) -> float:
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
     Args:
@@ -106,11 +115,13 @@ def ensure_compiled(quiet: bool = False, stream: TextIO | None = None, dimension
             is when called).
         dimensions: the dimension of space to compile for (2 or 3: each
             has machine code of its own).
+        inelastic: the inelastic collision rule's variant (granular gases;
+            machine code of its own too).
 
     Returns:
         Seconds spent compiling (0.0 when the cache was warm).
     """
-    if not is_cold(dimensions):
+    if not is_cold(dimensions, inelastic):
         return 0.0
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
@@ -119,7 +130,7 @@ def ensure_compiled(quiet: bool = False, stream: TextIO | None = None, dimension
         )
         stream.flush()
     t0 = time.perf_counter()
-    _compile(dimensions)
+    _compile(dimensions, inelastic)
     seconds = time.perf_counter() - t0
     if stream is not None:
         stream.write(f" done in {seconds:.1f} s\n")

@@ -44,6 +44,7 @@ Study file (every key but ``packing`` and ``n`` is optional)::
     seeds = 4                   # 4 seeds (0..3), or a list [1, 5, 9]
     radius_ratio = 1.0          # largest / smallest radius (or a list)
     mass_ratio = 1.0            # largest / smallest mass (or a list)
+    # restitution = [0.9, 0.8]  # inelastic collisions: a granular gas that cools (or a list)
     equilibrate = 50            # collisions per sphere before measuring
     collisions = 500            # collisions per sphere measured (or: time = 20.0)
     blocks = 10                 # blocks for the error bars within a run
@@ -64,6 +65,15 @@ square).  Results hold ``dimensions`` and ``aspect`` (``"1:1:2"``; ``""``
 for the cube and for round walls) as grid columns; a 3-D study without
 ``aspect`` keeps the task keys it had before they existed, so its finished
 rows are found again.
+
+Granular gases: with ``restitution`` (one coefficient in (0, 1] or a list,
+a grid column) every collision and reflection has that restitution
+coefficient, and the gas cools in its homogeneous cooling state (no
+driving).  Its ``measure`` defaults to ``cooling_per_collision`` and ``a2``
+(Haff's law and the kurtosis of the velocities, per block); ``Z`` and
+``pressure``, which divide by one ``kT``, are refused, and so is
+``pressure`` (the barostat holds ``kT = 1``).  Studies without the key keep
+their tasks' keys.
 
 Constant pressure: with ``pressure`` (``beta P sigma^3``, one or a list) each
 run holds it with a :class:`~hardspheres.barostat.Barostat` (isotropic

@@ -38,6 +38,7 @@ GRID: tuple[str, ...] = (
     "n",
     "radius_ratio",
     "mass_ratio",
+    "restitution",
     "seed",
 )
 
@@ -63,6 +64,7 @@ _KEYS: dict[str, str] = {
     "seeds": "a count (integer >= 1) or a list of integer seeds",
     "radius_ratio": "largest/smallest radius, number(s) >= 1",
     "mass_ratio": "largest/smallest mass, number(s) >= 1",
+    "restitution": "collisions' restitution coefficient(s), number(s) in (0, 1] (below 1: granular)",
     "equilibrate": "collisions per sphere before measuring, number >= 0",
     "collisions": "collisions per sphere measured, number > 0",
     "time": "time measured per run, number > 0",
@@ -92,6 +94,7 @@ class Study(TypedDict):
     seeds: list[int]
     radius_ratio: list[float]
     mass_ratio: list[float]
+    restitution: list[float] | None
     equilibrate: float
     collisions: float | None
     time: float | None
@@ -108,6 +111,7 @@ class _TaskSpace(TypedDict, total=False):
     aspect: str
     betaP: float
     method: str
+    restitution: float
 
 
 class Task(_TaskSpace):
@@ -266,6 +270,23 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         ]
         for key in ("radius_ratio", "mass_ratio")
     }
+    restitution = None
+    if data.get("restitution") is not None:  # (None: elastic, and the tasks' keys are those of before)
+        restitution = [
+            float(v)
+            for v in _list_of(
+                data["restitution"],
+                "restitution",
+                lambda v: _is_number(v) and 0.0 < v <= 1.0,
+                _KEYS["restitution"],
+                source,
+            )
+        ]
+        if pressure is not None and min(restitution) < 1.0:
+            raise StudyError(
+                f"{_where(source)}pressure with restitution below 1: a granular gas cools, and the "
+                "barostat holds kT = 1; give one or the other"
+            )
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
     length: dict[str, Any] = {}
@@ -288,7 +309,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         if not (isinstance(v, int) and not isinstance(v, bool) and v >= low):
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
         counts[key] = v
-    measure = data.get("measure", ["Z"])
+    granular = restitution is not None and min(restitution) < 1.0
+    measure = data.get("measure", ["cooling_per_collision", "a2"] if granular else ["Z"])
     if isinstance(measure, str):
         measure = [measure]
     if not isinstance(measure, list) or not measure or not all(isinstance(m, str) for m in measure):
@@ -297,12 +319,19 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
     for m in measure:
         if m not in known:
             raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
+        if granular and m in ("Z", "compressibility", "pressure"):
+            raise StudyError(
+                f"{_where(source)}measure: {m} divides by one kT, and a granular gas (restitution "
+                "below 1) cools; measure temperature, cooling_per_collision, cooling_rate or a2"
+            )
     if method == "ecmc":
         if container != "box" or pressure is not None or length["time"] is not None:
             raise StudyError(
                 f'{_where(source)}method = "ecmc" runs in container = "box" at constant volume, '
                 "for so many collisions (lifting events) per sphere: leave out pressure and time"
             )
+        if restitution is not None:
+            raise StudyError(f'{_where(source)}method = "ecmc" has no collisions: leave out restitution')
         other = [m for m in measure if m not in ECMC_MEASURES]
         if other:
             raise StudyError(
@@ -321,6 +350,7 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         seeds=seeds,
         radius_ratio=ratio["radius_ratio"],
         mass_ratio=ratio["mass_ratio"],
+        restitution=restitution,
         equilibrate=length["equilibrate"],
         collisions=length["collisions"],
         time=length["time"],

@@ -52,7 +52,9 @@ def tasks(study: Study) -> list[Task]:
     held, given = study.get("pressure"), study["packing"]
     pressures: list[float | None] = [*held] if held else [None]
     packings: list[float | None] = [*given] if given else [None]
-    for pressure, d, aspect, packing, n, rr, mr, seed in itertools.product(
+    given_rules = study.get("restitution")
+    rules: list[float | None] = [*given_rules] if given_rules else [None]
+    for pressure, d, aspect, packing, n, rr, mr, e, seed in itertools.product(
         pressures,
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
@@ -60,6 +62,7 @@ def tasks(study: Study) -> list[Task]:
         study["n"],
         study["radius_ratio"],
         study["mass_ratio"],
+        rules,
         study["seeds"],
     ):
         if packing is None:
@@ -96,6 +99,8 @@ def tasks(study: Study) -> list[Task]:
             t["betaP"] = pressure
         if study.get("method", "edmd") != "edmd":  # (absent for the default: the keys are unchanged)
             t["method"] = study["method"]
+        if e is not None:  # (the same: studies without the key keep their tasks' keys)
+            t["restitution"] = e
         t["key"] = _key(t)
         out.append(t)
     return out
@@ -138,7 +143,8 @@ def _build(task: Task) -> Simulation | EventChain:
         from ..mc.chain import EventChain
 
         return EventChain(state, container, seed=task["seed"])
-    sim = Simulation(state, container)
+    # (a granular gas cools with the builder's total momentum zero: no flow it cannot dissipate)
+    sim = Simulation(state, container, restitution=task.get("restitution", 1.0))
     if "betaP" in task:
         from ..barostat import Barostat
 
