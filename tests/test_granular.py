@@ -14,6 +14,9 @@ import math
 
 import numpy as np
 import pytest
+from helpers import hs_cmd
+
+import hardspheres as hs
 
 from hardspheres.containers import CircularContainer, PeriodicBox, SphericalContainer
 from hardspheres.core import _core as core
@@ -22,7 +25,7 @@ from hardspheres.core import engine as engine_module
 from hardspheres.core.engine import Engine
 from hardspheres.core.reference import Reference
 from hardspheres.core.scan import Scan
-from hardspheres.errors import ArgumentError, StuckError
+from hardspheres.errors import ArgumentError, StudyError, StuckError
 from hardspheres.events import StopReason
 from hardspheres.physics import (
     collide,
@@ -308,3 +311,80 @@ def test_scaled_time_overflows_to_inf():
     assert scaled_time(3.0, 2) == 12.0 and scaled_time(1.0, 2000) == math.inf
     ref = Reference([1.0], [1.0], [[0.0, 0.0, 0.0]], [[1e-300, 0.0, 0.0]], container=1e100)
     assert ref.step() is None and ref.idle
+
+
+# ---- the API, the command and studies ------------------------------------------------------------
+
+
+def _cooling_sim(n=300, e=0.8, d=3, seed=1):
+    box = PeriodicBox.for_packing(n, 0.1, None if d == 3 else (1.0, 1.0))
+    return hs.Simulation(hs.random_spheres(n, 0.1, box, seed=seed), box, restitution=e)
+
+
+def test_simulation_cools_and_resumes_bit_for_bit(tmp_path):
+    sim = _cooling_sim()
+    obs = sim.observables
+    sim.run(collisions=3000)
+    assert (sim.restitution, sim.wall_restitution, sim.tc, sim.inelastic) == (0.8, 0.8, 0.0, True)
+    assert obs.temperature() < 0.5 and sim.dissipated > 0.0
+    assert abs(obs.energy_balance()) < 1e-12
+    # per collision, Haff's law to first order (1 - e^2)/d = 0.12, within a few percent
+    assert abs(obs.cooling_per_collision() / 0.12 - 1.0) < 0.1
+    summary = obs.summary()
+    assert "Z" not in summary and "pressure" not in summary  # (they divide by one kT)
+    assert {"dissipated", "cooling_rate", "cooling_per_collision", "a2", "energy_balance"} <= set(summary)
+    sim.save(tmp_path / "c.npz")
+    back = hs.Simulation.load(tmp_path / "c.npz")
+    assert (back.restitution, back.inelastic, back.dissipated) == (0.8, True, sim.dissipated)
+    sim.run(collisions=2000)
+    back.run(collisions=2000)
+    assert np.array_equal(sim.state().velocities, back.state().velocities)
+    assert sim.dissipated == back.dissipated
+
+
+def test_simulation_rule_checks_and_set_restitution():
+    box = PeriodicBox.for_packing(50, 0.1)
+    state = hs.random_spheres(50, 0.1, box, seed=2)
+    for bad in (dict(restitution=0.0), dict(restitution="x"), dict(wall_restitution=2.0), dict(tc=-1.0)):
+        with pytest.raises(ArgumentError):
+            hs.Simulation(state, box, **bad)
+    sim = hs.Simulation(state, box)
+    assert not sim.inelastic and sim.engine.rule == ()
+    sim.run(collisions=200)
+    sim.set_restitution(0.7, tc=1e-3)
+    assert sim.inelastic and sim.engine.rule == ((),) and sim.tc == 1e-3
+    sim.run(collisions=200)
+    assert sim.dissipated > 0.0
+    with pytest.raises(ArgumentError, match="grow"):
+        sim.compress(packing=0.2)
+
+
+def test_run_command_reports_the_energy_balance(tmp_path):
+    (tmp_path / "g.txt").write_text(hs.random_spheres(200, 0.1, box=12.6, seed=3).to_text())
+    r = hs_cmd(
+        "run", "g.txt", "--box", "12.6", "--until", "5", "--restitution", "0.9",
+        "--checkpoint", "g.npz", cwd=tmp_path, check=True,
+    )  # fmt: skip
+    assert "granular (restitution 0.9)" in r.stdout and "kinetic + dissipated energy drift" in r.stdout
+    assert "Haff's law" in r.stdout and "a2 (velocity kurtosis)" in r.stdout
+    assert "Z = PV/NkT" not in r.stdout
+    again = hs_cmd("run", "--resume", "g.npz", "--until", "6", "--restitution", "0.5", cwd=tmp_path)
+    assert again.returncode == 1 and "keeps its collision rule" in again.stderr
+    bad = hs_cmd("run", "g.txt", "--box", "12.6", "--until", "5", "--restitution", "1.5", cwd=tmp_path)
+    assert bad.returncode == 1 and "(0, 1]" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_a_study_with_restitution():
+    from hardspheres.studies import parse_study
+    from hardspheres.studies.task import _build, tasks
+
+    plain = tasks(parse_study({"packing": 0.1, "n": 100, "output": "x"}))
+    study = parse_study({"packing": 0.1, "n": 100, "output": "x", "restitution": [1.0, 0.9]})
+    assert study["measure"] == ["cooling_per_collision", "a2"]
+    ts = tasks(study)
+    assert [t["restitution"] for t in ts] == [1.0, 0.9]
+    assert "restitution" not in plain[0] and plain[0]["key"] not in {t["key"] for t in ts}
+    assert _build(ts[1]).restitution == 0.9
+    for bad in ({"restitution": 0.0}, {"restitution": 0.9, "measure": ["Z"]}):
+        with pytest.raises(StudyError):
+            parse_study({"packing": 0.1, "n": 100, **bad})

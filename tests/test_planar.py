@@ -196,11 +196,16 @@ def test_the_2d_core_never_reads_z(container, phi):
 
 
 def test_the_dimension_reaches_the_core_as_a_type():
-    """``Engine.axes`` is ``d`` empty tuples, the last of the core's arrays (numba folds its length)."""
+    """``Engine.axes`` is ``d`` empty tuples among the core's arrays (numba folds its length).
+
+    The collision rule after it is a type too: ``()`` for elastic spheres.
+    """
     for container, d in ((PeriodicBox((10.0, 10.0)), 2), (CircularContainer(5.0), 2), (PeriodicBox(10.0), 3)):
         k = 2 if d == 2 else 1
         x = [[-2.0, 0, 0][:d], [2.0, 0, 0][:d]][:k]
         v = [[1.0, 0, 0][:d], [-1.0, 0, 0][:d]][:k]
         eng = Engine([1.0] * k, [0.5] * k, x, v, container=container)
-        assert eng.axes == ((),) * d and eng.arrays[-1] is eng.axes and core.ARRAYS[-1] == "axes"
-        assert "axes" not in eng.checkpoint()
+        axes = core.ARRAYS.index("axes")
+        assert eng.axes == ((),) * d and eng.arrays[axes] is eng.axes
+        assert core.ARRAYS[-1] == "rule" and eng.arrays[-1] == () == eng.rule
+        assert "axes" not in eng.checkpoint() and "rule" not in eng.checkpoint()

@@ -471,8 +471,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     writer = bar = None
     if args.trajectory:
         _check_trajectory_size(args, sim)
-    e0 = sim.state().kinetic_energy()
-    dissipated0 = sim.dissipated
+    e0, dissipated0 = sim.state().kinetic_energy(), sim.dissipated
     c0 = dict(sim.counters)
     failure = None
     start_time = sim.time
@@ -690,6 +689,13 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         help="with --pressure: move these sides one at a time instead of scaling the box "
         "('xyz' or 'xy': a crystal's shape relaxes; 'z': only a slab's long side)",
     )
+    _rule_args(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def _rule_args(p: argparse.ArgumentParser) -> None:
+    """The collision rule's options (granular gases)."""
     p.add_argument(
         "--restitution",
         type=restitution,
@@ -710,5 +716,3 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         help="the TC model [s]: a collision within T of either sphere's previous one is elastic, "
         "which resolves inelastic collapse (a small fraction of the mean free time; default 0: off)",
     )
-    p.set_defaults(func=run)
-    return p
