@@ -49,7 +49,7 @@ def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
     env = {"NUMBA_CACHE_DIR": str(tmp_path / "cache")}
     first = hs_cmd("run", "s.txt", "--container", 10, "--until", 0.5, cwd=scn, env=env)
     assert first.returncode == 0, first.stderr
-    assert "compiling the event core (once, about" in first.stderr
+    assert "compiling the event core for 3-D (once per dimension, then cached; typically" in first.stderr
     assert first.stderr.count("compiling") == 1
     assert "(compilation excluded)" in first.stdout
     again = hs_cmd("run", "s.txt", "--container", 10, "--until", 0.5, cwd=scn, env=env)
@@ -67,7 +67,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     data = (ROOT / "examples" / "three.txt").read_bytes()
     assert run_spheres(["120", "105"], io.BytesIO(data), out) == 0
     err = capsys.readouterr().err
-    assert err.startswith("compiling the event core (once, about") and err.endswith(" s\n")
+    assert err.startswith("compiling the event core for 3-D (once per dimension") and err.endswith(" s\n")
     assert "colliding one two" in out.getvalue() and "compiling" not in out.getvalue()
 
 

@@ -126,7 +126,8 @@ def ensure_compiled(
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
         stream.write(
-            f"compiling the event core (once, about {TYPICAL_SECONDS} s; later runs start at once) ..."
+            f"compiling the event core for {dimensions}-D (once per dimension, then cached; "
+            f"typically {TYPICAL_SECONDS} s) ..."
         )
         stream.flush()
     t0 = time.perf_counter()
