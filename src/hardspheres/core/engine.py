@@ -67,7 +67,8 @@ REORDER_EVERY = 10.0
 _INTERNAL = {"masses": "_masses", "images": "_images"}
 #: The dtype of the sphere indices the core links by (cell lists and heads,
 #: the calendar's heap and lists, the work space): 4 bytes (N < 2^29, so that
-#: the calendar's slots, up to 4N, fit too), half the cache lines of int64 (benchmarks/README.md, "Memory").  Checkpoints keep
+#: the calendar's slots, up to 4N, fit too), half the cache lines of int64
+#: (benchmarks/README.md, "Memory: bytes per sphere").  Checkpoints keep
 #: them as int64.
 LINK = np.int32
 _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
@@ -484,7 +485,7 @@ class Engine:
             if edge and nc < 3:
                 if sigma * 3.0 > edge:
                     raise BoxShapeError(
-                        f"periodic box side {edge:g} is smaller than three largest diameters "
+                        f"periodic box side {edge:g} is smaller than three times the largest diameter "
                         f"({sigma:g}); every side must be at least {3.0 * sigma:g}"
                     )
                 nc = 3
