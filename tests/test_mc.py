@@ -362,3 +362,11 @@ def test_a_study_with_method_ecmc_runs_and_refuses_what_chains_cannot_do(tmp_pat
         with pytest.raises(StudyError, match=what) as e:
             parse_study({**keys, "method": "ecmc", **bad})
         assert "\n" not in str(e.value)
+
+
+def test_the_event_core_names_an_event_chain_checkpoint_for_what_it_is(tmp_path):
+    box = hs.PeriodicBox((10.0, 10.0))
+    EventChain(hs.random_spheres(20, 0.3, box, seed=1), box).save(tmp_path / "c.npz")
+    with pytest.raises(CheckpointError, match="an event-chain checkpoint; resume it with hardspheres sample") as e:
+        hs.Simulation.load(tmp_path / "c.npz")
+    assert "\n" not in str(e.value)

@@ -66,6 +66,11 @@ def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
         raise CheckpointError(f"{path}: not a checkpoint, or truncated or damaged ({_why(e)})") from None
     fmt = data.pop("format", None)
     version = data.pop("version", None)
+    if fmt is not None and fmt.shape == () and str(fmt) == "hardspheres-ecmc-checkpoint":
+        raise CheckpointError(
+            f"{path}: an event-chain checkpoint; resume it with hardspheres sample --resume "
+            "or EventChain.load, or turn it into a simulation with EventChain.to_simulation"
+        )
     if fmt is None or fmt.shape != () or str(fmt) != FORMAT:
         raise CheckpointError(
             f"{path}: not a hardspheres checkpoint (no format "
