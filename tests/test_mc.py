@@ -257,7 +257,7 @@ def test_refusals_are_one_line():
     two = hs.State.from_arrays([1, 1], [1.0, 1.0], [[0, 0], [1.5, 0]], np.zeros((2, 2)))
     with pytest.raises(ScenarioError, match="overlap"):
         EventChain(two, hs.PeriodicBox((10.0, 10.0)))
-    with pytest.raises(BoxShapeError, match="three largest diameters"):
+    with pytest.raises(BoxShapeError, match="three times the largest diameter"):
         EventChain(two, hs.PeriodicBox((5.0, 10.0)))
     with pytest.raises(ScenarioError, match="2-D positions in a 3-D box"):
         EventChain(two, hs.PeriodicBox(10.0))
@@ -367,6 +367,8 @@ def test_a_study_with_method_ecmc_runs_and_refuses_what_chains_cannot_do(tmp_pat
 def test_the_event_core_names_an_event_chain_checkpoint_for_what_it_is(tmp_path):
     box = hs.PeriodicBox((10.0, 10.0))
     EventChain(hs.random_spheres(20, 0.3, box, seed=1), box).save(tmp_path / "c.npz")
-    with pytest.raises(CheckpointError, match="an event-chain checkpoint; resume it with hardspheres sample") as e:
+    with pytest.raises(
+        CheckpointError, match="an event-chain checkpoint; resume it with hardspheres sample"
+    ) as e:
         hs.Simulation.load(tmp_path / "c.npz")
     assert "\n" not in str(e.value)

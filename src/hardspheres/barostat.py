@@ -277,7 +277,7 @@ class Barostat:
 
     @property
     def drifting(self) -> bool:
-        """Whether the packing drifts over the averaged moves: a trend the mean should not hide.
+        """Whether the packing drifts over the averaged moves (a trend the mean should not hide).
 
         True when the change fitted to the block means is over 4 of its
         standard errors (from their scatter about the line) and over

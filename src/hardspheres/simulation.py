@@ -268,22 +268,22 @@ class Simulation:
     # ---- the collision rule (granular gases) ----------------------------------
     @property
     def restitution(self) -> float:
-        """Normal restitution coefficient between spheres (1: elastic)."""
+        """Normal restitution coefficient between spheres (1 for elastic collisions)."""
         return self._engine.restitution
 
     @property
     def wall_restitution(self) -> float:
-        """Normal restitution coefficient at the container's wall (1: elastic)."""
+        """Normal restitution coefficient at the container's wall (1 for elastic reflections)."""
         return self._engine.wall_restitution
 
     @property
     def tc(self) -> float:
-        """The TC model's duration [time] (0: off)."""
+        """The TC model's duration [time] (0 when the model is off)."""
         return self._engine.tc
 
     @property
     def inelastic(self) -> bool:
-        """Whether collisions (or reflections) lose energy: a restitution coefficient below 1."""
+        """Whether collisions (or reflections) lose energy (a restitution coefficient below 1)."""
         return self._engine.inelastic
 
     @property

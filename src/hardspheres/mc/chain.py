@@ -82,8 +82,8 @@ class EventChain:
             their positions and radii (any radii: polydisperse); masses and
             names are kept, velocities are not used.
         container: a :class:`~hardspheres.PeriodicBox`, square or
-            rectangular, 2-D or 3-D, each side at least three largest
-            diameters (the cells).
+            rectangular, 2-D or 3-D, each side at least three times the largest
+            diameter (the cells).
         chain_length: distance each chain moves [length] (default
             :data:`CHAIN_FRACTION` ``V^(1/d)``, Li et al.'s choice).
         kT: the temperature [energy]: pressures are ``kT beta P``, and
@@ -100,7 +100,7 @@ class EventChain:
 
     Raises:
         PeriodicBoxRequired: a spherical or circular container.
-        BoxShapeError: a box side shorter than three largest diameters.
+        BoxShapeError: a box side shorter than three times the largest diameter.
         ScenarioError: overlapping spheres, or a state of another dimension.
         ArgumentError: a chain length or kT that is not a finite number > 0.
     """
@@ -168,7 +168,7 @@ class EventChain:
         if widest > 0 and np.any(sides < 3.0 * widest):
             a = int(np.argmin(sides))
             raise BoxShapeError(
-                f"box side L{'xyz'[a]} = {sides[a]:g} is shorter than three largest diameters "
+                f"box side L{'xyz'[a]} = {sides[a]:g} is shorter than three times the largest diameter "
                 f"({3 * 2 * rmax:g}); use a larger box"
             )
         base = widest if widest > 0 else (c.volume / self.n) ** (1.0 / d)
