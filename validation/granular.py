@@ -58,7 +58,8 @@ CASES = [
 
 def a2_sonine(e: float, d: int) -> float:
     """van Noije and Ernst's first Sonine a_2 of the HCS in d dimensions."""
-    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * e * e * (1.0 - e))
+    denominator = 9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * e * e * (1.0 - e)
+    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / denominator
 
 
 def chi(d: int, phi: float) -> float:
@@ -108,8 +109,9 @@ def main() -> None:
     out = []
     t_start = time.perf_counter()
     header = (
-        f"{'d':>2} {'e':>4} {'N':>5} {'L/L_c':>6} {'-dlnT/dC':>10} {'+-':>8} {'Haff 1st':>9} {'Sonine':>9} "
-        f"{'dev1 %':>7} {'devS %':>7} {'a2':>8} {'+-':>7} {'a2 vNE':>8} {'nu/nu_E':>8} {'+-':>7} {'balance':>9}"
+        f"{'d':>2} {'e':>4} {'N':>5} {'L/L_c':>6} {'-dlnT/dC':>10} {'+-':>8} {'Haff 1st':>9} "
+        f"{'Sonine':>9} {'dev1 %':>7} {'devS %':>7} {'a2':>8} {'+-':>7} {'a2 vNE':>8} {'nu/nu_E':>8} "
+        f"{'+-':>7} {'balance':>9}"
     )
     out.append(header)
     for d, e, n in CASES:
@@ -142,8 +144,8 @@ def main() -> None:
         dev1 = (s / first - 1.0) * 100.0 if e < 1.0 else 0.0
         devs = (s / sonine - 1.0) * 100.0 if e < 1.0 else 0.0
         out.append(
-            f"{d:>2} {e:>4.1f} {n:>5} {side / lc:>6.2f} {s:>10.5f} {s_err:>8.5f} {first:>9.5f} {sonine:>9.5f} "
-            f"{dev1:>+7.2f} {devs:>+7.2f} {a2:>+8.4f} {a2_err:>7.4f} {theory_a2:>+8.4f} "
+            f"{d:>2} {e:>4.1f} {n:>5} {side / lc:>6.2f} {s:>10.5f} {s_err:>8.5f} {first:>9.5f} "
+            f"{sonine:>9.5f} {dev1:>+7.2f} {devs:>+7.2f} {a2:>+8.4f} {a2_err:>7.4f} {theory_a2:>+8.4f} "
             f"{nu / nu_theory:>8.4f} {nu_err:>7.4f} {max(balances):>9.1e}"
         )
         print(out[-1], flush=True)
@@ -157,7 +159,7 @@ def main() -> None:
     )
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "granular.txt")
     with atomic_write(path, "w") as fh:
-        fh.write("\n".join([header.replace(header, header)] + out[1:]) + "\n")
+        fh.write("\n".join(out) + "\n")
     print(f"wrote {path}")
 
 
