@@ -49,7 +49,10 @@ def test_cold_cache_is_announced_once_and_not_timed(scn, tmp_path):
     env = {"NUMBA_CACHE_DIR": str(tmp_path / "cache")}
     first = hs_cmd("run", "s.txt", "--container", 10, "--until", 0.5, cwd=scn, env=env)
     assert first.returncode == 0, first.stderr
-    assert "compiling the event core for 3-D (once per dimension, then cached; typically" in first.stderr
+    assert (
+        "compiling the event core for 3-D (once per dimension and collision rule, then cached; typically"
+        in first.stderr
+    )
     assert first.stderr.count("compiling") == 1
     assert "(compilation excluded)" in first.stdout
     again = hs_cmd("run", "s.txt", "--container", 10, "--until", 0.5, cwd=scn, env=env)
@@ -62,7 +65,7 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     from hardspheres.core import warmup
 
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
-    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3: True)
+    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3, inelastic=False: True)
     out = io.StringIO()
     data = (ROOT / "examples" / "three.txt").read_bytes()
     assert run_spheres(["120", "105"], io.BytesIO(data), out) == 0
@@ -89,7 +92,11 @@ def test_cold_cache_detection_per_dimension(tmp_path, monkeypatch):
     for d in (2, 3):
         assert warmup.ensure_compiled(quiet=True, dimensions=d) >= 0.0
         assert not warmup.is_cold(d) and pathlib.Path(warmup._marker(d)).exists()
-    monkeypatch.setattr(warmup, "_marker", lambda d: str(tmp_path / f"compiled-{d}d"))
+    monkeypatch.setattr(
+        warmup,
+        "_marker",
+        lambda d, inelastic=False: str(tmp_path / f"compiled-{d}d{'-inelastic' * inelastic}"),
+    )
     assert warmup.is_cold(2) and warmup.is_cold(3)
     (tmp_path / "compiled-2d").write_text("compiled\n")
     assert not warmup.is_cold(2) and warmup.is_cold(3)

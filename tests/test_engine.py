@@ -448,8 +448,8 @@ def test_calendar_made_anew_on_schedule_without_a_record(monkeypatch):
     assert all(since == every for since, every in due)
 
 
-def test_link_arrays_are_int32_in_the_engine_and_int64_in_checkpoints():
-    """The cell lists, heads and heap hold sphere indices in 4 bytes; files keep 8 (one format at any N)."""
+def test_link_arrays_have_the_link_dtype_in_the_engine_and_int64_in_checkpoints():
+    """The cell lists, heads, heap and calendar hold sphere indices as LINK; files keep int64 (one format)."""
     from hardspheres.core import engine as engine_module
 
     eng = engine_module.Engine(
@@ -460,10 +460,10 @@ def test_link_arrays_are_int32_in_the_engine_and_int64_in_checkpoints():
         box=8.0,
     )
     for name in engine_module._LINKED + ("scratch", "calendar"):
-        assert getattr(eng, name).dtype == np.int32, name
+        assert getattr(eng, name).dtype == engine_module.LINK, name
     data = eng.checkpoint()
     for name in engine_module._LINKED:
         assert data[name].dtype == np.int64, name
     again = engine_module.Engine.restore(data)
-    assert again.cell_next.dtype == np.int32
+    assert again.cell_next.dtype == engine_module.LINK
     assert again.advance(events=50).tobytes() == eng.advance(events=50).tobytes()

@@ -66,11 +66,14 @@ REORDER_EVERY = 10.0
 # names (properties): kept in the engine's order under these
 _INTERNAL = {"masses": "_masses", "images": "_images"}
 #: The dtype of the sphere indices the core links by (cell lists and heads,
-#: the calendar's heap and lists, the work space): 4 bytes (N < 2^29, so that
-#: the calendar's slots, up to 4N, fit too), half the cache lines of int64
-#: (benchmarks/README.md, "Memory: bytes per sphere").  Checkpoints keep
-#: them as int64.
-LINK = np.int32
+#: the calendar's heap and lists, the work space).  int32 would halve their
+#: bytes (N < 2^29: the calendar's slots reach 4N) and saved 11-56% of the
+#: last-level misses, but the indices read from them are int32 scalars, and
+#: every inlined helper they reach was compiled once more for them: the
+#: first compilation took 44 s of CPU instead of 29 (benchmarks/README.md,
+#: "Memory: bytes per sphere").  int64 until the core casts at its loads.
+#: Checkpoints keep them as int64 either way.
+LINK = np.int64
 _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
 
 
