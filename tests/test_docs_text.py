@@ -18,7 +18,7 @@ DOCS = ROOT / "docs"
 
 #: Phrases that tell how the project was researched or run, not what it is.
 HOW_FOUND = re.compile(
-    r"search tool|code index|search index|find_string|stored file id|not reachable|was reachable"
+    r"search[ ]tool|code[ ]index|search[ ]index|find[_]string|stored file id|not reachable|was reachable"
     r"|fetched here|\bsessions?\b|\bagents?\b|\bhelpers'|other helpers|time allowed",
     re.I,
 )
