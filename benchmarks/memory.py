@@ -22,14 +22,14 @@ from hardspheres.core.bench import container_for
 from hardspheres.core.engine import Engine
 
 n = int(float(sys.argv[1]))
-names = [a for a in _core.ARRAYS if a != "axes"]
+names = [a for a in _core.ARRAYS if a not in ("axes", "rule")]
 print("| container | PHI | " + " | ".join(names) + " | total |")
 print("|---" * (len(names) + 3) + "|")
 for box in (True, False):
     for phi in (0.1, 0.3, 0.45):
         where = container_for(n, phi, box=box)
         eng = Engine(*random_arrays(n, phi, where, seed=1), container=where)
-        sizes = [a.nbytes / n for name, a in zip(_core.ARRAYS, eng.arrays) if name != "axes"]
+        sizes = [a.nbytes / n for name, a in zip(_core.ARRAYS, eng.arrays) if name in names]
         cells = " | ".join(f"{s:.1f}" for s in sizes)
         print(f"| {'box' if box else 'sphere'} | {phi} | {cells} | {sum(sizes):.1f} |")
 """
