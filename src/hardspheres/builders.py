@@ -181,8 +181,7 @@ def _insert(
     """
     n = len(radii)
     grow = radii * (1.0 + 1e-6)  # keep a rounding margin at contact
-    params = container.core_params()
-    wall = params["wall_radius"]
+    wall = 0.0 if container.periodic else container.core_params()["wall_radius"]
     if container.periodic:
         h = container.half_width if container.cube else 0.5 * np.array(container.sides)  # type: ignore[attr-defined]
         x = rng.uniform(-h, h, (n, 3))

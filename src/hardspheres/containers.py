@@ -46,7 +46,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 
-from .errors import BoxShapeError, ContainerError, PeriodicBoxRequired  # noqa: F401 (re-exported)
+from .errors import BoxShapeError, ContainerError, PeriodicBoxRequired, ShearError  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
     from typing import TypeVar
@@ -144,7 +144,20 @@ def require_periodic(container: Container | None, what: str) -> float:
             f"{what} need a periodic box (spheres in a container do not diffuse freely); "
             "simulate in hs.PeriodicBox(L)"
         )
-    return container.core_params()["box"]
+    return float(container.sides[0])  # type: ignore[attr-defined]  # a box's
+
+
+def _shear_rate(value: Any) -> float:  # anything a user gives: checked here
+    """``value`` as a shear rate [1/time]; :class:`ShearError` if it is not a finite number."""
+    if isinstance(value, (bool, str, bytes)):
+        raise ShearError(f"shear_rate {value!r}: give a finite number [1/time] (0: no shear)")
+    try:
+        rate = float(value)
+    except (TypeError, ValueError):
+        raise ShearError(f"shear_rate {value!r}: give a finite number [1/time] (0: no shear)") from None
+    if not math.isfinite(rate):
+        raise ShearError(f"shear_rate {value!r}: give a finite number [1/time] (0: no shear)")
+    return rate + 0.0  # (-0.0 is no shear: +0.0)
 
 
 @dataclass(frozen=True)
@@ -379,14 +392,26 @@ class PeriodicBox:
     cube (three equal sides are the cube) and a tuple for a rectangular
     box; :attr:`sides` is always the tuple.
 
+    ``shear_rate`` ``g`` [1/time] shears it by Lees-Edwards boundaries
+    (flow along x, gradient along y, streaming velocity ``g y`` along x):
+    the images across the y faces slide along x at ``+-g L_y``, a sphere
+    crossing a y face gains or loses ``g L_y`` in ``v_x``; total momentum
+    along y and z is conserved, along x it is not.  0 (the default) is
+    the plain periodic box.  For now only the brute-force reference
+    (:class:`hardspheres.core.reference.Reference`) runs a sheared box: the
+    compiled event core refuses it (:meth:`core_params`).
+
     Example:
         >>> PeriodicBox(2.0).volume, PeriodicBox((1.0, 2.0, 3.0)).volume
         (8.0, 6.0)
         >>> PeriodicBox((2.0, 2.0, 2.0))
         PeriodicBox(length=2.0)
+        >>> PeriodicBox((4.0, 3.0), shear_rate=0.5).boundary_speed
+        1.5
     """
 
     length: float | tuple[float, ...]
+    shear_rate: float = 0.0
     periodic: ClassVar[bool] = True
     kind: ClassVar[str] = "PeriodicBox"
     size_field: ClassVar[str] = "box_length"
@@ -395,6 +420,31 @@ class PeriodicBox:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "length", _box_sides(self.length))
+        object.__setattr__(self, "shear_rate", _shear_rate(self.shear_rate))
+
+    def __repr__(self) -> str:
+        if self.shear_rate:
+            return f"PeriodicBox(length={self.length!r}, shear_rate={self.shear_rate!r})"
+        return f"PeriodicBox(length={self.length!r})"
+
+    @property
+    def sheared(self) -> bool:
+        """Whether it is sheared (a shear rate other than 0)."""
+        return self.shear_rate != 0.0
+
+    @property
+    def boundary_speed(self) -> float:
+        """``g L_y``: the speed of the images across the y faces along x [length/time] (0: not sheared)."""
+        return self.shear_rate * self.sides[1]
+
+    def sheared_by(self, shear_rate: float) -> PeriodicBox:
+        """The same box sheared at ``shear_rate`` [1/time] (0: not sheared).
+
+        Example:
+            >>> PeriodicBox(3.0).sheared_by(0.1)
+            PeriodicBox(length=3.0, shear_rate=0.1)
+        """
+        return PeriodicBox(self.length, shear_rate)
 
     @classmethod
     def for_packing(cls, n: int, packing: float, aspect: tuple[float, ...] | None = None) -> PeriodicBox:
@@ -452,16 +502,18 @@ class PeriodicBox:
     @property
     def label(self) -> str:
         """A short description for titles."""
+        shear = f", shear rate {self.shear_rate:g}" if self.shear_rate else ""
         if self.cube:
-            return f"periodic box L = {self.size:g}"
-        return f"periodic box {self._sides_text}"
+            return f"periodic box L = {self.size:g}{shear}"
+        return f"periodic box {self._sides_text}{shear}"
 
     @property
     def description(self) -> str:
         """It in words, for messages and summaries."""
+        shear = f", sheared at rate {self.shear_rate:g} (Lees-Edwards)" if self.shear_rate else ""
         if self.cube:
-            return f"periodic box of edge {self.size:g}"
-        return f"periodic box of sides {self._sides_text}"
+            return f"periodic box of edge {self.size:g}{shear}"
+        return f"periodic box of sides {self._sides_text}{shear}"
 
     @property
     def volume(self) -> float:
@@ -512,12 +564,27 @@ class PeriodicBox:
         p = np.asarray(positions, dtype=np.float64).reshape(-1, self.dimensions)
         return np.floor(p / self._edges() + 0.5).astype(np.int64)
 
-    def displacement(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """``a - b`` to the nearest image [length]."""
+    def displacement(self, a: np.ndarray, b: np.ndarray, offset: float = 0.0) -> np.ndarray:
+        """``a - b`` to the nearest image [length].
+
+        ``offset``: a sheared box's Lees-Edwards offset now [length] (the
+        images across the y faces shifted along x by it: the engine's
+        ``shear_offset()``); 0 is the plain box, with its arithmetic.
+        """
         import numpy as np
 
         d = np.asarray(a, dtype=np.float64) - b
         L = self._edges()
+        if offset:
+            lx, ly = self.sides[0], self.sides[1]
+            d = d.copy()
+            ky = np.round(d[..., 1] / ly)
+            d[..., 1] -= ly * ky
+            d[..., 0] -= ky * offset
+            d[..., 0] -= lx * np.round(d[..., 0] / lx)
+            if self.dimensions == 3:
+                d[..., 2] -= self.sides[2] * np.round(d[..., 2] / self.sides[2])
+            return d
         return d - L * np.round(d / L)
 
     def outside(self, positions: np.ndarray, radii: np.ndarray, tol: float = TOUCH_TOL) -> np.ndarray:
@@ -536,24 +603,40 @@ class PeriodicBox:
         return (n * kT + virial / (self.dimensions * elapsed)) / self.volume
 
     def fields(self) -> dict[str, float]:
-        """Its numbers by name, for GSD logs and XYZ headers (a cube: ``box_length``)."""
-        if self.cube:
-            return {self.size_field: self.size}
-        return dict(zip(self.side_fields, self.sides))  # (2-D: x and y)
+        """Its numbers by name, for GSD logs and XYZ headers (``box_length`` or the sides; ``shear_rate``)."""
+        out = {self.size_field: self.size} if self.cube else dict(zip(self.side_fields, self.sides))
+        if self.shear_rate:
+            out["shear_rate"] = self.shear_rate
+        return out  # (2-D: x and y)
 
     def record(self) -> np.ndarray:
-        """``[kind, size]`` for checkpoints (:func:`from_record`): ``repr`` of the edge, or the sides."""
+        """``[kind, size]`` for checkpoints (:func:`from_record`): ``repr`` of the edge, or the sides.
+
+        A sheared box adds a third entry, ``repr`` of its shear rate.
+        """
         import numpy as np
 
-        if self.cube:
-            return np.array([self.kind, repr(self.length)])
-        return np.array([self.kind, " ".join(repr(x) for x in self.sides)])
+        size = repr(self.length) if self.cube else " ".join(repr(x) for x in self.sides)
+        if self.shear_rate:
+            return np.array([self.kind, size, repr(self.shear_rate)])
+        return np.array([self.kind, size])
 
-    def core_params(self) -> dict:
+    def core_params(self, shear: bool = False) -> dict:
         """What the compiled core reads: wall radius (0: none), periodic edge, grid span.
 
         ``box`` and ``span`` are the x side's; ``edges`` and ``spans`` per axis.
+
+        Raises:
+            ShearError: the box is sheared and ``shear`` is not set: the
+                compiled event core does not shear yet (an engine that
+                handles Lees-Edwards boundaries itself, the brute-force
+                reference, passes ``shear=True``).
         """
+        if self.shear_rate and not shear:
+            raise ShearError(
+                f"the compiled event core does not shear yet (shear_rate {self.shear_rate:g}): "
+                "run a sheared box on hardspheres.core.reference.Reference, or give shear_rate=0"
+            )
         x = self.sides[0]
         if self.dimensions == 2:  # one layer of cells, not periodic along z (the core never reads z)
             # that layer as wide as the widest side: the cells' narrowest width, which
@@ -702,10 +785,17 @@ def from_record(record: np.ndarray) -> Container:
     """The container :meth:`Container.record` describes."""
     import numpy as np
 
-    kind, size = (str(x) for x in np.asarray(record).tolist())
+    entries = [str(x) for x in np.asarray(record).tolist()]
+    if len(entries) not in (2, 3):
+        raise ContainerError(f"a container record of {len(entries)} entries; expected 2 or 3")
+    kind, size = entries[:2]
     if kind not in KINDS:
         raise ContainerError(f"unknown container {kind!r}; known: {', '.join(KINDS)}")
     numbers = [float(x) for x in size.split()]
+    if len(entries) == 3:  # a sheared box
+        if kind != PeriodicBox.kind:
+            raise ContainerError(f"a {kind} is not sheared, but its record has a third entry")
+        return PeriodicBox(numbers[0] if len(numbers) == 1 else tuple(numbers), float(entries[2]))
     if len(numbers) == 1:
         return KINDS[kind](numbers[0])
     if kind != PeriodicBox.kind:
@@ -743,15 +833,20 @@ def from_fields(fields: dict) -> Container:
     def number(key: str) -> float:
         return float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0])
 
+    shear = 0.0
+    for key in ("shear_rate", "hardspheres/shear_rate"):
+        if key in fields:
+            shear = number(key)
     for prefix in ("", "hardspheres/"):
         for d in (3, 2):
             keys = [prefix + k for k in PeriodicBox.side_fields[:d]]
             if all(k in fields for k in keys):
-                return PeriodicBox(tuple(number(k) for k in keys))
+                return PeriodicBox(tuple(number(k) for k in keys), shear)
     for cls in KINDS.values():
         for key in (cls.size_field, f"hardspheres/{cls.size_field}"):
             if key in fields:
-                return cls(float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0]))
+                size = float(np.asarray(fields[key], dtype=np.float64).reshape(-1)[0])
+                return PeriodicBox(size, shear) if cls is PeriodicBox else cls(size)
     raise ContainerError(
         "no container size found (container_radius, circle_radius, box_length or box_length_x/y[/z])"
     )

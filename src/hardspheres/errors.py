@@ -28,6 +28,11 @@ class BoxShapeError(ContainerError):
     """A box shape that cannot be simulated (sides, dimension); the message says what is allowed."""
 
 
+class ShearError(ContainerError):
+    """A Lees-Edwards shear that cannot be set up or run here (a bad rate, an engine without it); the
+    message says why and what to do."""
+
+
 class PeriodicBoxRequired(ValueError):
     """Images, unwrapped positions and transport need a :class:`PeriodicBox`."""
 

@@ -31,7 +31,7 @@ from .containers import Container, as_container, require_periodic
 from .core import checkpoint
 from .core.engine import CheckpointError, Engine
 from .core.warmup import ensure_compiled
-from .errors import ArgumentError, BoxShapeError
+from .errors import ArgumentError, BoxShapeError, ShearError
 from .events import KIND_LABELS, KindLabel, StopReason
 from .fileio import atomic_write
 from .messages import quote
@@ -144,6 +144,12 @@ class Simulation:
         tc: float = 0.0,
     ) -> None:
         container = as_container(container)
+        if getattr(container, "shear_rate", 0.0):
+            raise ShearError(
+                f"Simulation cannot shear yet (shear_rate {container.shear_rate:g}): the compiled event "  # type: ignore[attr-defined]
+                "core has no Lees-Edwards boundaries; run a sheared box on "
+                "hardspheres.core.reference.Reference (small N), or give shear_rate=0"
+            )
         state.check()
         window = _number(window, "window", "a finite number >= 0 [time]", minimum=0.0)
         restitution, wall_restitution, tc = _rule(restitution, wall_restitution, tc)

@@ -61,8 +61,8 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..containers import Container, as_container
-from ..errors import ArgumentError, BoxShapeError
+from ..containers import Container, as_container, require_periodic
+from ..errors import ArgumentError, BoxShapeError, ShearError
 from ..events import EventKind, StopReason
 from ..physics import (
     FROZEN_RELATIVE,
@@ -297,6 +297,151 @@ def next_event_periodic(
     return best, best_kind, best_i, best_j
 
 
+def shear_offset(offset0: float, speed: float, lx: float, t: float) -> float:
+    """The Lees-Edwards offset at time ``t``: ``(offset0 + speed t) mod lx``, in ``[0, lx]`` [length].
+
+    ``speed`` is the boundary speed ``g L_y`` [length/time], ``t`` the time
+    from the instant the offset was ``offset0`` [time].  ``math.fmod`` is
+    exact, so the only rounding is that of ``offset0 + speed t`` (and of
+    ``+ lx`` for a negative remainder, which may give ``lx`` itself: the
+    same images).  DynamO's ``BCLeesEdwards::update`` keeps the same
+    quantity (``_dxd``), reduced with ``floor``.
+
+    Example:
+        >>> shear_offset(0.5, 2.0, 3.0, 1.5), shear_offset(0.0, -1.0, 3.0, 1.0)
+        (0.5, 2.0)
+    """
+    d = math.fmod(offset0 + speed * t, lx)
+    if d < 0.0:
+        d += lx
+    return d
+
+
+def next_event_sheared(
+    p: list[list[float]],
+    v: list[list[float]],
+    tloc: list[float],
+    radii: list[float],
+    edges: tuple[float, float, float],
+    clock: float,
+    window: float,
+    now: float,
+    planar: bool,
+    offset0: float,
+    speed: float,
+) -> tuple[float, int, int, int]:
+    """:func:`next_event_periodic` in a box sheared by Lees-Edwards boundaries (no growth).
+
+    Longer than 80 lines with this docstring (under 70 of code): every
+    pair's images, sliding ones included, and their pruning, in one loop.
+
+    The image of ``j`` across a y face (``ky = +-1``) is at ``x_j + kx L_x +
+    ky delta(t0)``, ``y_j + ky L_y``, moving at ``v_xj + ky speed`` along x,
+    where ``delta(t0)`` is :func:`shear_offset` at the later of the two own
+    times ``t0`` (so a prediction does not depend on when it is made); the
+    pair is formed as ``x_i - (x_j + s)`` with ``s = kx L_x + ky delta`` and
+    ``dv_x = v_xi - (v_xj + ky speed)``.  Those images slide past ``i``
+    with no event of either sphere, so the ``kx`` tried are every one whose
+    image can come within contact along x before the earliest event found
+    so far (the crossings, found first, bound it), or, with no such event,
+    within the time the pair can stay within contact along y and z, or one
+    sweep of ``2 L_x`` plus the contact distances: a superset of the images
+    that can meet first, which changes no bit (the earliest event wins).
+
+    Args:
+        p, v, tloc, radii, edges, clock, window, now, planar: as
+            :func:`next_event_periodic`.
+        offset0: the offset at time 0 [length].
+        speed: the boundary speed ``g L_y`` [length/time].
+    """
+    n = len(p)
+    soon = clock + window
+    best, best_kind, best_i, best_j = INF, -1, -1, -1
+    for i in range(n):
+        tw, face = box_exit(p[i], v[i], tloc[i], edges, now)
+        if face >= 0 and _earlier(tw, CROSSING, i, face, best, best_kind, best_i, best_j):
+            best, best_kind, best_i, best_j = tw, CROSSING, i, face
+    lx, ly, lz = edges[0], edges[1], edges[2]
+    m2 = 0 if planar else 1
+    for i in range(n):
+        pi, vi, ri, ti = p[i], v[i], radii[i], tloc[i]
+        for j in range(i + 1, n):
+            pj, vj, tj = p[j], v[j], tloc[j]
+            t0 = ti if ti > tj else tj
+            di, dj = t0 - ti, t0 - tj
+            xi, yi, zi = pi[0] + vi[0] * di, pi[1] + vi[1] * di, pi[2] + vi[2] * di
+            xj, yj, zj = pj[0] + vj[0] * dj, pj[1] + vj[1] * dj, pj[2] + vj[2] * dj
+            dvy, dvz = vi[1] - vj[1], vi[2] - vj[2]
+            sigma = ri + radii[j]
+            bound = (best if best > soon else soon) - t0
+            if bound < 0.0:
+                bound = 0.0
+            delta = shear_offset(offset0, speed, lx, t0)
+            for ky in range(-1, 2):
+                sy = ky * ly
+                dy0 = yi - (yj + sy)
+                if abs(dy0) > (sigma + abs(dvy) * bound) * (1.0 + 1e-9):
+                    continue
+                dvx = vi[0] - (vj[0] + ky * speed)
+                base = ky * delta
+                # how long the pair can stay within reach along x: the images' sweep
+                span = bound
+                if span == INF:
+                    if dvy != 0.0:
+                        span = (abs(dy0) + sigma) / abs(dvy) * (1.0 + 1e-9)
+                    if not planar and dvz != 0.0:
+                        dz0 = abs(zi - zj)
+                        dz0 = dz0 if dz0 < lz - dz0 else lz - dz0
+                        tz = (dz0 + sigma) / abs(dvz) * (1.0 + 1e-9)
+                        span = tz if tz < span else span
+                    if span == INF and dvx != 0.0:
+                        span = (2.0 * lx + 2.0 * sigma) / abs(dvx)
+                u0 = (xi - (xj + base)) / lx
+                u1 = u0 - (dvx * span) / lx if dvx != 0.0 else u0
+                lo = u0 if u0 < u1 else u1
+                hi = u1 if u0 < u1 else u0
+                margin = sigma / lx * (1.0 + 1e-9)
+                for kx in range(int(math.floor(lo - margin)) - 1, int(math.ceil(hi + margin)) + 2):
+                    sx = kx * lx + base
+                    dx = xi - (xj + sx)
+                    if abs(dx) > (sigma + abs(dvx) * bound) * (1.0 + 1e-9):
+                        continue
+                    for kz in range(-m2, m2 + 1):
+                        sz = kz * lz
+                        dz = zi - (zj + sz)
+                        if abs(dz) > (sigma + abs(dvz) * bound) * (1.0 + 1e-9):
+                            continue
+                        te = t0 + pair_time(dx, dy0, dz, dvx, dvy, dvz, sigma, planar)
+                        if te < soon:
+                            te = clock
+                        if _earlier(te, COLLISION, i, j, best, best_kind, best_i, best_j):
+                            best, best_kind, best_i, best_j = te, COLLISION, i, j
+    return best, best_kind, best_i, best_j
+
+
+def peculiar_segment(
+    m: float, y0: float, vx: float, vy: float, vz: float, g: float, tau: float, out: list[float]
+) -> None:
+    """Add one sphere's ``int m c_a c_b dt`` over a free flight of ``tau`` to ``out`` (xx yy zz xy xz yz).
+
+    ``c = v - g y e_x`` is the peculiar velocity: along the flight ``c_x =
+    c_x0 - g v_y s`` (``c_x0 = v_x - g y0``, ``y0`` the centre's y at its
+    start), ``c_y = v_y``, ``c_z = v_z``, so the integrals are polynomials
+    in ``tau`` (exact up to rounding).  ``g = 0``: ``m v_a v_b tau``.
+    [mass*length^2/time]
+    """
+    cx = vx - g * y0
+    s = g * vy  # d c_x / dt = -s
+    mt = m * tau
+    out[0] += mt * (cx * cx - s * cx * tau + s * s * tau * tau / 3.0)
+    out[1] += mt * vy * vy
+    out[2] += mt * vz * vz
+    half = cx - 0.5 * s * tau  # c_x averaged over the flight
+    out[3] += mt * half * vy
+    out[4] += mt * half * vz
+    out[5] += mt * vy * vz
+
+
 def move_sphere(
     p: list[list[float]], v: list[list[float]], tloc: list[float], i: int, t: float, planar: bool = False
 ) -> None:
@@ -323,7 +468,9 @@ def apply_event(
     planar: bool = False,
     restitution: float = 1.0,
     inelastic: bool = False,
-) -> tuple[float, float, float, float, float, float]:
+    offset: float = 0.0,
+    speed: float = 0.0,
+) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
 
     ``radii`` (at the time origin) and ``grow`` as :func:`next_event`
@@ -331,14 +478,20 @@ def apply_event(
     none), the pair taken at its nearest image; ``planar``: 2-D (z is
     neither read nor changed); ``inelastic``: the inelastic rule (the
     core's inelastic variant), with ``restitution`` the coefficient of this
-    event (the pair's or the wall's, 1 where the TC model makes it elastic).
+    event (the pair's or the wall's, 1 where the TC model makes it elastic);
+    ``speed``: a sheared box's boundary speed ``g L_y`` (0: not sheared),
+    with ``offset`` its Lees-Edwards offset now: the pair is then taken at
+    the image across the y face it is nearest to (``ky = round(dy / L_y)``:
+    ``dy - ky L_y``, ``dx - ky offset``, then the nearest image along x),
+    whose velocity along x is ``v_xj + ky speed``.
 
     Returns:
-        ``(impulse, dpx, dpy, dpz, virial, lost)``: the magnitude and the
-        vector of the momentum sphere ``i`` receives [mass*length/time], for
-        a collision ``r_ij . dp_i`` [mass*length^2/time] (0 for a
-        reflection), and the kinetic energy dissipated (0 unless
-        ``inelastic``), with the core's arithmetic.
+        ``(impulse, dpx, dpy, dpz, virial, lost, dx, dy, dz)``: the
+        magnitude and the vector of the momentum sphere ``i`` receives
+        [mass*length/time], for a collision ``r_ij . dp_i``
+        [mass*length^2/time] (0 for a reflection), the kinetic energy
+        dissipated (0 unless ``inelastic``), with the core's arithmetic, and
+        for a collision ``r_ij`` at contact [length] (zeros for a reflection).
     """
     lost = 0.0
     if kind == REFLECTION:
@@ -354,19 +507,31 @@ def apply_event(
         vi[1] -= k * py
         mi = masses[i]
         if planar:
-            return mi * k * math.sqrt(px * px + py * py), -mi * k * px, -mi * k * py, 0.0, 0.0, lost
+            imp = mi * k * math.sqrt(px * px + py * py)
+            return imp, -mi * k * px, -mi * k * py, 0.0, 0.0, lost, 0.0, 0.0, 0.0
         vi[2] -= k * pz
         imp = mi * k * math.sqrt(px * px + py * py + pz * pz)
-        return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0, lost
+        return imp, -mi * k * px, -mi * k * py, -mi * k * pz, 0.0, lost, 0.0, 0.0, 0.0
     pi, pj, vi, vj = p[i], p[j], v[i], v[j]
     dx, dy, dz = pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]
-    if edges[0] != 0.0:
-        # the nearest image (the core's arithmetic: round half to even)
+    if speed != 0.0:
+        # Lees-Edwards: the image across the nearest y face, then along x
+        ky = float(round(dy / edges[1]))
+        dy -= edges[1] * ky
+        dx -= ky * offset
         dx -= edges[0] * round(dx / edges[0])
-        dy -= edges[1] * round(dy / edges[1])
         if edges[2] != 0.0:
             dz -= edges[2] * round(dz / edges[2])
-    dvx, dvy, dvz = vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]
+        dvx = vi[0] - (vj[0] + ky * speed)
+    else:
+        if edges[0] != 0.0:
+            # the nearest image (the core's arithmetic: round half to even)
+            dx -= edges[0] * round(dx / edges[0])
+            dy -= edges[1] * round(dy / edges[1])
+            if edges[2] != 0.0:
+                dz -= edges[2] * round(dz / edges[2])
+        dvx = vi[0] - vj[0]
+    dvy, dvz = vi[1] - vj[1], vi[2] - vj[2]
     if grow != 0.0:
         u = (radii[i] + radii[j]) * grow
         k1, k2 = collide_grow(masses[i], masses[j], dx, dy, dz, dvx, dvy, dvz, u, planar)
@@ -381,11 +546,12 @@ def apply_event(
     mi = masses[i]
     if planar:
         d2 = dx * dx + dy * dy
-        return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, 0.0, -mi * k1 * d2, lost
+        return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, 0.0, -mi * k1 * d2, lost, dx, dy, 0.0
     vi[2] -= k1 * dz
     vj[2] += k2 * dz
     d2 = dx * dx + dy * dy + dz * dz
-    return -mi * k1 * math.sqrt(d2), -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2, lost
+    imp = -mi * k1 * math.sqrt(d2)
+    return imp, -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2, lost, dx, dy, dz
 
 
 def _row(row: Sequence[float], d: int, what: str) -> list[float]:
@@ -419,6 +585,21 @@ class Reference:
         restitution, wall_restitution, tc: the collision rule, as the
             engine's (restitution between spheres and at the wall, the TC
             model's duration), with the core's arithmetic.
+        shear_rate: Lees-Edwards shear of a periodic box, ``g`` [1/time]
+            (flow along x, gradient along y); default: the box's own
+            (:attr:`PeriodicBox.shear_rate
+            <hardspheres.containers.PeriodicBox.shear_rate>`), 0 for none.
+            0 runs exactly the unsheared loop.
+        offset: the Lees-Edwards offset at ``time`` [length]: how far along
+            x the images above the box are ahead of it (DynamO's ``DXD``).
+
+    The sheared box (docs/numerics.md, "Lees-Edwards shear"): the images
+    across the y faces slide at ``+-g L_y`` (:func:`next_event_sheared`); a
+    centre leaving through a y face is moved to that instant, by ``-+L_y``
+    in y and ``-+offset`` in x, and its ``v_x`` changes by ``-+g L_y``.  In
+    a periodic box the reference also keeps the stress tallies
+    (:meth:`stress_tallies`: the collisional virial tensor and the time
+    integral of the kinetic tensor of the peculiar velocities).
 
     Example:
         >>> ref = Reference([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -443,10 +624,24 @@ class Reference:
         restitution: float = 1.0,
         wall_restitution: float | None = None,
         tc: float = 0.0,
+        shear_rate: float | None = None,
+        offset: float = 0.0,
     ) -> None:
         where = as_container(container, box)
+        own = float(getattr(where, "shear_rate", 0.0))
+        if shear_rate is not None:
+            rate = float(shear_rate)
+            if not math.isfinite(rate):
+                raise ShearError(f"shear_rate {shear_rate!r}: give a finite number [1/time] (0: no shear)")
+            if own and rate != own:
+                raise ShearError(f"shear_rate {rate:g} but the box is sheared at {own:g}; give one of them")
+            if rate and not where.periodic:
+                raise ShearError(f"a {where.description} cannot be sheared: give a hs.PeriodicBox")
+            if rate != own:
+                where = where.sheared_by(rate)  # type: ignore[attr-defined]  # a box's
+            own = rate
         self.container: Container = where
-        params = where.core_params()
+        params = where.core_params(shear=True) if own else where.core_params()
         self._wall = params["wall_radius"]
         #: the periodic box's sides as the core reads them (zeros: a container)
         self._edges: tuple[float, float, float] = tuple(float(e) for e in params["edges"])  # type: ignore[assignment]
@@ -465,6 +660,27 @@ class Reference:
             )
         #: crossings of the periodic box per axis (the engine's ``images``)
         self._img = [[0, 0, 0] for _ in range(n)]
+        #: Lees-Edwards: ``g``, the boundary speed ``g L_y`` and the offset at time 0
+        self._g = own + 0.0
+        self._speed = own * self._edges[1] if own else 0.0
+        self._off0 = 0.0
+        #: each centre's accumulated x shift at y crossings (unwrapped x: ``x + images_x L_x + shift``)
+        self._xshift = [0.0] * n
+        if own:
+            off = float(offset)
+            if not math.isfinite(off):
+                raise ShearError(f"offset {offset!r}: give a finite length")
+            self._off0 = shear_offset(off, self._speed, self._edges[0], -float(time))
+            lx, ly = self._edges[0], self._edges[1]
+            now_off = shear_offset(self._off0, self._speed, lx, float(time))
+            for k, pk in enumerate(self._p):  # into the box along y first: an image across it is shifted
+                m = math.floor((pk[1] - (-0.5 * ly)) / ly)
+                if m:
+                    pk[1] -= m * ly
+                    pk[0] -= m * now_off
+                    self._v[k][0] -= m * self._speed
+                    self._img[k][1] += m
+                    self._xshift[k] += m * now_off
         for k, pk in enumerate(self._p):  # into the box, whole sides at a time (the engine's _into_box)
             for ax in range(d):
                 edge = self._edges[ax]
@@ -498,6 +714,12 @@ class Reference:
         #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
         self._last = [-INF] * n
         self._dissipated = 0.0
+        # the stress tallies (periodic box): collisional virial tensor, the time
+        # integral of the peculiar kinetic tensor of the closed flights, and
+        # when each sphere's open flight began (xx yy zz xy xz yz)
+        self._vir_t = [0.0] * 6
+        self._kin_t = [0.0] * 6
+        self._kt = [self._clock] * n
 
     # ---- what the engine also tells ---------------------------------------------
     @property
@@ -523,6 +745,69 @@ class Reference:
         return [row[: self.dimensions] for row in self._img]
 
     @property
+    def shear_rate(self) -> float:
+        """Lees-Edwards shear rate ``g`` [1/time] (0: not sheared)."""
+        return self._g
+
+    def shear_offset(self, t: float | None = None) -> float:
+        """The Lees-Edwards offset at time ``t`` (default: now) [length] (0 when not sheared).
+
+        How far along x the images above the box (across its upper y face)
+        are ahead of it: ``(offset0 + g L_y t) mod L_x`` (:func:`shear_offset`).
+        """
+        if not self._speed:
+            return 0.0
+        t = self.time if t is None else t
+        return shear_offset(self._off0, self._speed, self._edges[0], t - self._origin)
+
+    @property
+    def x_shifts(self) -> list[float]:
+        """``N`` shifts along x made at y crossings [length] (unwrapped x: ``x + images_x L_x + shift``)."""
+        return list(self._xshift)
+
+    def stress_tallies(self, t: float | None = None) -> dict[str, Any]:
+        """The stress tallies at absolute time ``t`` (default: now; periodic box), since the start.
+
+        Returns:
+            dict of ``(6,)`` arrays (xx yy zz xy xz yz): ``virial`` the
+            collisional virial tensor ``sum r_ij dp_i`` over collisions
+            [mass*length^2/time], and ``kinetic`` the time integral of ``sum
+            m c c`` [mass*length^2/time], ``c = v - g y e_x`` the peculiar
+            velocities (the velocities themselves when not sheared), each
+            flight integrated exactly (:func:`peculiar_segment`).  The
+            pressure tensor averaged over ``[t1, t2]`` is ``(kinetic + virial)``
+            differenced over it, divided by ``(t2 - t1) V``.
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box.
+        """
+        import numpy as np
+
+        require_periodic(self.container, "the stress tallies")
+        t = (self.time if t is None else float(t)) - self._origin
+        kin = list(self._kin_t)
+        for k in range(self.n):
+            self._flight(k, t, kin)
+        return {"virial": np.array(self._vir_t), "kinetic": np.array(kin)}
+
+    def _flight(self, k: int, t: float, out: list[float]) -> None:
+        """Add sphere ``k``'s open flight, up to ``t`` (from the origin), to the kinetic integral ``out``."""
+        p, v = self._p[k], self._v[k]
+        start = self._kt[k]
+        if t == start:
+            return
+        y0 = p[1] + v[1] * (start - self._tloc[k])
+        peculiar_segment(
+            self.masses[k], y0, v[0], v[1], 0.0 if self.dimensions == 2 else v[2], self._g, t - start, out
+        )
+
+    def _close_flight(self, k: int, t: float) -> None:
+        """Sphere ``k``'s open flight integrated up to ``t``, before its velocity changes there."""
+        if self._edges[0]:
+            self._flight(k, t, self._kin_t)
+            self._kt[k] = t
+
+    @property
     def growth(self) -> float:
         """Radii's relative growth rate now: ``dR_i/dt / R_i`` [1/time] (0: off)."""
         g = self._grow
@@ -540,7 +825,15 @@ class Reference:
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         if rate and self._inelastic:
             raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
+        if rate and self._g:
+            raise ShearError("radii cannot grow in a sheared box: compress without shear, then shear")
         t = self._clock
+        if self._edges[0]:
+            for k in range(len(self._p)):
+                self._close_flight(k, t)
+                self._kt[k] = 0.0
+        if self._speed:  # the offset's origin moves with the time origin
+            self._off0 = shear_offset(self._off0, self._speed, self._edges[0], t)
         for k in range(len(self._p)):
             self._move_sphere(self._p, self._v, self._tloc, k, t, self.dimensions == 2)
             self._tloc[k] = 0.0
@@ -632,12 +925,53 @@ class Reference:
             pk, vk = p[k], v[k]
             dt = t - tloc[k]
             row = [pk[0] + vk[0] * dt, pk[1] + vk[1] * dt, pk[2] + vk[2] * dt]
+            if self._speed:  # past a y face not yet crossed: its image, shifted by the offset then
+                ky = math.floor(row[1] / edges[1] + 0.5)
+                if ky:
+                    row[0] -= ky * shear_offset(self._off0, self._speed, edges[0], t)
             if edges[0]:  # into the box (the core's positions_at)
                 for ax in range(3):
                     if edges[ax]:
                         row[ax] -= edges[ax] * math.floor(row[ax] / edges[ax] + 0.5)
             out[k] = row[:2] if self.dimensions == 2 else row
         return out
+
+    def move_clock(self, t: float) -> None:
+        """Move the clock to absolute time ``t``, as the engine's (no event may be pending before it).
+
+        Crossings of the box's faces before ``t`` are made first.
+
+        Raises:
+            ArgumentError: an event is due before ``t``: advance to it first.
+        """
+        t = float(t) - self._origin
+        nt, kind, _, _ = self._next_physical(t)
+        if kind >= 0 and kind != CROSSING and nt < t:
+            raise ArgumentError("events are pending before that time: advance to it first")
+        if t > self._clock:
+            self._clock = self._now = t
+
+    def kick(self, i: int, t: float, velocity: Sequence[float]) -> None:
+        """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``, as the engine's.
+
+        The clock moves to ``t`` (crossings of the box's faces before it are
+        made first); for thermostats.
+
+        Raises:
+            ArgumentError: ``t`` is before the clock.
+            BoxShapeError: ``velocity`` has not ``d`` components.
+        """
+        t = float(t) - self._origin
+        if t < self._clock:
+            raise ArgumentError("a kick cannot be before the clock: give a time at or after it")
+        vel = _row(velocity, self.dimensions, "velocities")
+        i = int(i)
+        self._next_physical(t)
+        self._clock = self._now = t
+        self._close_flight(i, t)
+        self._move_sphere(self._p, self._v, self._tloc, i, t, self.dimensions == 2)
+        for ax in range(self.dimensions):
+            self._v[i][ax] = vel[ax]
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy [mass*length^2/time^2]."""
@@ -651,11 +985,26 @@ class Reference:
     # the loop's steps (the tests swap in the same functions compiled)
     _next_event = staticmethod(next_event)
     _next_event_periodic = staticmethod(next_event_periodic)
+    _next_event_sheared = staticmethod(next_event_sheared)
     _move_sphere = staticmethod(move_sphere)
     _apply_event = staticmethod(apply_event)
 
     def _next(self) -> tuple[float, int, int, int]:
         """The next event or move across the box, ``(t, kind, i, j)`` (times from the origin)."""
+        if self._speed:
+            return self._next_event_sheared(
+                self._p,
+                self._v,
+                self._tloc,
+                self._radii,
+                self._edges,
+                self._clock,
+                self._window,
+                self._now,
+                self.dimensions == 2,
+                self._off0,
+                self._speed,
+            )
         if self._edges[0]:
             return self._next_event_periodic(
                 self._p,
@@ -689,9 +1038,37 @@ class Reference:
                 return t, kind, i, j
             # the centre leaves the box: one side back (the core's crossing of a box face)
             ax, step = j >> 1, (1 if j & 1 else -1)
+            if ax == 1 and self._speed:
+                self._cross_sheared(i, t, step)
+                continue
             self._p[i][ax] -= step * self._edges[ax]
             self._img[i][ax] += step
             self._now = t
+
+    def _cross_sheared(self, i: int, t: float, step: int) -> None:
+        """Sphere ``i`` leaves a sheared box through a y face (``step``: +1 the upper) at ``t``.
+
+        Moved to ``t`` (its own time), then by ``-step L_y`` in y and
+        ``-step offset(t)`` in x (then into the box along x), and ``v_x``
+        changes by ``-step g L_y``: DynamO's ``BCLeesEdwards::applyBC(pos,
+        vel)``.  Not an event of the physics: the peculiar velocity is the
+        same on both sides.
+        """
+        self._close_flight(i, t)
+        p, edges = self._p, self._edges
+        self._move_sphere(p, self._v, self._tloc, i, t, self.dimensions == 2)
+        pi = p[i]
+        off = shear_offset(self._off0, self._speed, edges[0], t)
+        pi[1] -= step * edges[1]
+        pi[0] -= step * off
+        self._v[i][0] -= step * self._speed
+        self._img[i][1] += step
+        self._xshift[i] += step * off
+        m = math.floor((pi[0] - (-0.5 * edges[0])) / edges[0])
+        if m:
+            pi[0] -= m * edges[0]
+            self._img[i][0] += m
+        self._now = t
 
     def _process(self, until: float) -> tuple[float, int, int, int, float, float, float, float] | None:
         """The next event up to ``until``, processed: ``(t, kind, i, j, impulse, dp..., virial)``.
@@ -739,12 +1116,38 @@ class Reference:
         self._frozen += 1
         self._clock = self._now = t
         planar = self.dimensions == 2
+        if j >= 0 and self._edges[0]:
+            self._close_flight(i, t)
+            self._close_flight(j, t)
         self._move_sphere(p, v, tloc, i, t, planar)
         if j >= 0:
             self._move_sphere(p, v, tloc, j, t, planar)
-        imp, dpx, dpy, dpz, vir, lost = self._apply_event(
-            kind, i, j, p, v, self.masses, self._radii, self._edges, self._grow, planar, e, inelastic
+        off = shear_offset(self._off0, self._speed, self._edges[0], t) if self._speed else 0.0
+        imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
+            kind,
+            i,
+            j,
+            p,
+            v,
+            self.masses,
+            self._radii,
+            self._edges,
+            self._grow,
+            planar,
+            e,
+            inelastic,
+            off,
+            self._speed,
         )
+        if j >= 0 and self._edges[0]:  # the collisional virial tensor (the core's terms)
+            vt = self._vir_t
+            vt[0] += dx * dpx
+            vt[1] += dy * dpy
+            vt[3] += dx * dpy
+            if not planar:
+                vt[2] += dz * dpz
+                vt[4] += dx * dpz
+                vt[5] += dy * dpz
         if inelastic:
             self._dissipated += lost
             self._last[i] = t
