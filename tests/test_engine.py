@@ -40,6 +40,8 @@ def _compiled(fn):
         glob["box_exit"] = _compiled(reference.box_exit)
     if "_earlier" in fn.__code__.co_names:
         glob["_earlier"] = _compiled(reference._earlier)
+    if "shear_offset" in fn.__code__.co_names:
+        glob["shear_offset"] = _compiled(reference.shear_offset)
     return njit(types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__))
 
 
@@ -53,6 +55,7 @@ class CompiledReference(Reference):
 
     _next_event = staticmethod(_compiled(reference.next_event))
     _next_event_periodic = staticmethod(_compiled(reference.next_event_periodic))
+    _next_event_sheared = staticmethod(_compiled(reference.next_event_sheared))
     _move_sphere = staticmethod(_compiled(reference.move_sphere))
     _apply_event = staticmethod(_compiled(reference.apply_event))
 

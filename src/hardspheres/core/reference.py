@@ -301,20 +301,18 @@ def shear_offset(offset0: float, speed: float, lx: float, t: float) -> float:
     """The Lees-Edwards offset at time ``t``: ``(offset0 + speed t) mod lx``, in ``[0, lx]`` [length].
 
     ``speed`` is the boundary speed ``g L_y`` [length/time], ``t`` the time
-    from the instant the offset was ``offset0`` [time].  ``math.fmod`` is
-    exact, so the only rounding is that of ``offset0 + speed t`` (and of
-    ``+ lx`` for a negative remainder, which may give ``lx`` itself: the
-    same images).  DynamO's ``BCLeesEdwards::update`` keeps the same
+    from the instant the offset was ``offset0`` [time].  Python's float
+    ``%`` (and numba's, the same bits) is C's exact ``fmod`` followed, for a
+    negative remainder, by ``+ lx`` (one rounding, which may give ``lx``
+    itself: the same images); so the only other rounding is that of
+    ``offset0 + speed t``.  DynamO's ``BCLeesEdwards::update`` keeps the same
     quantity (``_dxd``), reduced with ``floor``.
 
     Example:
         >>> shear_offset(0.5, 2.0, 3.0, 1.5), shear_offset(0.0, -1.0, 3.0, 1.0)
         (0.5, 2.0)
     """
-    d = math.fmod(offset0 + speed * t, lx)
-    if d < 0.0:
-        d += lx
-    return d
+    return (offset0 + speed * t) % lx
 
 
 def next_event_sheared(

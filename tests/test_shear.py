@@ -1,0 +1,283 @@
+"""Lees-Edwards shear: the sheared box, and the brute-force reference that runs it.
+
+Analytic cases (a centre crossing a y face, two spheres meeting across the
+moving face at a time known in closed form, at several offsets and both
+signs of the rate), conservation (momentum along y and z to rounding, the
+exact balance of the peculiar kinetic energy against the shear stress's
+work), no overlap over long runs (fixed seeds), and the sheared box's
+file records and refusals.  docs/numerics.md, "Lees-Edwards shear".
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import hardspheres as hs
+from hardspheres.containers import PeriodicBox, from_fields, from_record
+from hardspheres.core.engine import Engine
+from hardspheres.core.reference import Reference, next_event_sheared, shear_offset
+from hardspheres.errors import ShearError
+
+from test_engine import CompiledReference
+from test_planar import disks
+
+
+def _rows(d, *rows):
+    return [list(r[:d]) for r in rows]
+
+
+# ---- the box -----------------------------------------------------------------------
+
+
+def test_a_sheared_box_reads_back_from_its_record_and_fields():
+    for box in (
+        PeriodicBox(7.0, shear_rate=0.5),
+        PeriodicBox((7.0, 8.0), -0.25),
+        PeriodicBox((6, 7, 8), 1e-3),
+    ):
+        assert from_record(box.record()) == box
+        assert from_fields(box.fields()) == box
+        assert box.sheared and box.boundary_speed == box.shear_rate * box.sides[1]
+    plain = PeriodicBox(7.0)
+    assert plain == PeriodicBox(7.0, shear_rate=0.0) and not plain.sheared
+    assert repr(plain) == "PeriodicBox(length=7.0)" and len(plain.record()) == 2
+    assert "shear_rate" not in plain.fields()
+    assert repr(PeriodicBox(3.0, 0.1)) == "PeriodicBox(length=3.0, shear_rate=0.1)"
+    assert (
+        PeriodicBox(3.0, -0.0).shear_rate == 0.0 and math.copysign(1, PeriodicBox(3.0, -0.0).shear_rate) == 1
+    )
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, "fast", True, None])
+def test_a_shear_rate_that_is_not_a_finite_number_is_refused_in_one_line(bad):
+    with pytest.raises(ShearError, match="shear_rate") as info:
+        PeriodicBox(5.0, shear_rate=bad)
+    assert "\n" not in str(info.value)
+
+
+def test_the_compiled_core_and_simulation_refuse_a_sheared_box_in_one_line():
+    box = PeriodicBox(8.0, shear_rate=0.1)
+    s = hs.random_spheres(10, 0.1, container=box, seed=1)  # the builders place spheres in it
+    with pytest.raises(ShearError, match="Simulation cannot shear yet") as info:
+        hs.Simulation(s, box)
+    assert "\n" not in str(info.value)
+    with pytest.raises(ShearError, match="compiled event core does not shear yet"):
+        Engine(s.masses, s.radii, s.positions, s.velocities, container=box)
+
+
+def test_the_sheared_nearest_image_shifts_x_by_the_offset_across_y():
+    box = PeriodicBox((10.0, 8.0, 9.0), shear_rate=0.3)
+    a = np.array([[1.0, 3.5, 0.0]])
+    b = np.array([[-2.0, -3.5, 0.0]])  # its image above: (-2 + offset, 4.5)
+    d = box.displacement(a, b, offset=2.5)
+    assert np.allclose(d, [[0.5, -1.0, 0.0]], rtol=0, atol=1e-15)
+    assert np.array_equal(box.displacement(a, b), PeriodicBox((10.0, 8.0, 9.0)).displacement(a, b))
+
+
+# ---- the offset and the crossings -------------------------------------------------
+
+
+def test_shear_offset_wraps_into_the_box_exactly():
+    assert shear_offset(0.0, 2.0, 10.0, 7.0) == 4.0
+    assert shear_offset(9.5, 1.0, 10.0, 1.0) == 0.5
+    assert shear_offset(0.0, -1.0, 10.0, 3.0) == 7.0
+    for t in (1e3, 1e6, 1e9):
+        assert 0.0 <= shear_offset(0.25, 3.0, 10.0, t) <= 10.0
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_a_centre_crossing_the_upper_face_loses_g_ly_and_shifts_by_the_offset(d):
+    box = PeriodicBox((10.0, 8.0, 9.0)[:d], shear_rate=0.25)  # g L_y = 2
+    ref = Reference([1.0], [0.5], _rows(d, [1.0, 3.0, 0.0]), _rows(d, [0.5, 1.0, 0.0]), container=box)
+    assert ref.advance(until=1.5).size == 0  # a crossing is no event
+    # at t = 1 it leaves at y = 4, x = 1.5; the offset is then 2: x -> -0.5, v_x -> 0.5 - 2
+    assert ref.velocities == _rows(d, [-1.5, 1.0, 0.0])
+    assert ref.positions_at(1.5) == _rows(d, [-1.25, -3.5, 0.0])
+    assert ref.images == _rows(d, [0, 1, 0]) and ref.x_shifts == [2.0]
+    assert ref.shear_offset(1.5) == 3.0
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_a_centre_crossing_the_lower_face_gains_g_ly_and_shifts_back(d):
+    box = PeriodicBox((10.0, 8.0, 9.0)[:d], shear_rate=0.25)
+    ref = Reference(
+        [1.0], [0.5], _rows(d, [1.0, -3.0, 0.0]), _rows(d, [0.5, -1.0, 0.0]), container=box, offset=3.0
+    )
+    ref.advance(until=1.5)
+    # at t = 1, x = 1.5 and the offset 3 + 2 = 5: x -> 6.5 -> -3.5 (one side back), v_x -> 2.5
+    assert ref.velocities == _rows(d, [2.5, -1.0, 0.0])
+    assert ref.positions_at(1.5) == _rows(d, [-2.25, 3.5, 0.0])
+    assert ref.images == _rows(d, [1, -1, 0]) and ref.x_shifts == [-5.0]
+    # unwrapped: continuous (1.5 at the crossing, then 0.5 further at 2.5)
+    assert ref.positions_at(1.5)[0][0] + 10.0 * ref.images[0][0] + ref.x_shifts[0] == 2.75
+
+
+def test_positions_between_events_past_an_uncrossed_face_are_the_shifted_image():
+    box = PeriodicBox((10.0, 8.0), shear_rate=0.25)
+    ref = Reference([1.0], [0.5], [[1.0, 3.0]], [[0.5, 1.0]], container=box)
+    # not advanced: the centre at t = 1.5 is past the face, shown as its image then
+    assert ref.positions_at(1.5) == [[-1.25, -3.5]]
+
+
+# ---- a collision across the moving face -------------------------------------------
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize(
+    "rate,offset,xb,expect", [(0.1, 0.0, -3.0, 3.0), (0.1, 9.5, -3.0, 3.5), (-0.1, 0.0, 3.0, 3.0)]
+)
+def test_two_spheres_meet_across_the_moving_face_when_predicted(d, rate, offset, xb, expect):
+    """A at rest below the upper face, B at rest above the lower one: B's image above slides into A.
+
+    The image is at ``(xb + offset + g L_y t, 5.4)``, so with ``|dy| = 0.9``
+    the spheres (diameter 1) touch at ``|dx| = sqrt(0.19)``: at ``t =
+    expect - sqrt(0.19)``.  Nothing crosses a face, so no event bounds the
+    images' sweep: every image ahead is tried.
+    """
+    box = PeriodicBox((10.0, 10.0, 10.0)[:d], shear_rate=rate)
+    ref = Reference(
+        [1.0, 1.0],
+        [0.5, 0.5],
+        _rows(d, [0.0, 4.5, 0.0], [xb, -4.6, 0.0]),
+        _rows(d, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        container=box,
+        offset=offset,
+    )
+    t, kind, i, j = ref.step()
+    assert (kind, i, j) == (1, 0, 1)
+    h = math.sqrt(0.19)
+    assert t == pytest.approx(expect - h, rel=0, abs=1e-14)
+    # head on in the image's frame (it moves at g L_y = +-1 along x): equal masses swap the normal speeds
+    sign = 1.0 if rate > 0 else -1.0
+    n = np.array([sign * h, -0.9])
+    vn = np.dot([-sign, 0.0], n)
+    va = -vn * n
+    v = np.asarray(ref.velocities, dtype=float)
+    assert np.allclose(v[0, :2], va, rtol=0, atol=1e-14)
+    assert np.allclose(v[1, :2], -va, rtol=0, atol=1e-14)
+    assert v[0, 1] + v[1, 1] == pytest.approx(0.0, abs=1e-16)
+
+
+def test_the_shear_rate_given_to_the_reference_is_the_boxs():
+    s = hs.random_spheres(30, 0.2, container=PeriodicBox(9.0), seed=2)
+    runs = []
+    for box, rate in ((PeriodicBox(9.0, 0.2), None), (PeriodicBox(9.0), 0.2)):
+        ref = Reference(
+            s.masses, s.radii, s.positions.tolist(), s.velocities.tolist(), container=box, shear_rate=rate
+        )
+        runs.append(ref.advance(events=200))
+        assert ref.container == PeriodicBox(9.0, 0.2) and ref.shear_rate == 0.2
+    assert all(np.array_equal(runs[0][f], runs[1][f]) for f in runs[0].dtype.names)
+    with pytest.raises(ShearError, match="sheared at"):
+        Reference(
+            s.masses, s.radii, s.positions, s.velocities, container=PeriodicBox(9.0, 0.2), shear_rate=0.1
+        )
+    with pytest.raises(ShearError, match="cannot be sheared"):
+        Reference([1.0], [1.0], [[0, 0, 0]], [[1, 0, 0]], container=20.0, shear_rate=0.1)
+    ref = Reference(s.masses, s.radii, s.positions, s.velocities, container=PeriodicBox(9.0, 0.2))
+    with pytest.raises(ShearError, match="cannot grow"):
+        ref.set_growth(0.1)
+
+
+# ---- long runs: conservation, no overlap, the energy balance --------------------------
+
+
+def _system(d, n, phi, rate, seed):
+    sides = (11.0, 13.0, 12.0)[:d]
+    plain = PeriodicBox(sides)
+    scale = (n * (math.pi / 6 if d == 3 else math.pi / 4) / (phi * plain.volume)) ** (1 / d)
+    box = PeriodicBox(tuple(x * scale for x in sides), shear_rate=rate)
+    if d == 2:
+        m, r, x, v = disks(n, phi, box, seed, ratio=1.3)
+    else:
+        s = hs.random_spheres(n, phi, container=box, seed=seed, radius_ratio=1.3)
+        m, r, x, v = s.masses, s.radii, s.positions, s.velocities
+    return box, np.asarray(m, float), np.asarray(r, float), np.asarray(x, float), np.asarray(v, float)
+
+
+def peculiar_energy(ref, t):
+    """``sum m c^2 / 2`` at ``t``, ``c = v - g y e_x`` (at an event time: the velocities then)."""
+    x = np.asarray(ref.positions_at(t), dtype=float)
+    c = np.asarray(ref.velocities, dtype=float).copy()
+    c[:, 0] -= ref.shear_rate * x[:, 1]
+    return 0.5 * float(np.sum(np.asarray(ref.masses)[:, None] * c * c))
+
+
+CASES = [
+    (3, 60, 0.3, 0.2, 1, 0.0),
+    (3, 100, 0.3, -0.5, 2, 3.7),
+    (2, 80, 0.5, 0.3, 3, 0.0),
+    (2, 60, 0.4, 1.0, 4, 5.1),
+]
+
+
+@pytest.mark.parametrize("d,n,phi,rate,seed,offset", CASES)
+def test_long_sheared_runs_conserve_what_they_must_and_never_overlap(d, n, phi, rate, seed, offset):
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, offset=offset)
+    p0 = np.sum(m[:, None] * v, axis=0)
+    e0 = peculiar_energy(ref, 0.0)
+    sigma = r[:, None] + r[None, :]
+    for _ in range(6):
+        ev = ref.advance(events=500)
+        assert len(ev) == 500
+        t = ref.time
+        pos = np.asarray(ref.positions_at(), dtype=float)
+        dist = np.linalg.norm(box.displacement(pos[:, None], pos[None, :], ref.shear_offset()), axis=2)
+        np.fill_diagonal(dist, np.inf)
+        assert np.min(dist / sigma) > 1.0 - 1e-9
+        # each collision at contact, at its nearest image
+        last = ev[-1]
+        i, j = int(last["i"]), int(last["j"])
+        assert abs(dist[i, j] / sigma[i, j] - 1.0) < 1e-9
+        p = np.sum(m[:, None] * np.asarray(ref.velocities, dtype=float), axis=0)
+        scale = float(np.sum(m * np.linalg.norm(v, axis=1)))
+        assert np.all(np.abs(p[1:] - p0[1:]) < 1e-12 * scale)  # y (and z): conserved
+        # the peculiar kinetic energy changes by the shear stress's work, -g int V P_xy dt
+        tal = ref.stress_tallies(t)
+        work = -rate * (tal["kinetic"][3] + tal["virial"][3])
+        e = peculiar_energy(ref, t)
+        assert abs((e - e0) - work) < 1e-11 * e
+    # along x: each crossing of the upper face takes g L_y m, of the lower gives it
+    net = np.asarray(ref.images, dtype=float)[:, 1]
+    assert abs(p[0] - (p0[0] - box.boundary_speed * np.sum(m * net))) < 1e-12 * scale
+
+
+def test_the_compiled_steps_are_the_reference_bit_for_bit():
+    box, m, r, x, v = _system(3, 40, 0.2, 0.4, 7)
+    runs = []
+    for cls in (Reference, CompiledReference):
+        ref = cls(m, r, x.tolist(), v.tolist(), container=box, offset=1.25)
+        runs.append(
+            (ref.advance(events=300), np.asarray(ref.velocities, dtype=float), ref.images, ref.x_shifts)
+        )
+    (a, va, ia, sa), (b, vb, ib, sb) = runs
+    assert all(np.array_equal(a[f], b[f]) for f in a.dtype.names)
+    assert np.array_equal(va, vb) and ia == [list(row) for row in ib] and sa == sb
+
+
+def test_unsheared_stress_tallies_are_the_engines_transport_tallies():
+    """At g = 0 the reference's tallies are the compiled core's: the virial bit for bit, the kinetic to rounding."""
+    box, m, r, x, v = _system(3, 60, 0.25, 0.0, 5)
+    eng = Engine(m, r, x, v, container=box, rebase=False, reorder=0.0)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box)
+    a, b = eng.advance(events=800), ref.advance(events=800)
+    assert np.array_equal(a["time"], b["time"])
+    te, tr = eng.transport_tallies(eng.time + 0.5), ref.stress_tallies(ref.time + 0.5)
+    assert np.array_equal(te["virial"], tr["virial"])
+    assert np.allclose(te["kinetic"], tr["kinetic"], rtol=1e-12, atol=1e-12 * np.max(np.abs(te["kinetic"])))
+
+
+def test_the_sheared_search_finds_every_image_that_slides_past():
+    """Unbounded sweep: nothing crosses, so the first image ahead is met, at every offset."""
+    edges = (10.0, 10.0, 0.0)
+    h = math.sqrt(0.19)  # |dx| at contact (|dy| = 0.9, contact distance 1)
+    for off in np.linspace(0.0, 10.0, 81):
+        if abs((off + 5.0) % 10.0 - 5.0) < h:
+            continue  # they would overlap at the start
+        p = [[0.0, 4.5, 0.0], [0.0, -4.6, 0.0]]
+        v = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+        t, kind, i, j = next_event_sheared(p, v, [0.0, 0.0], [0.5, 0.5], edges, 0.0, 0.0, 0.0, True, off, 1.0)
+        assert (kind, i, j) == (1, 0, 1)
+        assert t == pytest.approx((-h - off) % 10.0, abs=1e-12)
