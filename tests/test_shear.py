@@ -86,6 +86,20 @@ def test_shear_offset_wraps_into_the_box_exactly():
         assert 0.0 <= shear_offset(0.25, 3.0, 10.0, t) <= 10.0
 
 
+def test_numbas_float_remainder_is_pythons_bit_for_bit():
+    """The offset's ``%`` (docs/numerics.md): the compiled core will take the same bits."""
+    from numba import njit
+
+    rem = njit(lambda a, b: a % b)
+    rng = np.random.default_rng(3)
+    a = rng.uniform(-1.0, 1.0, 20000) * 10.0 ** rng.integers(-20, 20, 20000)
+    b = rng.uniform(0.1, 100.0, 20000)
+    for x, y in zip(a.tolist(), b.tolist()):
+        r = x % y
+        assert r == rem(x, y) and math.copysign(1.0, r) == math.copysign(1.0, rem(x, y))
+    assert rem(-1e-18, 3.0) == -1e-18 % 3.0 == 3.0
+
+
 @pytest.mark.parametrize("d", [2, 3])
 def test_a_centre_crossing_the_upper_face_loses_g_ly_and_shifts_by_the_offset(d):
     box = PeriodicBox((10.0, 8.0, 9.0)[:d], shear_rate=0.25)  # g L_y = 2

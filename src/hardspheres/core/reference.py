@@ -471,6 +471,9 @@ def apply_event(
 ) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Change the velocities for one event (its spheres moved to its time).
 
+    Longer than 80 lines with this docstring (under 60 of code): one step
+    of the loop, compiled whole by the tests, for every container and rule.
+
     ``radii`` (at the time origin) and ``grow`` as :func:`next_event`
     (needed only while growing); ``edges``: the periodic box's sides (zeros:
     none), the pair taken at its nearest image; ``planar``: 2-D (z is
@@ -552,6 +555,23 @@ def apply_event(
     return imp, -mi * k1 * dx, -mi * k1 * dy, -mi * k1 * dz, -mi * k1 * d2, lost, dx, dy, dz
 
 
+def _sheared(where: Container, shear_rate: float | None) -> tuple[Container, float]:
+    """The container sheared at ``shear_rate`` (``None``: its own rate), and that rate [1/time]."""
+    own = float(getattr(where, "shear_rate", 0.0))
+    if shear_rate is None:
+        return where, own
+    rate = float(shear_rate)
+    if not math.isfinite(rate):
+        raise ShearError(f"shear_rate {shear_rate!r}: give a finite number [1/time] (0: no shear)")
+    if own and rate != own:
+        raise ShearError(f"shear_rate {rate:g} but the box is sheared at {own:g}; give one of them")
+    if rate and not where.periodic:
+        raise ShearError(f"a {where.description} cannot be sheared: give a hs.PeriodicBox")
+    if rate != own:
+        where = where.sheared_by(rate)  # type: ignore[attr-defined]  # a box's
+    return where, rate
+
+
 def _row(row: Sequence[float], d: int, what: str) -> list[float]:
     """A centre or velocity as ``[x, y, z]`` floats (``z = 0`` in 2-D); ValueError if not ``d`` numbers."""
     out = [float(x) for x in row]
@@ -625,21 +645,9 @@ class Reference:
         shear_rate: float | None = None,
         offset: float = 0.0,
     ) -> None:
-        where = as_container(container, box)
-        own = float(getattr(where, "shear_rate", 0.0))
-        if shear_rate is not None:
-            rate = float(shear_rate)
-            if not math.isfinite(rate):
-                raise ShearError(f"shear_rate {shear_rate!r}: give a finite number [1/time] (0: no shear)")
-            if own and rate != own:
-                raise ShearError(f"shear_rate {rate:g} but the box is sheared at {own:g}; give one of them")
-            if rate and not where.periodic:
-                raise ShearError(f"a {where.description} cannot be sheared: give a hs.PeriodicBox")
-            if rate != own:
-                where = where.sheared_by(rate)  # type: ignore[attr-defined]  # a box's
-            own = rate
+        where, own = _sheared(as_container(container, box), shear_rate)
         self.container: Container = where
-        params = where.core_params(shear=True) if own else where.core_params()
+        params = where.core_params(shear=True) if own else where.core_params()  # type: ignore[call-arg]
         self._wall = params["wall_radius"]
         #: the periodic box's sides as the core reads them (zeros: a container)
         self._edges: tuple[float, float, float] = tuple(float(e) for e in params["edges"])  # type: ignore[assignment]
@@ -658,27 +666,7 @@ class Reference:
             )
         #: crossings of the periodic box per axis (the engine's ``images``)
         self._img = [[0, 0, 0] for _ in range(n)]
-        #: Lees-Edwards: ``g``, the boundary speed ``g L_y`` and the offset at time 0
-        self._g = own + 0.0
-        self._speed = own * self._edges[1] if own else 0.0
-        self._off0 = 0.0
-        #: each centre's accumulated x shift at y crossings (unwrapped x: ``x + images_x L_x + shift``)
-        self._xshift = [0.0] * n
-        if own:
-            off = float(offset)
-            if not math.isfinite(off):
-                raise ShearError(f"offset {offset!r}: give a finite length")
-            self._off0 = shear_offset(off, self._speed, self._edges[0], -float(time))
-            lx, ly = self._edges[0], self._edges[1]
-            now_off = shear_offset(self._off0, self._speed, lx, float(time))
-            for k, pk in enumerate(self._p):  # into the box along y first: an image across it is shifted
-                m = math.floor((pk[1] - (-0.5 * ly)) / ly)
-                if m:
-                    pk[1] -= m * ly
-                    pk[0] -= m * now_off
-                    self._v[k][0] -= m * self._speed
-                    self._img[k][1] += m
-                    self._xshift[k] += m * now_off
+        self._set_shear(own, offset, float(time))
         for k, pk in enumerate(self._p):  # into the box, whole sides at a time (the engine's _into_box)
             for ax in range(d):
                 edge = self._edges[ax]
@@ -718,6 +706,35 @@ class Reference:
         self._vir_t = [0.0] * 6
         self._kin_t = [0.0] * 6
         self._kt = [self._clock] * n
+
+    def _set_shear(self, rate: float, offset: float, time: float) -> None:
+        """Lees-Edwards: ``g``, the boundary speed ``g L_y``, the offset at time 0; centres into the box.
+
+        A centre given outside the box along y is an image: it is moved by
+        whole sides along y, its x by the offset then and its ``v_x`` by the
+        boundary speed (DynamO's ``applyBC(pos, vel)``).
+        """
+        self._g = rate + 0.0
+        self._speed = rate * self._edges[1] if rate else 0.0
+        self._off0 = 0.0
+        #: each centre's accumulated x shift at y crossings (unwrapped x: ``x + images_x L_x + shift``)
+        self._xshift = [0.0] * len(self._p)
+        if not rate:
+            return
+        off = float(offset)
+        if not math.isfinite(off):
+            raise ShearError(f"offset {offset!r}: give a finite length")
+        lx, ly = self._edges[0], self._edges[1]
+        self._off0 = shear_offset(off, self._speed, lx, -time)
+        now_off = shear_offset(self._off0, self._speed, lx, time)
+        for k, pk in enumerate(self._p):
+            m = math.floor((pk[1] - (-0.5 * ly)) / ly)
+            if m:
+                pk[1] -= m * ly
+                pk[0] -= m * now_off
+                self._v[k][0] -= m * self._speed
+                self._img[k][1] += m
+                self._xshift[k] += m * now_off
 
     # ---- what the engine also tells ---------------------------------------------
     @property
@@ -1068,6 +1085,17 @@ class Reference:
             self._img[i][0] += m
         self._now = t
 
+    def _add_virial(self, dx: float, dy: float, dz: float, px: float, py: float, pz: float) -> None:
+        """A collision's terms ``r_a dp_b`` of the virial tensor (the core's, in its arithmetic)."""
+        vt = self._vir_t
+        vt[0] += dx * px
+        vt[1] += dy * py
+        vt[3] += dx * py
+        if self.dimensions == 3:
+            vt[2] += dz * pz
+            vt[4] += dx * pz
+            vt[5] += dy * pz
+
     def _process(self, until: float) -> tuple[float, int, int, int, float, float, float, float] | None:
         """The next event up to ``until``, processed: ``(t, kind, i, j, impulse, dp..., virial)``.
 
@@ -1121,31 +1149,12 @@ class Reference:
         if j >= 0:
             self._move_sphere(p, v, tloc, j, t, planar)
         off = shear_offset(self._off0, self._speed, self._edges[0], t) if self._speed else 0.0
+        rule = (self._grow, planar, e, inelastic, off, self._speed)
         imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
-            kind,
-            i,
-            j,
-            p,
-            v,
-            self.masses,
-            self._radii,
-            self._edges,
-            self._grow,
-            planar,
-            e,
-            inelastic,
-            off,
-            self._speed,
+            kind, i, j, p, v, self.masses, self._radii, self._edges, *rule
         )
-        if j >= 0 and self._edges[0]:  # the collisional virial tensor (the core's terms)
-            vt = self._vir_t
-            vt[0] += dx * dpx
-            vt[1] += dy * dpy
-            vt[3] += dx * dpy
-            if not planar:
-                vt[2] += dz * dpz
-                vt[4] += dx * dpz
-                vt[5] += dy * dpz
+        if j >= 0 and self._edges[0]:
+            self._add_virial(dx, dy, dz, dpx, dpy, dpz)
         if inelastic:
             self._dissipated += lost
             self._last[i] = t
