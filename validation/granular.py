@@ -28,11 +28,22 @@ viscosity and collision rate: L_c = 10.78 lambda / sqrt(1 - e^2) in 3-D and
 10.03 lambda / sqrt(1 - e^2) in 2-D (lambda the mean free path); each row
 prints L / L_c.
 
-    python3 validation/granular.py            # writes validation/results/granular.txt
+The driven steady state (``driven``): white-noise kicks
+(:class:`hardspheres.dense.RandomKicks`) at the strength xi_0^2 whose
+steady temperature is kT = 1 by Enskog's theory with van Noije and Ernst's
+first Sonine a_2 of the white-noise driven state (Granular Matter 1, 57
+(1998)), a_2 = 16 (1 - e)(1 - 2 e^2) / (73 + 56 d - 3 e (35 + 8 d) + 30 e^2
+(1 - e)): the measured kT against 1, against the energy balance with the
+measured collision rate, and the measured a_2 against the formula.
+
+    python3 validation/granular.py            # both parts
+    python3 validation/granular.py hcs        # validation/results/granular.txt
+    python3 validation/granular.py driven     # validation/results/granular_driven.txt
 """
 
 import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -105,7 +116,144 @@ def one_run(d: int, e: float, n: int, seed: int) -> dict:
     return {"rows": np.array(rows), "balance": balance, "side": box.sides[0], "n_density": n / box.volume}
 
 
-def main() -> None:
+# ---- the driven steady state: white-noise kicks --------------------------------
+
+#: (d, e, N) of the driven rows (packing PHI): no cooling, so no critical length to stay under
+DRIVEN = [(3, 0.9, 500), (3, 0.6, 500), (2, 0.9, 400), (2, 0.6, 400)]
+DRIVEN_SEEDS = 4
+#: collisions per sphere: relaxation, then measurement, sampled every half
+C_RELAX, C_MEASURE = 20.0, 200.0
+#: the kicks' interval in mean free times (at the predicted temperature)
+KICKS_PER_FREE_TIME = 20.0
+
+
+def a2_white_noise(e: float, d: int) -> float:
+    """van Noije and Ernst's first Sonine a_2 of the white-noise driven steady state in d dimensions."""
+    denominator = 73.0 + 56.0 * d - 3.0 * e * (35.0 + 8.0 * d) + 30.0 * e * e * (1.0 - e)
+    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / denominator
+
+
+def driven_strength(d: int, e: float, n: int, n_density: float, kT: float) -> float:
+    """The kicks' strength xi_0^2 whose steady state is kT by Enskog's theory with the first Sonine a_2.
+
+    Injection (N - 1) d xi_0^2 / 2 = dissipation (N / 2) nu_E(T) (1 - e^2) T (1 + 3 a_2 / 16),
+    nu_E = chi nu_Boltzmann (unit diameter and mass).
+    """
+    a2 = a2_white_noise(e, d)
+    loss = chi(d, PHI) * boltzmann_rate(d, n_density, kT) * (1.0 - e * e) * kT * (1.0 + 3.0 * a2 / 16.0)
+    return n * loss / ((n - 1) * d)
+
+
+def driven_run(d: int, e: float, n: int, seed: int) -> dict:
+    """One driven run at the strength whose predicted steady state is kT = 1."""
+    from hardspheres.dense import RandomKicks
+
+    box = hs.PeriodicBox.for_packing(n, PHI, None if d == 3 else (1.0, 1.0))
+    n_density = n / box.volume
+    strength = driven_strength(d, e, n, n_density, 1.0)
+    free_time = 1.0 / (chi(d, PHI) * boltzmann_rate(d, n_density, 1.0))
+    kicks = RandomKicks(strength, free_time / KICKS_PER_FREE_TIME, seed=1000 + seed)
+    sim = hs.Simulation(hs.random_spheres(n, PHI, box, seed=seed), box, restitution=e)
+    sim.set_thermostat(kicks)
+    obs = sim.observables
+    step = max(1, n // 4)
+    sim.run(collisions=int(C_RELAX * n / 2))
+    obs.reset()
+    t0, c0 = sim.time, sim.counters["collisions"]
+    rows = []
+    while 2.0 * (sim.counters["collisions"] - c0) / n < C_MEASURE:
+        sim.run(collisions=step)
+        rows.append((obs.temperature(), obs.a2()))
+    kts, a2s = np.array(rows).T
+    elapsed = sim.time - t0
+    return {
+        "kT": float(np.mean(kts)),
+        "a2": float(np.mean(a2s)),
+        "nu": 2.0 * (sim.counters["collisions"] - c0) / n / elapsed,
+        "injection": obs.injected() / elapsed,
+        "dissipation": obs.dissipated() / elapsed,
+        "balance": abs(obs.energy_balance()),
+        "expected_injection": kicks.injection_rate(sim.engine.masses, d),
+        "n_density": n_density,
+        "kicks": kicks.kicks,
+    }
+
+
+def driven_table() -> list[str]:
+    """The driven rows: steady kT against Enskog-Sonine theory and against the measured energy balance."""
+    out = [
+        f"{'d':>2} {'e':>4} {'N':>5} {'kT':>8} {'+-':>7} {'kT theory':>9} {'kT bal':>8} {'+-':>7} "
+        f"{'a2':>8} {'+-':>7} {'a2 WN':>8} {'a2 HCS':>8} {'nu/nu_E':>8} {'inj/diss':>9} {'inj/exp':>8} "
+        f"{'balance':>9}"
+    ]
+    for d, e, n in DRIVEN:
+        runs = [driven_run(d, e, n, seed) for seed in range(DRIVEN_SEEDS)]
+        offset = -2.0 / (d * (n - 1) + 2.0)
+
+        def mean_err(key: str, runs: list = runs) -> tuple[float, float]:
+            x = np.array([r[key] for r in runs])
+            return float(np.mean(x)), float(np.std(x, ddof=1) / math.sqrt(len(x)))
+
+        kt, kt_err = mean_err("kT")
+        a2, a2_err = mean_err("a2")
+        a2 -= offset
+        # the energy balance with the measured collision rate and a_2: the temperature at which the
+        # collisions dissipate (1 - e^2) T (1 + 3 a2/16) / (1 - a2/16) each what the kicks inject
+        bal = []
+        for r in runs:
+            a2r = r["a2"] - offset
+            per_t = 0.5 * n * r["nu"] * (1.0 - e * e) * (1.0 + 3.0 * a2r / 16.0) / (1.0 - a2r / 16.0)
+            bal.append(r["expected_injection"] / per_t)
+        kb, kb_err = float(np.mean(bal)), float(np.std(bal, ddof=1) / math.sqrt(len(bal)))
+        nu_e = np.mean(
+            [
+                r["nu"]
+                / (
+                    chi(d, PHI)
+                    * boltzmann_rate(d, r["n_density"], r["kT"])
+                    * (1.0 - a2_white_noise(e, d) / 16.0)
+                )
+                for r in runs
+            ]
+        )
+        inj = np.mean([r["injection"] / r["dissipation"] for r in runs])
+        inj_exp = np.mean([r["injection"] / r["expected_injection"] for r in runs])
+        out.append(
+            f"{d:>2} {e:>4.1f} {n:>5} {kt:>8.4f} {kt_err:>7.4f} {1.0:>9.4f} {kb:>8.4f} {kb_err:>7.4f} "
+            f"{a2:>+8.4f} {a2_err:>7.4f} {a2_white_noise(e, d):>+8.4f} {a2_sonine(e, d):>+8.4f} {nu_e:>8.4f} "
+            f"{inj:>9.4f} {inj_exp:>8.4f} {max(r['balance'] for r in runs):>9.1e}"
+        )
+        print(out[-1], flush=True)
+    out.append("")
+    out.append(
+        f"driven: packing {PHI}, {DRIVEN_SEEDS} seeds per row, kicks every 1/{KICKS_PER_FREE_TIME:g} of the "
+        f"mean free time at the strength whose Enskog-Sonine steady state is kT = 1; relaxed for "
+        f"{C_RELAX:g} collisions per sphere, measured over {C_MEASURE:g}; kT bal: the temperature at which "
+        "the "
+        "measured collision rate dissipates what the kicks inject (first Sonine loss with the measured a2); "
+        "inj/diss: injected over dissipated energy per unit time; inj/exp: injected over (N-1) d xi0^2 / 2"
+    )
+    return out
+
+
+def write(name: str, lines: list[str]) -> None:
+    """``lines`` into validation/results/``name``."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", name)
+    with atomic_write(path, "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+    print(f"wrote {path}")
+
+
+def driven() -> None:
+    """The driven steady state's table, into validation/results/granular_driven.txt."""
+    t_start = time.perf_counter()
+    out = driven_table()
+    out[-1] += f"; {time.perf_counter() - t_start:.0f} s"
+    write("granular_driven.txt", out)
+
+
+def hcs() -> None:
+    """The homogeneous cooling state's table, into validation/results/granular.txt."""
     out = []
     t_start = time.perf_counter()
     header = (
@@ -157,11 +305,23 @@ def main() -> None:
         "largest |(E_kin + E_dissipated)/E_0 - 1|; "
         f"{time.perf_counter() - t_start:.0f} s"
     )
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "granular.txt")
-    with atomic_write(path, "w") as fh:
-        fh.write("\n".join(out) + "\n")
-    print(f"wrote {path}")
+    write("granular.txt", out)
+
+
+PARTS = {"hcs": hcs, "driven": driven}
+
+
+def main(argv: list[str]) -> int:
+    """Run the parts named in ``argv`` (all without one); 1 on an unknown name."""
+    names = argv or list(PARTS)
+    unknown = [x for x in names if x not in PARTS]
+    if unknown:
+        print(f"unknown part {unknown[0]!r}: give some of {', '.join(PARTS)}", file=sys.stderr)
+        return 1
+    for name in names:
+        PARTS[name]()
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main(sys.argv[1:]))

@@ -9,7 +9,9 @@
 * :class:`Andersen` resamples one sphere's velocity at random times (a
   Poisson process, seeded: a run is reproducible and a checkpoint resumes
   it bit for bit); :class:`VelocityRescale` rescales all velocities to
-  ``kT`` at fixed intervals.  Set one with :meth:`Simulation.set_thermostat
+  ``kT`` at fixed intervals; :class:`RandomKicks` gives every sphere a
+  random (white-noise) velocity kick at fixed intervals, driving a granular
+  gas to a steady state.  Set one with :meth:`Simulation.set_thermostat
   <hardspheres.Simulation.set_thermostat>`; without one a run is NVE,
   exactly as before.
 
@@ -308,14 +310,127 @@ class VelocityRescale:
         )
 
 
-def thermostat_from_state(text: str) -> Andersen | VelocityRescale:
-    """The thermostat :meth:`Andersen.state` or :meth:`VelocityRescale.state` saved."""
+class RandomKicks:
+    """White-noise driving: every ``interval`` each sphere's velocity gets a random kick.
+
+    The kick of sphere ``i`` is ``xi_i - sum_j m_j xi_j / M``: ``xi_i`` has
+    ``d`` independent normal components of variance ``strength * interval``
+    and the mass-weighted mean is taken off, so the total momentum does not
+    change.  As ``interval -> 0`` this is the random force of Williams and
+    MacKintosh (Phys. Rev. E 54, R9 (1996)) and of van Noije, Ernst, Trizac
+    and Pagonabarraga (Phys. Rev. E 59, 4326 (1999)), ``dv_i/dt = (collisions)
+    + xi_i(t)`` with ``<xi_ia(t) xi_jb(t')> = strength delta_ij delta_ab
+    delta(t - t')`` (``strength`` is their ``xi_0^2``; a diffusion in
+    velocity of coefficient ``strength / 2``).  It injects on average
+    ``(N - 1) d m strength / 2`` of kinetic energy per unit time (equal
+    masses ``m``), whatever the velocities; inelastic collisions dissipate
+    it, and the gas reaches a steady state where the two balance
+    (docs/guide/granular.md, "Driven steady states").  Choose ``interval``
+    a small fraction of the mean free time, so that spheres fly freely
+    between kicks on a scale much finer than between collisions.
+
+    :attr:`injected` tallies the energy the kicks gave (the kinetic energy
+    after each kick less before it, exactly), so that kinetic plus
+    dissipated less injected energy is conserved to rounding
+    (:meth:`Observables.energy_balance
+    <hardspheres.observables.Observables.energy_balance>`).
+
+    Args:
+        strength: ``xi_0^2``, the variance of the velocity kicks per
+            component per unit time [length^2/time^3].
+        interval: time between kicks [time].
+        seed: seed of the generator (numpy's PCG64): the same seed gives
+            the same run, and a checkpoint resumes it bit for bit.
+
+    Example:
+        >>> import hardspheres as hs
+        >>> from hardspheres.dense import RandomKicks
+        >>> box = hs.PeriodicBox.for_packing(200, 0.1, (1.0, 1.0))
+        >>> sim = hs.Simulation(hs.random_spheres(200, 0.1, box, seed=1), box, restitution=0.9)
+        >>> kicks = RandomKicks(strength=0.5, interval=0.25, seed=1)
+        >>> _ = sim.set_thermostat(kicks).run(until=2.0)
+        >>> kicks.kicks, abs(sim.observables.energy_balance()) < 1e-12
+        (8, True)
+    """
+
+    def __init__(self, strength: float, interval: float, seed: int = 0) -> None:
+        if not (isinstance(strength, (int, float)) and math.isfinite(strength) and strength > 0):
+            raise ArgumentError(
+                f"strength must be a number > 0 (the kicks' variance per unit time), got {strength}"
+            )
+        if not (isinstance(interval, (int, float)) and math.isfinite(interval) and interval > 0):
+            raise ArgumentError(f"interval must be a time > 0, got {interval}")
+        self.strength, self.interval, self.seed = float(strength), float(interval), int(seed)
+        self._rng = np.random.Generator(np.random.PCG64(self.seed))
+        self.next_time: float | None = None
+        #: kicks given (each kicks every sphere)
+        self.kicks = 0
+        #: kinetic energy the kicks gave so far [energy]
+        self.injected = 0.0
+
+    def injection_rate(self, masses: ArrayLike, dimensions: int = 3) -> float:
+        """Mean energy the kicks inject per unit time into ``masses`` in ``dimensions`` [energy/time].
+
+        ``sum_i m_i (1 - m_i / M) d strength / 2``: ``(N - 1) d m strength
+        / 2`` for equal masses (taking off the mean kick removes one
+        sphere's share), whatever the velocities.
+        """
+        m = np.asarray(masses, dtype=np.float64)
+        total = float(m.sum())
+        if not total > 0:
+            return 0.0
+        return float(np.sum(m * (1.0 - m / total))) * dimensions * self.strength / 2.0
+
+    def attach(self, sim: ObservedSimulation) -> None:
+        """Called as each run starts: schedules the first kick."""
+        if self.next_time is None:
+            self.next_time = sim.time + self.interval
+
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
+        """Kick every sphere at ``t`` (the simulation calls this at :attr:`next_time`)."""
+        eng = sim.engine
+        n, d = sim.n, sim.container.dimensions
+        if n:
+            m = np.asarray(eng.masses, dtype=np.float64)
+            xi = self._rng.normal(size=(n, d)) * math.sqrt(self.strength * self.interval)
+            xi -= (m @ xi) / m.sum()
+            before = eng.kinetic_energy()
+            v = eng.velocities + xi
+            for i in range(n):  # each sphere predicted afresh (the engine's public kick)
+                eng.kick(i, t, v[i])
+            self.injected += eng.kinetic_energy() - before
+        self.kicks += 1
+        self.next_time = t + self.interval
+
+    def state(self) -> str:
+        """JSON text of everything needed to resume exactly."""
+        return json.dumps(
+            {
+                "kind": "kicks",
+                "strength": self.strength,
+                "interval": self.interval,
+                "seed": self.seed,
+                "next_time": self.next_time,
+                "kicks": self.kicks,
+                "injected": self.injected,
+                "rng": self._rng.bit_generator.state,
+            }
+        )
+
+
+def thermostat_from_state(text: str) -> Andersen | VelocityRescale | RandomKicks:
+    """The thermostat that :meth:`Andersen.state`, :meth:`VelocityRescale.state` or
+    :meth:`RandomKicks.state` saved."""
     d = json.loads(text)
-    th: Andersen | VelocityRescale
+    th: Andersen | VelocityRescale | RandomKicks
     if d["kind"] == "andersen":
         th = Andersen(d["kT"], d["rate"], d["seed"])
         th._rng.bit_generator.state = d["rng"]
         th.resampled = d["resampled"]
+    elif d["kind"] == "kicks":
+        th = RandomKicks(d["strength"], d["interval"], d["seed"])
+        th._rng.bit_generator.state = d["rng"]
+        th.kicks, th.injected = int(d["kicks"]), float(d["injected"])
     else:
         th = VelocityRescale(d["kT"], d["interval"])
     th.next_time = d["next_time"]

@@ -106,6 +106,8 @@ class Observables:
         self.merges = 0
         eng = self._sim.engine
         self._granular_mark = (eng.kinetic_energy(), eng.dissipated)  # (energy now and dissipated)
+        # a driving thermostat's tally now, and what thermostats replaced since injected
+        self._injected_mark = (self._injected_total(), 0.0)
         self._mark = self._now()
         self._samples = [self._mark]
         self._auto = every is None
@@ -220,11 +222,35 @@ class Observables:
         """
         return self._sim.engine.dissipated - self._granular_mark[1]
 
-    def energy_balance(self) -> float:
-        """``(E_kin + E_dissipated) / E_kin(reset) - 1``: zero to rounding, elastic or not [1].
+    def _injected_total(self) -> float:
+        """The driving thermostat's tally of injected energy (0 without one) [energy]."""
+        return float(getattr(getattr(self._sim, "thermostat", None), "injected", 0.0))
 
-        The energy check of a granular gas (for elastic spheres the plain
-        energy drift).
+    def injected(self) -> float:
+        """Kinetic energy a driving thermostat injected since :meth:`reset` [energy].
+
+        The tally of :class:`hardspheres.dense.RandomKicks` (0 without a
+        driving thermostat).  In a driven steady state it matches
+        :meth:`dissipated` over a long run.
+        """
+        base, before = self._injected_mark
+        return before + self._injected_total() - base
+
+    def thermostat_changed(self, old: object) -> None:
+        """The simulation calls this as its thermostat changes (``old`` the one replaced, or ``None``).
+
+        What ``old`` injected since :meth:`reset` stays counted; the new
+        one's tally counts from now.
+        """
+        base, before = self._injected_mark
+        before += float(getattr(old, "injected", 0.0)) - base
+        self._injected_mark = (self._injected_total(), before)
+
+    def energy_balance(self) -> float:
+        """``(E_kin + E_dissipated - E_injected) / E_kin(reset) - 1``: zero to rounding [1].
+
+        The energy check of a granular gas, driven or not (for elastic
+        spheres without a driving thermostat the plain energy drift).
 
         Raises:
             NoMeasurementError: no kinetic energy at :meth:`reset`.
@@ -232,7 +258,7 @@ class Observables:
         e0 = self._granular_mark[0]
         if not e0 > 0:
             raise NoMeasurementError("no kinetic energy at reset(): nothing to balance")
-        return (self._sim.engine.kinetic_energy() + self.dissipated()) / e0 - 1.0
+        return (self._sim.engine.kinetic_energy() + self.dissipated() - self.injected()) / e0 - 1.0
 
     def _cooling(self) -> tuple[float, float, float]:
         """``(ln(T_reset / T_now), elapsed time, collisions per sphere)`` since :meth:`reset`."""
@@ -478,6 +504,8 @@ class Observables:
         if self._sim.engine.inelastic:
             # a cooling gas: no average that divides by one kT
             out["dissipated"] = self.dissipated()
+            if self._injected_total():
+                out["injected"] = self.injected()
             if self._granular_mark[0] > 0:
                 out["energy_balance"] = self.energy_balance()
             try:

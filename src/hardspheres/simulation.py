@@ -499,15 +499,18 @@ class Simulation:
     def set_thermostat(self, thermostat: Thermostat | None) -> Simulation:
         """Hold the temperature with a thermostat (``None``: NVE, the default).
 
-        ``thermostat`` is a :class:`hardspheres.dense.Andersen` or
-        :class:`hardspheres.dense.VelocityRescale`; checkpoints keep it.
+        ``thermostat`` is a :class:`hardspheres.dense.Andersen`,
+        :class:`hardspheres.dense.VelocityRescale` or
+        :class:`hardspheres.dense.RandomKicks` (white-noise driving of a
+        granular gas); checkpoints keep it.
         """
         if thermostat is not None and self._engine.window > 0.0:
             raise ArgumentError(
                 f"thermostat: not with a simultaneity window (window={self._engine.window:g}); "
                 "build the Simulation with window=0"
             )
-        self.thermostat = thermostat  # its own slot: it acts before the writers observe
+        old, self.thermostat = self.thermostat, thermostat  # its own slot: it acts before the writers observe
+        self.observables.thermostat_changed(old)  # a driving thermostat's injected energy counts from now
         return self
 
     def set_barostat(self, barostat: Barostat | None) -> Simulation:
