@@ -45,6 +45,7 @@ import math
 import os
 import sys
 import time
+import warnings
 
 import numpy as np
 
@@ -308,7 +309,191 @@ def hcs() -> None:
     write("granular.txt", out)
 
 
-PARTS = {"hcs": hcs, "driven": driven}
+# ---- clustering above the critical length ----------------------------------------
+
+#: the clustering runs: disks at this packing and restitution
+CLUSTER_PHI, CLUSTER_E = 0.25, 0.6
+#: (N, seeds): far above L_c, and below it
+CLUSTER_SIZES = [(4096, 4), (32, 40)]
+#: collisions per sphere: to the end, and between samples of S(k)
+CLUSTER_C_END, CLUSTER_C_STEP = 400.0, 10.0
+#: the largest run's frame kept for the pictures: at the end
+CLUSTER_FRAME_EVERY = CLUSTER_C_END
+
+
+def enskog_viscosity_factor(d: int, phi: float) -> float:
+    """Enskog's shear viscosity over Boltzmann's at packing ``phi`` (the single-Sonine forms).
+
+    3-D: ``1/chi + 4/5 (4 phi) + 0.7614 (4 phi)^2 chi`` (Chapman and Cowling); 2-D: ``1/chi +
+    2 phi + (1 + 8/pi) phi^2 chi`` (Gass, J. Chem. Phys. 54, 1898 (1971)).
+    """
+    c = chi(d, phi)
+    if d == 3:
+        b = 4.0 * phi
+        return 1.0 / c + 0.8 * b + 0.7614 * b * b * c
+    return 1.0 / c + 2.0 * phi + (1.0 + 8.0 / math.pi) * phi * phi * c
+
+
+def critical_length_enskog(d: int, e: float, phi: float, n_density: float) -> float:
+    """L_c with Enskog's collision rate (``chi`` times) and viscosity: ``L_c sqrt(eta_E / (chi eta_0))``."""
+    return critical_length(d, e, n_density) * math.sqrt(enskog_viscosity_factor(d, phi) / chi(d, phi))
+
+
+class ScaledHCS:
+    """Every ``interval``, velocities less their mean, scaled to ``kT`` (a thermostat for the HCS).
+
+    In the homogeneous cooling state the thermal speeds fall exponentially in the collisions,
+    while the total momentum, conserved, keeps the rounding of the first collisions: after a few
+    hundred collisions per sphere at e = 0.6 (a factor 1e-16 in speed) that drift is all that
+    moves.  Taking it off and scaling back to ``kT`` is a change of the time unit: the sequence
+    of collisions is the HCS's (the TC model's ``tc`` then stays a fixed fraction of the mean
+    free time).
+    """
+
+    def __init__(self, kT: float, interval: float) -> None:
+        self.kT, self.interval = kT, interval
+        self.next_time: float | None = None
+
+    def attach(self, sim: hs.Simulation) -> None:
+        if self.next_time is None:
+            self.next_time = sim.time + self.interval
+
+    def apply(self, sim: hs.Simulation, t: float) -> None:
+        eng = sim.engine
+        m = np.asarray(eng.masses, float)
+        v = eng.velocities - (m @ eng.velocities) / m.sum()
+        kt = float(np.sum(m[:, None] * v * v)) / (v.size - v.shape[1])
+        v *= math.sqrt(self.kT / kt)
+        for i in range(sim.n):
+            eng.kick(i, t, v[i])
+        self.next_time = t + self.interval
+
+    def state(self) -> str:
+        return "{}"
+
+
+def cluster_run(n: int, seed: int, frames: str | None = None) -> np.ndarray:
+    """S(k) at the smallest |k| and the local density's spread every CLUSTER_C_STEP, from C = 0.
+
+    Disks equilibrated elastic for 5 collisions each, then restitution CLUSTER_E with the TC
+    model (``tc`` 1e-3 of the mean free time), the drift taken off and the velocities scaled
+    to the initial kT every mean free time (:class:`ScaledHCS`).  Rows: (C, S(k_min), the
+    standard deviation of the local packing fraction).
+    """
+    from hardspheres.analysis.granular import LocalDensity, LowKStructureFactor
+    from hardspheres.io.trajectory import GSDWriter
+    from hardspheres.writers import EveryCollisions
+
+    box = hs.PeriodicBox.for_packing(n, CLUSTER_PHI, (1.0, 1.0))
+    sim = hs.Simulation(hs.random_spheres(n, CLUSTER_PHI, box, seed=seed), box)
+    sim.run(collisions=5 * n // 2)
+    free_time = 1.0 / sim.observables.collision_rate()
+    sim.set_restitution(CLUSTER_E, tc=1e-3 * free_time)
+    sim.set_thermostat(ScaledHCS(kT=sim.observables.temperature(), interval=free_time))
+    writer = None
+    if frames is not None:
+        writer = GSDWriter(frames, trigger=EveryCollisions(int(CLUSTER_FRAME_EVERY * n / 2)), events=False)
+        sim.writers.append(writer)
+    c0 = sim.counters["collisions"]
+    rows = []
+    while True:
+        c = 2.0 * (sim.counters["collisions"] - c0) / n
+        s = LowKStructureFactor().compute(sim).S[0]
+        spread = float(LocalDensity(method="cells").compute(sim).values.std())
+        rows.append((c, s, spread))
+        if c >= CLUSTER_C_END - 1e-9:
+            break
+        sim.run(collisions=int(round(CLUSTER_C_STEP * n / 2)))
+    if writer is not None:
+        writer.close()
+    return np.array(rows)
+
+
+def clusters() -> None:
+    """The clustering runs: validation/results/granular_clusters.txt and granular_clusters.gsd."""
+    t_start = time.perf_counter()
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results")
+    curves = {}
+    for n, seeds in CLUSTER_SIZES:
+        runs = []
+        for seed in range(seeds):
+            keep = (
+                os.path.join(here, "granular_clusters.gsd")
+                if (n == CLUSTER_SIZES[0][0] and seed == 0)
+                else None
+            )
+            runs.append(cluster_run(n, seed, keep))
+            print(f"N = {n}, seed {seed}: S(k_min) at the end {runs[-1][-1, 1]:.2f}", flush=True)
+        curves[n] = np.array(runs)
+    n_density = CLUSTER_PHI / (math.pi / 4.0)
+    lc = critical_length_enskog(2, CLUSTER_E, CLUSTER_PHI, n_density)
+    head = ["C"]
+    for n, seeds in CLUSTER_SIZES:
+        side = math.sqrt(n / n_density)
+        head += [f"S N={n} (L/L_c {side / lc:.2f}, {seeds} seeds)", "+-", "sd(phi_local)"]
+    out = ["\t".join(head)]
+    c = curves[CLUSTER_SIZES[0][0]][0][:, 0]
+    for i, ci in enumerate(c):
+        row = [f"{ci:.0f}"]
+        for n, seeds in CLUSTER_SIZES:
+            r = curves[n][:, i, :]
+            err = float(np.std(r[:, 1], ddof=1) / math.sqrt(seeds)) if seeds > 1 else math.nan
+            row += [f"{r[:, 1].mean():.4g}", f"{err:.2g}", f"{r[:, 2].mean():.4f}"]
+        out.append("\t".join(row))
+    out.append("")
+    out.append(
+        f"disks at packing {CLUSTER_PHI}, e = {CLUSTER_E}, TC model tc = 1e-3 of the mean free time, "
+        "velocities less their mean scaled to the initial kT every mean free time; "
+        f"L_c = {lc:.2f} (the shear mode, Enskog's collision rate and viscosity); C: collisions per disk; "
+        "S: S(k) at the box's smallest |k| = 2 pi / L (mean over seeds); sd(phi_local): the spread of the "
+        f"disks' local packing fraction on a grid of cells; {time.perf_counter() - t_start:.0f} s"
+    )
+    write("granular_clusters.txt", out)
+
+
+def cluster_pictures() -> None:
+    """Reads the clustering results (never runs): docs/images/granular_sk.png and granular_clusters.png."""
+    from hardspheres.extras import need
+    from hardspheres.io.trajectory import read_trajectory
+    from hardspheres.viz.render import render_still
+
+    plt = need("matplotlib.pyplot", "the clustering pictures")
+    here = os.path.dirname(os.path.abspath(__file__))
+    images = os.path.join(here, "..", "docs", "images")
+    lines = open(os.path.join(here, "results", "granular_clusters.txt")).read().splitlines()
+    head = lines[0].split("\t")
+    table = []
+    for line in lines[1:]:
+        if not line.strip():
+            break
+        table.append([float(x) for x in line.split("\t")])
+    data = np.array(table)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for col in range(1, len(head), 3):
+        ax.errorbar(
+            data[:, 0], data[:, col], yerr=np.nan_to_num(data[:, col + 1]), label=head[col][2:], capsize=2
+        )
+    ax.set_yscale("log")
+    ax.set_xlabel("collisions per disk C")
+    ax.set_ylabel("S(k) at the smallest k = 2 pi / L")
+    ax.set_title(f"disks, packing {CLUSTER_PHI}, e = {CLUSTER_E}")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(images, "granular_sk.png"), dpi=110)
+    with warnings.catch_warnings():  # the run was to a collision count: no end time to reach
+        warnings.simplefilter("ignore")
+        frames = read_trajectory(os.path.join(here, "results", "granular_clusters.gsd"))
+    render_still(
+        frames,
+        os.path.join(images, "granular_clusters.png"),
+        color_by="density",
+        size=(1280, 720),
+        title=f"e = {CLUSTER_E}, C = {CLUSTER_C_END:g}",
+    )
+    print(f"wrote {images}/granular_sk.png and granular_clusters.png")
+
+
+PARTS = {"hcs": hcs, "driven": driven, "clusters": clusters, "cluster-pictures": cluster_pictures}
 
 
 def main(argv: list[str]) -> int:

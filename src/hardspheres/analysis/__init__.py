@@ -32,4 +32,9 @@ Modules:
     jamming: packings: :class:`~hardspheres.analysis.jamming.Contacts`
         (network, rattlers, z, g(h)), the force exponent, and
         :class:`~hardspheres.analysis.jamming.JammingPoint` (phi_J).
+    granular: clustering of granular gases:
+        :class:`~hardspheres.analysis.granular.LowKStructureFactor` (S(k) at
+        the box's smallest wave vectors, per frame) and
+        :class:`~hardspheres.analysis.granular.LocalDensity` (local packing
+        fractions and their histogram).
 """

@@ -37,11 +37,12 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     p.add_argument("--time", type=finite, help="still: draw the frame nearest this time (default: the last)")
     p.add_argument(
         "--color",
-        choices=["speed", "mass", "q6", "psi6"],
+        choices=["speed", "mass", "q6", "psi6", "density"],
         default="speed",
         help="colour by speed (default), mass, for spheres the bond order q6 over 12 neighbours "
-        "(crystal-like near 0.5-0.57, a fluid 0.3-0.45), or for disks the local hexatic order "
-        "|psi6| (q6 and psi6 need freud)",
+        "(crystal-like near 0.5-0.57, a fluid 0.3-0.45), for disks the local hexatic order "
+        "|psi6| (q6 and psi6 need freud), or in a periodic box the local packing fraction, "
+        "density (Voronoi with freud, else cells: the clusters of a granular gas)",
     )
     size_slice_args(
         p,

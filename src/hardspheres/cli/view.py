@@ -30,12 +30,13 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--color",
-        choices=["speed", "mass", "q6", "psi6"],
+        choices=["speed", "mass", "q6", "psi6", "density"],
         default="speed",
         help="colour the spheres by speed (default), mass, or Steinhardt bond "
         "order q6 over 12 neighbours (crystal-like spheres near 0.5-0.57, a "
         "fluid or jammed packing 0.3-0.45; needs freud); disks by their local "
-        "hexatic order |psi6| over 6 neighbours (1 in a hexagonal crystal; needs freud)",
+        "hexatic order |psi6| over 6 neighbours (1 in a hexagonal crystal; needs freud); "
+        "in a periodic box by the local packing fraction, density (Voronoi with freud, else cells)",
     )
     p.set_defaults(func=run)
     return p

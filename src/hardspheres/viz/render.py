@@ -11,7 +11,8 @@
 
 Spheres are shaded disks at their true radii (orthographic projection, so
 the scale is the same everywhere; nearer spheres hide farther ones),
-coloured by speed, by mass or by their bond order q6 (freud) with a colour bar, inside the outline of the
+coloured by speed, by mass, by the local packing fraction (``"density"``: clusters of a granular
+gas, in a periodic box) or by their bond order q6 (freud) with a colour bar, inside the outline of the
 spherical container (or the edges of the periodic box), captioned with N,
 the packing fraction and the time.  Disks (a 2-D box or a circle) are drawn
 flat, as seen from above (x right, y up), with a thin dark rim and no
@@ -182,6 +183,13 @@ def _scene(
         from .viewer import Q6_RANGE, _q6
 
         norm, values, label = colors.Normalize(*Q6_RANGE), _q6(frames, pos), "bond order q6"
+    elif color_by == "density":  # the local packing fraction (clusters), 0 to the densest packing
+        from matplotlib import colors
+
+        from .viewer import local_density
+
+        values, top, label = local_density(frames, pos[..., :2] if flat else pos, "render")
+        norm = colors.Normalize(0.0, top)
     else:
         norm, values, label = _colour_scale(color_by, speeds, masses)
     cmap = colormaps["viridis"]
@@ -257,9 +265,10 @@ def _check(size: tuple[int, int], color_by: str, what: str) -> None:
     width, height = (int(s) for s in size)
     if width <= 0 or height <= 0:
         raise PictureError(f"{what}: bad size {size}; give (width, height) in pixels, both > 0")
-    if color_by not in ("speed", "mass", "q6", "psi6"):
+    if color_by not in ("speed", "mass", "q6", "psi6", "density"):
         raise PictureError(
-            f"{what}: color_by must be 'speed', 'mass', (spheres) 'q6' or (disks) 'psi6', got {color_by!r}"
+            f"{what}: color_by must be 'speed', 'mass', 'density', (spheres) 'q6' or (disks) 'psi6', "
+            f"got {color_by!r}"
         )
 
 

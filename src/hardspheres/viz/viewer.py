@@ -18,7 +18,9 @@ jammed packing); collisions flash red and reflections off the container
 flash white as they happen.  Disks (a 2-D box or a circle) are drawn flat,
 seen from above with an orthographic camera (drag pans, wheel zooms, no
 orbit), and can be coloured by their local hexatic order ``|psi6|``
-(``color_by="psi6"``: 1 in a perfect hexagonal crystal).
+(``color_by="psi6"``: 1 in a perfect hexagonal crystal).  In a periodic box
+``color_by="density"`` colours by the local packing fraction (Voronoi with
+freud, else a grid of cells): the clusters of a cooling granular gas.
 
 Positions go in as little-endian Float32 arrays in base64; frames are
 subsampled evenly to at most ``max_frames`` (and fewer when the spheres are
@@ -97,7 +99,7 @@ def _round_up(x: float, digits: int = 2) -> float:
 
 #: What the spheres can be coloured by (``color_by``, ``hardspheres view --color``), q6
 #: for spheres and psi6 for disks.
-COLOR_BY = ("speed", "mass", "q6", "psi6")
+COLOR_BY = ("speed", "mass", "q6", "psi6", "density")
 
 #: The colour scale of q6, fixed so that pictures compare, puts a fluid or a jammed
 #: packing near its bottom (0.3-0.45), FCC at its top (0.575 at rest).
@@ -138,6 +140,25 @@ def _psi6(frames: Frames, positions: np.ndarray) -> np.ndarray:
     from ..analysis.structure import psi6_magnitudes
 
     return psi6_magnitudes(positions, frames.container)
+
+
+def local_density(frames: Frames, positions: np.ndarray, what: str) -> tuple[np.ndarray, float, str]:
+    """Each sphere's local packing fraction in each frame ``(F, N)``, the scale's top, and its label.
+
+    Voronoi cells if freud is installed, else a grid of cells
+    (:class:`hardspheres.analysis.granular.LocalDensity`); in a periodic box
+    only.  The scale runs from 0 to the densest packing of equal spheres
+    (0.7405) or disks (0.9069), so that pictures compare.
+    """
+    from ..analysis.granular import LocalDensity
+
+    c = frames.container
+    if c is None or not c.periodic:
+        raise PictureError(f"{what}: color_by='density' needs a periodic box (the local packing fraction)")
+    sides = tuple(float(x) for x in c.sides)  # type: ignore[attr-defined]
+    dens = LocalDensity().compute(positions, box=sides, radii=np.asarray(frames.radii, float))
+    top = 0.9069 if len(sides) == 2 else 0.7405
+    return dens.values, top, f"local packing fraction ({dens.method})"
 
 
 def _payload(
@@ -214,6 +235,9 @@ def _payload(
             "values": _b64(_psi6(frames, p), np.float32),
             "range": [0.0, 1.0],
         }
+    elif color_by == "density":
+        values, top, label = local_density(frames, p, "write_viewer")
+        scalar = {"name": "density", "label": label, "values": _b64(values, np.float32), "range": [0.0, top]}
     if d == 2:  # the page draws in 3-D coordinates: disks at z = 0
         p = np.concatenate([p, np.zeros(p.shape[:-1] + (1,))], axis=-1)
 
@@ -309,8 +333,10 @@ def write_viewer(
         title: shown in the page's corner and tab (default ``"N hard spheres"``).
         max_frames: at most this many frames are embedded, evenly spaced
             (first and last kept).
-        color_by: initial colouring, ``"speed"``, ``"mass"`` or ``"q6"``
-            (switchable in the page).  ``"q6"``: each sphere's Steinhardt
+        color_by: initial colouring, ``"speed"``, ``"mass"``, ``"q6"``,
+            ``"psi6"`` (disks) or ``"density"`` (the local packing
+            fraction, in a periodic box: :func:`local_density`; switchable
+            in the page).  ``"q6"``: each sphere's Steinhardt
             q6 over its 12 nearest neighbours in each embedded frame
             (:class:`hardspheres.analysis.structure.BondOrder`, needs freud), on the
             fixed scale :data:`Q6_RANGE` (0.25 to 0.6): a fluid or a jammed
