@@ -1,7 +1,7 @@
 """Granular gases: Haff's law and a_2 in the homogeneous cooling state (docs/validation/granular.md).
 
 Equal spheres (sigma = m = 1, kT = 1 at the start, total momentum zero) at
-packing 0.1 in a periodic box, restitution e, no driving: the gas cools
+packing 0.1 and 0.3 in a periodic box, restitution e, no driving: the gas cools
 in its homogeneous cooling state (HCS).  For each dimension and e, several
 seeds are run from C = 0 to C_END collisions per sphere (each collision
 counts for both), sampled every half collision per sphere.
@@ -53,18 +53,25 @@ import hardspheres as hs
 from hardspheres.fileio import atomic_write
 
 PHI = 0.1
-SEEDS = 10
 C_START, C_END = 5.0, 40.0
-#: (d, e, N): N small enough for L < L_c (see the docstring)
+#: (d, packing, e, N, seeds): N small enough for L < L_c (Enskog's; see the docstring)
 CASES = [
-    (3, 1.0, 1000),
-    (3, 0.9, 1000),
-    (3, 0.8, 500),
-    (3, 0.6, 250),
-    (2, 1.0, 200),
-    (2, 0.9, 200),
-    (2, 0.8, 100),
-    (2, 0.6, 64),
+    (3, 0.1, 1.0, 1000, 10),
+    (3, 0.1, 0.9, 1000, 10),
+    (3, 0.1, 0.8, 500, 10),
+    (3, 0.1, 0.6, 250, 10),
+    (2, 0.1, 1.0, 200, 10),
+    (2, 0.1, 0.9, 200, 10),
+    (2, 0.1, 0.8, 100, 10),
+    (2, 0.1, 0.6, 64, 10),
+    (3, 0.3, 1.0, 300, 10),
+    (3, 0.3, 0.9, 300, 10),
+    (3, 0.3, 0.8, 120, 20),
+    (3, 0.3, 0.6, 50, 40),
+    (2, 0.3, 1.0, 72, 40),
+    (2, 0.3, 0.9, 72, 40),
+    (2, 0.3, 0.8, 36, 40),
+    (2, 0.3, 0.6, 20, 40),
 ]
 
 
@@ -99,9 +106,9 @@ def critical_length(d: int, e: float, n_density: float) -> float:
     return 2.0 * math.pi * lam / math.sqrt(math.pi * (1.0 - e * e) / 8.0)
 
 
-def one_run(d: int, e: float, n: int, seed: int) -> dict:
-    box = hs.PeriodicBox.for_packing(n, PHI, None if d == 3 else (1.0, 1.0))
-    sim = hs.Simulation(hs.random_spheres(n, PHI, box, seed=seed), box, restitution=e)
+def one_run(d: int, phi: float, e: float, n: int, seed: int) -> dict:
+    box = hs.PeriodicBox.for_packing(n, phi, None if d == 3 else (1.0, 1.0))
+    sim = hs.Simulation(hs.random_spheres(n, phi, box, seed=seed), box, restitution=e)
     obs = sim.observables
     e0 = sim.engine.kinetic_energy()
     rows = []
@@ -258,16 +265,16 @@ def hcs() -> None:
     out = []
     t_start = time.perf_counter()
     header = (
-        f"{'d':>2} {'e':>4} {'N':>5} {'L/L_c':>6} {'-dlnT/dC':>10} {'+-':>8} {'Haff 1st':>9} "
-        f"{'Sonine':>9} {'dev1 %':>7} {'devS %':>7} {'a2':>8} {'+-':>7} {'a2 vNE':>8} {'nu/nu_E':>8} "
-        f"{'+-':>7} {'balance':>9}"
+        f"{'d':>2} {'phi':>4} {'e':>4} {'N':>5} {'seeds':>5} {'L/L_c':>6} {'-dlnT/dC':>10} {'+-':>8} "
+        f"{'Haff 1st':>9} {'Sonine':>9} {'dev1 %':>7} {'devS %':>7} {'a2':>8} {'+-':>7} {'a2 vNE':>8} "
+        f"{'nu/nu_E':>8} {'+-':>7} {'balance':>9}"
     )
     out.append(header)
-    for d, e, n in CASES:
+    for d, phi, e, n, seeds in CASES:
         slopes, a2s, rates, balances = [], [], [], []
         side = n_density = 0.0
-        for seed in range(SEEDS):
-            r = one_run(d, e, n, seed)
+        for seed in range(seeds):
+            r = one_run(d, phi, e, n, seed)
             side, n_density = r["side"], r["n_density"]
             rows = r["rows"]
             c, t, kT, a2 = rows.T
@@ -277,30 +284,31 @@ def hcs() -> None:
             # collisions against Enskog's rate at each interval's mean temperature
             dt = np.diff(t[use])
             kmid = 0.5 * (kT[use][1:] + kT[use][:-1])
-            enskog = np.sum(chi(d, PHI) * np.array([boltzmann_rate(d, n_density, k) for k in kmid]) * dt)
+            enskog = np.sum(chi(d, phi) * np.array([boltzmann_rate(d, n_density, k) for k in kmid]) * dt)
             rates.append((c[use][-1] - c[use][0]) / enskog)
             balances.append(abs(r["balance"]))
         offset = -2.0 / (d * (n - 1) + 2.0)
         a2 = float(np.mean(a2s)) - offset
-        a2_err = float(np.std(a2s, ddof=1) / math.sqrt(SEEDS))
+        a2_err = float(np.std(a2s, ddof=1) / math.sqrt(seeds))
         theory_a2 = a2_sonine(e, d)
         first = (1.0 - e * e) / d
         sonine = first * (1.0 + 3.0 * theory_a2 / 16.0) / (1.0 - theory_a2 / 16.0)
-        s, s_err = float(np.mean(slopes)), float(np.std(slopes, ddof=1) / math.sqrt(SEEDS))
-        nu, nu_err = float(np.mean(rates)), float(np.std(rates, ddof=1) / math.sqrt(SEEDS))
+        s, s_err = float(np.mean(slopes)), float(np.std(slopes, ddof=1) / math.sqrt(seeds))
+        nu, nu_err = float(np.mean(rates)), float(np.std(rates, ddof=1) / math.sqrt(seeds))
         nu_theory = 1.0 - theory_a2 / 16.0
-        lc = critical_length(d, e, n_density)
+        lc = critical_length_enskog(d, e, phi, n_density)
         dev1 = (s / first - 1.0) * 100.0 if e < 1.0 else 0.0
         devs = (s / sonine - 1.0) * 100.0 if e < 1.0 else 0.0
         out.append(
-            f"{d:>2} {e:>4.1f} {n:>5} {side / lc:>6.2f} {s:>10.5f} {s_err:>8.5f} {first:>9.5f} "
+            f"{d:>2} {phi:>4.1f} {e:>4.1f} {n:>5} {seeds:>5} {side / lc:>6.2f} {s:>10.5f} {s_err:>8.5f} "
+            f"{first:>9.5f} "
             f"{sonine:>9.5f} {dev1:>+7.2f} {devs:>+7.2f} {a2:>+8.4f} {a2_err:>7.4f} {theory_a2:>+8.4f} "
             f"{nu / nu_theory:>8.4f} {nu_err:>7.4f} {max(balances):>9.1e}"
         )
         print(out[-1], flush=True)
     out.append("")
     out.append(
-        f"packing {PHI}, {SEEDS} seeds per row, C = {C_START:g}..{C_END:g} collisions per sphere; "
+        f"C = {C_START:g}..{C_END:g} collisions per sphere; L_c with Enskog's collision rate and viscosity; "
         "a2 less the finite-N offset -2/(d(N-1)+2); nu/nu_E: collision rate over Enskog's "
         "(chi: Carnahan-Starling, Henderson) times (1 - a2/16) with van Noije-Ernst's a2; balance: "
         "largest |(E_kin + E_dissipated)/E_0 - 1|; "
