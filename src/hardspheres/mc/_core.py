@@ -61,7 +61,7 @@ The arrays (owned by :class:`~hardspheres.mc.chain.EventChain`):
                             cache line for a cell of up to 15)
     cell    int64   (N,)    each sphere's cell
     slot    int64   (N,)    its place in ``members``
-    ints    int64   (N_INTS,)   active sphere (-1: between chains), events, chains
+    ints    int64   (N_INTS,)   active sphere (-1: between chains), events, chains, cell steps
     floats  float64 (N_FLOATS,) distance left in the chain, chain length
     tally   float64 (4, d)  lift sums, their compensations, displacements, theirs
     rng     uint64  (1,)    SplitMix64 state
@@ -81,9 +81,10 @@ from ..core import _core as edmd  # registers physics' kernels with numba
 
 INF = math.inf
 
-#: ``ints``: the active sphere (-1 between chains), events (lifts) and chains done.
-I_ACTIVE, I_EVENTS, I_CHAINS = range(3)
-N_INTS = 3
+#: ``ints``: the active sphere (-1 between chains), events (lifts), chains done, and (chains in
+#: any direction) the steps that ended at a cell's edge.
+I_ACTIVE, I_EVENTS, I_CHAINS, I_STEPS = range(4)
+N_INTS = 4
 #: ``floats``: what is left of the chain in progress, the chain length [length].
 F_LEFT, F_LENGTH = range(2)
 N_FLOATS = 2
@@ -556,3 +557,387 @@ def max_overlap(pos, radii, sides, scale, ncell, members, axes):
                         if sigma > 0.0:
                             worst = max(worst, (sigma - math.sqrt(r2)) / sigma)
     return worst
+
+
+# ---- chains in any direction: Newtonian and forward event chains --------------------------------
+#
+# The active sphere moves along a vector ``v`` (Newtonian: its own velocity;
+# forward: a unit direction), one *step* at a time: a step ends at the next
+# lift, at the chain's end or where the centre leaves its cell (plus
+# :data:`STEP_SLACK` of a cell), so every sphere it can touch lies in the
+# ``3^d`` cells around its own, each at the image of ``j`` that lies there.
+# Tallies: per axis, the lifts' ``(r_j - r_i)_a v_a`` and the steps'
+# ``t v_a^2`` (docs/numerics.md, "The pressure of chains in any direction").
+# Vectors are passed as scalars ``v0, v1, v2`` (``v2`` zero in 2-D): no
+# array is made in the loop.
+
+#: The variants (``EventChain(variant=...)``).
+STRAIGHT, NEWTONIAN, FORWARD = range(3)
+
+#: A step may carry the centre this fraction of a cell past the cell's edge
+#: (so it leaves the cell whatever the rounding): far below the cells' margin
+#: over the largest contact distance (1e-9 of it), so no contact is missed.
+STEP_SLACK = 2.0**-36
+
+
+@_kernel
+def uniform(rng):
+    """A uniform float in ``(0, 1]`` from 53 random bits."""
+    return (np.float64(next_u64(rng) >> _S11) + 1.0) * (1.0 / 9007199254740992.0)
+
+
+@_kernel
+def gaussian(rng):
+    """A standard normal number (Box-Muller, the cosine branch)."""
+    u = uniform(rng)
+    w = uniform(rng)
+    return math.sqrt(-2.0 * math.log(u)) * math.cos(2.0 * math.pi * w)
+
+
+@_kernel
+def draw_velocity(vel, k, rng, unit, axes):
+    """``vel[k]``: Gaussian components of variance ``1/d`` (mean square speed 1), or normalised (``unit``)."""
+    d = len(axes)
+    while True:
+        q = 0.0
+        for b in range(d):
+            x = gaussian(rng) * math.sqrt(1.0 / d)
+            vel[k, b] = x
+            q += x * x
+        if not unit:
+            return
+        if q > 1e-200:
+            r = math.sqrt(q)
+            for b in range(d):
+                vel[k, b] /= r
+            return
+
+
+@_kernel
+def row_shift(c, u, n, side):
+    """The neighbouring row ``c + u`` (``u`` in -1, 0, 1) wrapped, and the image shift of its spheres [length]."""
+    r = c + u
+    if r < 0:
+        return r + n, -side
+    if r >= n:
+        return r - n, side
+    return r, 0.0
+
+
+@_kernel
+def consider_vec(j, i, sx, sy, sz, v0, v1, v2, pos, radii, best, jbest, axes):
+    """``(t, j)`` of the contact of ``i`` (moving along ``v``) with ``j``'s image shifted by ``s``, if it beats the best."""
+    d = len(axes)
+    dx = pos[j, 0] + sx - pos[i, 0]
+    dy = pos[j, 1] + sy - pos[i, 1]
+    dz = pos[j, 2] + sz - pos[i, 2] if d == 3 else 0.0
+    t = _pair_time_within(-dx, -dy, -dz, v0, v1, v2, radii[i] + radii[j], best, d == 2)
+    if t < best or (t == best and jbest >= 0 and j < jbest):
+        return t, j
+    return best, jbest
+
+
+@_kernel
+def exit_time(i, v0, v1, v2, pos, sides, scale, ncell, axes):
+    """Time until ``i``'s centre leaves its cell along ``v``, plus :data:`STEP_SLACK` of a cell."""
+    t = INF
+    slack = INF
+    for b in range(len(axes)):
+        vb = v0 if b == 0 else (v1 if b == 1 else v2)
+        if vb == 0.0:
+            continue
+        width = sides[b] / ncell[b]
+        c = cell_coord(pos[i, b], sides[b], scale[b], ncell[b])
+        if vb > 0.0:
+            tb = ((c + 1) * width - 0.5 * sides[b] - pos[i, b]) / vb
+        else:
+            tb = (c * width - 0.5 * sides[b] - pos[i, b]) / vb
+        t = min(t, max(tb, 0.0))
+        slack = min(slack, STEP_SLACK * width / abs(vb))
+    return t + slack
+
+
+@_kernel
+def image_row(cb, kb, nb, side):
+    """The shift of the image of a sphere in row ``kb`` that lies in the rows around ``cb`` (``nan``: none)."""
+    for u in range(-1, 2):
+        r, s = row_shift(cb, u, nb, side)
+        if r == kb:
+            return s
+    return math.nan
+
+
+@_kernel
+def search_near(i, v0, v1, v2, horizon, pos, radii, sides, scale, ncell, members, cell, brute, axes):
+    """The first contact of ``i`` moving along ``v`` within ``horizon``: ``(t, j, sx, sy, sz)``.
+
+    ``j = -1``: none.  Candidates are the spheres in the ``3^d`` cells
+    around ``i``'s, each at its image in that block (shift ``s``); with
+    ``brute`` every sphere is tried and its image found from its cell: the
+    same candidates, the same bits.
+    """
+    d = len(axes)
+    n0, n1 = ncell[0], ncell[1]
+    n2 = ncell[2] if d == 3 else 1
+    c0 = cell_coord(pos[i, 0], sides[0], scale[0], n0)
+    c1 = cell_coord(pos[i, 1], sides[1], scale[1], n1)
+    c2 = cell_coord(pos[i, 2], sides[2], scale[2], n2) if d == 3 else 0
+    best = horizon
+    jbest = np.int64(-1)
+    bx, by, bz = 0.0, 0.0, 0.0
+    if brute:
+        for j in range(pos.shape[0]):
+            if j == i:
+                continue
+            cj = cell[j]  # j's row along each axis, from its flat index
+            sz = 0.0
+            if d == 3:
+                sz = image_row(c2, cj % n2, n2, sides[2])
+                cj //= n2
+            sy = image_row(c1, cj % n1, n1, sides[1])
+            sx = image_row(c0, cj // n1, n0, sides[0])
+            if math.isnan(sx) or math.isnan(sy) or math.isnan(sz):
+                continue
+            t, jj = consider_vec(j, i, sx, sy, sz, v0, v1, v2, pos, radii, best, jbest, axes)
+            if jj != jbest or t != best:
+                best, jbest, bx, by, bz = t, jj, sx, sy, sz
+        return best, jbest, bx, by, bz
+    wlo, whi = (-1, 2) if d == 3 else (0, 1)
+    for u in range(-1, 2):
+        r0, sx = row_shift(c0, u, n0, sides[0])
+        for v in range(-1, 2):
+            r1, sy = row_shift(c1, v, n1, sides[1])
+            for w in range(wlo, whi):
+                sz = 0.0
+                c = r0 * n1 + r1
+                if d == 3:
+                    r2, sz = row_shift(c2, w, n2, sides[2])
+                    c = c * n2 + r2
+                for m in range(1, 1 + members[c, 0]):
+                    j = np.int64(members[c, m])
+                    if j != i:
+                        t, jj = consider_vec(j, i, sx, sy, sz, v0, v1, v2, pos, radii, best, jbest, axes)
+                        if jj != jbest or t != best:
+                            best, jbest, bx, by, bz = t, jj, sx, sy, sz
+    return best, jbest, bx, by, bz
+
+
+@_kernel
+def wrapped_any(x, side, image):
+    """``(x, image)`` with ``x`` moved by whole sides into ``[-side/2, side/2)``, either way."""
+    half = 0.5 * side
+    if x >= half or x < -half:
+        k = math.floor((x + half) / side)
+        x -= k * side
+        image += np.int64(k)
+        while x >= half:
+            x -= side
+            image += 1
+        while x < -half:
+            x += side
+            image -= 1
+    return x, image
+
+
+@_kernel
+def move_vec(i, t, v0, v1, v2, pos, images, sides, scale, ncell, members, cell, slot, axes):
+    """Move ``i`` by ``t v`` and into its new cell; ``False`` if that cell is full (nothing moved)."""
+    d = len(axes)
+    x0, m0 = wrapped_any(pos[i, 0] + t * v0, sides[0], images[i, 0])
+    x1, m1 = wrapped_any(pos[i, 1] + t * v1, sides[1], images[i, 1])
+    x2, m2 = 0.0, np.int64(0)
+    if d == 3:
+        x2, m2 = wrapped_any(pos[i, 2] + t * v2, sides[2], images[i, 2])
+    c = cell_coord(x0, sides[0], scale[0], ncell[0]) * ncell[1] + cell_coord(x1, sides[1], scale[1], ncell[1])
+    if d == 3:
+        c = c * ncell[2] + cell_coord(x2, sides[2], scale[2], ncell[2])
+    c0 = cell[i]
+    if c != c0:
+        k = members[c, 0]
+        if k >= members.shape[1] - 1:
+            return False
+        last = members[c0, 0] - 1
+        q = slot[i]
+        moved = members[c0, 1 + last]
+        members[c0, 1 + q] = moved
+        slot[moved] = q
+        members[c0, 0] = last
+        members[c, 1 + k] = i
+        members[c, 0] = k + 1
+        slot[i] = k
+        cell[i] = c
+    pos[i, 0], pos[i, 1] = x0, x1
+    images[i, 0], images[i, 1] = m0, m1
+    if d == 3:
+        pos[i, 2] = x2
+        images[i, 2] = m2
+    return True
+
+
+@_kernel
+def lift_newtonian(i, j, e0, e1, e2, vel, axes):
+    """An elastic collision of equal masses along the unit normal ``e`` (i to j): the normal components swap."""
+    d = len(axes)
+    dot = (vel[j, 0] - vel[i, 0]) * e0 + (vel[j, 1] - vel[i, 1]) * e1
+    if d == 3:
+        dot += (vel[j, 2] - vel[i, 2]) * e2
+    vel[i, 0] += e0 * dot
+    vel[i, 1] += e1 * dot
+    vel[j, 0] -= e0 * dot
+    vel[j, 1] -= e1 * dot
+    if d == 3:
+        vel[i, 2] += e2 * dot
+        vel[j, 2] -= e2 * dot
+
+
+@_kernel
+def lift_forward(i, j, e0, e1, e2, vel, rng, axes):
+    """Forward lifting: ``j`` goes on along ``c e + sqrt(1 - c^2) t``, ``t`` the old direction's part across ``e``.
+
+    ``c = v' . e`` is drawn with density proportional to ``c`` times its
+    marginal under uniform directions, ``c (1 - c^2)^((d - 3)/2)`` on
+    (0, 1]: ``c = sqrt(1 - u^2)`` in 2-D, ``sqrt(u)`` in 3-D (``u``
+    uniform); the direction across ``e`` is kept (Michel, Durmus and
+    Senecal, J. Comput. Graph. Stat. 29, 689 (2020)).
+    """
+    d = len(axes)
+    a0, a1 = vel[i, 0], vel[i, 1]
+    a2 = vel[i, 2] if d == 3 else 0.0
+    par = a0 * e0 + a1 * e1 + a2 * e2
+    t0, t1, t2 = a0 - par * e0, a1 - par * e1, a2 - par * e2
+    tq = t0 * t0 + t1 * t1 + t2 * t2
+    if tq <= 1e-300:  # head on (measure zero): across e, toward the axis e leans on least
+        if d == 2:
+            t0, t1 = -e1, e0
+        elif abs(e0) <= abs(e1) and abs(e0) <= abs(e2):
+            t0, t1, t2 = 1.0 - e0 * e0, -e0 * e1, -e0 * e2
+        elif abs(e1) <= abs(e2):
+            t0, t1, t2 = -e1 * e0, 1.0 - e1 * e1, -e1 * e2
+        else:
+            t0, t1, t2 = -e2 * e0, -e2 * e1, 1.0 - e2 * e2
+        tq = t0 * t0 + t1 * t1 + t2 * t2
+    tn = math.sqrt(tq)
+    u = uniform(rng)
+    if d == 2:
+        c = math.sqrt((1.0 - u) * (1.0 + u))
+        s = u
+    else:
+        c = math.sqrt(u)
+        s = math.sqrt(1.0 - u)
+    b0 = c * e0 + s * t0 / tn
+    b1 = c * e1 + s * t1 / tn
+    b2 = c * e2 + s * t2 / tn
+    r = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+    vel[j, 0] = b0 / r
+    vel[j, 1] = b1 / r
+    if d == 3:
+        vel[j, 2] = b2 / r
+
+
+@_jit
+def run_free(
+    pos,
+    radii,
+    images,
+    sides,
+    scale,
+    ncell,
+    members,
+    cell,
+    slot,
+    ints,
+    floats,
+    tally,
+    rng,
+    vel,
+    stamp,
+    axes,
+    variant,
+    max_events,
+    max_chains,
+    every,
+    origin,
+    rows,
+    brute,
+):
+    """:func:`run` for chains in any direction (:data:`NEWTONIAN`, :data:`FORWARD`).
+
+    Longer than 80 lines with this docstring: the one loop, with its stops.
+
+    ``vel (N, d)``: the velocities (Newtonian: ``vel[k]`` is fresh when
+    ``stamp[k]`` is the chain's number, else drawn when first needed, the
+    same law as drawing them all as the chain starts) or the active
+    sphere's direction (forward, in ``vel[active]``).  The chain length is
+    a time (Newtonian, mean square speed 1) or a distance (forward, unit
+    speed).
+    """
+    d = len(axes)
+    n = pos.shape[0]
+    length = floats[F_LENGTH]
+    written = 0
+    events = 0
+    chains = 0
+    while events < max_events and chains < max_chains:
+        if ints[I_ACTIVE] < 0:  # a new chain: a sphere at random, its velocity or direction at random
+            k = below(rng, n)
+            ints[I_ACTIVE] = k
+            floats[F_LEFT] = length
+            draw_velocity(vel, k, rng, variant == FORWARD, axes)
+            stamp[k] = ints[I_CHAINS]
+        i = ints[I_ACTIVE]
+        v0, v1 = vel[i, 0], vel[i, 1]
+        v2 = vel[i, 2] if d == 3 else 0.0
+        left = floats[F_LEFT]
+        horizon = min(left, exit_time(i, v0, v1, v2, pos, sides, scale, ncell, axes))
+        t, j, sx, sy, sz = search_near(
+            i, v0, v1, v2, horizon, pos, radii, sides, scale, ncell, members, cell, brute, axes
+        )
+        e0, e1, e2 = 0.0, 0.0, 0.0
+        if j >= 0:  # the separation at contact, before i moves (its image may change)
+            e0 = pos[j, 0] + sx - pos[i, 0] - t * v0
+            e1 = pos[j, 1] + sy - pos[i, 1] - t * v1
+            if d == 3:
+                e2 = pos[j, 2] + sz - pos[i, 2] - t * v2
+        if not move_vec(i, t, v0, v1, v2, pos, images, sides, scale, ncell, members, cell, slot, axes):
+            return CELL_FULL, written
+        add(tally, T_DISP, 0, t * v0 * v0)
+        add(tally, T_DISP, 1, t * v1 * v1)
+        if d == 3:
+            add(tally, T_DISP, 2, t * v2 * v2)
+        if j >= 0:  # a lift: j moves on
+            add(tally, T_LIFT, 0, e0 * v0)
+            add(tally, T_LIFT, 1, e1 * v1)
+            if d == 3:
+                add(tally, T_LIFT, 2, e2 * v2)
+            r = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            e0, e1, e2 = e0 / r, e1 / r, e2 / r
+            if variant == NEWTONIAN:
+                if stamp[j] != ints[I_CHAINS]:
+                    draw_velocity(vel, j, rng, False, axes)
+                    stamp[j] = ints[I_CHAINS]
+                lift_newtonian(i, j, e0, e1, e2, vel, axes)
+            else:
+                lift_forward(i, j, e0, e1, e2, vel, rng, axes)
+            floats[F_LEFT] = left - t
+            ints[I_ACTIVE] = j
+            ints[I_EVENTS] += 1
+            events += 1
+        elif horizon < left:  # the centre left its cell: a step, and the chain goes on
+            floats[F_LEFT] = left - t
+            ints[I_STEPS] += 1
+        else:  # the chain's end
+            floats[F_LEFT] = 0.0
+            ints[I_ACTIVE] = -1
+            ints[I_CHAINS] += 1
+            chains += 1
+            if (ints[I_CHAINS] - origin) % (d * every) == 0:
+                row = rows[written]
+                row[0] = ints[I_EVENTS]
+                row[1] = ints[I_CHAINS]
+                for b in range(d):
+                    row[2 + b] = tally[T_LIFT, b] + tally[T_LIFT_C, b]
+                    row[2 + d + b] = tally[T_DISP, b] + tally[T_DISP_C, b]
+                written += 1
+                if written >= rows.shape[0]:
+                    return ROWS_FULL, written
+    return DONE, written

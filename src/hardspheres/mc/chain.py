@@ -64,6 +64,11 @@ if TYPE_CHECKING:
 #: unit area, that is 0.24 of the side of a square box.
 CHAIN_FRACTION = 0.24
 
+#: The variants: straight chains along the axes in turn (Bernard, Krauth and Wilson 2009; Li et al.
+#: 2022's StraightECMC), Newtonian chains (Klement and Engel, J. Chem. Phys. 150, 174108 (2019)) and
+#: forward chains (Michel, Durmus and Senecal, J. Comput. Graph. Stat. 29, 689 (2020)).
+VARIANTS = {"straight": core.STRAIGHT, "newtonian": core.NEWTONIAN, "forward": core.FORWARD}
+
 #: The ``format`` array of an event-chain checkpoint, and its version.
 FORMAT = "hardspheres-ecmc-checkpoint"
 VERSION = 1
@@ -75,7 +80,7 @@ _ROWS = 4096
 
 
 class EventChain:
-    """Hard spheres (or disks) sampled by straight event-chain Monte Carlo.
+    """Hard spheres (or disks) sampled by event-chain Monte Carlo: straight, Newtonian or forward chains.
 
     Args:
         state: the spheres at the start (:class:`hardspheres.State`):
@@ -88,7 +93,19 @@ class EventChain:
             :data:`CHAIN_FRACTION` ``V^(1/d)``, Li et al.'s choice).
         kT: the temperature [energy]: pressures are ``kT beta P``, and
             :meth:`to_simulation` draws velocities at it.
-        seed: seed of the random choice of each chain's first sphere.
+        seed: seed of the random choice of each chain's first sphere (and
+            of the directions and velocities of the other variants).
+        variant: ``"straight"`` (the default: each chain along +x, +y
+            (+z) in turn), ``"newtonian"`` (each chain starts one sphere
+            at random with a Maxwell-Boltzmann velocity of mean square
+            speed 1, every sphere's velocity drawn afresh per chain; a
+            lift is an elastic collision of equal masses, and the sphere
+            hit moves on with its new velocity; the chain length is a
+            time) or ``"forward"`` (a direction at random per chain; at a
+            lift the sphere hit moves on along a direction whose part
+            across the contact is kept and whose part along it is drawn
+            afresh).  Every variant is exact and measures the pressure
+            (docs/numerics.md).
 
     Attributes:
         container: the box.
@@ -102,7 +119,8 @@ class EventChain:
         PeriodicBoxRequired: a spherical or circular container.
         BoxShapeError: a box side shorter than three times the largest diameter.
         ScenarioError: overlapping spheres, or a state of another dimension.
-        ArgumentError: a chain length or kT that is not a finite number > 0.
+        ArgumentError: a chain length or kT that is not a finite number > 0,
+            or an unknown variant.
     """
 
     #: Set to end the current run at its next chunk of events.
@@ -115,7 +133,12 @@ class EventChain:
         chain_length: float | None = None,
         kT: float = 1.0,  # noqa: N803 (the physicists' name)
         seed: int = 0,
+        variant: str = "straight",
     ) -> None:
+        if variant not in VARIANTS:
+            raise ArgumentError(
+                f"variant {variant!r} is not an event-chain variant; choose one of {', '.join(VARIANTS)}"
+            )
         container = _periodic(as_container(container))
         state.check()
         d = container.dimensions
@@ -148,6 +171,9 @@ class EventChain:
         )
         self._tally = np.zeros((4, d))
         self._rng = np.array([_seed_word(seed)], dtype=np.uint64)
+        self.variant = variant
+        self._vel = np.zeros((n, d))  # Newtonian: velocities; forward: the active sphere's direction
+        self._stamp = np.full(n, -1, np.int64)  # Newtonian: the chain each velocity was drawn for
         self._cells()
         if n > 1:
             worst = self._max_overlap()
@@ -300,28 +326,7 @@ class EventChain:
             max_chains = int(min(budget, 1 << 62))
             max_events = int(min(events_left, _CHUNK))
             c0, e0 = self.counters["chains"], self.counters["events"]
-            reason, written = core.run(
-                self._pos,
-                self._radii,
-                self._images,
-                self._sides,
-                self._scale,
-                self._ncell,
-                self._members,
-                self._cell,
-                self._slot,
-                self._ints,
-                self._floats,
-                self._tally,
-                self._rng,
-                self._axes,
-                max_events,
-                max_chains,
-                self.observables.every,
-                self.observables.origin,
-                rows,
-                brute,
-            )
+            reason, written = self._core(max_events, max_chains, rows, brute)
             self.observables.take(rows[:written])
             chains_left -= self.counters["chains"] - c0
             events_left -= self.counters["events"] - e0
@@ -331,6 +336,28 @@ class EventChain:
                 if w.next_time <= self.time and self._ints[core.I_ACTIVE] < 0:
                     w.write(view, self.time)
         return self
+
+    def _core(self, max_events: int, max_chains: int, rows: np.ndarray, brute: bool) -> tuple[int, int]:
+        """One call of the compiled loop of this variant."""
+        common = (
+            self._pos,
+            self._radii,
+            self._images,
+            self._sides,
+            self._scale,
+            self._ncell,
+            self._members,
+            self._cell,
+            self._slot,
+            self._ints,
+            self._floats,
+            self._tally,
+            self._rng,
+        )
+        schedule = (max_events, max_chains, self.observables.every, self.observables.origin, rows, brute)
+        if self.variant == "straight":
+            return core.run(*common, self._axes, *schedule)
+        return core.run_free(*common, self._vel, self._stamp, self._axes, VARIANTS[self.variant], *schedule)
 
     def request_stop(self) -> None:
         """End the current run early, at its next chunk of events (safe from a signal handler)."""
@@ -358,10 +385,19 @@ class EventChain:
         return Simulation(st, self.container, window=window)
 
     @classmethod
-    def from_simulation(cls, sim: Simulation, chain_length: float | None = None, seed: int = 0) -> EventChain:
+    def from_simulation(
+        cls, sim: Simulation, chain_length: float | None = None, seed: int = 0, variant: str = "straight"
+    ) -> EventChain:
         """An event chain from a :class:`~hardspheres.Simulation`'s spheres now, at its kinetic ``kT``."""
         kT = sim.observables.temperature()
-        return cls(sim.state(), sim.container, chain_length=chain_length, kT=kT if kT > 0 else 1.0, seed=seed)
+        return cls(
+            sim.state(),
+            sim.container,
+            chain_length=chain_length,
+            kT=kT if kT > 0 else 1.0,
+            seed=seed,
+            variant=variant,
+        )
 
     # ---- checkpoints ---------------------------------------------------------------
     def save(self, path: str | os.PathLike, lock: bool = True) -> None:
@@ -389,6 +425,9 @@ class EventChain:
             "tally": self._tally,
             "rng": self._rng,
             "kT": np.array(self.kT),
+            "variant": np.array(self.variant),
+            "velocities": self._vel,
+            "stamps": self._stamp,
             **self.observables.checkpoint(),
         }
         with atomic_write(path, "wb", lock=lock) as fh:
@@ -408,6 +447,13 @@ class EventChain:
             container = _periodic(from_record(data["container"]))
             d = container.dimensions
             n = data["radii"].shape[0] if data["radii"].ndim == 1 else -1
+            variant = str(data.get("variant", "straight"))
+            if variant not in VARIANTS:
+                raise CheckpointError(f"unknown variant {variant!r}")
+            if data["ints"].shape == (core.N_INTS - 1,):  # written before the cell steps were counted
+                data["ints"] = np.append(data["ints"], 0)
+            data.setdefault("velocities", np.zeros((n, d)))
+            data.setdefault("stamps", np.full(n, -1, np.int64))
             expect = {
                 "masses": (np.float64, (n,)),
                 "radii": (np.float64, (n,)),
@@ -418,6 +464,8 @@ class EventChain:
                 "tally": (np.float64, (4, d)),
                 "rng": (np.uint64, (1,)),
                 "kT": (np.float64, ()),
+                "velocities": (np.float64, (n, d)),
+                "stamps": (np.int64, (n,)),
             }
             for key, (dtype, shape) in expect.items():
                 a = data[key]
@@ -438,7 +486,11 @@ class EventChain:
                 raise CheckpointError("positions outside the box")
             state = State(data["masses"], data["radii"], data["positions"], np.zeros((n, d)), names.tolist())
             chain = cls(
-                state, container, chain_length=float(data["floats"][core.F_LENGTH]), kT=float(data["kT"])
+                state,
+                container,
+                chain_length=float(data["floats"][core.F_LENGTH]),
+                kT=float(data["kT"]),
+                variant=variant,
             )
         except (KeyError, IndexError, ValueError, TypeError) as e:
             why = str(e).splitlines()[0] if str(e) else type(e).__name__
@@ -448,6 +500,8 @@ class EventChain:
         chain._floats[:] = data["floats"]
         chain._tally[:] = data["tally"]
         chain._rng[:] = data["rng"]
+        chain._vel[:] = data["velocities"]
+        chain._stamp[:] = data["stamps"]
         chain.observables = ChainObservables(chain)
         chain.observables.restore(data)
         return chain
@@ -516,4 +570,4 @@ def _seed_word(seed: int) -> np.uint64:
     return words[0]
 
 
-__all__ = ["CHAIN_FRACTION", "EventChain"]
+__all__ = ["CHAIN_FRACTION", "VARIANTS", "EventChain"]
