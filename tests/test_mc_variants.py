@@ -214,3 +214,19 @@ def test_the_pressure_matches_the_equation_of_state(variant, d, packing, n, refe
     assert abs(s["pressure_xx"] - s["pressure_yy"]) <= 3 * math.hypot(
         s["pressure_xx_error"], s["pressure_yy_error"]
     )
+
+
+def test_the_sample_command_takes_a_variant_and_resumes_it(tmp_path, capsys):
+    from hardspheres.cli.commands import main
+
+    box = hs.PeriodicBox((20.0, 20.0))
+    scn = tmp_path / "d.txt"
+    scn.write_text(hs.random_spheres(200, 0.5, box, seed=1).to_text())
+    ck = str(tmp_path / "s.npz")
+    argv = ["sample", str(scn), "--box", "20", "20", "--chains", "200", "--variant", "forward"]
+    assert main([*argv, "--checkpoint", ck]) == 0
+    assert "Z = beta P V / N" in capsys.readouterr().out
+    assert EventChain.load(ck).variant == "forward"
+    assert main(["sample", "--resume", ck, "--chains", "10", "--variant", "newtonian"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "leave out --variant" in err and "\n" not in err

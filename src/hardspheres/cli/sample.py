@@ -48,6 +48,11 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.add_argument("--kT", type=positive, default=1.0, help="temperature [J]: pressures are kT beta P")
     p.add_argument("--seed", type=count, default=0, help="random seed (>= 0)")
+    p.add_argument(
+        "--variant",
+        choices=["straight", "newtonian", "forward"],
+        help="the chains: straight along the axes in turn (default), Newtonian or forward",
+    )
     p.add_argument("--trajectory", metavar="FILE", help="frames to FILE (.gsd or .xyz) at chain ends")
     p.add_argument("--every", type=whole(1), help="chains between frames (default: 100 frames over the run)")
     p.add_argument("--checkpoint", metavar="FILE", help="write a checkpoint (.npz) at the end or on Ctrl-C")
@@ -62,6 +67,8 @@ def _check_args(args: argparse.Namespace) -> None:
     if args.resume:
         if args.scenario or given:
             raise UsageError("--resume continues a checkpoint: leave out the scenario and --box")
+        if args.variant is not None:
+            raise UsageError("--resume continues the checkpoint's own variant: leave out --variant")
     elif not args.scenario:
         raise UsageError("give a scenario file (or --resume CHECKPOINT)")
     elif not given:
@@ -98,7 +105,14 @@ def _starting_chain(args: argparse.Namespace) -> EventChain:
         raise UsageError(f"{args.scenario}: no spheres in the scenario; add a line per sphere")
     check_scenario(scn, container)
     state = State.from_scenario(scn, dimensions=container.dimensions)
-    return EventChain(state, container, chain_length=args.chain_length, kT=args.kT, seed=args.seed)
+    return EventChain(
+        state,
+        container,
+        chain_length=args.chain_length,
+        kT=args.kT,
+        seed=args.seed,
+        variant=args.variant or "straight",
+    )
 
 
 def _writer(args: argparse.Namespace, chain: EventChain) -> GSDWriter | XYZWriter | None:
