@@ -94,12 +94,11 @@ class LowKStructureFactor(Compute):
         shells: how many of the smallest ``|k|`` to measure (1: ``2 pi / L``
             for a cube or square).
 
-    Attributes (after :meth:`compute`):
-        k: ``(shells,)`` the shells' ``|k|`` [1/length].
-        S: ``(shells,)`` S(k) averaged over the configurations and each
-            shell's vectors.
-        S_frames: ``(F, shells)`` the same per configuration.
-        times: ``(F,)`` the configurations' times (``nan`` for bare positions).
+    After :meth:`compute`: ``k``, ``(shells,)`` the shells' ``|k|``
+    [1/length]; ``S``, ``(shells,)`` S(k) averaged over the configurations
+    and each shell's vectors; ``S_frames``, ``(F, shells)`` the same per
+    configuration; ``times``, ``(F,)`` the configurations' times (``nan``
+    for bare positions).
     """
 
     _results = ("k", "S", "S_frames", "times")
@@ -155,11 +154,10 @@ class LocalDensity(Compute):
         bins: histogram bins between 0 and the densest packing (equal
             spheres: 0.7405, disks: 0.9069) [1].
 
-    Attributes (after :meth:`compute`):
-        values: ``(F, N)`` each sphere's local packing fraction [1].
-        counts, edges: the histogram of ``values`` over all configurations
-            (``edges``: ``bins + 1``).
-        method: the method used (``"voronoi"`` or ``"cells"``).
+    After :meth:`compute`: ``values``, ``(F, N)`` each sphere's local
+    packing fraction [1]; ``counts`` and ``edges`` (``bins + 1`` of them),
+    the histogram of ``values`` over all configurations; ``method``, the
+    method used (``"voronoi"`` or ``"cells"``).
     """
 
     _results = ("values", "counts", "edges")
