@@ -14,6 +14,12 @@
   gas to a steady state.  Set one with :meth:`Simulation.set_thermostat
   <hardspheres.Simulation.set_thermostat>`; without one a run is NVE,
   exactly as before.
+* Under shear (Lees-Edwards boundaries) a thermostat must act on the
+  peculiar velocities ``c = v - g y e_x`` (the velocity less the streaming
+  profile), so that it does not fight the flow: :class:`PeculiarRescale`
+  (isokinetic) and :class:`PeculiarAndersen` (stochastic); which
+  steady state each gives is stated on each.  An elastic fluid heats up
+  under shear without one; inelastic collisions need none.
 
 Units: the compression ``rate`` is the growth speed of the largest
 diameter in units of the thermal speed ``sqrt(kT / m)`` (``m`` the mean
@@ -418,19 +424,150 @@ class RandomKicks:
         )
 
 
-def thermostat_from_state(text: str) -> Andersen | VelocityRescale | RandomKicks:
-    """The thermostat that :meth:`Andersen.state`, :meth:`VelocityRescale.state` or
-    :meth:`RandomKicks.state` saved."""
+def _stream(sim: ObservedSimulation, t: float) -> tuple[float, np.ndarray]:
+    """The shear rate ``g`` [1/time] and the streaming velocity along x of every sphere at ``t``."""
+    g = float(getattr(sim.container, "shear_rate", 0.0))
+    if not g:
+        return 0.0, np.zeros(sim.n)
+    x = np.asarray(sim.engine.positions_at(t), dtype=np.float64).reshape(sim.n, -1)
+    return g, g * x[:, 1]
+
+
+class PeculiarRescale:
+    """Isokinetic thermostat on the peculiar velocities: every ``interval``, ``c -> c sqrt(kT / kT_c)``.
+
+    At each action every sphere's peculiar velocity ``c = v - g y e_x``
+    (``y`` its centre then) is scaled by one factor so that ``sum m c^2 /
+    (d N - d)`` is ``kT``, and ``v = g y e_x + c`` is given back (one kick
+    per sphere): the streaming profile is kept, the heat of the flow
+    removed.  Without shear it is :class:`VelocityRescale`.
+
+    **Steady state.**  Rescaled often (``interval`` well below the heating
+    time ``kT / (d kT/dt)``) this is the Gaussian isokinetic thermostat
+    applied to the peculiar momenta, as in the SLLOD algorithm: it gives
+    the isokinetic nonequilibrium steady state, whose configurational
+    distribution tends to the canonical one at ``kT`` as ``g -> 0``, so
+    ``eta(g) = -P_xy / g`` tends to the equilibrium (Green-Kubo, or
+    Einstein-Helfand) viscosity at that temperature (Evans and Morriss,
+    *Statistical Mechanics of Nonequilibrium Liquids*, 2nd ed., Cambridge
+    (2008), chapters 5 and 6).  It assumes the profile is linear
+    ("profile-biased"): at large rates a thermostat that imposes the
+    profile can stabilise layered "string" phases that a profile-unbiased
+    one would not (Evans and Morriss, ch. 6; DynamO's ``BC/LEBC.hpp``
+    notes the same): check that the profile measured
+    (:meth:`hardspheres.observables.ShearFlow.profile`) is linear.  Between
+    actions the fluid heats by ``2 eta g^2 V / (d N) dt`` in ``kT``, so the
+    mean ``kT`` sits slightly above the target.
+
+    Args:
+        kT: the temperature of the peculiar velocities [energy].
+        interval: the time between actions [time].
+    """
+
+    def __init__(self, kT: float = 1.0, interval: float = 0.1) -> None:
+        if not (math.isfinite(kT) and kT > 0):
+            raise ArgumentError(f"kT must be a number > 0, got {kT}")
+        if not (math.isfinite(interval) and interval > 0):
+            raise ArgumentError(f"interval must be a number > 0, got {interval}")
+        self.kT, self.interval = float(kT), float(interval)
+        self.next_time: float | None = None
+
+    def attach(self, sim: ObservedSimulation) -> None:
+        """Called as each run starts: schedules the first action."""
+        if self.next_time is None:
+            self.next_time = sim.time + self.interval
+
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
+        """Rescale the peculiar velocities at ``t`` (the run calls this at :attr:`next_time`)."""
+        eng = sim.engine
+        eng.move_clock(t)
+        g, u = _stream(sim, t)
+        v = np.asarray(eng.velocities, dtype=np.float64).reshape(sim.n, -1).copy()
+        c = v.copy()
+        c[:, 0] -= u
+        m = np.asarray(eng.masses, dtype=np.float64)
+        kt = float(np.sum(m[:, None] * c * c)) / max(sim.container.degrees_of_freedom(sim.n), 1)
+        if kt > 0:
+            c *= math.sqrt(self.kT / kt)
+            c[:, 0] += u
+            for i in range(sim.n):
+                eng.kick(i, t, c[i])
+        self.next_time = t + self.interval
+
+    def state(self) -> str:
+        """JSON text of everything needed to resume exactly."""
+        return json.dumps(
+            {
+                "kind": "peculiar_rescale",
+                "kT": self.kT,
+                "interval": self.interval,
+                "next_time": self.next_time,
+            }
+        )
+
+
+class PeculiarAndersen(Andersen):
+    """Andersen thermostat on the peculiar velocities: at random times one sphere gets ``c`` from Maxwell.
+
+    As :class:`Andersen` (one sphere at a time, at exponentially
+    distributed intervals, ``rate`` per sphere per unit time, seeded), but
+    the new velocity is ``g y e_x + c`` with ``c`` drawn at ``kT`` and ``y``
+    the sphere's centre then: a bath that moves with the streaming profile.
+    Without shear it is :class:`Andersen`, draw for draw.
+
+    **Steady state.**  Without shear, Andersen's stochastic collisions give
+    the canonical ensemble (H. C. Andersen, J. Chem. Phys. 72, 2384
+    (1980)).  Under shear each kick also resets the sphere's momentum to
+    the profile's, a second, artificial momentum exchange besides the
+    collisions: the steady state is a nonequilibrium one held at ``kT``
+    whose stress includes the bath's drag, so ``eta = -P_xy / g`` is the
+    fluid's own only while ``rate`` is far below the collision rate (the
+    kicks then carry a small fraction of the momentum).  Like
+    :class:`PeculiarRescale` it assumes the linear profile (Evans and
+    Morriss, *Statistical Mechanics of Nonequilibrium Liquids*, ch. 6).
+
+    Args:
+        kT: temperature of the peculiar velocities [energy].
+        rate: resamplings per sphere per unit time [1/time].
+        seed: seed of the generator.
+    """
+
+    def apply(self, sim: ObservedSimulation, t: float) -> None:
+        """Resample one sphere's peculiar velocity at ``t`` (the run calls this at :attr:`next_time`)."""
+        eng = sim.engine
+        i = int(self._rng.integers(sim.n))
+        c = self._rng.normal(size=sim.container.dimensions) * math.sqrt(self.kT / eng.masses[i])
+        g = float(getattr(sim.container, "shear_rate", 0.0))
+        if g:
+            eng.move_clock(t)
+            y = float(np.asarray(eng.positions_at(t), dtype=np.float64).reshape(sim.n, -1)[i, 1])
+            c[0] += g * y
+        eng.kick(i, t, c)
+        self.resampled += 1
+        self.next_time = t + self._rng.exponential(1.0 / (self.rate * sim.n))
+
+    def state(self) -> str:
+        """JSON text of everything needed to resume exactly."""
+        d = json.loads(super().state())
+        d["kind"] = "peculiar_andersen"
+        return json.dumps(d)
+
+
+def thermostat_from_state(text: str) -> Andersen | VelocityRescale | RandomKicks | PeculiarRescale:
+    """The thermostat that :meth:`Andersen.state`, :meth:`VelocityRescale.state`,
+    :meth:`RandomKicks.state` or a peculiar one's ``state`` saved."""
     d = json.loads(text)
-    th: Andersen | VelocityRescale | RandomKicks
-    if d["kind"] == "andersen":
-        th = Andersen(d["kT"], d["rate"], d["seed"])
+    th: Andersen | VelocityRescale | RandomKicks | PeculiarRescale
+    if d["kind"] in ("andersen", "peculiar_andersen"):
+        th = (Andersen if d["kind"] == "andersen" else PeculiarAndersen)(d["kT"], d["rate"], d["seed"])
         th._rng.bit_generator.state = d["rng"]
         th.resampled = d["resampled"]
     elif d["kind"] == "kicks":
         th = RandomKicks(d["strength"], d["interval"], d["seed"])
         th._rng.bit_generator.state = d["rng"]
         th.kicks, th.injected = int(d["kicks"]), float(d["injected"])
+    elif d["kind"] == "peculiar_rescale":
+        th = PeculiarRescale(d["kT"], d["interval"])
     else:
         th = VelocityRescale(d["kT"], d["interval"])
     th.next_time = d["next_time"]

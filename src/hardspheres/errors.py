@@ -193,3 +193,8 @@ class MissingExtraError(ModuleNotFoundError):
 class ResolutionWarning(UserWarning):
     """An estimate at the edge of what the data resolve (a crossing or a peak at the last lag); the
     message says what to record instead."""
+
+
+class DriftWarning(UserWarning):
+    """A time average over a run whose state drifts (a sheared fluid heating up without a thermostat);
+    the message says by how much and what to do."""

@@ -1,5 +1,9 @@
 """Observables: time averages of a run from the event core's running tallies.
 
+Sheared runs (Lees-Edwards boundaries, :class:`ShearFlow`) have their own
+averages: the shear stress, the viscosity, the normal stress differences,
+the temperature of the peculiar velocities and the streaming profile.
+
 Error bars: the tallies are also sampled on a grid of equally spaced times
 (one *block* between neighbouring samples), and the standard error of each
 average comes from Flyvbjerg-Petersen blocking of the per-block values
@@ -27,7 +31,7 @@ import numpy as np
 from .blocking import Blocking, blocking
 from .containers import require_periodic
 from .errors import NoMeasurementError  # noqa: F401 (re-exported)
-from .errors import ArgumentError
+from .errors import ArgumentError, DriftWarning, ShearError
 from .writers import SimulationView
 
 # columns of a tally sample (the transport tallies follow in a periodic box)
@@ -545,3 +549,291 @@ ALIASES = {"compressibility": "Z"}
 
 def _unknown_error(mean: float) -> Blocking:
     return Blocking(mean, math.nan, 0, 0, False, np.zeros(0), np.zeros(0))
+
+
+# ---- sheared runs (Lees-Edwards) ---------------------------------------------------
+
+
+def peculiar_velocities(positions: np.ndarray, velocities: np.ndarray, shear_rate: float) -> np.ndarray:
+    """``(N, d)`` velocities relative to the streaming profile: ``c = v - g y e_x`` [length/time].
+
+    ``positions`` in the sheared box (y from its centre, where the flow is
+    at rest), ``shear_rate`` ``g`` [1/time].
+
+    Example:
+        >>> peculiar_velocities(np.array([[0.0, 2.0]]), np.array([[1.5, 0.5]]), 0.25).tolist()
+        [[1.0, 0.5]]
+    """
+    c = np.array(velocities, dtype=np.float64)
+    c[:, 0] -= shear_rate * np.asarray(positions, dtype=np.float64)[:, 1]
+    return c
+
+
+class ShearFlow:
+    """Run a sheared box and average its rheology: stress, viscosity, normal stresses, profile.
+
+    Reads what the engine exposes (``stress_tallies``, ``positions_at``,
+    ``velocities``, ``masses``, ``container``, ``shear_rate``, ``advance``,
+    ``kick``): for now :class:`hardspheres.core.reference.Reference`, which
+    runs Lees-Edwards boundaries (the compiled core does not yet).  It
+    drives the engine (:meth:`run`), applies a thermostat at its times
+    (:class:`hardspheres.dense.PeculiarRescale`,
+    :class:`hardspheres.dense.PeculiarAndersen`) and samples the tallies on
+    a grid of equal blocks, from which:
+
+    * the pressure tensor ``P = (int sum m c c dt + sum r_ij dp_i) / (t V)``
+      with peculiar velocities ``c = v - g y e_x`` (docs/numerics.md,
+      "Lees-Edwards shear"), per block;
+    * the viscosity ``eta = -P_xy / g``, the normal stress differences
+      ``N_1 = P_xx - P_yy`` and ``N_2 = P_yy - P_zz`` (3-D), and the
+      kinetic temperature of the peculiar velocities, each with a
+      Flyvbjerg-Petersen error bar over the blocks (:meth:`estimate`);
+    * the streaming profile ``<v_x>(y)`` in layers across y (:meth:`profile`).
+
+    Averages over a run whose temperature drifts (an elastic fluid heats
+    up under shear) warn (:class:`~hardspheres.errors.DriftWarning`): use a
+    thermostat, or inelastic collisions.
+
+    Args:
+        engine: the engine running a sheared box.
+        thermostat: one acting on the peculiar velocities, or ``None``.
+        every: the time between samples (a block) [time]; default a tenth
+            of the time a sphere of rms peculiar speed crosses the mean
+            spacing ``(V/N)^(1/d)``.
+        layers: the layers across y for the profile.
+
+    Example:
+        >>> import hardspheres as hs
+        >>> from hardspheres.core.reference import Reference
+        >>> box = hs.PeriodicBox((12.0, 12.0), shear_rate=0.05)
+        >>> s = hs.random_spheres(40, 0.3, container=box, seed=1)
+        >>> flow = ShearFlow(Reference(s.masses, s.radii, s.positions, s.velocities, container=box))
+        >>> flow.run(20.0).time, flow.n_blocks >= 16
+        (20.0, True)
+    """
+
+    def __init__(
+        self, engine: Any, thermostat: Any = None, every: float | None = None, layers: int = 8
+    ) -> None:
+        self.engine = engine
+        self.container = engine.container
+        self.shear_rate = float(getattr(engine, "shear_rate", 0.0))
+        if not self.shear_rate:
+            raise ShearError(
+                "ShearFlow needs a sheared box: give hs.PeriodicBox(..., shear_rate=g) with g != 0"
+            )
+        if not (isinstance(layers, int) and layers >= 1):
+            raise ArgumentError(f"layers must be a whole number >= 1, got {layers!r}")
+        self.layers = layers
+        self.thermostat = thermostat
+        self.reset(every)
+
+    # the view a thermostat reads (hardspheres.dense.ObservedSimulation's names)
+    @property
+    def n(self) -> int:
+        """Number of spheres."""
+        return int(self.engine.n)
+
+    @property
+    def time(self) -> float:
+        """The time reached [time] (the last sample, event or kick)."""
+        return self._t
+
+    def reset(self, every: float | None = None) -> ShearFlow:
+        """Start averaging afresh from now; returns self."""
+        self._t = float(self.engine.time)
+        self.every = float(every) if every is not None else self._auto_every()
+        if not (self.every > 0 and math.isfinite(self.every)):
+            raise ArgumentError(f"every must be a finite time > 0, got {every!r}")
+        self._samples: list[np.ndarray] = [self._tallies(self._t)]
+        self._profiles: list[np.ndarray] = []
+        return self
+
+    def _auto_every(self) -> float:
+        c = self._peculiar(self._t)
+        v2 = float(np.mean(np.sum(c * c, axis=1))) if self.n else 0.0
+        if not v2 > 0:
+            raise NoMeasurementError("every sphere at rest in the flow: give every=")
+        box = self.container
+        return 0.1 * (box.volume / self.n) ** (1.0 / box.dimensions) / math.sqrt(v2)
+
+    def _peculiar(self, t: float) -> np.ndarray:
+        x = np.asarray(self.engine.positions_at(t), dtype=np.float64).reshape(self.n, -1)
+        v = np.asarray(self.engine.velocities, dtype=np.float64).reshape(self.n, -1)
+        return peculiar_velocities(x, v, self.shear_rate)
+
+    def _tallies(self, t: float) -> np.ndarray:
+        tal = self.engine.stress_tallies(t)
+        return np.concatenate([[t], tal["kinetic"], tal["virial"]])
+
+    def run(self, duration: float) -> ShearFlow:
+        """Run the engine for ``duration`` [time], sampling every :attr:`every`; returns self.
+
+        The thermostat, if any, acts at its times (before a sample due at
+        the same instant).  The run ends exactly at ``time + duration``.
+        """
+        if not (duration >= 0 and math.isfinite(duration)):
+            raise ArgumentError(f"duration must be a finite time >= 0, got {duration!r}")
+        end = self._t + float(duration)
+        th = self.thermostat
+        if th is not None:
+            th.attach(self)
+        next_sample = self._samples[-1][0] + self.every
+        while True:
+            due = min(end, next_sample)
+            if th is not None and th.next_time is not None and th.next_time < due:
+                self.engine.advance(until=th.next_time)
+                self._t = th.next_time
+                th.apply(self, th.next_time)
+                continue
+            self.engine.advance(until=due)
+            self.engine.move_clock(due)
+            self._t = due
+            if due == next_sample:
+                self._sample(due)
+                next_sample = due + self.every
+            if due == end:
+                return self
+
+    def _sample(self, t: float) -> None:
+        self._samples.append(self._tallies(t))
+        ly = self.container.sides[1]
+        x = np.asarray(self.engine.positions_at(t), dtype=np.float64).reshape(self.n, -1)
+        v = np.asarray(self.engine.velocities, dtype=np.float64).reshape(self.n, -1)
+        k = np.clip(np.floor((x[:, 1] / ly + 0.5) * self.layers).astype(int), 0, self.layers - 1)
+        counts = np.bincount(k, minlength=self.layers)
+        sums = np.bincount(k, weights=v[:, 0], minlength=self.layers)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            self._profiles.append(sums / counts)
+
+    # ---- averages ---------------------------------------------------------------------
+    @property
+    def n_blocks(self) -> int:
+        """Blocks sampled since :meth:`reset`."""
+        return len(self._samples) - 1
+
+    @property
+    def elapsed(self) -> float:
+        """Time sampled since :meth:`reset` [time] (whole blocks)."""
+        return float(self._samples[-1][0] - self._samples[0][0])
+
+    def _per_block(self, d: np.ndarray) -> dict[str, np.ndarray]:
+        """Every average per row of tally differences ``d`` (columns: t, kinetic 6, virial 6)."""
+        dt = d[..., 0]
+        box = self.container
+        dof = box.degrees_of_freedom(self.n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            p = (d[..., 1:7] + d[..., 7:13]) / (dt[..., None] * box.volume)
+            kin = d[..., 1:7] / dt[..., None]
+            out = {f"pressure_{q}": p[..., k] for k, q in enumerate(("xx", "yy", "zz", "xy", "xz", "yz"))}
+            out["viscosity"] = -p[..., 3] / self.shear_rate
+            out["n1"] = p[..., 0] - p[..., 1]
+            if box.dimensions == 3:
+                out["n2"] = p[..., 1] - p[..., 2]
+            out["temperature"] = (kin[..., 0] + kin[..., 1] + kin[..., 2]) / dof
+        return out
+
+    def blocks(self, name: str) -> np.ndarray:
+        """``(n_blocks,)`` the values of ``name`` over each block: ``viscosity``, ``n1``, ``n2`` (3-D),
+        ``temperature``, ``pressure_xx`` ... ``pressure_yz``."""
+        values = self._per_block(np.diff(np.array(self._samples), axis=0))
+        if name not in values:
+            raise ArgumentError(f"no average {name!r} here: choose one of {', '.join(values)}")
+        return values[name]
+
+    def estimate(self, name: str) -> Blocking:
+        """Mean of ``name`` over the blocks and its blocking error (names as :meth:`blocks`).
+
+        Raises:
+            NoMeasurementError: fewer than 16 blocks (no error bar to trust): run longer.
+
+        Warns:
+            DriftWarning: the temperature drifts over the blocks.
+        """
+        if self.n_blocks < MIN_SHEAR_BLOCKS:
+            raise NoMeasurementError(
+                f"{self.n_blocks} blocks sampled: an error bar needs {MIN_SHEAR_BLOCKS}; run longer"
+            )
+        x = self.blocks(name)
+        self._warn_if_drifting()
+        return blocking(x)
+
+    def viscosity(self) -> Blocking:
+        """``eta = -<P_xy> / g`` [mass/(length^(d-2) time)], with its blocking error."""
+        return self.estimate("viscosity")
+
+    def normal_stress_differences(self) -> tuple[Blocking, ...]:
+        """``N_1 = P_xx - P_yy`` and, in 3-D, ``N_2 = P_yy - P_zz`` [energy/length^d], with errors."""
+        names = ("n1", "n2") if self.container.dimensions == 3 else ("n1",)
+        return tuple(self.estimate(q) for q in names)
+
+    def pressure_tensor(self) -> np.ndarray:
+        """``(d, d)`` pressure tensor averaged over the blocks, peculiar kinetic part [energy/length^d]."""
+        if self.n_blocks < 1:
+            raise NoMeasurementError("no block sampled yet: run first")
+        d = self._samples[-1] - self._samples[0]
+        values = self._per_block(d)
+        p = np.empty((3, 3))
+        for k, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
+            name = ("xx", "yy", "zz", "xy", "xz", "yz")[k]
+            p[a, b] = p[b, a] = float(values[f"pressure_{name}"])
+        dim = self.container.dimensions
+        return p[:dim, :dim].copy()
+
+    def temperature(self) -> float:
+        """Kinetic temperature of the peculiar velocities now: ``sum m c^2 / (d N - d)`` [energy]."""
+        c = self._peculiar(self._t)
+        m = np.asarray(self.engine.masses, dtype=np.float64)
+        return float(np.sum(m[:, None] * c * c)) / max(self.container.degrees_of_freedom(self.n), 1)
+
+    def profile(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The streaming profile: ``(y, <v_x>, error)`` per layer across y [length, length/time].
+
+        Averaged over the samples (each layer's mean ``v_x`` at each
+        sample); the error is blocking's (a layer empty at a sample is left
+        out of it).  Linear with slope ``g`` for a sheared fluid in a steady state.
+
+        Raises:
+            NoMeasurementError: fewer than 16 samples: run longer.
+        """
+        if len(self._profiles) < MIN_SHEAR_BLOCKS:
+            raise NoMeasurementError(
+                f"{len(self._profiles)} samples: a profile needs {MIN_SHEAR_BLOCKS}; run longer"
+            )
+        ly = self.container.sides[1]
+        y = ((np.arange(self.layers) + 0.5) / self.layers - 0.5) * ly
+        a = np.array(self._profiles)
+        mean = np.full(self.layers, np.nan)
+        err = np.full(self.layers, np.nan)
+        for k in range(self.layers):
+            col = a[:, k][np.isfinite(a[:, k])]
+            if col.size >= 2:
+                b = blocking(col)
+                mean[k], err[k] = b.mean, b.sem
+        return y, mean, err
+
+    def _warn_if_drifting(self) -> None:
+        """:class:`DriftWarning` if the temperature's trend over the blocks is over 4 errors and 2%."""
+        import warnings
+
+        kt = self.blocks("temperature")
+        n = kt.size
+        t = np.arange(n, dtype=np.float64) - 0.5 * (n - 1)
+        slope = float(np.dot(t, kt - kt.mean()) / np.dot(t, t))
+        resid = kt - kt.mean() - slope * t
+        se = math.sqrt(float(np.dot(resid, resid)) / max(n - 2, 1) / float(np.dot(t, t)))
+        change, err, mean = slope * (n - 1), se * (n - 1), float(kt.mean())
+        if abs(change) > 4.0 * err and abs(change) > DRIFT_TOLERANCE * mean:
+            warnings.warn(
+                f"the temperature drifts by {change / mean:+.1%} over the averaged blocks (viscous "
+                "heating): the averages mix temperatures; hold it with a thermostat on the peculiar "
+                "velocities (hardspheres.dense.PeculiarRescale) or use inelastic collisions",
+                DriftWarning,
+                stacklevel=3,
+            )
+
+
+#: Fewest blocks :meth:`ShearFlow.estimate` gives an error bar from (blocking's own minimum).
+MIN_SHEAR_BLOCKS = 16
+#: A temperature trend below this fraction of the mean is not a drift (:class:`ShearFlow`).
+DRIFT_TOLERANCE = 0.02
