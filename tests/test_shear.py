@@ -295,3 +295,120 @@ def test_the_sheared_search_finds_every_image_that_slides_past():
         t, kind, i, j = next_event_sheared(p, v, [0.0, 0.0], [0.5, 0.5], edges, 0.0, 0.0, 0.0, True, off, 1.0)
         assert (kind, i, j) == (1, 0, 1)
         assert t == pytest.approx((-h - off) % 10.0, abs=1e-12)
+
+
+# ---- observables and thermostats of a sheared run ------------------------------------
+
+
+def _flowing(d, n, phi, rate, seed, kT=1.0):
+    """A sheared system at rest on average, with the streaming profile imposed, on the compiled reference."""
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    v = v - np.sum(m[:, None] * v, axis=0) / np.sum(m)  # no drift: the peculiar momentum stays put
+    v *= math.sqrt(kT / (np.sum(m[:, None] * v * v) / (d * n - d)))
+    v[:, 0] += rate * x[:, 1]
+    return box, CompiledReference(m, r, x.tolist(), v.tolist(), container=box)
+
+
+def test_peculiar_rescale_sets_the_peculiar_temperature_and_keeps_the_profile():
+    from hardspheres.dense import PeculiarRescale
+    from hardspheres.observables import ShearFlow, peculiar_velocities
+
+    box, ref = _flowing(2, 60, 0.3, 0.2, 11, kT=2.5)
+    flow = ShearFlow(ref)
+    ref.advance(until=0.7)
+    th = PeculiarRescale(kT=1.5, interval=1.0)
+    th.apply(flow, 0.7)
+    x = np.asarray(ref.positions_at(0.7))
+    c = peculiar_velocities(x, np.asarray(ref.velocities), 0.2)
+    m = np.asarray(ref.masses)
+    assert np.sum(m[:, None] * c * c) / (2 * 60 - 2) == pytest.approx(1.5, rel=1e-12)
+    assert th.next_time == 1.7 and flow.temperature() == pytest.approx(1.5, rel=1e-12)
+
+
+def test_peculiar_andersen_draws_the_peculiar_velocity_and_is_andersen_without_shear():
+    from hardspheres.dense import Andersen, PeculiarAndersen, thermostat_from_state
+    from hardspheres.observables import ShearFlow
+
+    box, ref = _flowing(3, 40, 0.2, 0.3, 12)
+    flow = ShearFlow(ref)
+    th, twin = PeculiarAndersen(kT=2.0, rate=0.5, seed=4), Andersen(kT=2.0, rate=0.5, seed=4)
+    th.attach(flow)
+    ref.advance(until=th.next_time)
+    t = th.next_time
+    before = np.asarray(ref.velocities).copy()
+    th.apply(flow, t)
+    moved = np.flatnonzero(np.any(np.asarray(ref.velocities) != before, axis=1))
+    assert moved.size == 1
+    i = int(moved[0])
+    # the same draw as Andersen's, plus the streaming velocity at the sphere's centre
+    rng = np.random.Generator(np.random.PCG64(4))
+    rng.exponential(1.0 / (0.5 * 40))
+    assert int(rng.integers(40)) == i
+    c = rng.normal(size=3) * math.sqrt(2.0 / ref.masses[i])
+    y = np.asarray(ref.positions_at(t))[i, 1]
+    assert np.allclose(np.asarray(ref.velocities)[i], c + [0.3 * y, 0.0, 0.0], rtol=1e-15, atol=0)
+    back = thermostat_from_state(th.state())
+    assert type(back) is PeculiarAndersen and back.state() == th.state()
+    assert twin.state().replace('"andersen"', '"peculiar_andersen"') != th.state()  # it has drawn once
+
+
+def test_shear_flow_refuses_what_it_cannot_measure():
+    from hardspheres.errors import NoMeasurementError
+    from hardspheres.observables import ShearFlow
+
+    s = hs.random_spheres(20, 0.2, container=PeriodicBox(9.0), seed=1)
+    with pytest.raises(ShearError, match="needs a sheared box"):
+        ShearFlow(Reference(s.masses, s.radii, s.positions, s.velocities, container=PeriodicBox(9.0)))
+    box, ref = _flowing(2, 40, 0.2, 0.1, 13)
+    flow = ShearFlow(ref, every=1.0)
+    flow.run(5.0)
+    assert flow.n_blocks == 5
+    with pytest.raises(NoMeasurementError, match="5 blocks sampled: an error bar needs 16"):
+        flow.viscosity()
+    with pytest.raises(NoMeasurementError, match="a profile needs 16"):
+        flow.profile()
+
+
+def test_the_streaming_profile_of_a_thermostatted_elastic_fluid_is_linear_with_slope_g():
+    """2-D, 100 disks at packing 0.3, g = 0.05 (g L_y ~ 1 thermal speed), isokinetic at kT = 1.
+
+    The profile's slowest fluctuations relax over ``L_y^2 / nu``, tens of
+    time units: over 300 of them the slope is known to about 4%
+    (0.0508 +- 0.0016 and 0.0510 +- 0.0016 over 600 with two other seeds),
+    so 20% is 4 or 5 standard errors.
+    """
+    import warnings
+
+    from hardspheres.dense import PeculiarRescale
+    from hardspheres.errors import DriftWarning
+    from hardspheres.observables import ShearFlow
+
+    box, ref = _flowing(2, 100, 0.3, 0.05, 14)
+    flow = ShearFlow(ref, thermostat=PeculiarRescale(1.0, 0.5), layers=6)
+    flow.run(300.0)
+    y, u, err = flow.profile()
+    slope, icpt = np.polyfit(y, u, 1)
+    assert slope == pytest.approx(0.05, rel=0.2)
+    assert abs(icpt) < 0.05  # the peculiar momentum is zero and stays so
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DriftWarning)
+        eta = flow.viscosity()
+        kt = flow.estimate("temperature")
+    assert eta.mean > 0 and eta.sem < 0.3 * eta.mean
+    assert kt.mean == pytest.approx(1.0, rel=0.02)
+    n1 = flow.normal_stress_differences()
+    assert len(n1) == 1 and np.isfinite(n1[0].mean)
+    p = flow.pressure_tensor()
+    assert p.shape == (2, 2) and p[0, 1] == p[1, 0] < 0
+
+
+def test_an_unthermostatted_elastic_fluid_heats_and_its_averages_warn():
+    from hardspheres.errors import DriftWarning
+    from hardspheres.observables import ShearFlow
+
+    box, ref = _flowing(2, 60, 0.3, 0.3, 15)
+    flow = ShearFlow(ref)
+    flow.run(40.0)
+    assert flow.temperature() > 1.2
+    with pytest.warns(DriftWarning, match="the temperature drifts by"):
+        flow.viscosity()

@@ -434,7 +434,7 @@ class PeriodicBox:
 
     @property
     def boundary_speed(self) -> float:
-        """``g L_y``: the speed of the images across the y faces along x [length/time] (0: not sheared)."""
+        """The speed ``g L_y`` of the images across the y faces along x [length/time], 0 if not sheared."""
         return self.shear_rate * self.sides[1]
 
     def sheared_by(self, shear_rate: float) -> PeriodicBox:

@@ -636,8 +636,8 @@ class ShearFlow:
 
     @property
     def time(self) -> float:
-        """The time reached [time] (the last sample, event or kick)."""
-        return self._t
+        """The time reached [time] (the last sample, or the engine's last event or kick if later)."""
+        return max(self._t, float(self.engine.time))
 
     def reset(self, every: float | None = None) -> ShearFlow:
         """Start averaging afresh from now; returns self."""
@@ -709,12 +709,12 @@ class ShearFlow:
     # ---- averages ---------------------------------------------------------------------
     @property
     def n_blocks(self) -> int:
-        """Blocks sampled since :meth:`reset`."""
+        """Blocks sampled since the reset."""
         return len(self._samples) - 1
 
     @property
     def elapsed(self) -> float:
-        """Time sampled since :meth:`reset` [time] (whole blocks)."""
+        """Time sampled since the reset, in whole blocks [time]."""
         return float(self._samples[-1][0] - self._samples[0][0])
 
     def _per_block(self, d: np.ndarray) -> dict[str, np.ndarray]:
@@ -782,7 +782,7 @@ class ShearFlow:
 
     def temperature(self) -> float:
         """Kinetic temperature of the peculiar velocities now: ``sum m c^2 / (d N - d)`` [energy]."""
-        c = self._peculiar(self._t)
+        c = self._peculiar(self.time)
         m = np.asarray(self.engine.masses, dtype=np.float64)
         return float(np.sum(m[:, None] * c * c)) / max(self.container.degrees_of_freedom(self.n), 1)
 

@@ -706,6 +706,7 @@ class Reference:
         self._vir_t = [0.0] * 6
         self._kin_t = [0.0] * 6
         self._kt = [self._clock] * n
+        self._crossed = -INF  # every crossing of a face up to this time is made
 
     def _set_shear(self, rate: float, offset: float, time: float) -> None:
         """Lees-Edwards: ``g``, the boundary speed ``g L_y``, the offset at time 0; centres into the box.
@@ -761,7 +762,7 @@ class Reference:
 
     @property
     def shear_rate(self) -> float:
-        """Lees-Edwards shear rate ``g`` [1/time] (0: not sheared)."""
+        """Lees-Edwards shear rate ``g`` [1/time], 0 if not sheared."""
         return self._g
 
     def shear_offset(self, t: float | None = None) -> float:
@@ -777,7 +778,7 @@ class Reference:
 
     @property
     def x_shifts(self) -> list[float]:
-        """``N`` shifts along x made at y crossings [length] (unwrapped x: ``x + images_x L_x + shift``)."""
+        """``N`` shifts along x made at y crossings [length]; ``x + images_x L_x + shift`` is continuous."""
         return list(self._xshift)
 
     def stress_tallies(self, t: float | None = None) -> dict[str, Any]:
@@ -854,6 +855,7 @@ class Reference:
             self._tloc[k] = 0.0
             self._last[k] -= t  # (the engine's rebase: the same shift)
         self._streak -= t
+        self._crossed = -INF
         self._origin += t
         self._clock = 0.0
         self._now = 0.0
@@ -981,7 +983,8 @@ class Reference:
             raise ArgumentError("a kick cannot be before the clock: give a time at or after it")
         vel = _row(velocity, self.dimensions, "velocities")
         i = int(i)
-        self._next_physical(t)
+        if not t <= self._crossed:  # (a thermostat kicks many spheres at one instant)
+            self._next_physical(t)
         self._clock = self._now = t
         self._close_flight(i, t)
         self._move_sphere(self._p, self._v, self._tloc, i, t, self.dimensions == 2)
@@ -1050,6 +1053,8 @@ class Reference:
         while True:
             t, kind, i, j = self._next()
             if kind != CROSSING or not t <= until:
+                if not t <= until:
+                    self._crossed = until  # every crossing up to it made
                 return t, kind, i, j
             # the centre leaves the box: one side back (the core's crossing of a box face)
             ax, step = j >> 1, (1 if j & 1 else -1)
