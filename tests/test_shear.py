@@ -412,3 +412,19 @@ def test_an_unthermostatted_elastic_fluid_heats_and_its_averages_warn():
     assert flow.temperature() > 1.2
     with pytest.warns(DriftWarning, match="the temperature drifts by"):
         flow.viscosity()
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_a_sheared_granular_gas_balances_dissipation_against_the_stress_work(d):
+    """Inelastic collisions across the moving faces: the peculiar energy changes by the work less the loss."""
+    box, m, r, x, v = _system(d, 60, 0.25, 0.4, 16 + d)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, restitution=0.8)
+    e0 = peculiar_energy(ref, 0.0)
+    for _ in range(4):
+        ref.advance(events=1000)
+        t = ref.time
+        tal = ref.stress_tallies(t)
+        work = -0.4 * (tal["kinetic"][3] + tal["virial"][3])
+        e = peculiar_energy(ref, t)
+        assert ref.dissipated > 0.1 * e0
+        assert abs((e - e0) - (work - ref.dissipated)) < 1e-11 * (e0 + ref.dissipated)
