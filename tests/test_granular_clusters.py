@@ -153,3 +153,28 @@ def test_render_colours_by_local_density(clumped_frames, tmp_path):
     out = render_still(clumped_frames, tmp_path / "d.png", size=(640, 360), color_by="density", time=0.0)
     img = np.asarray(Image.open(out).convert("RGB"))
     assert img.shape == (360, 640, 3) and len(np.unique(img.reshape(-1, 3), axis=0)) > 20
+
+
+def test_commands_colour_by_density(tmp_path, capsys):
+    """``render``/``view --color density`` from a trajectory; a sphere is refused in one line."""
+    from hardspheres.cli.commands import main
+
+    box = hs.PeriodicBox.for_packing(100, 0.25, (1.0, 1.0))
+    sim = hs.Simulation(hs.random_spheres(100, 0.25, box, seed=3), box, restitution=0.8)
+    sim.writers.append(hs.GSDWriter(tmp_path / "run.gsd", every=0.5, events=False))
+    sim.run(until=1.0)
+    sim.writers[0].close()
+    gsd = str(tmp_path / "run.gsd")
+    assert main(["render", gsd, "--color", "density", "-o", str(tmp_path / "r.png")]) == 0
+    assert main(["view", gsd, "--color", "density", "-o", str(tmp_path / "v.html")]) == 0
+    ball = hs.SphericalContainer(6.0)
+    other = hs.Simulation(hs.random_spheres(30, 0.2, ball, seed=1), ball)
+    other.writers.append(hs.GSDWriter(tmp_path / "ball.gsd", every=0.5, events=False))
+    other.run(until=0.5)
+    other.writers[0].close()
+    capsys.readouterr()
+    assert (
+        main(["render", str(tmp_path / "ball.gsd"), "--color", "density", "-o", str(tmp_path / "b.png")]) == 1
+    )
+    err = capsys.readouterr().err
+    assert "periodic box" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
