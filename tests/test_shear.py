@@ -400,6 +400,9 @@ def test_the_streaming_profile_of_a_thermostatted_elastic_fluid_is_linear_with_s
     assert len(n1) == 1 and np.isfinite(n1[0].mean)
     p = flow.pressure_tensor()
     assert p.shape == (2, 2) and p[0, 1] == p[1, 0] < 0
+    pytest.importorskip("matplotlib")
+    ax = flow.plot_profile()
+    assert len(ax.lines) >= 1 and "g = 0.05" in ax.get_title()
 
 
 def test_an_unthermostatted_elastic_fluid_heats_and_its_averages_warn():

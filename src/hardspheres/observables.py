@@ -812,6 +812,25 @@ class ShearFlow:
                 mean[k], err[k] = b.mean, b.sem
         return y, mean, err
 
+    def plot_profile(self, ax: Any = None) -> Any:
+        """The streaming profile with its error bars and the line ``g y`` it should follow; returns Axes."""
+        from .extras import need
+
+        plt = need("matplotlib.pyplot", "plot")
+        y, u, err = self.profile()
+        ax = plt.figure().add_subplot() if ax is None else ax
+        ax.errorbar(y, u, yerr=err, fmt="o", ms=4, label="measured")
+        ly = self.container.sides[1]
+        line = np.array([-0.5 * ly, 0.5 * ly])
+        ax.plot(
+            line, self.shear_rate * line + float(np.nanmean(u - self.shear_rate * y)), "--", label="slope g"
+        )
+        ax.set_xlabel("y [length]")
+        ax.set_ylabel("<v_x> [length/time]")
+        ax.set_title(f"streaming profile, g = {self.shear_rate:g}, {self.n_blocks} samples")
+        ax.legend()
+        return ax
+
     def _warn_if_drifting(self) -> None:
         """:class:`DriftWarning` if the temperature's trend over the blocks is over 4 errors and 2%."""
         import warnings
