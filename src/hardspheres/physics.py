@@ -1,4 +1,4 @@
-"""The physics of hard spheres (elastic, and inelastic for granular gases), as small pure scalar functions.
+"""The physics of hard spheres (elastic, inelastic, and steps: square wells), as small pure scalar functions.
 
 Every function here takes and returns plain floats, so that the same source
 runs unchanged as Python (the small-input path of ``spheres``, which must not
@@ -299,6 +299,100 @@ def reflect(px: float, py: float, pz: float, vx: float, vy: float, vz: float, pl
     if planar:
         return 2.0 * (vx * px + vy * py) / (px * px + py * py)
     return 2.0 * (vx * px + vy * py + vz * pz) / (px * px + py * py + pz * pz)
+
+
+# ---- steps: square wells and shoulders ------------------------------------------
+# A pair potential made of steps: a hard core at sigma, then edges at radii
+# r_k with a constant potential energy between them.  A pair meets an edge
+# from outside with pair_time (sigma replaced by the edge's radius) and from
+# inside with pair_time_out; at the edge its velocities change by
+# cross_step (docs/numerics.md, "Steps: wells and shoulders").
+
+
+def pair_time_out(
+    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, edge: float, planar: bool = False
+) -> float:
+    """Time until a pair *inside* a sphere of radius ``edge`` reaches it (leaving a well).
+
+    The geometry of a sphere inside the spherical container, with the pair's
+    relative motion for the sphere's: the *larger* root of ``|dr + t dv| =
+    edge``, computed by :func:`wall_time` unchanged (its discriminant ``b^2 +
+    a |c|`` is a sum, and its root is formed without cancellation for both
+    signs of ``b = dr . dv``).
+
+    Args:
+        dx, dy, dz: separation ``r_i - r_j`` now [length], ``|dr| <= edge``.
+        dvx, dvy, dvz: relative velocity ``v_i - v_j`` [length/time].
+        edge: the step's radius ``lambda sigma`` [length].
+
+    Returns:
+        The time to the edge [time]: ``0`` for a pair at or beyond it and
+        receding, ``inf`` for a pair at rest relative to each other.
+
+    Example:
+        >>> pair_time_out(1.0, 0.0, 0.0, 0.25, 0.0, 0.0, 1.5)
+        2.0
+        >>> pair_time_out(1.0, 0.0, 0.0, -0.5, 0.0, 0.0, 1.5)
+        5.0
+    """
+    return wall_time(dx, dy, dz, dvx, dvy, dvz, edge, planar)
+
+
+def cross_step(
+    m1: float,
+    m2: float,
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    du: float,
+    planar: bool = False,
+) -> tuple[float, float, bool]:
+    """Velocity changes of a pair at a step of the potential: it crosses, or bounces back.
+
+    The impulse acts along ``dr``; momentum, the centre of mass's motion and
+    the tangential relative velocity are unchanged, and the normal kinetic
+    energy changes by ``-du``.  With ``b = dr . dv``, ``R2 = |dr|^2`` and
+    ``q = b^2 - 2 R2 du (1/m1 + 1/m2)``: if ``q > 0`` the pair crosses, its
+    new ``b' = sign(b) sqrt(q)``, with ``k1 = 2 du / (m1 (b + b'))`` (``b``
+    and ``b'`` of one sign: no cancellation, docs/numerics.md, "Steps:
+    wells and shoulders"); otherwise (``q <= 0``: the normal kinetic energy
+    ``mu (dv . n)^2 / 2`` does not pay for ``du``) it bounces elastically,
+    :func:`collide`'s factors bit for bit.
+
+    Args:
+        m1, m2: masses [mass].
+        dx, dy, dz: ``r_1 - r_2`` at the edge [length].
+        dvx, dvy, dvz: ``v_1 - v_2`` before [length/time].
+        du: the potential energy after minus before the crossing
+            [mass*length^2/time^2]: ``-eps`` entering a well of depth ``eps``,
+            ``+eps`` leaving it.
+
+    Returns:
+        ``(k1, k2, crossed)``: the new velocities are ``v_1 - k1 * dr`` and
+        ``v_2 + k2 * dr`` (``k`` [1/time]); ``crossed`` False for a bounce.
+
+    Example:
+        >>> cross_step(1.0, 1.0, -1.5, 0.0, 0.0, 2.0, 0.0, 0.0, -1.25)  # normal speed 2 -> 3
+        (0.3333333333333333, 0.3333333333333333, True)
+        >>> cross_step(1.0, 1.0, 1.5, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0)  # short of 1: back at speed 1
+        (0.6666666666666666, 0.6666666666666666, False)
+    """
+    if planar:
+        b = dx * dvx + dy * dvy
+        r2 = dx * dx + dy * dy
+    else:
+        b = dx * dvx + dy * dvy + dz * dvz
+        r2 = dx * dx + dy * dy + dz * dz
+    q = b * b - 2.0 * r2 * du * (1.0 / m1 + 1.0 / m2)
+    if q > 0.0:
+        bp = math.copysign(math.sqrt(q), b)
+        f = 2.0 * du / (b + bp)
+        return f / m1, f / m2, True
+    k1, k2 = collide(m1, m2, dx, dy, dz, dvx, dvy, dvz, planar)
+    return k1, k2, False
 
 
 # ---- inelastic collisions (granular gases) -------------------------------------
