@@ -431,3 +431,53 @@ def test_a_sheared_granular_gas_balances_dissipation_against_the_stress_work(d):
         e = peculiar_energy(ref, t)
         assert ref.dissipated > 0.1 * e0
         assert abs((e - e0) - (work - ref.dissipated)) < 1e-11 * (e0 + ref.dissipated)
+
+
+def _brute_next(ref, reach=8):
+    """The reference's next collision or crossing with every image ``|k_x| <= reach`` tried, unpruned."""
+    from hardspheres.core.reference import box_exit
+    from hardspheres.physics import pair_time
+
+    p, v, tl, rad = ref._p, ref._v, ref._tloc, ref._radii
+    lx, ly, lz = ref._edges
+    planar = ref.dimensions == 2
+    best = (math.inf, 9, 0, 0)
+    for i in range(ref.n):
+        tw, face = box_exit(p[i], v[i], tl[i], ref._edges, ref._now)
+        if face >= 0:
+            best = min(best, (tw, 2, i, face))
+    for i in range(ref.n):
+        for j in range(i + 1, ref.n):
+            t0 = max(tl[i], tl[j])
+            xi = [p[i][k] + v[i][k] * (t0 - tl[i]) for k in range(3)]
+            xj = [p[j][k] + v[j][k] * (t0 - tl[j]) for k in range(3)]
+            delta = shear_offset(ref._off0, ref._speed, lx, t0)
+            for ky in (-1, 0, 1):
+                dvx = v[i][0] - (v[j][0] + ky * ref._speed)
+                for kx in range(-reach, reach + 1):
+                    for kz in (0,) if planar else (-1, 0, 1):
+                        dx = xi[0] - (xj[0] + (kx * lx + ky * delta))
+                        dy = xi[1] - (xj[1] + ky * ly)
+                        dz = xi[2] - (xj[2] + kz * lz)
+                        te = t0 + pair_time(
+                            dx, dy, dz, dvx, v[i][1] - v[j][1], v[i][2] - v[j][2], rad[i] + rad[j], planar
+                        )
+                        best = min(best, (max(te, ref._clock), 1, i, j))
+    return best
+
+
+@pytest.mark.parametrize("d,phi,rate,seed", [(2, 0.05, 1.0, 1), (2, 0.03, 2.0, 4), (3, 0.05, 1.0, 3)])
+def test_images_that_slid_far_since_the_pairs_last_event_are_found(d, phi, rate, seed):
+    """Half the spheres at rest for long: their images slide many box lengths between their events.
+
+    Every next event is checked against a search with every image within 8
+    box lengths along x, unpruned.  (The search once swept the images the
+    wrong way: it missed the collision at step 1 of the first case and at
+    step 4 of the second.)
+    """
+    box, m, r, x, v = _system(d, 24, phi, rate, seed)
+    v[:12] = 0.0
+    ref = Reference(m, r, x.tolist(), v.tolist(), container=box, offset=2.9)
+    for _ in range(150):
+        assert ref._next() == _brute_next(ref)
+        ref.step()

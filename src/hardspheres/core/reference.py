@@ -343,8 +343,10 @@ def next_event_sheared(
     image can come within contact along x before the earliest event found
     so far (the crossings, found first, bound it), or, with no such event,
     within the time the pair can stay within contact along y and z, or one
-    sweep of ``2 L_x`` plus the contact distances: a superset of the images
-    that can meet first, which changes no bit (the earliest event wins).
+    sweep of ``2 L_x`` plus the contact distances, from the clock on (an
+    image met between ``t0`` and the clock would have been a collision
+    then): a superset of the images that can meet first, which changes no
+    bit (the earliest event wins).
 
     Args:
         p, v, tloc, radii, edges, clock, window, now, planar: as
@@ -382,7 +384,9 @@ def next_event_sheared(
                     continue
                 dvx = vi[0] - (vj[0] + ky * speed)
                 base = ky * delta
-                # how long the pair can stay within reach along x: the images' sweep
+                # the images that can come within reach along x from the clock on
+                # (none met the pair between t0 and the clock: it would have collided)
+                start = clock - t0 if clock > t0 else 0.0
                 span = bound
                 if span == INF:
                     if dvy != 0.0:
@@ -393,11 +397,15 @@ def next_event_sheared(
                         tz = (dz0 + sigma) / abs(dvz) * (1.0 + 1e-9)
                         span = tz if tz < span else span
                     if span == INF and dvx != 0.0:
-                        span = (2.0 * lx + 2.0 * sigma) / abs(dvx)
+                        span = start + (2.0 * lx + 2.0 * sigma) / abs(dvx)
+                if span < start:
+                    continue  # out of reach along y or z before the clock, for good
+                # dx(t0 + s) = x_i - (x_j + base) - kx L_x + dv_x s: kx near u0 + dv_x s / L_x
                 u0 = (xi - (xj + base)) / lx
-                u1 = u0 - (dvx * span) / lx if dvx != 0.0 else u0
-                lo = u0 if u0 < u1 else u1
-                hi = u1 if u0 < u1 else u0
+                ua = u0 + (dvx * start) / lx if dvx != 0.0 else u0
+                ub = u0 + (dvx * span) / lx if dvx != 0.0 else u0
+                lo = ua if ua < ub else ub
+                hi = ub if ua < ub else ua
                 margin = sigma / lx * (1.0 + 1e-9)
                 for kx in range(int(math.floor(lo - margin)) - 1, int(math.ceil(hi + margin)) + 2):
                     sx = kx * lx + base
