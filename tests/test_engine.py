@@ -470,3 +470,22 @@ def test_link_arrays_have_the_link_dtype_in_the_engine_and_int64_in_checkpoints(
     again = engine_module.Engine.restore(data)
     assert again.cell_next.dtype == engine_module.LINK
     assert again.advance(events=50).tobytes() == eng.advance(events=50).tobytes()
+
+
+def test_kick_at_the_engine_time_after_a_rebase():
+    """A kick at ``eng.time`` is at the clock, even where offset + clock - offset rounds below it.
+
+    (Regression: after the time origin moved, ``kick(i, eng.time, v)`` was
+    refused one time in a few as "before the clock".)
+    """
+    from hardspheres.builders import random_arrays
+    from hardspheres.containers import PeriodicBox
+
+    box = PeriodicBox(12.0)
+    eng = Engine(*random_arrays(64, 0.2, box, seed=3), container=box)
+    for step in range(60):
+        eng.advance(events=997)
+        t = eng.time
+        eng.kick(step % 64, t, (0.5, -0.25, 0.125))
+        assert eng.time == t
+    assert eng.offset > 0.0

@@ -389,12 +389,12 @@ def _year(calendar, book):
 
 @_inline
 def _sift_up(heap, heap_t, heap_key, book, k):
-    i, t, key = heap[k], heap_t[k], heap_key[k]
+    i, t, key = np.int64(heap[k]), heap_t[k], heap_key[k]
     while k > 0:
         parent = (k - 1) >> 1
         tp = heap_t[parent]
         if t < tp or (t == tp and key < heap_key[parent]):
-            p = heap[parent]
+            p = np.int64(heap[parent])
             heap[k], heap_t[k], heap_key[k] = p, tp, heap_key[parent]
             book[p, HEAP_POS] = k
             k = parent
@@ -406,7 +406,7 @@ def _sift_up(heap, heap_t, heap_key, book, k):
 
 @_inline
 def _sift_down(heap, heap_t, heap_key, book, k, n):
-    i, t, key = heap[k], heap_t[k], heap_key[k]
+    i, t, key = np.int64(heap[k]), heap_t[k], heap_key[k]
     while True:
         child = 2 * k + 1
         if child >= n:
@@ -418,7 +418,7 @@ def _sift_down(heap, heap_t, heap_key, book, k, n):
                 child += 1
                 tc, kc = t2, k2
         if tc < t or (tc == t and kc < key):
-            jc = heap[child]
+            jc = np.int64(heap[child])
             heap[k], heap_t[k], heap_key[k] = jc, tc, kc
             book[jc, HEAP_POS] = k
             k = child
@@ -468,7 +468,7 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
     else:
         slot = nb  # the overflow list
     calendar[nb + 1 + 3 * i + CAL_BUCKET] = slot
-    h = calendar[slot]
+    h = np.int64(calendar[slot])
     calendar[nb + 1 + 3 * i + CAL_NEXT] = h
     calendar[nb + 1 + 3 * i + CAL_PREV] = -1
     if h >= 0:
@@ -480,10 +480,10 @@ def _file(heap, heap_t, heap_key, calendar, book, scalars, counts, i, t, key):
 def _unlink(calendar, book, counts, i):
     """Take sphere ``i`` out of its bucket's (or the overflow) list."""
     nb = _year(calendar, book)
-    slot = calendar[nb + 1 + 3 * i + CAL_BUCKET]
+    slot = np.int64(calendar[nb + 1 + 3 * i + CAL_BUCKET])
     if slot != nb:
         counts[C_QUEUED] -= 1
-    p, q = calendar[nb + 1 + 3 * i + CAL_PREV], calendar[nb + 1 + 3 * i + CAL_NEXT]
+    p, q = np.int64(calendar[nb + 1 + 3 * i + CAL_PREV]), np.int64(calendar[nb + 1 + 3 * i + CAL_NEXT])
     if p >= 0:
         calendar[nb + 1 + 3 * p + CAL_NEXT] = q
     else:
@@ -499,9 +499,9 @@ def _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts,
     n = book.shape[0]
     limit = counts[C_BUCKET] + nb
     rate = scalars[F_BUCKET_RATE]
-    i = calendar[nb]
+    i = np.int64(calendar[nb])
     while i >= 0:
-        nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
+        nxt = np.int64(calendar[nb + 1 + 3 * i + CAL_NEXT])
         t, key = _entry(due, book, i, n)
         if everything or np.floor(t * rate) < limit:
             _unlink(calendar, book, counts, i)
@@ -527,13 +527,13 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
             # if nothing will ever happen, everything into the heap)
             rate = scalars[F_BUCKET_RATE]
             first = np.inf
-            i = calendar[nb]
+            i = np.int64(calendar[nb])
             while i >= 0:
                 t, key = _entry(due, book, i, n)
                 fb = np.floor(t * rate)
                 if fb < first:
                     first = fb
-                i = calendar[nb + 1 + 3 * i + CAL_NEXT]
+                i = np.int64(calendar[nb + 1 + 3 * i + CAL_NEXT])
             if first < CAL_ALL:
                 counts[C_BUCKET] = np.int64(first)
                 _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
@@ -549,10 +549,10 @@ def _refill(heap, heap_t, heap_key, calendar, due, book, scalars, counts):
             # a new year: the overflow entries that fall in it come in
             _take_overflow(heap, heap_t, heap_key, calendar, due, book, scalars, counts, False)
         slot = cur & (nb - 1)
-        i = calendar[slot]
+        i = np.int64(calendar[slot])
         calendar[slot] = -1
         while i >= 0:
-            nxt = calendar[nb + 1 + 3 * i + CAL_NEXT]
+            nxt = np.int64(calendar[nb + 1 + 3 * i + CAL_NEXT])
             counts[C_QUEUED] -= 1
             t, key = _entry(due, book, i, n)
             k = counts[C_HEAP_SIZE]
@@ -581,7 +581,7 @@ def _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i):
         last = counts[C_HEAP_SIZE] - 1
         counts[C_HEAP_SIZE] = last
         if k != last:
-            j = heap[last]
+            j = np.int64(heap[last])
             heap[k], heap_t[k], heap_key[k] = j, heap_t[last], heap_key[last]
             book[j, HEAP_POS] = k
             _resift(heap, heap_t, heap_key, book, k, last)
@@ -712,7 +712,7 @@ def _cell_insert(cell_head, cell_next, cell_prev, book, i, ncx, ncy):
     """Sphere ``i`` into the cell its book names (``CELL_X``, ``CELL_Y``, ``CELL_Z``)."""
     cell = (book[i, CELL_Z] * ncy + book[i, CELL_Y]) * ncx + book[i, CELL_X]
     book[i, CELL] = cell
-    h = cell_head[cell]
+    h = np.int64(cell_head[cell])
     cell_next[i] = h
     cell_prev[i] = -1
     if h >= 0:
@@ -723,7 +723,7 @@ def _cell_insert(cell_head, cell_next, cell_prev, book, i, ncx, ncy):
 @_inline
 def _cell_remove(cell_head, cell_next, cell_prev, book, i):
     cell = book[i, CELL]
-    a, b = cell_prev[i], cell_next[i]
+    a, b = np.int64(cell_prev[i]), np.int64(cell_next[i])
     if a >= 0:
         cell_next[a] = b
     else:
@@ -1139,7 +1139,7 @@ def _scan_cells(
                 nx, there = _cell_near(cx0, ox, ncx)
                 if not there:
                     continue
-                j = cell_head[(nz * ncy + ny) * ncx + nx]
+                j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
                     if j != i:
                         best_t, best_key, best_p = _pair(
@@ -1164,7 +1164,7 @@ def _scan_cells(
                             best_p,
                             axes,
                         )
-                    j = cell_next[j]
+                    j = np.int64(cell_next[j])
     if scalars[F_BOX] != 0.0 and (
         (cx0 == 0 and xlo < 0)
         or (cx0 == ncx - 1 and xhi > 0)
@@ -1253,7 +1253,7 @@ def _scan_across(
                 nx, sx, there = _cell_step(cx0, ox, ncx, bx)
                 if not there or not (across or nx != cx0 + ox):
                     continue  # (this side of the box: _scan_cells's)
-                j = cell_head[(nz * ncy + ny) * ncx + nx]
+                j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
                     if j != i:
                         best_t, best_key, best_p = _pair(
@@ -1278,7 +1278,7 @@ def _scan_across(
                             best_p,
                             axes,
                         )
-                    j = cell_next[j]
+                    j = np.int64(cell_next[j])
     return best_t, best_key, best_p
 
 
@@ -1469,7 +1469,7 @@ def _relist(
         cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
         if cell < 0:
             continue
-        j = cell_head[cell]
+        j = np.int64(cell_head[cell])
         while j >= 0:
             if j != i:
                 ddx = _nearest(cx - shells[j, SHELL_X], bx)
@@ -1486,7 +1486,7 @@ def _relist(
                         return False
                     scratch[found] = j
                     found += 1
-            j = cell_next[j]
+            j = np.int64(cell_next[j])
     # nc < 3 in a periodic box would visit a cell twice: guarded by the engine (nc >= 3)
     # i leaves its old neighbours' lists
     for q in range(book[i, NEIGHBOURS]):
@@ -1502,7 +1502,7 @@ def _relist(
     )
     book[i, NEIGHBOURS] = 0
     for q in range(found):
-        j = scratch[q]
+        j = np.int64(scratch[q])
         code, near = _pair_code(scalars, shells, i, j, axes)
         if near:
             neighbours[i, book[i, NEIGHBOURS]] = (j << 5) | code
@@ -1585,7 +1585,7 @@ def _build_lists(
             cell = _block_cell(kx, ky, kz, q, ncx, ncy, ncz, bx, by, bz)
             if cell < 0:
                 continue
-            j = cell_head[cell]
+            j = np.int64(cell_head[cell])
             while j >= 0:
                 if j > i:
                     code, near = _pair_code(scalars, shells, i, j, axes)
@@ -1597,7 +1597,7 @@ def _build_lists(
                         book[i, NEIGHBOURS] = a + 1
                         book[j, NEIGHBOURS] = b + 1
                         longest = max(longest, a + 1, b + 1)
-                j = cell_next[j]
+                j = np.int64(cell_next[j])
     return longest
 
 
@@ -1629,7 +1629,7 @@ def refresh_window(arrays):
         top = 1
     while top > 0:
         top -= 1
-        k = scratch[top]
+        k = np.int64(scratch[top])
         scratch[n + found] = heap[k]
         found += 1
         for child in (2 * k + 1, 2 * k + 2):
@@ -1645,17 +1645,17 @@ def refresh_window(arrays):
         span = nb - 1 if whole else np.int64(last - cur)
         for q in range(span + 1):
             if q < span:
-                j = calendar[(cur + 1 + q) & (nb - 1)]
+                j = np.int64(calendar[(cur + 1 + q) & (nb - 1)])
             else:
-                j = calendar[nb] if whole else -1
+                j = np.int64(calendar[nb]) if whole else -1
             while j >= 0:
                 tj, kj = _entry(due, book, j, n)
                 if tj < limit:
                     scratch[n + found] = j
                     found += 1
-                j = calendar[nb + 1 + 3 * j + CAL_NEXT]
+                j = np.int64(calendar[nb + 1 + 3 * j + CAL_NEXT])
     for q in range(found):
-        i = scratch[n + q]
+        i = np.int64(scratch[n + q])
         if book[i, FRESH] != serial:
             book[i, FRESH] = serial
             counts[C_REFRESHED] += 1
@@ -1821,7 +1821,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
         if record and done >= cap:
             return done, STOP_RECORD_FULL
         row = done if record else 0
-        i = heap[0]
+        i = np.int64(heap[0])
         te = heap_t[0]
         if not te <= until or te == np.inf:  # NaN `until` too
             return done, STOP_UNTIL
@@ -2192,7 +2192,7 @@ def max_overlap(axes, x, spheres, book, cell_head, cell_next, grid, edges, scale
                     nx = book[i, CELL_X] + ox
                     if bx == 0.0 and (nx < 0 or ny < 0 or nz < 0 or nx >= ncx or ny >= ncy or nz >= ncz):
                         continue
-                    j = cell_head[((nz % ncz) * ncy + (ny % ncy)) * ncx + (nx % ncx)]
+                    j = np.int64(cell_head[((nz % ncz) * ncy + (ny % ncy)) * ncx + (nx % ncx)])
                     while j >= 0:
                         if j > i:
                             dx = x[i, 0] - x[j, 0]
@@ -2211,5 +2211,5 @@ def max_overlap(axes, x, spheres, book, cell_head, cell_next, grid, edges, scale
                                 ov = 1.0 - np.sqrt(r2) / sigma
                                 if ov > worst:
                                     worst = ov
-                        j = cell_next[j]
+                        j = np.int64(cell_next[j])
     return worst

@@ -66,14 +66,12 @@ REORDER_EVERY = 10.0
 # names (properties): kept in the engine's order under these
 _INTERNAL = {"masses": "_masses", "images": "_images"}
 #: The dtype of the sphere indices the core links by (cell lists and heads,
-#: the calendar's heap and lists, the work space).  int32 would halve their
-#: bytes (N < 2^29: the calendar's slots reach 4N) and saved 11-56% of the
-#: last-level misses, but the indices read from them are int32 scalars, and
-#: every inlined helper they reach was compiled once more for them: the
-#: first compilation took 44 s of CPU instead of 29 (benchmarks/README.md,
-#: "Memory: bytes per sphere").  int64 until the core casts at its loads.
-#: Checkpoints keep them as int64 either way.
-LINK = np.int64
+#: the calendar's heap and lists, the work space): int32 (N < 2^29: the
+#: calendar's slots reach 4N), half the bytes of int64.  The core reads each
+#: into an int64 scalar where it loads it (``np.int64(cell_next[j])``), so its
+#: helpers are compiled once, for int64 indices, as before (benchmarks/README.md,
+#: "Memory: bytes per sphere").  Checkpoints keep them as int64 either way.
+LINK = np.int32
 _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
 
 
@@ -713,10 +711,15 @@ class Engine:
         self._build()
 
     def kick(self, i: int, t: float, velocity: Iterable[float]) -> None:
-        """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``."""
-        t = float(t) - self.offset
-        if t < self.scalars[core.F_CLOCK]:
+        """Sphere ``i`` takes ``velocity`` (``d`` components) at absolute time ``t``.
+
+        ``t`` is compared with :attr:`time` as given (absolute); a ``t`` at or
+        after it whose distance from the time origin rounds below the clock
+        (``offset + clock - offset`` can) is the clock itself.
+        """
+        if not float(t) >= self.time:  # (nan too)
             raise ArgumentError("a kick cannot be before the clock: give a time at or after it")
+        t = max(float(t) - self.offset, float(self.scalars[core.F_CLOCK]))
         v = [float(x) for x in velocity]
         if len(v) != self.dimensions:
             raise BoxShapeError(f"a velocity of {len(v)} components in {self.dimensions}-D space")
