@@ -3,17 +3,25 @@
 The kernels (:func:`~hardspheres.physics.cross_step`,
 :func:`~hardspheres.physics.pair_time_out`) against exact rational
 arithmetic and hand-derived cases; their conservation laws as properties,
-in 2-D and 3-D (docs/numerics.md, "Steps: wells and shoulders").
+in 2-D and 3-D (docs/numerics.md, "Steps: wells and shoulders").  The
+brute-force reference with steps: two-sphere cases derived by hand, and a
+deep-well liquid's energy over 10^4 events.
 """
 
 import math
+import random
 from fractions import Fraction
 from math import isqrt
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import hardspheres as hs
+from hardspheres.core.reference import Reference, check_steps
+from hardspheres.errors import ArgumentError, BoxShapeError, ShearError
+from hardspheres.events import EventKind
 from hardspheres.physics import collide, cross_step, pair_time_out, wall_time
 
 U = 2.0**-53
@@ -120,8 +128,6 @@ def test_cross_step_against_exact_rationals_at_shallow_wells():
     at a shallow well; it is shown to be off there, so the test would catch
     a return to it.
     """
-    import random
-
     rng = random.Random(41)
     worst = worst_textbook = 0.0
     for _ in range(400):
@@ -151,8 +157,6 @@ def test_cross_step_against_exact_rationals_at_shallow_wells():
 
 
 def test_pair_time_out_against_exact_rationals():
-    import random
-
     rng = random.Random(7)
     for _ in range(300):
         edge = 1.5
@@ -217,3 +221,138 @@ def test_energy_and_momentum_are_conserved_to_rounding(m1, m2, dr, v1, v2, du, p
         ps = Fraction(m1) * (abs(Fraction(v1[ax])) + abs(Fraction(w1[ax])))
         ps += Fraction(m2) * (abs(Fraction(v2[ax])) + abs(Fraction(w2[ax])))
         assert abs(p1 - p0) <= 8 * U * ps
+
+
+# ---- the reference with steps --------------------------------------------------------
+
+
+def two(dr, v1, v2, steps, d=3, m=(1.0, 1.0), wall=20.0):
+    """Two spheres of radius 1/2 (sigma = 1) in a container: sphere 0 at ``-dr``, sphere 1 at the origin."""
+    box = hs.SphericalContainer(wall) if d == 3 else hs.CircularContainer(wall)
+    pos = [[-x for x in dr], [0.0] * d]
+    return Reference(list(m), [0.5, 0.5], pos, [list(v1), list(v2)], box, steps=steps)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_reference_head_on_capture_core_collision_and_release(d):
+    z = [0.0] * (d - 1)
+    # relative speed 2, mu = 1/2, eps = 5/4: inside at sqrt(4 + 2 eps / mu) = 3
+    ref = two([4.0] + z, [1.0] + z, [-1.0] + z, [(1.5, -1.25)], d)
+    assert ref.pair_states == {} and ref.potential_energy() == 0.0
+    t, kind, i, j = ref.step()
+    assert (t, kind, i, j) == (1.25, EventKind.CAPTURE, 0, 1)  # (4 - 1.5) / 2
+    assert ref.velocities[0][0] == 1.5 and ref.velocities[1][0] == -1.5
+    assert ref.pair_states == {(0, 1): 1} and ref.potential_energy() == -1.25
+    assert ref.virial == pytest.approx(-0.75, rel=4 * U)  # -m k R2 = -(1/3)(9/4): attraction
+    t, kind, _, _ = ref.step()
+    assert kind == EventKind.COLLISION and t == pytest.approx(1.25 + 0.5 / 3, rel=4 * U)
+    assert ref.pair_states == {(0, 1): 1}  # a core collision leaves the state alone
+    t, kind, _, _ = ref.step()
+    assert kind == EventKind.RELEASE and t == pytest.approx(1.25 + 1.0 / 3, rel=4 * U)
+    # back out at sqrt(9 - 5) / 2 = 1 each
+    assert ref.velocities[0][0] == pytest.approx(-1.0, rel=8 * U)
+    assert ref.pair_states == {} and ref.potential_energy() == 0.0
+    assert ref.counters["captures"] == ref.counters["releases"] == ref.counters["collisions"] == 1
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_reference_bounce_when_the_normal_energy_is_short(d):
+    z = [0.0] * (d - 1)
+    # inside the well at 1.2, receding at relative speed 1 (normal energy 1/4 < eps = 1),
+    # with a tangential velocity that must not change
+    ref = two([1.2] + z, [-0.5, 3.0] + z[1:], [0.5, 3.0] + z[1:], [(1.5, -1.0)], d)
+    assert ref.pair_states == {(0, 1): 1}
+    t, kind, _, _ = ref.step()
+    assert kind == EventKind.BOUNCE and t == pytest.approx(0.3, rel=4 * U)
+    assert ref.velocities[0][:2] == [0.5, 3.0] and ref.velocities[1][:2] == [-0.5, 3.0]
+    assert ref.pair_states == {(0, 1): 1} and ref.counters["bounces"] == 1
+    # and a shoulder (U > 0) too high to climb: bounced from outside
+    ref = two([3.0] + z, [0.5] + z, [-0.5] + z, [(1.5, 1.0)], d)
+    t, kind, _, _ = ref.step()
+    assert kind == EventKind.BOUNCE and t == 1.5
+    assert ref.pair_states == {} and ref.velocities[0][0] == -0.5
+
+
+def test_reference_steps_are_checked():
+    pos, vel = [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0]], [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
+    with pytest.raises(ArgumentError, match="lambda decreasing"):
+        check_steps([(1.2, -1.0), (1.5, -1.0)])
+    with pytest.raises(ArgumentError, match="above 1"):
+        check_steps([(0.9, -1.0)])
+    with pytest.raises(ArgumentError, match="restitution"):
+        Reference([1, 1], [0.5, 0.5], pos, vel, 10.0, restitution=0.9, steps=[(1.5, -1.0)])
+    with pytest.raises(BoxShapeError, match="half the box"):
+        Reference([1, 1], [0.5, 0.5], [[0.0] * 3, [1.2, 0, 0]], vel, hs.PeriodicBox(2.5), steps=[(1.5, -1.0)])
+    with pytest.raises(ShearError, match="sheared"):
+        Reference(
+            [1, 1],
+            [0.5, 0.5],
+            [[0.0] * 3, [1.2, 0, 0]],
+            vel,
+            hs.PeriodicBox(8.0),
+            shear_rate=0.1,
+            steps=[(1.5, -1.0)],
+        )
+    ref = Reference([1, 1], [0.5, 0.5], pos, vel, 10.0, steps=[(1.5, -1.0)])
+    with pytest.raises(ArgumentError, match="grow"):
+        ref.set_growth(0.1)
+    # no steps: hard spheres, the counters of before
+    assert set(Reference([1, 1], [0.5, 0.5], pos, vel, 10.0, steps=[]).counters) == {
+        "collisions",
+        "reflections",
+        "crossings",
+        "stale",
+        "refreshed",
+    }
+
+
+def liquid(d, seed, eps=5.0, n=32):
+    """``n`` spheres (sigma = 1) with a well of depth ``eps`` [kT] at 1.5 sigma in a periodic box, kT ~ 1."""
+    rng = random.Random(seed)
+    if d == 3:
+        side, a = 5.0, 2.5  # f.c.c., 2 x 2 x 2 cells: neighbours at 1.77, outside the wells
+        base = [(0, 0, 0), (0.5, 0.5, 0), (0.5, 0, 0.5), (0, 0.5, 0.5)]
+        cells = [(x, y, z) for x in range(2) for y in range(2) for z in range(2)]
+        pos = [[(c[ax] + b[ax]) * a - side / 2 + 0.1 for ax in range(3)] for c in cells for b in base]
+        box = hs.PeriodicBox(side)
+    else:
+        side, a = 9.0, 1.5
+        pos = [[(k % 6) * a - side / 2 + 0.1, (k // 6) * a - side / 2 + 0.1] for k in range(n)]
+        box = hs.PeriodicBox((side, side))
+    vel = [[rng.gauss(0, 1) for _ in range(d)] for _ in range(n)]
+    mean = [sum(v[ax] for v in vel) / n for ax in range(d)]
+    vel = [[v[ax] - mean[ax] for ax in range(d)] for v in vel]
+    return Reference([1.0] * n, [0.5] * n, pos, vel, box, steps=[(1.5, -eps)])
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_reference_deep_well_conserves_energy_without_a_bounce_loop(d):
+    """eps = 5 kT, N = 32, 10^4 events: K + U constant to rounding, U = -eps * bonds exactly, no loop."""
+    ref = liquid(d, seed=d)
+    e0 = ref.kinetic_energy() + ref.potential_energy()
+    scale = ref.kinetic_energy() + 5.0 * len(ref.masses)
+    p0 = np.sum(np.asarray(ref.velocities), axis=0)
+    ev = ref.advance(events=10_000)
+    assert len(ev) == 10_000
+    c = ref.counters
+    assert min(c["captures"], c["releases"], c["bounces"], c["collisions"]) > 100
+    assert ref.potential_energy() == -5.0 * len(ref.pair_states)
+    assert len(ref.pair_states) > 10  # the well binds
+    e1 = ref.kinetic_energy() + ref.potential_energy()
+    assert abs(e1 - e0) <= 1e-12 * scale
+    assert np.abs(np.sum(np.asarray(ref.velocities), axis=0) - p0).max() < 1e-12
+    # no pair stays on an edge: each pair's consecutive events are apart in time
+    pairs = ev[ev["j"] >= 0]
+    for key in {(int(a), int(b)) for a, b in zip(pairs["i"], pairs["j"])}:
+        times = pairs["time"][(pairs["i"] == key[0]) & (pairs["j"] == key[1])]
+        assert np.all(np.diff(times) > 0.0)
+    # no overlap of the cores, and every state matches the distances
+    pos = np.asarray(ref.positions_at())
+    side = np.asarray(ref.container.sides)
+    for i in range(len(pos)):
+        for j in range(i + 1, len(pos)):
+            dr = pos[i] - pos[j]
+            dr -= side * np.round(dr / side)
+            dist = math.sqrt(float(dr @ dr))
+            assert dist > 1.0 - 1e-9
+            assert (dist < 1.5 + 1e-9) if (i, j) in ref.pair_states else (dist > 1.5 - 1e-9)

@@ -41,15 +41,24 @@ class EventKind(IntEnum):
     """What happened; the number is also the tie order at equal times.
 
     ``REFLECTION``: sphere ``i`` bounced off the container wall (``j = -1``);
-    ``COLLISION``: spheres ``i < j`` collided.
+    ``COLLISION``: spheres ``i < j`` collided (their hard cores touched).
+    With a stepped pair potential (square wells; the brute-force reference
+    so far): ``CAPTURE``, the pair crossed a step inward; ``RELEASE``, it
+    crossed one outward; ``BOUNCE``, its normal kinetic energy did not pay
+    for the crossing and it was reflected at the step.  (2 and 3 are the
+    core's own: a crossing of the periodic box, no event.)  All pair events
+    tie as collisions.
     """
 
     REFLECTION = 0
     COLLISION = 1
+    CAPTURE = 4
+    RELEASE = 5
+    BOUNCE = 6
 
     @property
     def label(self) -> str:
-        """``"reflection"`` or ``"collision"``."""
+        """``"reflection"``, ``"collision"``, ``"capture"``, ``"release"`` or ``"bounce"``."""
         return self.name.lower()
 
 
@@ -110,8 +119,9 @@ class KindLabel(str):
         return (KindLabel, (str(self),))
 
 
-#: Event kind names by number, ``KIND_LABELS[kind]`` (each a :class:`KindLabel`).
-KIND_LABELS = tuple(KindLabel(k.label) for k in EventKind)
+#: Event kind names by number, ``KIND_LABELS[kind]`` (each a :class:`KindLabel`),
+#: for the kinds the compiled core records (the steps' kinds join when it has steps).
+KIND_LABELS = tuple(KindLabel(k.label) for k in (EventKind.REFLECTION, EventKind.COLLISION))
 
 #: The fields of an event, in order, as ``(name, numpy dtype, shape)``.
 #:

@@ -70,9 +70,11 @@ from ..physics import (
     collide,
     collide_grow,
     collide_inelastic,
+    cross_step,
     frozen_limit,
     pair_time,
     pair_time_grow,
+    pair_time_out,
     reflect,
     reflect_grow,
     reflect_inelastic,
@@ -94,6 +96,13 @@ REFLECTION = int(EventKind.REFLECTION)
 COLLISION = int(EventKind.COLLISION)
 #: A centre leaving the periodic box (moved by one side; not an event of the physics).
 CROSSING = 2
+#: A stepped pair potential's kinds (:class:`~hardspheres.events.EventKind`):
+#: a pair crossed a step inward, outward, or bounced at it.  The predictions
+#: use ``CAPTURE`` for "reaches its inner edge" and ``RELEASE`` for "reaches
+#: its outer edge"; whether it crosses is decided when the event is processed.
+CAPTURE = int(EventKind.CAPTURE)
+RELEASE = int(EventKind.RELEASE)
+BOUNCE = int(EventKind.BOUNCE)
 
 _NEVER = 1 << 62  # no count limit
 
@@ -294,6 +303,186 @@ def next_event_periodic(
                             te = clock
                         if _earlier(te, COLLISION, i, j, best, best_kind, best_i, best_j):
                             best, best_kind, best_i, best_j = te, COLLISION, i, j
+    return best, best_kind, best_i, best_j
+
+
+# ---- steps: square wells and shoulders --------------------------------------------
+# A stepped pair potential: a hard core at sigma = R_i + R_j, then edges at
+# lambda_k sigma (k = 0 the outermost), the pair's state the number of edges
+# it is inside (0: outside every step).  docs/design/interactions.md,
+# sections 2-4, and docs/numerics.md, "Steps: wells and shoulders".
+
+
+def check_steps(steps: Sequence[Sequence[float]]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The steps ``[(lambda_k, U_k), ...]`` (outermost first) as ``(lambdas, energies)``.
+
+    ``U_k`` [energy] is the potential energy of a pair inside edge ``k``
+    (and outside edge ``k + 1``); outside every edge it is 0.
+
+    Raises:
+        ArgumentError: not pairs of finite numbers with ``lambda_0 > lambda_1
+            > ... > 1``.
+
+    Example:
+        >>> check_steps([(1.5, -1.0)])
+        ((1.5,), (-1.0,))
+    """
+    lams: list[float] = []
+    energies: list[float] = []
+    for row in steps:
+        if len(row) != 2:
+            raise ArgumentError(f"step {tuple(row)!r}: give (lambda, energy) pairs, outermost first")
+        lam, u = float(row[0]), float(row[1])
+        if not (math.isfinite(lam) and math.isfinite(u)) or lam <= 1.0 or (lams and lam >= lams[-1]):
+            raise ArgumentError(
+                f"step ({lam}, {u}): give finite (lambda, energy) pairs with lambda decreasing from the "
+                "outermost and above 1 (the core)"
+            )
+        lams.append(lam)
+        energies.append(u)
+    return tuple(lams), tuple(energies)
+
+
+def step_state(d2: float, sigma: float, lams: Sequence[float]) -> int:
+    """A pair's state at squared distance ``d2`` [length^2]: how many edges ``lambda_k sigma`` it is inside.
+
+    Example:
+        >>> step_state(1.2**2, 1.0, (1.5, 1.25)), step_state(2.0**2, 1.0, (1.5,))
+        (2, 0)
+    """
+    k = 0
+    for lam in lams:
+        r = lam * sigma
+        if d2 < r * r:
+            k += 1
+    return k
+
+
+def pair_step_time(
+    dx: float,
+    dy: float,
+    dz: float,
+    dvx: float,
+    dvy: float,
+    dvz: float,
+    sigma: float,
+    lams: Sequence[float],
+    state: int,
+    planar: bool = False,
+) -> tuple[float, int]:
+    """A stepped pair's next event from now: ``(dt, kind)``, ``kind`` -1 for none.
+
+    The inner edge (the core, kind ``COLLISION``, in the innermost state;
+    else the next step in, ``CAPTURE``) from outside with
+    :func:`~hardspheres.physics.pair_time`; when the chord misses it, the
+    outer edge (``RELEASE``, states >= 1) from inside with
+    :func:`~hardspheres.physics.pair_time_out`.
+    """
+    inner = sigma if state == len(lams) else lams[state] * sigma
+    t = pair_time(dx, dy, dz, dvx, dvy, dvz, inner, planar)
+    if t < INF:
+        return t, (COLLISION if state == len(lams) else CAPTURE)
+    if state == 0:
+        return INF, -1
+    return pair_time_out(dx, dy, dz, dvx, dvy, dvz, lams[state - 1] * sigma, planar), RELEASE
+
+
+def _tie(kind: int) -> int:
+    """The kind an event ties as: every pair event as a collision."""
+    return COLLISION if kind >= CAPTURE else kind
+
+
+def next_event_stepped(
+    p: list[list[float]],
+    v: list[list[float]],
+    tloc: list[float],
+    radii: list[float],
+    wall: float,
+    edges: tuple[float, float, float],
+    clock: float,
+    window: float,
+    now: float,
+    planar: bool,
+    lams: Sequence[float],
+    states: dict[tuple[int, int], int],
+) -> tuple[float, int, int, int]:
+    """:func:`next_event` (``edges`` zeros) or :func:`next_event_periodic` with steps.
+
+    Longer than 80 lines with this docstring: the container's walls, the
+    box's crossings and every pair's images in one loop, as those two.
+
+    A pair in a step (``states[(i, j)] >= 1``) is predicted at its nearest
+    image alone (the outermost edge is within half the box: no other image
+    can reach it first); a pair outside every step at each image next to it,
+    pruned as :func:`next_event_periodic` with the outermost edge for the
+    contact distance.  Kinds as :func:`pair_step_time`; all pair events tie
+    as collisions.
+    """
+    n = len(p)
+    soon = clock + window
+    best, best_kind, best_i, best_j = INF, -1, -1, -1
+    periodic = edges[0] != 0.0
+    for i in range(n):
+        if periodic:
+            te, face = box_exit(p[i], v[i], tloc[i], edges, now)
+            if face >= 0 and _earlier(te, CROSSING, i, face, best, _tie(best_kind), best_i, best_j):
+                best, best_kind, best_i, best_j = te, CROSSING, i, face
+            continue
+        pi, vi = p[i], v[i]
+        te = tloc[i] + wall_time(pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], wall - radii[i], planar)
+        if te < soon:
+            te = clock
+        if _earlier(te, REFLECTION, i, -1, best, _tie(best_kind), best_i, best_j):
+            best, best_kind, best_i, best_j = te, REFLECTION, i, -1
+    m = [1 if edges[ax] != 0.0 else 0 for ax in range(3)]
+    outer = lams[0]
+    for i in range(n):
+        pi, vi, ri, ti = p[i], v[i], radii[i], tloc[i]
+        for j in range(i + 1, n):
+            pj, vj, tj = p[j], v[j], tloc[j]
+            t0 = ti if ti > tj else tj
+            di, dj = t0 - ti, t0 - tj
+            xi = (pi[0] + vi[0] * di, pi[1] + vi[1] * di, pi[2] + vi[2] * di)
+            xj = (pj[0] + vj[0] * dj, pj[1] + vj[1] * dj, pj[2] + vj[2] * dj)
+            dv = (vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2])
+            sigma = ri + radii[j]
+            state = states.get((i, j), 0)
+            if state or not periodic:
+                # the nearest image (the only one in a container)
+                d = [0.0, 0.0, 0.0]
+                for ax in range(3):
+                    raw = xi[ax] - xj[ax]
+                    k = round(raw / edges[ax]) if m[ax] else 0
+                    d[ax] = xi[ax] - (xj[ax] + k * edges[ax]) if k else raw
+                dt, kind = pair_step_time(d[0], d[1], d[2], dv[0], dv[1], dv[2], sigma, lams, state, planar)
+                te = t0 + dt
+                if kind >= 0 and te < soon:
+                    te = clock
+                if kind >= 0 and _earlier(te, COLLISION, i, j, best, _tie(best_kind), best_i, best_j):
+                    best, best_kind, best_i, best_j = te, kind, i, j
+                continue
+            bound = (best if best > soon else soon) - t0
+            if bound < 0.0:
+                bound = 0.0
+            reach = outer * sigma
+            for kx in range(-m[0], m[0] + 1):
+                dx = xi[0] - (xj[0] + kx * edges[0])
+                if abs(dx) > (reach + abs(dv[0]) * bound) * (1.0 + 1e-9):
+                    continue
+                for ky in range(-m[1], m[1] + 1):
+                    dy = xi[1] - (xj[1] + ky * edges[1])
+                    if abs(dy) > (reach + abs(dv[1]) * bound) * (1.0 + 1e-9):
+                        continue
+                    for kz in range(-m[2], m[2] + 1):
+                        dz = xi[2] - (xj[2] + kz * edges[2])
+                        if abs(dz) > (reach + abs(dv[2]) * bound) * (1.0 + 1e-9):
+                            continue
+                        dt, kind = pair_step_time(dx, dy, dz, dv[0], dv[1], dv[2], sigma, lams, 0, planar)
+                        te = t0 + dt
+                        if kind >= 0 and te < soon:
+                            te = clock
+                        if kind >= 0 and _earlier(te, COLLISION, i, j, best, _tie(best_kind), best_i, best_j):
+                            best, best_kind, best_i, best_j = te, kind, i, j
     return best, best_kind, best_i, best_j
 
 
@@ -652,6 +841,7 @@ class Reference:
         tc: float = 0.0,
         shear_rate: float | None = None,
         offset: float = 0.0,
+        steps: Sequence[Sequence[float]] | None = None,
     ) -> None:
         where, own = _sheared(as_container(container, box), shear_rate)
         self.container: Container = where
@@ -715,6 +905,7 @@ class Reference:
         self._kin_t = [0.0] * 6
         self._kt = [self._clock] * n
         self._crossed = -INF  # every crossing of a face up to this time is made
+        self._set_steps(steps)
 
     def _set_shear(self, rate: float, offset: float, time: float) -> None:
         """Lees-Edwards: ``g``, the boundary speed ``g L_y``, the offset at time 0; centres into the box.
@@ -744,6 +935,76 @@ class Reference:
                 self._v[k][0] -= m * self._speed
                 self._img[k][1] += m
                 self._xshift[k] += m * now_off
+
+    def _set_steps(self, steps: Sequence[Sequence[float]] | None) -> None:
+        """The stepped pair potential (none: hard spheres) and every pair's state at the start.
+
+        Each pair's state is the number of edges ``lambda_k (R_i + R_j)`` its
+        centres are inside (strictly) at its nearest image, kept in a dict
+        for the pairs in a step; ``bonded[s - 1]`` counts the pairs in state
+        ``s``.
+        """
+        self._lams: tuple[float, ...] = ()
+        self._us: tuple[float, ...] = ()
+        self._states: dict[tuple[int, int], int] = {}
+        self._bonded: list[int] = []
+        self._stepc = {CAPTURE: 0, RELEASE: 0, BOUNCE: 0}
+        if steps is None or len(steps) == 0:
+            return
+        lams, us = check_steps(steps)
+        if self._speed:
+            raise ShearError("steps in a sheared box are not built yet: give shear_rate=0 or no steps")
+        if self._inelastic:
+            raise ArgumentError("steps with restitution below 1 are not built yet: give restitution=1")
+        edges = self._edges
+        if edges[0] and self._radii:
+            reach = lams[0] * 2.0 * max(self._radii)
+            side = min(e for e in edges if e)
+            if not reach < 0.5 * side:
+                raise BoxShapeError(
+                    f"the outermost step reaches {reach:g}, not less than half the box's side {side:g}: "
+                    "give a larger box or a narrower step"
+                )
+        self._lams, self._us = lams, us
+        self._bonded = [0] * len(lams)
+        p, radii = self._p, self._radii
+        for i in range(len(p)):
+            for j in range(i + 1, len(p)):
+                d2 = 0.0
+                for ax in range(3):
+                    dx = p[i][ax] - p[j][ax]
+                    if edges[ax]:
+                        dx -= edges[ax] * round(dx / edges[ax])
+                    d2 += dx * dx
+                state = step_state(d2, radii[i] + radii[j], lams)
+                if state:
+                    self._states[(i, j)] = state
+                    self._bonded[state - 1] += 1
+
+    @property
+    def steps(self) -> tuple[tuple[float, float], ...]:
+        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
+        return tuple(zip(self._lams, self._us))
+
+    @property
+    def pair_states(self) -> dict[tuple[int, int], int]:
+        """Each pair ``(i, j)``, ``i < j``, in a step, and its state (edges it is inside); a copy."""
+        return dict(self._states)
+
+    def potential_energy(self) -> float:
+        """The stepped potential's energy now [mass*length^2/time^2] (0 for hard spheres).
+
+        Formed afresh from the count of pairs in each step, in a fixed
+        order, never accumulated: it cannot drift.
+        """
+        u = 0.0
+        for count, energy in zip(self._bonded, self._us):
+            u += count * energy
+        return u
+
+    def _pot(self, state: int) -> float:
+        """The potential energy of a pair in ``state``."""
+        return self._us[state - 1] if state else 0.0
 
     # ---- what the engine also tells ---------------------------------------------
     @property
@@ -851,6 +1112,8 @@ class Reference:
             raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
         if rate and self._g:
             raise ShearError("radii cannot grow in a sheared box: compress without shear, then shear")
+        if rate and self._lams:
+            raise ArgumentError("radii cannot grow with steps yet: compress hard spheres, then add the steps")
         t = self._clock
         if self._edges[0]:
             for k in range(len(self._p)):
@@ -880,14 +1143,22 @@ class Reference:
 
     @property
     def counters(self) -> dict[str, int]:
-        """Events so far: collisions, reflections (crossings, stale, refreshed: 0, no cells)."""
-        return {
+        """Events so far: collisions, reflections (crossings, stale, refreshed: 0, no cells).
+
+        With steps also ``captures``, ``releases`` and ``bounces``.
+        """
+        out = {
             "collisions": self._coll,
             "reflections": self._refl,
             "crossings": 0,
             "stale": 0,
             "refreshed": 0,
         }
+        if self._lams:
+            out.update(
+                captures=self._stepc[CAPTURE], releases=self._stepc[RELEASE], bounces=self._stepc[BOUNCE]
+            )
+        return out
 
     @property
     def wall_impulse(self) -> float:
@@ -1012,11 +1283,27 @@ class Reference:
     _next_event = staticmethod(next_event)
     _next_event_periodic = staticmethod(next_event_periodic)
     _next_event_sheared = staticmethod(next_event_sheared)
+    _next_event_stepped = staticmethod(next_event_stepped)
     _move_sphere = staticmethod(move_sphere)
     _apply_event = staticmethod(apply_event)
 
     def _next(self) -> tuple[float, int, int, int]:
         """The next event or move across the box, ``(t, kind, i, j)`` (times from the origin)."""
+        if self._lams:
+            return self._next_event_stepped(
+                self._p,
+                self._v,
+                self._tloc,
+                self._radii,
+                self._wall,
+                self._edges,
+                self._clock,
+                self._window,
+                self._now,
+                self.dimensions == 2,
+                self._lams,
+                self._states,
+            )
         if self._speed:
             return self._next_event_sheared(
                 self._p,
@@ -1098,6 +1385,90 @@ class Reference:
             self._img[i][0] += m
         self._now = t
 
+    def _step_factors(self, kind: int, i: int, j: int, t: float) -> tuple[Any, ...]:
+        """A step event's factors from the pair at ``t`` (before the spheres move there).
+
+        The centres at ``t`` are those :func:`move_sphere` will give, to the
+        bit; the pair at its nearest image (:func:`apply_event`'s
+        arithmetic).  ``kind``: ``CAPTURE`` for the inner edge, ``RELEASE``
+        for the outer.
+
+        Returns:
+            ``(k1, k2, crossed, old, new, dx, dy, dz)``.
+
+        Raises:
+            StuckError: a bounce that would change nothing (``dr . dv = 0``:
+                the pair sliding along the edge).
+        """
+        p, v, tloc, edges = self._p, self._v, self._tloc, self._edges
+        pi, pj, vi, vj = p[i], p[j], v[i], v[j]
+        di, dj = t - tloc[i], t - tloc[j]
+        d = [(pi[ax] + vi[ax] * di) - (pj[ax] + vj[ax] * dj) for ax in range(3)]
+        if self.dimensions == 2:
+            d[2] = pi[2] - pj[2]
+        for ax in range(3):
+            if edges[ax]:
+                d[ax] -= edges[ax] * round(d[ax] / edges[ax])
+        old = self._states.get((i, j), 0)
+        new = old + 1 if kind == CAPTURE else old - 1
+        du = self._pot(new) - self._pot(old)
+        k1, k2, crossed = cross_step(
+            self.masses[i],
+            self.masses[j],
+            d[0],
+            d[1],
+            d[2],
+            vi[0] - vj[0],
+            vi[1] - vj[1],
+            vi[2] - vj[2],
+            du,
+            self.dimensions == 2,
+        )
+        if not crossed and k1 == 0.0:
+            raise StuckError("sliding", t + self._origin, i, inelastic=False)
+        return k1, k2, crossed, old, new, d[0], d[1], d[2]
+
+    def _apply_step(self, i: int, j: int, cross: tuple[Any, ...]) -> tuple[Any, ...]:
+        """A step event's velocity change and state change: ``(kind, imp, dp..., virial, dr...)``.
+
+        ``imp = -m_i k1 |dr|`` is the momentum sphere ``i`` receives along
+        ``dr`` (negative: towards ``j``, for the three step events).
+        """
+        k1, k2, crossed, old, new, dx, dy, dz = cross
+        vi, vj = self._v[i], self._v[j]
+        vi[0] -= k1 * dx
+        vi[1] -= k1 * dy
+        vj[0] += k2 * dx
+        vj[1] += k2 * dy
+        planar = self.dimensions == 2
+        if not planar:
+            vi[2] -= k1 * dz
+            vj[2] += k2 * dz
+        kind = BOUNCE
+        if crossed:
+            kind = CAPTURE if new > old else RELEASE
+            if old:
+                self._bonded[old - 1] -= 1
+            if new:
+                self._bonded[new - 1] += 1
+                self._states[(i, j)] = new
+            else:
+                del self._states[(i, j)]
+        mi = self.masses[i]
+        d2 = dx * dx + dy * dy if planar else dx * dx + dy * dy + dz * dz
+        imp = -mi * k1 * math.sqrt(d2)
+        return (
+            kind,
+            imp,
+            -mi * k1 * dx,
+            -mi * k1 * dy,
+            0.0 if planar else -mi * k1 * dz,
+            -mi * k1 * d2,
+            dx,
+            dy,
+            dz,
+        )
+
     def _add_virial(self, dx: float, dy: float, dz: float, px: float, py: float, pz: float) -> None:
         """A collision's terms ``r_a dp_b`` of the virial tensor (the core's, in its arithmetic)."""
         vt = self._vir_t
@@ -1152,6 +1523,7 @@ class Reference:
                 k = reflect(px, py, pz, vi[0], vi[1], vi[2], planar)
             if k == 0.0:
                 raise StuckError("sliding", t + self._origin, i, inelastic=self._inelastic)
+        cross = self._step_factors(kind, i, j, t) if kind >= CAPTURE else None
         self._frozen += 1
         self._clock = self._now = t
         planar = self.dimensions == 2
@@ -1163,9 +1535,13 @@ class Reference:
             self._move_sphere(p, v, tloc, j, t, planar)
         off = shear_offset(self._off0, self._speed, self._edges[0], t) if self._speed else 0.0
         rule = (self._grow, planar, e, inelastic, off, self._speed)
-        imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
-            kind, i, j, p, v, self.masses, self._radii, self._edges, *rule
-        )
+        if cross is not None:
+            kind, imp, dpx, dpy, dpz, vir, dx, dy, dz = self._apply_step(i, j, cross)
+            lost = 0.0
+        else:
+            imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
+                kind, i, j, p, v, self.masses, self._radii, self._edges, *rule
+            )
         if j >= 0 and self._edges[0]:
             self._add_virial(dx, dy, dz, dpx, dpy, dpz)
         if inelastic:
@@ -1176,8 +1552,11 @@ class Reference:
         if kind == REFLECTION:
             self._refl += 1
             self._wall_impulse += imp
-        else:
+        elif kind == COLLISION:
             self._coll += 1
+            self._virial += vir
+        else:  # a step's capture, release or bounce
+            self._stepc[kind] += 1
             self._virial += vir
         return t + self._origin, kind, i, j, imp, dpx, dpy, dpz
 
