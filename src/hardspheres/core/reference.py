@@ -898,9 +898,8 @@ class Reference:
         #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
         self._last = [-INF] * n
         self._dissipated = 0.0
-        # the stress tallies (periodic box): collisional virial tensor, the time
-        # integral of the peculiar kinetic tensor of the closed flights, and
-        # when each sphere's open flight began (xx yy zz xy xz yz)
+        # the stress tallies (periodic box, xx yy zz xy xz yz): collisional virial, the time integral
+        # of the peculiar kinetic tensor of the closed flights, when each open flight began
         self._vir_t = [0.0] * 6
         self._kin_t = [0.0] * 6
         self._kt = [self._clock] * n
