@@ -129,6 +129,12 @@ def main():
     p.add_argument("--warm", type=float, default=10.0, help="warm-up collisions per sphere")
     p.add_argument("--ir-only", action="store_true", help="instructions only (no cache or branch simulation)")
     p.add_argument("--dimensions", type=int, default=3, choices=(2, 3), help="disks (2) or spheres (3)")
+    p.add_argument(
+        "--ll",
+        type=int,
+        default=2097152,
+        help="simulated last-level cache, bytes (16-way, 64-byte lines); 33554432 is this machine's L3",
+    )
     p.add_argument("--inner", type=int, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.inner is not None:
@@ -144,7 +150,8 @@ def main():
         cmd, env, cwd = make(a, c)
         dest = os.path.join(out, f"{c}.out")
         log = open(os.path.join(out, f"{c}.log"), "w")
-        tool = CACHEGRIND[:2] + ["--cache-sim=no", "--branch-sim=no"] if a.ir_only else CACHEGRIND
+        tool = CACHEGRIND[:2] + ["--cache-sim=no", "--branch-sim=no"] if a.ir_only else CACHEGRIND[:-1]
+        tool = tool if a.ir_only else tool + [f"--LL={a.ll},16,64"]
         procs.append(
             subprocess.Popen(
                 tool + [f"--cachegrind-out-file={dest}"] + cmd, env=env, cwd=cwd, stdout=log, stderr=log
