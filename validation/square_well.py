@@ -1,0 +1,131 @@
+"""The square well at low density on the brute-force reference: Z - 1 against the exact B2.
+
+The compiled event core does not have steps yet; the brute-force reference
+does (``Reference(..., steps=[(lambda, -eps)])``, pure Python, every pair
+predicted after every event), so the system is small: N = 32 spheres (or
+disks) of diameter, mass one, a well of width lambda = 1.5 and depth eps,
+in a periodic box at a low number density, started on a lattice with
+Maxwell velocities scaled to kT = 1 (total momentum zero), run at constant energy.
+
+At low density, ``Z - 1 = B2 rho + O(rho^2)`` with (sigma = 1, beta = 1/kT)
+
+* 3-D: ``B2 = (2 pi / 3) (1 - (lambda^3 - 1) (exp(beta eps) - 1))``;
+* 2-D: ``B2 = (pi / 2) (1 - (lambda^2 - 1) (exp(beta eps) - 1))``
+
+(``B2 = -(1/2) int f(r) d^d r``, the Mayer function ``f`` being -1 inside
+the core and ``exp(beta eps) - 1`` in the well).  Measured: the excess
+``Z_ex = W / (d t N kT)`` from the virial ``W`` (the sum of ``r_ij . dp_i``
+over core collisions, captures, releases and bounces: ``Reference.virial``)
+over the time ``t``, with ``kT = 2 <K> / (d (N - 1))`` from the exact time
+average of the kinetic energy (``K = E - U``, ``U`` stepping at captures and
+releases).  Each sphere sees ``N - 1`` partners in the volume ``V``, so the
+comparison is with ``B2 (N - 1) / V``; the next term, ``B3 rho^2``, is
+not subtracted (two densities each, to see it if it were above the error
+bars).  Errors: 10 blocks of events after equilibration.  Its output is
+kept in validation/results/square_well.txt (docs/validation/square-well.md).
+
+usage:
+    python3 validation/square_well.py              # about 7 minutes on a loaded core
+    python3 validation/square_well.py --scale 0.2  # a quick look
+"""
+
+import argparse
+import math
+import random
+import time
+
+import numpy as np
+
+import hardspheres as hs
+from hardspheres.core.reference import Reference
+from hardspheres.events import EventKind
+
+N, LAM, EPS = 32, 1.5, 1.0
+
+
+def b2(d: int, beta_eps: float) -> float:
+    """The square well's exact second virial coefficient (sigma = 1) [length^d]."""
+    if d == 3:
+        return 2.0 * math.pi / 3.0 * (1.0 - (LAM**3 - 1.0) * math.expm1(beta_eps))
+    return math.pi / 2.0 * (1.0 - (LAM**2 - 1.0) * math.expm1(beta_eps))
+
+
+def start(d: int, rho: float, seed: int) -> Reference:
+    """N spheres on a simple lattice in a periodic box at number density ``rho``, kT = 1."""
+    rng = random.Random(seed)
+    side = (N / rho) ** (1.0 / d)
+    per = math.ceil(N ** (1.0 / d))
+    a = side / per
+    sites = [[(k // per**ax) % per * a - side / 2 + 0.25 * a for ax in range(d)] for k in range(per**d)]
+    pos = rng.sample(sites, N)
+    vel = [[rng.gauss(0.0, 1.0) for _ in range(d)] for _ in range(N)]
+    mean = [sum(v[ax] for v in vel) / N for ax in range(d)]
+    vel = [[v[ax] - mean[ax] for ax in range(d)] for v in vel]
+    scale = math.sqrt(d * (N - 1) / sum(x * x for v in vel for x in v))  # kT = 1 exactly
+    vel = [[x * scale for x in v] for v in vel]
+    box = hs.PeriodicBox(side if d == 3 else (side, side))
+    return Reference([1.0] * N, [0.5] * N, pos, vel, box, steps=[(LAM, -EPS)])
+
+
+def block(ref: Reference, events: int) -> tuple[float, float, float]:
+    """``events`` events: ``(virial, duration, time integral of U)``."""
+    t0, w0, u = ref.time, ref.virial, ref.potential_energy()
+    ev = ref.advance(events=events)
+    u_int, last = 0.0, t0
+    for t, kind in zip(ev["time"], ev["kind"]):
+        u_int += u * (t - last)
+        last = t
+        if kind == EventKind.CAPTURE:
+            u -= EPS
+        elif kind == EventKind.RELEASE:
+            u += EPS
+    u_int += u * (ref.time - last)
+    assert u == ref.potential_energy()
+    return ref.virial - w0, ref.time - t0, u_int
+
+
+def measure(d: int, rho: float, events: int, seed: int) -> dict[str, float]:
+    """One state point: the measured excess Z against B2 (N - 1) / V."""
+    ref = start(d, rho, seed)
+    energy = ref.kinetic_energy() + ref.potential_energy()
+    ref.advance(events=events // 5)  # equilibration
+    rows = [block(ref, events // 10) for _ in range(10)]
+    w, t, u = (np.array(c) for c in zip(*rows))
+    kin = energy - u.sum() / t.sum()
+    kt = 2.0 * kin / (d * (N - 1))
+    zex = w / (d * t * N * kt)
+    side = ref.container.sides[0]
+    volume = side**d
+    drift = abs(ref.kinetic_energy() + ref.potential_energy() - energy) / energy
+    return {
+        "d": d,
+        "rho": rho,
+        "kT": kt,
+        "beta_eps": EPS / kt,
+        "z_ex": float(zex.mean()),
+        "err": float(zex.std(ddof=1) / math.sqrt(len(zex))),
+        "exact": b2(d, EPS / kt) * (N - 1) / volume,
+        "bonded": len(ref.pair_states),
+        "drift": drift,
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scale", type=float, default=1.0, help="fraction of the events (1: 10 minutes)")
+    args = ap.parse_args()
+    print(f"N = {N}, lambda = {LAM}, eps = {EPS} (kT = 1 at the start), sigma = m = 1")
+    print("d  rho    kT      beta_eps  Z_ex measured      B2 (N-1)/V   z      |E drift|")
+    for d, rho, events in ((3, 0.01, 60_000), (3, 0.02, 60_000), (2, 0.02, 60_000), (2, 0.04, 60_000)):
+        t = time.time()
+        r = measure(d, rho, int(events * args.scale), seed=d * 100 + int(rho * 1000))
+        z = (r["z_ex"] - r["exact"]) / r["err"]
+        print(
+            f"{d}  {rho:.3f}  {r['kT']:.4f}  {r['beta_eps']:.4f}    {r['z_ex']:+.5f}({r['err'] * 1e5:.0f})"
+            f"   {r['exact']:+.5f}     {z:+.1f}   {r['drift']:.1e}   ({time.time() - t:.0f} s)",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
