@@ -356,3 +356,35 @@ def test_reference_deep_well_conserves_energy_without_a_bounce_loop(d):
             dist = math.sqrt(float(dr @ dr))
             assert dist > 1.0 - 1e-9
             assert (dist < 1.5 + 1e-9) if (i, j) in ref.pair_states else (dist > 1.5 - 1e-9)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_reference_three_steps_with_a_shoulder(d):
+    """A shoulder, then two wells: every state reached, K + U conserved, states matching the distances."""
+    steps = [(1.6, 0.5), (1.3, -1.0), (1.1, -2.0)]
+    base = liquid(d, seed=10 + d)
+    ref = Reference(
+        base.masses,
+        [0.5] * len(base.masses),
+        base.positions_at(),
+        base.velocities,
+        base.container,
+        steps=steps,
+    )
+    e0 = ref.kinetic_energy() + ref.potential_energy()
+    seen = set()
+    for _ in range(30):
+        ref.advance(events=100)
+        seen |= set(ref.pair_states.values())
+        counts = [list(ref.pair_states.values()).count(s) for s in (1, 2, 3)]
+        assert ref.potential_energy() == 0.5 * counts[0] - 1.0 * counts[1] - 2.0 * counts[2]
+    assert seen == {1, 2, 3}
+    assert ref.counters["bounces"] > 0
+    assert abs(ref.kinetic_energy() + ref.potential_energy() - e0) <= 1e-12 * (ref.kinetic_energy() + 100.0)
+    pos = np.asarray(ref.positions_at())
+    side = np.asarray(ref.container.sides)
+    for (i, j), s in ref.pair_states.items():
+        dr = pos[i] - pos[j]
+        dr -= side * np.round(dr / side)
+        dist = math.sqrt(float(dr @ dr))
+        assert steps[s - 1][0] + 1e-9 > dist > (steps[s][0] if s < 3 else 1.0) - 1e-9
