@@ -36,6 +36,7 @@ usage: python3 benchmarks/cachegrind_core.py N PHI [--sphere] [--tree TREE] [--w
 
 import argparse
 import glob
+import math
 import hashlib
 import os
 import subprocess
@@ -112,7 +113,14 @@ def anchor_cmd(a, c):
         ["bash", script, str(a.n), str(a.phi), "1000", a.anchor], env=env, check=True, capture_output=True
     )
     tag = hashlib.md5((ANCHOR_CFLAGS + "\n").encode()).hexdigest()[:8]
-    (binary,) = glob.glob(os.path.join(work, "bin", f"md_{a.anchor}*_{tag}"))
+    name = f"md_{a.anchor}_{tag}"
+    if a.anchor == "Cell":  # anchor.sh's MAXCEL for this N and PHI, as it computes it
+        side = math.exp(math.log(a.n * math.pi / 6 / a.phi) / 3)
+        c = int(side - 0.0001)
+        while c * c * c > 8 * a.n:
+            c = int(c * 0.9)
+        name = f"md_Cell_maxcel{max(c + 1, 75)}_{tag}"
+    (binary,) = glob.glob(os.path.join(work, "bin", name))
     init = os.path.join(work, "init", f"n{a.n}_phi{a.phi}_s1.sph")
     return [binary, init, str(a.n), str(c)], env, tempfile.mkdtemp(prefix="cg_anchor_")
 
