@@ -36,8 +36,8 @@ usage: python3 benchmarks/cachegrind_core.py N PHI [--sphere] [--tree TREE] [--w
 
 import argparse
 import glob
-import math
 import hashlib
+import math
 import os
 import subprocess
 import sys
