@@ -1,0 +1,308 @@
+"""The hard-disk pressure loop at N = 870 by straight event chains, against Li et al. 2022.
+
+870 disks (diameter 1) in a periodic box of the published shapes: ``crystal``,
+the 29 : 30 sqrt(3)/2 box of the 29 x 30 triangular crystal
+(``hs.hexagonal((29, 30), phi)``), or ``square`` (1 : 1).  Straight event
+chains (``hs.EventChain``, variant "straight", chain length 0.24 of the
+box's square root: Li et al.'s StraightECMC), from two starts:
+
+* ``liquid``: random disks at packing 0.60, 500 collisions per disk of event
+  dynamics, grown to the packing (``Simulation.compress``, rate 10^-3), then
+  handed to the chains (``EventChain.from_simulation``);
+* ``crystal``: the perfect triangular crystal filling the crystal box
+  (``hs.hexagonal``); in the square box, where no crystal fits,
+  ``hs.random_spheres`` at the packing (a triangular lattice with vacancies,
+  aligned with the box).
+
+Each run: ``--equilibrate`` lifts per disk, then ``--lifts`` lifts per disk
+measured in ``--chunks`` equal pieces; per chunk its own beta P sigma^2 (from
+the chains' running totals) and ``|Psi6|`` at the chunk's end (a chain end).
+The error is the larger of the run's blocking error (``observables``) and
+the chunk series' (blocking over the chunks down to 8 blocks, and ``std
+sqrt(2 tau / n)`` with tau their integrated autocorrelation time), as in
+validation/disks_loop.py.  ``z = (ours - theirs) / sqrt(err_ours^2 +
+err_theirs^2)``.
+
+The published values: jellyfysh/HistoricDisks at commit 3afcb07,
+``DigitizedData/ThisWork.csv`` ("original data provided by the authors" of
+B. Li, Y. Nishikawa, P. Hoellmer, L. Carillo, A. C. Maggs and W. Krauth, J.
+Chem. Phys. 157, 234111 (2022)), the sets "ECMC, rift formula, N = 870",
+aspect ratios 29 : 30 sqrt(3)/2 and 1 : 1, in ``beta P (2 sigma)^2`` with
+sigma a radius: our ``beta P d^2``, d the diameter.
+
+Results: one row per run appended to ``--csv`` (default
+validation/results/ecmc_loop_870.csv; the chunk series beside it, ``_series``)
+and the table to ``.md`` beside it, each rewritten atomically after every
+run; a rerun skips the (box, packing, start, seed) already there.  ``--budget``
+CPU seconds and ``--deadline`` wall seconds: no run starts that the rates so
+far say would not finish within them.  ``table`` prints the table of the CSV again.
+
+usage:
+    nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
+        [--starts liquid crystal] [--equilibrate 300000] [--lifts 3000000] [--chunks 40] [--budget 3600]
+    python3 validation/ecmc_loop.py table [--csv FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import time
+
+import numpy as np
+
+import hardspheres as hs
+from hardspheres import fileio
+from hardspheres.blocking import blocking
+
+CELLS = (29, 30)
+N = CELLS[0] * CELLS[1]
+
+# (packing, beta P d^2, its error): jellyfysh/HistoricDisks at commit 3afcb07,
+# DigitizedData/ThisWork.csv, "ECMC, rift formula, N = 870", the two boxes.
+LI_870 = {
+    "crystal": [
+        (0.690, 8.969476, 0.000097), (0.692, 9.036875, 0.000060), (0.694, 9.08915, 0.00012),
+        (0.696, 9.12293, 0.00012), (0.698, 9.13490, 0.00015), (0.700, 9.12956, 0.00017),
+        (0.702, 9.11236, 0.00021), (0.704, 9.09028, 0.00038), (0.706, 9.06621, 0.00034),
+        (0.708, 9.04532, 0.00089), (0.710, 9.0272, 0.0010), (0.712, 9.0122, 0.0022),
+        (0.714, 9.0158, 0.0018), (0.716, 9.0450, 0.0026), (0.718, 9.0818, 0.0048),
+    ],
+    "square": [
+        (0.690, 8.969898, 0.000075), (0.692, 9.03666, 0.00011), (0.694, 9.089054, 0.000083),
+        (0.696, 9.12212, 0.00016), (0.698, 9.13414, 0.00022), (0.700, 9.12966, 0.00015),
+        (0.702, 9.11472, 0.00016), (0.704, 9.09681, 0.00035), (0.706, 9.08175, 0.00031),
+        (0.708, 9.07174, 0.00036), (0.710, 9.06469, 0.00043), (0.712, 9.0541, 0.0013),
+        (0.714, 9.0310, 0.0032), (0.716, 9.0272, 0.0049), (0.718, 9.0507, 0.0040),
+    ],
+}  # fmt: skip
+BOXES = {"crystal": "29 : 30 sqrt(3)/2", "square": "1 : 1"}
+STARTS = ("liquid", "crystal")
+START_PACKING = 0.60
+FIELDS = [
+    "box", "phi", "start", "seed", "bp", "error", "error_run", "error_chunks", "chunks_converged",
+    "ref", "ref_error", "z", "bp_first_half", "bp_second_half", "psi6_mean", "psi6_last",
+    "tau_bp", "tau_psi6", "equilibrate", "lifts", "chunks", "cpu_s", "cpu_s_start", "wall_s",
+]  # fmt: skip
+SERIES_FIELDS = ["box", "phi", "start", "seed", "chunk", "per_disk", "bp", "psi6"]
+
+
+def reference(box: str, phi: float) -> tuple[float, float]:
+    """Li et al.'s beta P d^2 and its error at ``phi`` in ``box`` (``nan`` if not published)."""
+    for p, v, e in LI_870[box]:
+        if abs(p - phi) < 1e-9:
+            return v, e
+    return math.nan, math.nan
+
+
+def make_box(box: str, phi: float) -> hs.PeriodicBox:
+    """The periodic box of 870 disks of diameter 1 at area fraction ``phi``."""
+    if box == "crystal":
+        return hs.hexagonal(CELLS, phi)[1]
+    return hs.PeriodicBox.for_packing(N, phi, (1.0, 1.0))
+
+
+def start_chain(box: str, phi: float, start: str, seed: int) -> hs.EventChain:
+    """Straight event chains at ``phi`` from one of :data:`STARTS`."""
+    pbox = make_box(box, phi)
+    if start == "liquid":
+        sim = hs.Simulation(hs.random_spheres(N, START_PACKING, pbox, seed=seed), pbox)
+        sim.run(collisions=500 * N)
+        res = sim.compress(packing=phi, rate=1e-3, pressure=None)
+        if res.reason != "packing" or abs(sim.packing - phi) > 1e-9:
+            raise RuntimeError(f"compression to {phi} stopped at {sim.packing} ({res.reason})")
+        return hs.EventChain.from_simulation(sim, seed=seed, variant="straight")
+    if box == "crystal":
+        state = hs.hexagonal(CELLS, phi)[0]
+    else:
+        state = hs.random_spheres(N, phi, pbox, seed=seed)
+    return hs.EventChain(state, pbox, seed=seed, variant="straight")
+
+
+def autocorrelation_time(x: np.ndarray) -> float:
+    """Integrated autocorrelation time in samples (Sokal's window, c = 5); ``nan`` below 8 samples."""
+    x = np.asarray(x, float)
+    n = x.size
+    if n < 8 or np.var(x) == 0.0:
+        return math.nan if n < 8 else 0.5
+    d = x - x.mean()
+    c0 = np.dot(d, d) / n
+    tau = 0.5
+    for t in range(1, n // 2):
+        tau += np.dot(d[:-t], d[t:]) / (n * c0)
+        if t >= 5.0 * tau:
+            break
+    return max(tau, 0.5)
+
+
+def psi6(chain: hs.EventChain) -> float:
+    """``|Psi6|`` of the disks now (``hs.Hexatic``: 6 nearest neighbours)."""
+    return hs.Hexatic(bins=4, r_max=2.0).compute(chain.state(), chain.container.length).order
+
+
+def measure(
+    box: str, phi: float, start: str, seed: int, equilibrate: int, lifts: int, chunks: int
+) -> tuple[dict, list[dict]]:
+    """One run: its row and its chunk series."""
+    t0, w0 = time.process_time(), time.time()
+    chain = start_chain(box, phi, start, seed)
+    cpu_start = time.process_time() - t0
+    phi_true = float(np.sum(math.pi * chain.state().radii ** 2) / chain.container.volume)
+    scale = 4.0 * phi_true / math.pi  # Z to beta P d^2
+    chain.run(events=equilibrate * N).run(chains=1)
+    chain.observables.reset()
+    series = []
+    base = chain.totals()
+    last = base
+    for k in range(chunks):
+        chain.run(events=lifts * N // chunks).run(chains=1)
+        now = chain.totals()
+        d = now - last
+        z_k = 1.0 + d[2:4].sum() / d[4:6].sum()
+        series.append({"box": box, "phi": phi, "start": start, "seed": seed, "chunk": k,
+                       "per_disk": (now[0] - base[0]) / N, "bp": z_k * scale,
+                       "psi6": psi6(chain)})  # fmt: skip
+        last = now
+    est = chain.observables.estimate("Z")
+    bp = np.array([s["bp"] for s in series])
+    half = (now - base) / 2.0
+    mid = [s for s in series if s["per_disk"] * N <= half[0]]
+    blocked = blocking(bp, min_blocks=8)
+    tau = autocorrelation_time(bp)
+    err_chunks = max(blocked.sem, float(np.std(bp, ddof=1)) * math.sqrt(2.0 * tau / bp.size))
+    ref, ref_err = reference(box, phi)
+    row = {"box": box, "phi": phi, "start": start, "seed": seed, "bp": est.mean * scale,
+           "error_run": est.sem * scale, "error_chunks": err_chunks,
+           "chunks_converged": int(blocked.converged),
+           "ref": ref, "ref_error": ref_err, "psi6_mean": float(np.mean([s["psi6"] for s in series])),
+           "psi6_last": series[-1]["psi6"], "tau_bp": tau * lifts / chunks,
+           "tau_psi6": autocorrelation_time(np.array([s["psi6"] for s in series])) * lifts / chunks,
+           "equilibrate": equilibrate, "lifts": lifts, "chunks": chunks}  # fmt: skip
+    row["error"] = max(row["error_run"], err_chunks)
+    row["z"] = (row["bp"] - ref) / math.hypot(row["error"], ref_err)
+    k = len(mid)
+    row["bp_first_half"] = float(np.mean(bp[:k])) if k else math.nan  # (chunks of equal lifts: a mean)
+    row["bp_second_half"] = float(np.mean(bp[k:])) if k < len(bp) else math.nan
+    row["cpu_s"] = time.process_time() - t0
+    row["cpu_s_start"] = cpu_start
+    row["wall_s"] = time.time() - w0
+    return row, series
+
+
+def read(path: str) -> list[dict]:
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        for k, v in r.items():
+            if k not in ("box", "start"):
+                r[k] = float(v) if v not in ("", None) else math.nan
+    return rows
+
+
+def write(path: str, rows: list[dict], fields: list[str]) -> None:
+    with fileio.atomic_write(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fields, restval="")
+        w.writeheader()
+        w.writerows(rows)
+
+
+def tau(r: dict, key: str) -> str:
+    """A correlation time as printed: below one chunk it is not resolved (an upper bound)."""
+    chunk = r["lifts"] / r["chunks"]
+    return f"< {chunk:.2g}" if r[key] <= chunk else f"{r[key]:.2g}"
+
+
+def table(rows: list[dict]) -> str:
+    """The Markdown table of the runs, and a summary line."""
+    out = [
+        "| box | packing | start | beta P d^2 | Li et al. 2022 | z | first, second half | <\\|Psi6\\|> "
+        "| tau of beta P, \\|Psi6\\| (lifts per disk) | lifts per disk | CPU s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in sorted(rows, key=lambda r: (r["box"], r["phi"], r["start"])):
+        conv = "" if r["chunks_converged"] else "*"
+        out.append(
+            f"| {BOXES[r['box']]} | {r['phi']:.3f} | {r['start']} "
+            f"| {r['bp']:.4f}({round(r['error'] * 1e4)}){conv} "
+            f"| {r['ref']:.4f}({round(r['ref_error'] * 1e4)}) | {r['z']:+.2f} "
+            f"| {r['bp_first_half']:.4f}, {r['bp_second_half']:.4f} | {r['psi6_mean']:.3f} "
+            f"| {tau(r, 'tau_bp')}, {tau(r, 'tau_psi6')} | {r['equilibrate']:.0f} + {r['lifts']:.0f} "
+            f"| {r['cpu_s']:.0f} |"
+        )
+    if rows:
+        worst = max(abs(r["z"]) for r in rows)
+        cpu = sum(r["cpu_s"] for r in rows)
+        out.append("")
+        out.append(
+            f"{len(rows)} runs; largest |z| {worst:.2f}; {sum(abs(r['z']) <= 3 for r in rows)} of "
+            f"{len(rows)} within 3; CPU {cpu:.0f} s ({cpu / 3600:.2f} CPU-hours) in all."
+        )
+        pairs = []
+        for key in sorted({(r["box"], round(r["phi"], 6)) for r in rows}):
+            two = {r["start"]: r for r in rows if (r["box"], round(r["phi"], 6)) == key}
+            if len(two) == 2:
+                a, b = two["liquid"], two["crystal"]
+                pairs.append(f"{key[1]:.3f}: {(a['bp'] - b['bp']) / math.hypot(a['error'], b['error']):+.2f}")
+        if pairs:
+            out.append("liquid against crystal start, z: " + "; ".join(pairs) + ".")
+        out.append(
+            "beta P d^2 with its error in the 4th decimal in brackets; * marks a chunk series whose blocking "
+            "had no plateau (its error a lower bound)."
+        )
+    return "\n".join(out)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("command", choices=["run", "table"])
+    ap.add_argument("--csv", default="validation/results/ecmc_loop_870.csv")
+    ap.add_argument("--box", choices=list(BOXES), default="crystal")
+    ap.add_argument("--packings", type=float, nargs="+", default=[0.700, 0.716, 0.708, 0.712, 0.704])
+    ap.add_argument("--starts", nargs="+", choices=STARTS, default=list(STARTS))
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--equilibrate", type=int, default=300_000, help="lifts per disk before measuring")
+    ap.add_argument("--lifts", type=int, default=3_000_000, help="lifts per disk measured")
+    ap.add_argument("--chunks", type=int, default=40)
+    ap.add_argument("--budget", type=float, default=math.inf, help="CPU seconds for this invocation")
+    ap.add_argument("--deadline", type=float, default=math.inf, help="wall seconds for this invocation")
+    args = ap.parse_args()
+    rows = read(args.csv)
+    root, ext = os.path.splitext(args.csv)
+    series_path, md_path = f"{root}_series{ext}", f"{root}.md"
+    if args.command == "table":
+        print(table(rows))
+        return
+    series = read(series_path)
+    done = {(r["box"], round(r["phi"], 6), r["start"], int(r["seed"])) for r in rows}
+    t0, w0 = time.process_time(), time.time()
+    per_lift, share = math.nan, 1.0
+    for phi in args.packings:
+        for start in args.starts:
+            if (args.box, round(phi, 6), start, args.seed) in done:
+                continue
+            spent = time.process_time() - t0
+            guess = per_lift * (args.equilibrate + args.lifts) * N
+            guess = guess if math.isfinite(guess) else 0.0
+            if spent + guess > args.budget or time.time() - w0 + guess / share > args.deadline:
+                print(f"budget: {spent:.0f} CPU s spent, the next run would take about {guess:.0f}; stopping")
+                print(table(rows))
+                return
+            row, s = measure(args.box, phi, start, args.seed, args.equilibrate, args.lifts, args.chunks)
+            per_lift = (row["cpu_s"] - row["cpu_s_start"]) / ((args.equilibrate + args.lifts) * N)
+            share = max(0.1, (time.process_time() - t0) / (time.time() - w0))  # CPU per wall second here
+            rows.append(row)
+            series.extend(s)
+            write(args.csv, rows, FIELDS)
+            write(series_path, series, SERIES_FIELDS)
+            with fileio.atomic_write(md_path, "w") as fh:
+                fh.write(table(rows) + "\n")
+            print(table([row]).splitlines()[2], flush=True)
+    print(table(rows))
+
+
+if __name__ == "__main__":
+    main()
