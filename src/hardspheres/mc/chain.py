@@ -64,9 +64,10 @@ if TYPE_CHECKING:
 #: unit area, that is 0.24 of the side of a square box.
 CHAIN_FRACTION = 0.24
 
-#: The variants: straight chains along the axes in turn (Bernard, Krauth and Wilson 2009; Li et al.
-#: 2022's StraightECMC), Newtonian chains (Klement and Engel, J. Chem. Phys. 150, 174108 (2019)) and
-#: forward chains (Michel, Durmus and Senecal, J. Comput. Graph. Stat. 29, 689 (2020)).
+#: Each variant's name and its number in the compiled core.  Straight chains along the axes in turn
+#: (Bernard, Krauth and Wilson 2009; Li et al. 2022's StraightECMC), Newtonian chains (Klement and
+#: Engel, J. Chem. Phys. 150, 174108 (2019)) and forward chains (Michel, Durmus and Senecal, J.
+#: Comput. Graph. Stat. 29, 689 (2020)).
 VARIANTS = {"straight": core.STRAIGHT, "newtonian": core.NEWTONIAN, "forward": core.FORWARD}
 
 #: The ``format`` array of an event-chain checkpoint, and its version.
