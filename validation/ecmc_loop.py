@@ -246,7 +246,8 @@ def table(rows: list[dict]) -> str:
             two = {r["start"]: r for r in rows if (r["box"], round(r["phi"], 6)) == key}
             if len(two) == 2:
                 a, b = two["liquid"], two["crystal"]
-                pairs.append(f"{key[1]:.3f}: {(a['bp'] - b['bp']) / math.hypot(a['error'], b['error']):+.2f}")
+                where = f"{key[1]:.3f}" + (" (1 : 1)" if key[0] == "square" else "")
+                pairs.append(f"{where}: {(a['bp'] - b['bp']) / math.hypot(a['error'], b['error']):+.2f}")
         if pairs:
             out.append("liquid against crystal start, z: " + "; ".join(pairs) + ".")
         out.append(
