@@ -82,21 +82,24 @@ def test_readme_is_a_front_page():
 
 
 def test_readme_speed_figures_are_recorded_runs():
-    """Every figure README's Speed section quotes is in benchmarks/README.md's table of that run."""
+    """Every ratio README's Speed section quotes is in benchmarks/README.md's tables of that run."""
     speed = re.search(r"## Speed\n(.*?)\n## ", README, re.S).group(1)
     bench = (ROOT / "benchmarks" / "README.md").read_text()
-    run = re.search(r"## Side by side with the anchor \(moved from README.md.*?\n(.*?)\n## ", bench, re.S)
+    run = re.search(r"## Speed, again: .*?\n(.*?)\n## ", bench, re.S)
     assert run, "benchmarks/README.md lost the run README quotes"
     text = run.group(1)
-    assert "2026-11-27" in speed and "2026-11-27" in text and "dee121a" in speed and "dee121a" in text
-    table = re.search(r"Run 5, 01:13-01:21 UTC.*?\n\n(\|.*?)\n\n", text, re.S).group(1)
-    rows = {tuple(c.strip() for c in line.strip("|").split("|"))[:2]: line for line in table.splitlines()}
-    quoted = {("1e4", "0.1"): "1.00", ("1e4", "0.3"): "1.24", ("1e4", "0.45"): "0.77",
-              ("1e5", "0.3"): "0.96", ("1e6", "0.3"): "0.85"}  # fmt: skip
+    assert "2026-12-06" in speed and "2026-12-06" in text
+    rows = {}
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.startswith("| 1e+0") and len(cells) == 8:
+            rows[(cells[0], cells[1])] = cells[6]
+    quoted = {("1e+04", "0.1"): "0.84", ("1e+04", "0.3"): "1.10", ("1e+04", "0.45"): "0.77",
+              ("1e+05", "0.1"): "0.80", ("1e+05", "0.3"): "1.06", ("1e+05", "0.45"): "0.81",
+              ("1e+06", "0.1"): "0.90", ("1e+06", "0.3"): "0.95"}  # fmt: skip
     for key, ratio in quoted.items():
         assert ratio in speed
-        box_ratio = rows[key].strip("|").split("|")[6].strip()
-        assert box_ratio == ratio, (key, box_ratio, ratio)
+        assert rows[key] == ratio, (key, rows[key], ratio)
 
 
 def test_readme_hard_disk_study_prints_what_readme_quotes(tmp_path, monkeypatch, capsys):
