@@ -166,6 +166,24 @@ def test_a_failed_write_keeps_the_old_file_and_leaves_nothing(tmp_path):
     assert os.listdir(tmp_path) == ["v.html"]
 
 
+def test_fifos_are_written_in_place(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # so that opening to write does not block
+    try:
+        with atomic_write(fifo, "w") as fh:  # never renamed over, never locked
+            fh.write("x")
+        assert os.read(reader, 16) == b"x"
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert os.listdir(tmp_path) == ["pipe"]
+
+
+@pytest.mark.skipif(
+    not stat.S_ISCHR(os.stat("/dev/null").st_mode),
+    reason="this machine's /dev/null is not a character device (some sandboxes make it a file)",
+)
 def test_devices_are_written_in_place():
     with atomic_write("/dev/null", "w") as fh:  # never renamed over, never locked
         fh.write("x")
