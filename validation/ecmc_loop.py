@@ -35,11 +35,17 @@ validation/results/ecmc_loop_870.csv; the chunk series beside it, ``_series``)
 and the table to ``.md`` beside it, each rewritten atomically after every
 run; a rerun skips the (box, packing, start, seed) already there.  ``--budget``
 CPU seconds and ``--deadline`` wall seconds: no run starts that the rates so
-far say would not finish within them.  ``table`` prints the table of the CSV again.
+far say would not finish within them.  ``--checkpoint DIR``: each run is
+saved in DIR after its equilibration and after every chunk (the chains,
+``EventChain.save``, and the series so far), and a run found there is
+resumed from its last chunk, bit for bit (a run of half a CPU-hour or more
+then survives an interrupted session); the files go once its row is
+written.  ``table`` prints the table of the CSV again.
 
 usage:
     nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
         [--starts liquid crystal] [--equilibrate 300000] [--lifts 3000000] [--chunks 40] [--budget 3600]
+        [--deadline 4200] [--csv FILE] [--checkpoint DIR]
     python3 validation/ecmc_loop.py table [--csv FILE]
 """
 
@@ -47,6 +53,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import os
 import time
@@ -142,21 +149,112 @@ def psi6(chain: hs.EventChain) -> float:
     return hs.Hexatic(bins=4, r_max=2.0).compute(chain.state(), chain.container.length).order
 
 
+class CheckpointProblem(ValueError):
+    """A checkpoint that cannot be resumed: other run lengths than asked for now, or damaged."""
+
+
+def checkpoint_path(folder: str, box: str, phi: float, start: str, seed: int) -> str:
+    """The checkpoint's record (JSON) of one run in ``folder``; the chains beside it."""
+    return os.path.join(folder, f"{box}_{phi:.4f}_{start}_{seed}.json")
+
+
+def save_checkpoint(path: str, chain: hs.EventChain, record: dict) -> None:
+    """The chains, then the record naming them (so a crash between leaves the last pair whole)."""
+    chain_path = f"{os.path.splitext(path)[0]}_chunk{record['chunk']}.npz"
+    chain.save(chain_path)
+    old = read_checkpoint(path)
+    record = {**record, "chain": os.path.basename(chain_path)}
+    with fileio.atomic_write(path, "w") as fh:
+        json.dump(record, fh)
+    if old and old["chain"] != record["chain"]:
+        remove_quietly(os.path.join(os.path.dirname(path), old["chain"]))
+
+
+def read_checkpoint(path: str) -> dict | None:
+    if not os.path.exists(path):
+        return None
+    try:
+        with open(path) as fh:
+            rec = json.load(fh)
+        if not {"lengths", "chunk", "series", "base", "last", "chain"} <= set(rec):
+            raise ValueError("fields missing")
+        return rec
+    except (ValueError, OSError) as e:
+        raise CheckpointProblem(f"{path} is not a checkpoint of this script ({e}): remove it") from None
+
+
+def remove_quietly(path: str) -> None:
+    try:
+        os.remove(path)
+    except FileNotFoundError:
+        pass
+
+
+def drop_checkpoint(folder: str | None, box: str, phi: float, start: str, seed: int) -> None:
+    """Remove a finished run's checkpoint (its row is written)."""
+    if folder is None:
+        return
+    path = checkpoint_path(folder, box, phi, start, seed)
+    rec = read_checkpoint(path)
+    if rec:
+        remove_quietly(os.path.join(folder, rec["chain"]))
+    remove_quietly(path)
+
+
 def measure(
-    box: str, phi: float, start: str, seed: int, equilibrate: int, lifts: int, chunks: int
+    box: str,
+    phi: float,
+    start: str,
+    seed: int,
+    equilibrate: int,
+    lifts: int,
+    chunks: int,
+    folder: str | None = None,
 ) -> tuple[dict, list[dict]]:
-    """One run: its row and its chunk series."""
+    """One run: its row and its chunk series; with ``folder``, saved after every chunk and resumed."""
     t0, w0 = time.process_time(), time.time()
-    chain = start_chain(box, phi, start, seed)
-    cpu_start = time.process_time() - t0
+    path = checkpoint_path(folder, box, phi, start, seed) if folder else None
+    lengths = {"equilibrate": equilibrate, "lifts": lifts, "chunks": chunks}
+    rec = read_checkpoint(path) if path else None
+    if rec is not None:
+        if rec["lengths"] != lengths:
+            raise CheckpointProblem(
+                f"{path} was written with {rec['lengths']}: rerun with those or remove it"
+            )
+        try:
+            chain = hs.EventChain.load(os.path.join(folder, rec["chain"]))
+        except (ValueError, OSError) as e:
+            raise CheckpointProblem(
+                f"{path}: its chains do not load ({e}): remove it to start afresh"
+            ) from None
+        series, k0 = rec["series"], rec["chunk"]
+        base, last = np.array(rec["base"]), np.array(rec["last"])
+        cpu_before, wall_before, cpu_start = rec["cpu_s"], rec["wall_s"], rec["cpu_s_start"]
+        print(f"resuming {box} {phi:.3f} {start} at chunk {k0} of {chunks} ({path})", flush=True)
+    else:
+        chain = start_chain(box, phi, start, seed)
+        cpu_start = time.process_time() - t0
+        cpu_before = wall_before = 0.0
+        chain.run(events=equilibrate * N).run(chains=1)
+        chain.observables.reset()
+        series, k0 = [], 0
+        base = chain.totals()
+        last = base
     phi_true = float(np.sum(math.pi * chain.state().radii ** 2) / chain.container.volume)
     scale = 4.0 * phi_true / math.pi  # Z to beta P d^2
-    chain.run(events=equilibrate * N).run(chains=1)
-    chain.observables.reset()
-    series = []
-    base = chain.totals()
-    last = base
-    for k in range(chunks):
+
+    def keep(k: int) -> None:
+        if path is not None:
+            save_checkpoint(path, chain, {
+                "lengths": lengths, "chunk": k, "series": series, "base": base.tolist(),
+                "last": last.tolist(), "cpu_s": cpu_before + time.process_time() - t0,
+                "wall_s": wall_before + time.time() - w0, "cpu_s_start": cpu_start,
+            })  # fmt: skip
+
+    if rec is None:
+        keep(0)
+    now = last
+    for k in range(k0, chunks):
         chain.run(events=lifts * N // chunks).run(chains=1)
         now = chain.totals()
         d = now - last
@@ -165,6 +263,7 @@ def measure(
                        "per_disk": (now[0] - base[0]) / N, "bp": z_k * scale,
                        "psi6": psi6(chain)})  # fmt: skip
         last = now
+        keep(k + 1)
     est = chain.observables.estimate("Z")
     bp = np.array([s["bp"] for s in series])
     half = (now - base) / 2.0
@@ -185,9 +284,9 @@ def measure(
     k = len(mid)
     row["bp_first_half"] = float(np.mean(bp[:k])) if k else math.nan  # (chunks of equal lifts: a mean)
     row["bp_second_half"] = float(np.mean(bp[k:])) if k < len(bp) else math.nan
-    row["cpu_s"] = time.process_time() - t0
+    row["cpu_s"] = cpu_before + time.process_time() - t0
     row["cpu_s_start"] = cpu_start
-    row["wall_s"] = time.time() - w0
+    row["wall_s"] = wall_before + time.time() - w0
     return row, series
 
 
@@ -270,7 +369,15 @@ def main() -> None:
     ap.add_argument("--chunks", type=int, default=40)
     ap.add_argument("--budget", type=float, default=math.inf, help="CPU seconds for this invocation")
     ap.add_argument("--deadline", type=float, default=math.inf, help="wall seconds for this invocation")
+    ap.add_argument(
+        "--checkpoint", metavar="DIR", help="save each run after every chunk here; resume from it"
+    )
     args = ap.parse_args()
+    if args.checkpoint:
+        try:
+            os.makedirs(args.checkpoint, exist_ok=True)
+        except OSError as e:
+            raise SystemExit(f"ecmc_loop.py: --checkpoint {args.checkpoint}: cannot make it ({e})") from None
     rows = read(args.csv)
     root, ext = os.path.splitext(args.csv)
     series_path, md_path = f"{root}_series{ext}", f"{root}.md"
@@ -292,7 +399,19 @@ def main() -> None:
                 print(f"budget: {spent:.0f} CPU s spent, the next run would take about {guess:.0f}; stopping")
                 print(table(rows))
                 return
-            row, s = measure(args.box, phi, start, args.seed, args.equilibrate, args.lifts, args.chunks)
+            try:
+                row, s = measure(
+                    args.box,
+                    phi,
+                    start,
+                    args.seed,
+                    args.equilibrate,
+                    args.lifts,
+                    args.chunks,
+                    args.checkpoint,
+                )
+            except CheckpointProblem as e:
+                raise SystemExit(f"ecmc_loop.py: {e}") from None
             per_lift = (row["cpu_s"] - row["cpu_s_start"]) / ((args.equilibrate + args.lifts) * N)
             share = max(0.1, (time.process_time() - t0) / (time.time() - w0))  # CPU per wall second here
             rows.append(row)
@@ -301,6 +420,10 @@ def main() -> None:
             write(series_path, series, SERIES_FIELDS)
             with fileio.atomic_write(md_path, "w") as fh:
                 fh.write(table(rows) + "\n")
+            try:
+                drop_checkpoint(args.checkpoint, args.box, phi, start, args.seed)
+            except CheckpointProblem:
+                pass  # (the row is written; a damaged record stays for the user to see)
             print(table([row]).splitlines()[2], flush=True)
     print(table(rows))
 
