@@ -39,7 +39,7 @@ far say would not finish within them.  ``--checkpoint DIR``: each run is
 saved in DIR after its equilibration and after every chunk (the chains,
 ``EventChain.save``, and the series so far), and a run found there is
 resumed from its last chunk, bit for bit (a run of half a CPU-hour or more
-then survives an interrupted session); the files go once its row is
+then survives an interruption); the files go once its row is
 written.  ``table`` prints the table of the CSV again.
 
 usage:
