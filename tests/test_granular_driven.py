@@ -10,9 +10,11 @@ resuming bit for bit, and bad input.
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
+from helpers import hs_cmd
 
 import hardspheres as hs
 from hardspheres.dense import RandomKicks, thermostat_from_state
@@ -110,3 +112,151 @@ def test_kicks_are_reproducible_and_resume_bit_for_bit(tmp_path):
 def test_bad_kicks_are_refused(args, word):
     with pytest.raises(ArgumentError, match=word):
         RandomKicks(*args)
+
+
+# ---- the kicks on the command line and in studies -------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def scenario(tmp_path_factory):
+    """200 spheres at packing 0.1 in a box of edge 12.6 (the mean free time about 0.6 at kT = 1)."""
+    folder = tmp_path_factory.mktemp("kicks")
+    (folder / "g.txt").write_text(hs.random_spheres(200, 0.1, box=12.6, seed=3).to_text())
+    return folder
+
+
+def test_run_command_drives_with_kicks_and_resumes_them(scenario):
+    run = ("run", "g.txt", "--box", "12.6", "--restitution", "0.8", "--kicks", "1.0")
+    r = hs_cmd(*run, "--until", "3.01", "--kick-interval", "0.02", "--kick-seed", "2", "--checkpoint",
+               "k.npz", cwd=scenario, check=True)  # fmt: skip
+    assert "granular (restitution 0.8), driven: injected" in r.stdout
+    assert "kinetic + dissipated - injected energy drift" in r.stdout
+    assert "driven by white-noise kicks (strength 1, every 0.02)" in r.stdout
+    assert "Haff's law" not in r.stdout and "warning" not in r.stderr
+    drift = float(re.search(r"injected energy drift (\S+)", r.stdout).group(1))
+    assert drift < 1e-12
+    sim = hs.Simulation.load(scenario / "k.npz")
+    assert isinstance(sim.thermostat, RandomKicks) and sim.thermostat.seed == 2
+    assert sim.thermostat.kicks == 150  # every 0.02 up to t = 3.01
+    again = hs_cmd("run", "--resume", "k.npz", "--until", "3.51", cwd=scenario, check=True)
+    assert "driven by white-noise kicks (strength 1, every 0.02)" in again.stdout
+    assert hs.Simulation.load(scenario / "k.npz").thermostat.kicks == 175
+
+
+def test_run_command_warns_of_a_long_kick_interval(scenario):
+    r = hs_cmd("run", "g.txt", "--box", "12.6", "--restitution", "0.8", "--kicks", "1.0",
+               "--kick-interval", "1.0", "--until", "4", cwd=scenario, check=True)  # fmt: skip
+    assert "warning: the kicks come every" in r.stderr and "--kick-interval" in r.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (("--kicks", "1"), ["--kicks needs --kick-interval"]),
+        (("--kick-interval", "0.1", "--restitution", "0.9"), ["--kick-interval", "give --kicks"]),
+        (("--kick-seed", "3", "--restitution", "0.9"), ["--kick-seed", "give --kicks"]),
+        (("--kicks", "1", "--kick-interval", "0.1"), ["--kicks", "--restitution below 1"]),
+        (("--kicks", "0", "--kick-interval", "0.1", "--restitution", "0.9"), ["--kicks", "> 0"]),
+        (("--kicks", "1", "--kick-interval", "-1", "--restitution", "0.9"), ["--kick-interval", "> 0"]),
+        (("--kicks", "1", "--kick-interval", "0.1", "--kick-seed", "1.5", "--restitution", "0.9"),
+         ["--kick-seed", "whole number"]),
+        (("--kicks", "1", "--kick-interval", "0.1", "--restitution", "0.9", "--pressure", "2"),
+         ["--kicks with --pressure"]),
+    ],
+)  # fmt: skip
+def test_run_command_refuses_bad_kicks(scenario, args, words):
+    r = hs_cmd("run", "g.txt", "--box", "12.6", "--until", "1", *args, cwd=scenario)
+    assert r.returncode == 1 and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+    for w in words:
+        assert w in r.stderr, r.stderr
+
+
+def test_run_command_refuses_new_kicks_on_resume(scenario):
+    (scenario / "plain.txt").write_text(hs.random_spheres(20, 0.1, box=6.0, seed=1).to_text())
+    hs_cmd("run", "plain.txt", "--box", "6", "--until", "0.5", "--restitution", "0.9", "--checkpoint",
+           "p.npz", cwd=scenario, check=True)  # fmt: skip
+    r = hs_cmd("run", "--resume", "p.npz", "--until", "1", "--kicks", "1", "--kick-interval", "0.1",
+               cwd=scenario)  # fmt: skip
+    assert r.returncode == 1 and "keeps its driving" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_study_with_kicks():
+    from hardspheres.studies import parse_study
+    from hardspheres.studies.task import _build, kick_seed, tasks
+
+    base = {"packing": 0.1, "n": 100, "output": "x", "restitution": 0.8}
+    plain = tasks(parse_study(base))
+    study = parse_study({**base, "kicks": [0.5, 1.0], "kick_interval": 0.05, "seeds": 2})
+    assert study["measure"] == ["temperature", "a2"]
+    ts = tasks(study)
+    assert [(t["kicks"], t["kick_interval"], t["seed"]) for t in ts] == [
+        (0.5, 0.05, 0), (0.5, 0.05, 1), (1.0, 0.05, 0), (1.0, 0.05, 1)
+    ]  # fmt: skip
+    assert "kicks" not in plain[0] and plain[0]["key"] not in {t["key"] for t in ts}
+    assert len({t["key"] for t in ts}) == 4
+    kicks = _build(ts[3]).thermostat
+    assert isinstance(kicks, RandomKicks)
+    assert (kicks.strength, kicks.interval, kicks.seed) == (1.0, 0.05, kick_seed(1))
+    assert kick_seed(1) not in (0, 1) and kick_seed(0) != kick_seed(1)
+
+
+@pytest.mark.parametrize(
+    ("keys", "words"),
+    [
+        ({"kicks": 1.0}, ["kicks needs kick_interval"]),
+        ({"kick_interval": 0.1}, ["kick_interval is for the kicks"]),
+        ({"kicks": 0.0, "kick_interval": 0.1}, ["kicks = 0.0"]),
+        ({"kicks": 1.0, "kick_interval": [0.1, -1]}, ["kick_interval = -1"]),
+        ({"kicks": 1.0, "kick_interval": 0.1, "restitution": [0.8, 1.0]}, ["restitution below 1"]),
+        ({"kicks": 1.0, "kick_interval": 0.1, "restitution": None}, ["restitution below 1"]),
+        ({"kicks": 1.0, "kick_interval": 0.1, "measure": ["Z"]}, ["measure: Z", "driven by kicks"]),
+        ({"kicks": 1.0, "kick_interval": 0.1, "measure": ["cooling_rate"]}, ["cooling_rate"]),
+    ],
+)
+def test_bad_kicks_in_a_study_are_refused(keys, words):
+    from hardspheres.errors import StudyError
+    from hardspheres.studies import parse_study
+
+    data = {"packing": 0.1, "n": 100, "output": "x", "restitution": 0.8, **keys}
+    data = {k: v for k, v in data.items() if v is not None}
+    with pytest.raises(StudyError) as e:
+        parse_study(data, source="s.toml")
+    assert str(e.value).startswith("s.toml: ") and "\n" not in str(e.value)
+    for w in words:
+        assert w in str(e.value)
+
+
+def test_a_driven_task_resumes_to_the_same_row(tmp_path, monkeypatch):
+    """A driven task cut after a checkpoint ends with the uninterrupted one's row (the kicks' state saved)."""
+    from hardspheres import studies
+    from hardspheres.studies import measures as study_measures
+    from hardspheres.studies import task as study_task
+
+    monkeypatch.setattr(study_task, "STEP", 40)
+    spec = studies.parse_study(
+        {"packing": 0.1, "n": 64, "restitution": 0.8, "kicks": 1.0, "kick_interval": 0.05,
+         "equilibrate": 4, "collisions": 20, "blocks": 3, "checkpoint_seconds": 0, "output": "x"}
+    )  # fmt: skip
+    whole = dict(studies.tasks(spec)[0], folder=str(tmp_path / "whole"))
+    cut = dict(whole, folder=str(tmp_path / "cut"))
+    ref = studies.run_task(whole)
+    assert ref["kicks"] == 1.0 and ref["kick_interval"] == 0.05 and ref["temperature"] > 0
+
+    class Stop(Exception):
+        pass
+
+    calls = {"k": 0}
+    real = study_measures.block_value
+
+    def flaky(name, sim, obs):  # dies in block 2, after checkpoints were written
+        calls["k"] += 1
+        if calls["k"] == 3:
+            raise Stop
+        return real(name, sim, obs)
+
+    monkeypatch.setattr(study_task, "block_value", flaky)
+    with pytest.raises(Stop):
+        studies.run_task(cut)
+    monkeypatch.setattr(study_task, "block_value", real)
+    assert studies.run_task(cut) == ref

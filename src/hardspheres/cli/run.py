@@ -40,6 +40,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..containers import Container
+    from ..dense import RandomKicks
     from ..io.trajectory import GSDWriter, XYZWriter
     from ..simulation import Simulation
     from ..writers import SimulationView, Trigger
@@ -144,12 +145,18 @@ def _check_args(args: argparse.Namespace) -> None:
                 "--restitution/--wall-restitution/--tc cannot change a resumed run: the checkpoint "
                 "keeps its collision rule (leave them out)"
             )
+        if args.kicks is not None:
+            raise UsageError(
+                "--kicks cannot change a resumed run: the checkpoint keeps its driving, "
+                "kicks included (leave it out)"
+            )
     elif not args.scenario:
         raise UsageError("give a scenario file (or --resume CHECKPOINT)")
     elif not given_container(args):
         raise UsageError("give --container RADIUS, --circle RADIUS or --box L [LY [LZ]]")
     if args.pressure_axes is not None and args.pressure is None:
         raise UsageError("--pressure-axes is for constant pressure: give --pressure P too")
+    _check_kicks(args)
     if args.trajectory is None:
         for option, value in (
             ("--every", args.every),
@@ -164,6 +171,63 @@ def _check_args(args: argparse.Namespace) -> None:
             raise UsageError(f"--trajectory {args.trajectory!r}: use a .gsd or .xyz file name")
         if args.events and suffix != ".gsd":
             raise UsageError("--events needs a .gsd trajectory (XYZ files hold no events)")
+
+
+_ELASTIC_KICKS = (
+    "--kicks drives a granular gas: give --restitution below 1 too (elastic spheres, kicked, heat "
+    "without end)"
+)
+
+
+def _check_kicks(args: argparse.Namespace) -> None:
+    """The white-noise driving's options: ``--kicks`` with its interval, not with a barostat."""
+    if args.kicks is None:
+        for option, value in (("--kick-interval", args.kick_interval), ("--kick-seed", args.kick_seed)):
+            if value is not None:
+                raise UsageError(f"{option} is for the white-noise kicks: give --kicks STRENGTH too")
+        return
+    if args.kick_interval is None:
+        raise UsageError(
+            "--kicks needs --kick-interval T, the time between kicks: a small fraction of the mean "
+            "free time (1/20 of it; the summary says if it is too long)"
+        )
+    if (args.restitution or 1.0) >= 1.0 and (args.wall_restitution or 1.0) >= 1.0:
+        raise UsageError(_ELASTIC_KICKS)
+    if args.pressure is not None:
+        raise UsageError(
+            "--kicks with --pressure: the barostat holds kT = 1 and the kicks heat; give one or the other"
+        )
+
+
+def add_kicks(sim: Simulation, args: argparse.Namespace) -> None:
+    """Set the white-noise kicks ``--kicks`` asks for (after ``--restitution``: a granular gas only)."""
+    if args.kicks is None:
+        return
+    if not sim.inelastic:  # (a wall's restitution alone, and no wall)
+        raise UsageError(_ELASTIC_KICKS)
+    from ..dense import RandomKicks
+
+    seed = 0 if args.kick_seed is None else args.kick_seed
+    sim.set_thermostat(RandomKicks(args.kicks, args.kick_interval, seed=seed))
+
+
+def _kicks(sim: Simulation) -> RandomKicks | None:
+    """The simulation's white-noise kicks, if it is driven by them (a resumed run's included)."""
+    from ..dense import RandomKicks
+
+    th = sim.thermostat
+    return th if isinstance(th, RandomKicks) else None
+
+
+def _injected(sim: Simulation) -> float:
+    """What the simulation's kicks injected so far (0 without them) [energy]."""
+    kicks = _kicks(sim)
+    return kicks.injected if kicks is not None else 0.0
+
+
+#: A kick interval longer than this many mean free times is warned of
+#: (the kicks stand for a continuous random force: many per free flight).
+LONGEST_KICK_INTERVAL = 0.2
 
 
 #: Lags per decade of ``--log-frames``.
@@ -364,7 +428,10 @@ def summary_lines(
 def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: float) -> list[str]:
     """A cooling gas's summary: its temperature, how fast it cools (Haff's law), its a2."""
     lines = [f"granular temperature kT {summary['temperature']:.6g} at t = {sim.time:.6g}"]
-    if "cooling_per_collision" in summary:
+    kicks = _kicks(sim)
+    if kicks is not None:
+        lines += _driven_lines(sim, kicks, summary, averaged_from)
+    elif "cooling_per_collision" in summary:
         haff = (1.0 - sim.restitution**2) / sim.container.dimensions
         lines.append(
             f"cooling over t = {averaged_from:.6g} .. {sim.time:.6g}: {summary['cooling_rate']:.4g} per "
@@ -375,6 +442,36 @@ def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: flo
         lines.append(
             f"a2 (velocity kurtosis) {summary['a2']:.3g} now (one snapshot: an error of order "
             f"1/sqrt(N) = {1.0 / math.sqrt(sim.n):.2g})"
+        )
+    return lines
+
+
+def _driven_lines(
+    sim: Simulation, kicks: RandomKicks, summary: dict[str, Any], averaged_from: float
+) -> list[str]:
+    """A driven gas's summary: what the kicks injected against what the collisions dissipated.
+
+    A kick interval longer than :data:`LONGEST_KICK_INTERVAL` mean free
+    times (measured over the averages) is warned of on stderr.
+    """
+    injected, dissipated = summary.get("injected", 0.0), summary.get("dissipated", 0.0)
+    span = f"over t = {averaged_from:.6g} .. {sim.time:.6g}"
+    lines = [
+        f"driven by white-noise kicks (strength {kicks.strength:g}, every {kicks.interval:g}): "
+        f"{span} injected {injected:.6g}, dissipated {dissipated:.6g}"
+        + (f", their ratio {injected / dissipated:.4g} (1 in a steady state)" if dissipated > 0 else "")
+    ]
+    try:
+        free_time = sim.observables.mean_free_time()
+    except ValueError:  # no collision since the averages started: nothing to compare with
+        return lines
+    if math.isfinite(free_time) and kicks.interval > LONGEST_KICK_INTERVAL * free_time:
+        print(
+            f"hardspheres run: warning: the kicks come every {kicks.interval / free_time:.2g} mean free "
+            f"times (the mean free time is {free_time:.4g} {span}): they stand for a continuous random "
+            f"force only if many fall within a free flight; give --kick-interval {free_time / 20:.2g} "
+            "(1/20 of it) or less",
+            file=sys.stderr,
         )
     return lines
 
@@ -404,6 +501,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
     sim = starting_simulation(args)
+    add_kicks(sim, args)
     if args.pressure is not None:
         from ..barostat import Barostat
 
@@ -471,7 +569,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     writer = bar = None
     if args.trajectory:
         _check_trajectory_size(args, sim)
-    e0, dissipated0 = sim.state().kinetic_energy(), sim.dissipated
+    e0, dissipated0, injected0 = sim.state().kinetic_energy(), sim.dissipated, _injected(sim)
     c0 = dict(sim.counters)
     failure = None
     start_time = sim.time
@@ -526,7 +624,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         f"{_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
         f"{c1['reflections'] - c0['reflections']} reflections",
-        _energy_line(sim, e0, e1, dissipated0),
+        _energy_line(sim, e0, e1, dissipated0, injected0),
     ]
     lines += summary_lines(sim, summary, averaged_from, equilibrated, resumed=bool(args.resume))
     if args.trajectory and equilibrated:
@@ -549,17 +647,25 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     return _exit_status(failure, signum, checkpoint)
 
 
-def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float) -> str:
-    """The energy check: the drift of an elastic run, the balance of a granular one."""
+def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float, injected0: float = 0.0) -> str:
+    """The energy check: the drift of an elastic run, the balance of a granular one (driven or not)."""
     if not sim.inelastic:
         return f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)"
     lost = sim.dissipated - dissipated0
-    balance = abs(e1 + lost - e0) / e0 if e0 else 0.0
+    kicks = _kicks(sim)
+    gained = _injected(sim) - injected0
+    balance = abs(e1 + lost - gained - e0) / e0 if e0 else 0.0
     rule = f"restitution {sim.restitution:g}"
     if sim.container.wall_area > 0:
         rule += f", wall {sim.wall_restitution:g}"
     if sim.tc:
         rule += f", tc {sim.tc:g}"
+    if kicks is not None:
+        return (
+            f"granular ({rule}), driven: injected {gained:.6g}, dissipated {lost:.6g} "
+            f"({lost / e0 if e0 else 0.0:.3g} times the energy at the start); kinetic + dissipated - "
+            f"injected energy drift {balance:.3g} (relative)"
+        )
     return (
         f"granular ({rule}): dissipated {lost:.6g} ({lost / e0 if e0 else 0.0:.3g} of the energy at the "
         f"start); kinetic + dissipated energy drift {balance:.3g} (relative)"
@@ -715,4 +821,25 @@ def _rule_args(p: argparse.ArgumentParser) -> None:
         metavar="T",
         help="the TC model [s]: a collision within T of either sphere's previous one is elastic, "
         "which resolves inelastic collapse (a small fraction of the mean free time; default 0: off)",
+    )
+    p.add_argument(
+        "--kicks",
+        type=positive,
+        metavar="STRENGTH",
+        help="drive the granular gas with white noise (hardspheres.dense.RandomKicks): every "
+        "--kick-interval each sphere's velocity gets a Gaussian kick of variance STRENGTH x interval "
+        "per component, less the mean kick [m^2/s^3]; with --restitution below 1 it reaches a steady "
+        "state (the checkpoint keeps the kicks)",
+    )
+    p.add_argument(
+        "--kick-interval",
+        type=positive,
+        metavar="T",
+        help="with --kicks: the time between kicks [s], a small fraction of the mean free time (1/20)",
+    )
+    p.add_argument(
+        "--kick-seed",
+        type=count,
+        metavar="SEED",
+        help="with --kicks: the seed of the kicks' random numbers (default 0; the same seed, the same run)",
     )

@@ -45,6 +45,8 @@ Study file (every key but ``packing`` and ``n`` is optional)::
     radius_ratio = 1.0          # largest / smallest radius (or a list)
     mass_ratio = 1.0            # largest / smallest mass (or a list)
     # restitution = [0.9, 0.8]  # inelastic collisions: a granular gas that cools (or a list)
+    # kicks = 0.5               # ... or driven by white noise of this strength xi_0^2 (or a list)
+    # kick_interval = 0.02      # the time between its kicks (or a list)
     equilibrate = 50            # collisions per sphere before measuring
     collisions = 500            # collisions per sphere measured (or: time = 20.0)
     blocks = 10                 # blocks for the error bars within a run
@@ -73,7 +75,13 @@ driving).  Its ``measure`` defaults to ``cooling_per_collision`` and ``a2``
 (Haff's law and the kurtosis of the velocities, per block); ``Z`` and
 ``pressure``, which divide by one ``kT``, are refused, and so is
 ``pressure`` (the barostat holds ``kT = 1``).  Studies without the key keep
-their tasks' keys.
+their tasks' keys.  With ``kicks`` (the strength ``xi_0^2`` of white-noise
+driving, :class:`~hardspheres.dense.RandomKicks`) and ``kick_interval``
+(the time between kicks; each one value or a list, grid columns) the gas
+is driven to a steady state instead: every restitution must be below 1,
+each task's kicks are seeded from its seed (a stream apart from the
+builder's), ``measure`` defaults to ``temperature`` and ``a2``, and ``Z``,
+``pressure`` and the cooling rates are refused.
 
 Constant pressure: with ``pressure`` (``beta P sigma^3``, one or a list) each
 run holds it with a :class:`~hardspheres.barostat.Barostat` (isotropic

@@ -39,6 +39,8 @@ GRID: tuple[str, ...] = (
     "radius_ratio",
     "mass_ratio",
     "restitution",
+    "kicks",
+    "kick_interval",
     "seed",
 )
 
@@ -65,6 +67,8 @@ _KEYS: dict[str, str] = {
     "radius_ratio": "largest/smallest radius, number(s) >= 1",
     "mass_ratio": "largest/smallest mass, number(s) >= 1",
     "restitution": "collisions' restitution coefficient(s), number(s) in (0, 1] (below 1: granular)",
+    "kicks": "white-noise driving's strength(s) xi_0^2, number(s) > 0 (with restitution below 1)",
+    "kick_interval": "time(s) between kicks, number(s) > 0 (a small fraction of the mean free time)",
     "equilibrate": "collisions per sphere before measuring, number >= 0",
     "collisions": "collisions per sphere measured, number > 0",
     "time": "time measured per run, number > 0",
@@ -95,6 +99,8 @@ class Study(TypedDict):
     radius_ratio: list[float]
     mass_ratio: list[float]
     restitution: list[float] | None
+    kicks: list[float] | None
+    kick_interval: list[float] | None
     equilibrate: float
     collisions: float | None
     time: float | None
@@ -112,6 +118,8 @@ class _TaskSpace(TypedDict, total=False):
     betaP: float
     method: str
     restitution: float
+    kicks: float
+    kick_interval: float
 
 
 class Task(_TaskSpace):
@@ -287,6 +295,7 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
                 f"{_where(source)}pressure with restitution below 1: a granular gas cools, and the "
                 "barostat holds kT = 1; give one or the other"
             )
+    kicks, kick_interval = _kicks(data, restitution, source)
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
     length: dict[str, Any] = {}
@@ -310,7 +319,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
         counts[key] = v
     granular = restitution is not None and min(restitution) < 1.0
-    measure = data.get("measure", ["cooling_per_collision", "a2"] if granular else ["Z"])
+    usual = ["temperature", "a2"] if kicks else ["cooling_per_collision", "a2"] if granular else ["Z"]
+    measure = data.get("measure", usual)
     if isinstance(measure, str):
         measure = [measure]
     if not isinstance(measure, list) or not measure or not all(isinstance(m, str) for m in measure):
@@ -319,6 +329,11 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
     for m in measure:
         if m not in known:
             raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
+        if kicks and m in ("Z", "compressibility", "pressure", "cooling_rate", "cooling_per_collision"):
+            raise StudyError(
+                f"{_where(source)}measure: {m} is not measured in a gas driven by kicks (its kT is "
+                "held only on average, and it does not cool); measure temperature or a2"
+            )
         if granular and m in ("Z", "compressibility", "pressure"):
             raise StudyError(
                 f"{_where(source)}measure: {m} divides by one kT, and a granular gas (restitution "
@@ -351,6 +366,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         radius_ratio=ratio["radius_ratio"],
         mass_ratio=ratio["mass_ratio"],
         restitution=restitution,
+        kicks=kicks,
+        kick_interval=kick_interval,
         equilibrate=length["equilibrate"],
         collisions=length["collisions"],
         time=length["time"],
@@ -359,6 +376,40 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         retries=counts["retries"],
         measure=list(dict.fromkeys(measure)),
     )
+
+
+def _kicks(
+    data: Any, restitution: list[float] | None, source: str | None
+) -> tuple[list[float] | None, list[float] | None]:
+    """``(kicks, kick_interval)``: the white-noise driving's lists (``None``, ``None``: no driving)."""
+    lists: dict[str, list[float] | None] = {}
+    for key in ("kicks", "kick_interval"):
+        raw = data.get(key)
+        lists[key] = (
+            None
+            if raw is None
+            else [
+                float(v) for v in _list_of(raw, key, lambda v: _is_number(v) and v > 0.0, _KEYS[key], source)
+            ]
+        )
+    kicks, interval = lists["kicks"], lists["kick_interval"]
+    if kicks is None:
+        if interval is not None:
+            raise StudyError(
+                f"{_where(source)}kick_interval is for the kicks: give kicks (their strength) too"
+            )
+        return None, None
+    if interval is None:
+        raise StudyError(
+            f"{_where(source)}kicks needs kick_interval, the time between kicks: a small fraction "
+            "(1/20) of the mean free time"
+        )
+    if restitution is None or max(restitution) >= 1.0:
+        raise StudyError(
+            f"{_where(source)}kicks drive a granular gas: give restitution below 1 (every value; "
+            "elastic spheres, kicked, heat without end)"
+        )
+    return kicks, interval
 
 
 def _space(data: Any, container: str, source: str | None) -> tuple[list[int], list[tuple[float, ...] | None]]:

@@ -54,7 +54,11 @@ def tasks(study: Study) -> list[Task]:
     packings: list[float | None] = [*given] if given else [None]
     given_rules = study.get("restitution")
     rules: list[float | None] = [*given_rules] if given_rules else [None]
-    for pressure, d, aspect, packing, n, rr, mr, e, seed in itertools.product(
+    strengths, intervals = study.get("kicks"), study.get("kick_interval")
+    drives: list[tuple[float, float] | None] = (
+        [*itertools.product(strengths, intervals)] if strengths and intervals else [None]
+    )
+    for pressure, d, aspect, packing, n, rr, mr, e, drive, seed in itertools.product(
         pressures,
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
@@ -63,6 +67,7 @@ def tasks(study: Study) -> list[Task]:
         study["radius_ratio"],
         study["mass_ratio"],
         rules,
+        drives,
         study["seeds"],
     ):
         if packing is None:
@@ -101,6 +106,8 @@ def tasks(study: Study) -> list[Task]:
             t["method"] = study["method"]
         if e is not None:  # (the same: studies without the key keep their tasks' keys)
             t["restitution"] = e
+        if drive is not None:  # (the same again: driven tasks only)
+            t["kicks"], t["kick_interval"] = drive
         t["key"] = _key(t)
         out.append(t)
     return out
@@ -145,11 +152,31 @@ def _build(task: Task) -> Simulation | EventChain:
         return EventChain(state, container, seed=task["seed"])
     # (a granular gas cools with the builder's total momentum zero: no flow it cannot dissipate)
     sim = Simulation(state, container, restitution=task.get("restitution", 1.0))
+    if "kicks" in task:
+        from ..dense import RandomKicks
+
+        sim.set_thermostat(RandomKicks(task["kicks"], task["kick_interval"], seed=kick_seed(task["seed"])))
     if "betaP" in task:
         from ..barostat import Barostat
 
         sim.set_barostat(Barostat(pressure=task["betaP"], kT=1.0, seed=task["seed"]))
     return sim
+
+
+def kick_seed(seed: int) -> int:
+    """The seed of a driven task's kicks: a stream of its own, apart from the builder's (seeded ``seed``).
+
+    Example:
+        >>> kick_seed(0) != 0 and kick_seed(0) == kick_seed(0)
+        True
+    """
+    import numpy as np
+
+    return int(np.random.SeedSequence([seed, KICKS_STREAM]).generate_state(1)[0])
+
+
+#: Labels the kicks' stream in :func:`kick_seed` (any fixed number: it only keeps the streams apart).
+KICKS_STREAM = 0x6B69636B
 
 
 def _split(total: float, parts: int) -> list[int]:
