@@ -227,14 +227,16 @@ class Observables:
         return self._sim.engine.dissipated - self._granular_mark[1]
 
     def _injected_total(self) -> float:
-        """The driving thermostat's tally of injected energy (0 without one) [energy]."""
-        return float(getattr(getattr(self._sim, "thermostat", None), "injected", 0.0))
+        """The driving thermostat's tally of injected energy, plus the thermal wall's heat [energy]."""
+        thermostat = float(getattr(getattr(self._sim, "thermostat", None), "injected", 0.0))
+        return thermostat + self._sim.engine.wall_heat
 
     def injected(self) -> float:
-        """Kinetic energy a driving thermostat injected since :meth:`reset` [energy].
+        """Kinetic energy a driving thermostat or a thermal wall injected since :meth:`reset` [energy].
 
-        The tally of :class:`hardspheres.dense.RandomKicks` (0 without a
-        driving thermostat).  In a driven steady state it matches
+        The tally of :class:`hardspheres.dense.RandomKicks` plus the heat of
+        a thermal wall (:meth:`hardspheres.Simulation.set_wall_temperature`;
+        0 without either).  In a driven steady state it matches
         :meth:`dissipated` over a long run.
         """
         base, before = self._injected_mark
@@ -247,7 +249,7 @@ class Observables:
         one's tally counts from now.
         """
         base, before = self._injected_mark
-        before += float(getattr(old, "injected", 0.0)) - base
+        before += float(getattr(old, "injected", 0.0)) + self._sim.engine.wall_heat - base
         self._injected_mark = (self._injected_total(), before)
 
     def energy_balance(self) -> float:

@@ -486,6 +486,132 @@ def reflect_inelastic(
     return f * dot / p2, lost
 
 
+# ---- the thermal wall (a heated container) --------------------------------------
+# A sphere that meets a thermal wall leaves it with a velocity drawn afresh
+# at the wall's temperature: the normal component from the flux-weighted
+# (Rayleigh) distribution, the tangential ones from the Maxwellian.  The
+# draws come from a counter-based generator: draw ``n`` of a run with seed
+# ``s`` is a pure function of ``(s, n)``, computed in int64 without
+# overflow (every product below 2^63), so Python and the compiled core
+# give the same bits and a checkpoint carries the whole generator in two
+# integers.
+
+#: 2 pi, as the draws use it.
+TWO_PI = 6.283185307179586
+
+
+def mix32(x: int) -> int:
+    """A 32-bit integer hash (C. Wellons' ``lowbias32``), exact in int64.
+
+    Args:
+        x: an integer in ``[0, 2^32)``.
+
+    Returns:
+        Its hash, in ``[0, 2^32)``.
+
+    Example:
+        >>> mix32(0), mix32(1)
+        (0, 2261973619)
+    """
+    x ^= x >> 16
+    x = (x * 0x21F0AAAD) & 0xFFFFFFFF
+    x ^= x >> 15
+    x = (x * 0x735A2D97) & 0xFFFFFFFF
+    x ^= x >> 15
+    return x
+
+
+def uniform_draw(seed: int, draw: int, k: int) -> float:
+    """Number ``k`` of draw ``draw`` of the generator with ``seed``: uniform in ``(0, 1)``.
+
+    52 random bits ``n`` give ``(n + 1/2) / 2^52``: never 0 or 1.
+
+    Args:
+        seed: the generator's seed, ``0 <= seed < 2^32``.
+        draw: the draw's number, ``0 <= draw < 2^63``.
+        k: which number of the draw, ``0 <= k < 2^30``.
+
+    Example:
+        >>> 0.0 < uniform_draw(7, 0, 0) < 1.0
+        True
+    """
+    h = mix32(mix32(seed) ^ (draw & 0xFFFFFFFF))
+    h = mix32(h ^ (draw >> 32))
+    a = mix32(h ^ (2 * k + 1))
+    b = mix32(h ^ (2 * k + 2))
+    return ((a >> 6) * 67108864.0 + (b >> 6) + 0.5) * 2.0**-52
+
+
+def thermal_wall(
+    m: float,
+    px: float,
+    py: float,
+    pz: float,
+    vx: float,
+    vy: float,
+    vz: float,
+    kt: float,
+    seed: int,
+    draw: int,
+    planar: bool = False,
+) -> tuple[float, float, float, float, float]:
+    """A sphere re-emitted by a thermal wall at temperature ``kt``.
+
+    With ``n = p / |p|`` the outward normal and ``s = sqrt(kt / m)``, the
+    new velocity is ``-c n + (g - (g . n) n)``: ``c = s sqrt(-2 ln u_0)``
+    (the flux-weighted speed towards the inside, density ``c / s^2
+    exp(-c^2 / 2 s^2)``) and ``g`` a Maxwellian velocity of variance ``s^2``
+    per axis (Box-Muller), its normal part removed.  The sphere's momentum
+    changes by ``m (v' - v)``; the wall receives the normal impulse ``m (v .
+    n + c)``.  Elastic spheres between thermal walls relax to the
+    Maxwellian at ``kt`` (docs/numerics.md, "The thermal wall").
+
+    Args:
+        m: the sphere's mass [mass].
+        px, py, pz: its centre at contact [length] (the container's centre at 0).
+        vx, vy, vz: its velocity before [length/time].
+        kt: the wall's temperature [energy], ``> 0``.
+        seed, draw: the generator's seed and the draw's number (:func:`uniform_draw`).
+
+    Returns:
+        ``(vx', vy', vz', impulse, gain)``: the new velocity (``vz' = 0`` if
+        ``planar``), the normal impulse given to the wall
+        [mass*length/time] and the kinetic energy the sphere gained
+        [mass*length^2/time^2] (negative if it was hotter than the wall).
+
+    Example:
+        >>> w = thermal_wall(1.0, 4.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 7, 0)
+        >>> w[0] < 0.0 and w[3] > 1.0  # inward, and more than the incoming momentum
+        True
+    """
+    s = math.sqrt(kt / m)
+    c = s * math.sqrt(-2.0 * math.log(uniform_draw(seed, draw, 0)))
+    r = s * math.sqrt(-2.0 * math.log(uniform_draw(seed, draw, 1)))
+    a = TWO_PI * uniform_draw(seed, draw, 2)
+    gx = r * math.cos(a)
+    gy = r * math.sin(a)
+    if planar:
+        p = math.sqrt(px * px + py * py)
+        nx, ny = px / p, py / p
+        gn = gx * nx + gy * ny
+        vn = vx * nx + vy * ny
+        wx = (gx - gn * nx) - c * nx
+        wy = (gy - gn * ny) - c * ny
+        gain = 0.5 * m * ((wx * wx + wy * wy) - (vx * vx + vy * vy))
+        return wx, wy, 0.0, m * (vn + c), gain
+    p = math.sqrt(px * px + py * py + pz * pz)
+    nx, ny, nz = px / p, py / p, pz / p
+    rz = s * math.sqrt(-2.0 * math.log(uniform_draw(seed, draw, 3)))
+    gz = rz * math.cos(TWO_PI * uniform_draw(seed, draw, 4))
+    gn = gx * nx + gy * ny + gz * nz
+    vn = vx * nx + vy * ny + vz * nz
+    wx = (gx - gn * nx) - c * nx
+    wy = (gy - gn * ny) - c * ny
+    wz = (gz - gn * nz) - c * nz
+    gain = 0.5 * m * ((wx * wx + wy * wy + wz * wz) - (vx * vx + vy * vy + vz * vz))
+    return wx, wy, wz, m * (vn + c), gain
+
+
 # ---- growth (Lubachevsky-Stillinger) ------------------------------------------
 # Radii grow linearly in time, so a contact distance is ``s + u t`` and a
 # container's reach ``reach - w t``: the meeting times stay roots of a

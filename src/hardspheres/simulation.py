@@ -289,8 +289,51 @@ class Simulation:
 
     @property
     def inelastic(self) -> bool:
-        """Whether collisions (or reflections) lose energy (a restitution coefficient below 1)."""
+        """Whether events change the kinetic energy (a restitution coefficient below 1, or a thermal wall)."""
         return self._engine.inelastic
+
+    @property
+    def wall_temperature(self) -> float:
+        """The thermal wall's temperature ``kT_w`` [energy] (0: the wall reflects)."""
+        return self._engine.wall_temperature
+
+    @property
+    def wall_heat(self) -> float:
+        """Kinetic energy the thermal wall gave the spheres since the start [energy] (negative: took)."""
+        return self._engine.wall_heat
+
+    def set_wall_temperature(self, kt: float, seed: int = 0) -> Simulation:
+        """Make the container's wall a thermal wall at ``kt`` from now (0: it reflects again); returns self.
+
+        A sphere meeting a thermal wall leaves it with a velocity drawn at
+        the wall's temperature: the normal speed from the flux-weighted
+        distribution, the tangential velocity from the Maxwellian
+        (:func:`hardspheres.physics.thermal_wall`; docs/numerics.md, "The
+        thermal wall").  Elastic spheres relax to ``kt``; a granular gas
+        reaches a steady state where the wall's heat balances what the
+        collisions dissipate (:attr:`wall_heat`, :attr:`dissipated`).  The
+        draws are reproducible from ``seed`` and resume bit for bit from a
+        checkpoint.
+
+        Args:
+            kt: the wall's temperature [energy], finite, ``>= 0``.
+            seed: the wall's generator seed, ``0 <= seed < 2^32``.
+
+        Raises:
+            ValueError: ``kt`` negative or not finite, a seed out of range,
+                or a periodic box (no wall).
+
+        Example:
+            >>> import hardspheres as hs
+            >>> box = hs.SphericalContainer(12.0)
+            >>> sim = hs.Simulation(hs.random_spheres(50, 0.1, box, seed=1), box)
+            >>> sim.set_wall_temperature(2.0, seed=3).run(until=20.0).wall_temperature
+            2.0
+        """
+        kt = _number(kt, "wall temperature", "a finite energy >= 0 (0: off)", minimum=0.0)
+        _compiled(self.container.dimensions, inelastic=kt > 0.0 or self._engine.inelastic)
+        self._engine.set_wall_temperature(kt, seed)
+        return self
 
     @property
     def dissipated(self) -> float:

@@ -122,7 +122,14 @@ _inline = _compiler(forceinline=True)
 _kernel = _compiler(forceinline=True)
 # kernels that other kernels call: numba compiles such a call of the plain
 # Python function (physics.py stays free of numba, for spheres' start-up)
-for _callee in (physics.order_one, physics.scaled_time, physics.pair_time_within, physics.wall_time_grow):
+for _callee in (
+    physics.order_one,
+    physics.scaled_time,
+    physics.pair_time_within,
+    physics.wall_time_grow,
+    physics.mix32,
+    physics.uniform_draw,
+):
     numba.extending.register_jitable(forceinline=True, error_model="numpy", **_NO_NRT)(_callee)
 pair_time_within = _kernel(physics.pair_time_within)
 pair_time = _kernel(physics.pair_time)
@@ -135,6 +142,7 @@ collide_grow = _kernel(physics.collide_grow)
 reflect_grow = _kernel(physics.reflect_grow)
 collide_inelastic = _kernel(physics.collide_inelastic)
 reflect_inelastic = _kernel(physics.reflect_inelastic)
+thermal_wall = _kernel(physics.thermal_wall)
 frozen_limit_of = _kernel(physics.frozen_limit)
 
 
@@ -232,7 +240,11 @@ STOP_RECORD_FULL = int(events.StopReason.RECORD_FULL)
 # than ``F_TC`` after either sphere's previous one, ``hit_t``, is elastic:
 # Luding and McNamara, Granular Matter 1, 113 (1998)), and the energy
 # dissipated summed in ``F_DISSIPATED``.  Predictions do not depend on the
-# rule.
+# rule.  The inelastic loop also runs the thermal wall (a heated container,
+# ``F_WALL_KT > 0``): a sphere meeting the wall is re-emitted with a velocity
+# drawn at that temperature (physics.thermal_wall; draw ``C_WALL_DRAWS`` of
+# the counter-based generator seeded ``C_WALL_SEED``), the energy it gains
+# summed in ``F_WALL_HEAT``.
 
 
 #: The order in which :func:`build`, :func:`run`, :func:`refresh_window` and
@@ -332,7 +344,9 @@ F_RESTITUTION = 52  # normal restitution coefficient between spheres, 0 < e <= 1
 F_WALL_RESTITUTION = 53  # the container wall's
 F_TC = 54  # the TC model's duration: a collision this soon after either sphere's last is elastic
 F_DISSIPATED = 55  # kinetic energy dissipated by inelastic collisions and reflections so far
-N_SCALARS = 56
+F_WALL_KT = 56  # the thermal wall's temperature (energy; 0: not a thermal wall; inelastic variant only)
+F_WALL_HEAT = 57  # kinetic energy the thermal wall gave the spheres so far (negative: took)
+N_SCALARS = 58
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -347,7 +361,9 @@ C_HEAP_SIZE = 8  # the calendar: entries in the heap (the current bucket)
 C_BUCKET = 9  # the current bucket (floor of time * F_BUCKET_RATE)
 C_QUEUED = 10  # entries in the buckets' lists (not the heap, not the overflow)
 C_GRID = 11  # cells per axis (x, y, z); C_CELLS is the x axis's
-N_COUNTS = 14
+C_WALL_SEED = 14  # the thermal wall's generator: its seed (0 <= seed < 2^32)
+C_WALL_DRAWS = 15  # ... and the draws made so far (the next draw's number)
+N_COUNTS = 16
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
@@ -2007,7 +2023,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             pz = vz = 0.0
             if not planar:
                 pz, vz = spheres[i, Z], spheres[i, VZ]
-            lost = 0.0  # (the inelastic rule's)
+            lost = wx = wy = wz = imp = gain = 0.0  # (the inelastic rule's)
             if scalars[F_GROW] != 0.0:
                 k = reflect_grow(
                     px,
@@ -2020,12 +2036,29 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                     planar,
                 )
             elif len(rule) == 1:
-                e = scalars[F_WALL_RESTITUTION]
-                if te - hit_t[i] < scalars[F_TC]:
-                    e = 1.0  # (the TC model, as for a collision)
-                k, lost = reflect_inelastic(
-                    masses[i], px, py, pz, spheres[i, VX], spheres[i, VY], vz, e, planar
-                )
+                if scalars[F_WALL_KT] > 0.0:
+                    # the thermal wall: a velocity drawn afresh (k: any nonzero)
+                    wx, wy, wz, imp, gain = thermal_wall(
+                        masses[i],
+                        px,
+                        py,
+                        pz,
+                        spheres[i, VX],
+                        spheres[i, VY],
+                        vz,
+                        scalars[F_WALL_KT],
+                        counts[C_WALL_SEED],
+                        counts[C_WALL_DRAWS],
+                        planar,
+                    )
+                    k = 1.0
+                else:
+                    e = scalars[F_WALL_RESTITUTION]
+                    if te - hit_t[i] < scalars[F_TC]:
+                        e = 1.0  # (the TC model, as for a collision)
+                    k, lost = reflect_inelastic(
+                        masses[i], px, py, pz, spheres[i, VX], spheres[i, VY], vz, e, planar
+                    )
             else:
                 k = reflect(px, py, pz, spheres[i, VX], spheres[i, VY], vz, planar)
             if k == 0.0:
@@ -2035,16 +2068,32 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 scalars[F_ANCHOR] = anchor
                 return done, STOP_SLIDING
             counts[C_FROZEN] += 1
+            thermal = False
             if len(rule) == 1 and scalars[F_GROW] == 0.0:
                 scalars[F_DISSIPATED] += lost
                 hit_t[i] = te
-            spheres[i, VX] -= k * px
-            spheres[i, VY] -= k * py
-            if planar:
-                imp = masses[i] * k * np.sqrt(px * px + py * py)
+                thermal = scalars[F_WALL_KT] > 0.0
+            if thermal:
+                counts[C_WALL_DRAWS] += 1
+                scalars[F_WALL_HEAT] += gain
+                rec_dp[row, 0] = masses[i] * (wx - spheres[i, VX])
+                rec_dp[row, 1] = masses[i] * (wy - spheres[i, VY])
+                rec_dp[row, 2] = 0.0 if planar else masses[i] * (wz - spheres[i, VZ])
+                spheres[i, VX] = wx
+                spheres[i, VY] = wy
+                if not planar:
+                    spheres[i, VZ] = wz
             else:
-                spheres[i, VZ] -= k * pz
-                imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
+                spheres[i, VX] -= k * px
+                spheres[i, VY] -= k * py
+                if planar:
+                    imp = masses[i] * k * np.sqrt(px * px + py * py)
+                else:
+                    spheres[i, VZ] -= k * pz
+                    imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
+                rec_dp[row, 0] = -masses[i] * k * px
+                rec_dp[row, 1] = -masses[i] * k * py
+                rec_dp[row, 2] = 0.0 if planar else -masses[i] * k * pz
             scalars[F_WALL_IMPULSE] += imp
             book[i, CHANGES] += 1
             counts[C_REFLECTIONS] += 1
@@ -2055,9 +2104,6 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             rec_i[row] = book[i, ORIGIN]
             rec_j[row] = -1
             rec_imp[row] = imp
-            rec_dp[row, 0] = -masses[i] * k * px
-            rec_dp[row, 1] = -masses[i] * k * py
-            rec_dp[row, 2] = 0.0 if planar else -masses[i] * k * pz
             done += 1
         elif not stale:
             return done, STOP_UNTIL

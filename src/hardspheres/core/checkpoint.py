@@ -13,11 +13,14 @@ Versions:
 * 1: every layout written up to the layout by families (2026-12-01), told
   apart by their arrays (see :func:`migrate`).
 * 2: the arrays of the layout by families, all present (up to 2026-12-06).
-* 3: today's: the arrays :meth:`Engine.checkpoint
-  <hardspheres.core.engine.Engine.checkpoint>` writes now, all present:
-  version 2's and the collision rule (restitution coefficients and the TC
-  model's ``t_c`` among the scalars, ``hit_t``).  A version-2 file is
+* 3: version 2's and the collision rule (restitution coefficients and the
+  TC model's ``t_c`` among the scalars, ``hit_t``).  A version-2 file is
   elastic (:func:`migrate`).
+* 4: today's: the arrays :meth:`Engine.checkpoint
+  <hardspheres.core.engine.Engine.checkpoint>` writes now, all present:
+  version 3's and the thermal wall (its temperature and the energy it gave
+  among the scalars, its generator's seed and count of draws among the
+  counts).  A version-3 file has no thermal wall (:func:`migrate`).
 """
 
 from __future__ import annotations
@@ -38,9 +41,9 @@ if TYPE_CHECKING:
 #: The ``format`` array of every checkpoint.
 FORMAT = "hardspheres-checkpoint"
 #: The version this hardspheres writes.
-VERSION = 3
+VERSION = 4
 #: The versions it reads (older ones migrated by :func:`migrate`).
-READS = (1, 2, 3)
+READS = (1, 2, 3, 4)
 
 
 def read(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
@@ -257,7 +260,16 @@ def _check_rule(data: Mapping[str, np.ndarray], scalars: np.ndarray, n: int) -> 
     e, ew, tc = scalars[core.F_RESTITUTION], scalars[core.F_WALL_RESTITUTION], scalars[core.F_TC]
     if not (0.0 < e <= 1.0 and 0.0 < ew <= 1.0 and tc >= 0.0 and scalars[core.F_DISSIPATED] >= 0.0):
         _bad("a restitution coefficient is not in (0, 1], or t_c or the energy dissipated is negative")
-    inelastic = e != 1.0 or ew != 1.0
+    kt = scalars[core.F_WALL_KT] if scalars.shape[0] > core.F_WALL_KT else 0.0
+    heat = scalars[core.F_WALL_HEAT] if scalars.shape[0] > core.F_WALL_HEAT else 0.0
+    if not (kt >= 0.0 and np.isfinite(kt) and np.isfinite(heat)):
+        _bad("the wall temperature is negative or not finite, or the heat it gave is not finite")
+    counts = np.asarray(data["counts"])
+    if counts.shape[0] > core.C_WALL_DRAWS and not (
+        0 <= counts[core.C_WALL_SEED] < 2**32 and counts[core.C_WALL_DRAWS] >= 0
+    ):
+        _bad("the thermal wall's seed is not in [0, 2^32) or its count of draws is negative")
+    inelastic = e != 1.0 or ew != 1.0 or kt > 0.0
     hit_t = _array(data, "hit_t", np.float64, (n if inelastic else 0,))
     if np.any(np.isnan(hit_t)) or np.any(hit_t == np.inf):
         _bad("a last collision time is NaN or +inf")
@@ -374,7 +386,7 @@ def _check_lists(data: Mapping[str, np.ndarray], book: np.ndarray, n: int) -> No
 
 
 def migrate(data: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], bool]:
-    """Versions 1 and 2's layouts brought to today's (version 3), array by array.
+    """Versions 1 to 3's layouts brought to today's (version 4), array by array.
 
     Version 1 covers every layout written up to the layout by families
     (2026-12-01); they are told apart by which arrays they hold and their

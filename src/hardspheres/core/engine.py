@@ -130,6 +130,11 @@ class Engine:
         wall_restitution: the container wall's (default: ``restitution``).
         tc: the TC model's duration [time]: a collision or reflection less
             than ``tc`` after either sphere's previous one is elastic (0: off).
+        wall_temperature: a thermal wall's temperature ``kT_w`` [energy]: a
+            sphere meeting the container's wall leaves it with a velocity
+            drawn at ``kT_w`` (a heated container; 0: off, the wall reflects
+            with ``wall_restitution``; see :meth:`set_wall_temperature`).
+        wall_seed: the thermal wall's generator seed, ``0 <= seed < 2^32``.
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -154,6 +159,8 @@ class Engine:
         restitution: float = 1.0,
         wall_restitution: float | None = None,
         tc: float = 0.0,
+        wall_temperature: float = 0.0,
+        wall_seed: int = 0,
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
@@ -198,6 +205,7 @@ class Engine:
         self.scalars[core.F_WINDOW] = window
         self.hit_t = np.zeros(0)
         self.set_restitution(restitution, wall_restitution, tc)
+        self.set_wall_temperature(wall_temperature, wall_seed)
         self._grid(n)
         self._into_box()
         self._event_buffers = _events.empty_buffers(CHUNK)
@@ -230,9 +238,64 @@ class Engine:
 
     @property
     def inelastic(self) -> bool:
-        """Whether a restitution coefficient (of the spheres or of the wall) is below 1."""
+        """Whether the kinetic energy changes at events: a restitution below 1 or a thermal wall."""
         f = self.scalars
-        return bool(f[core.F_RESTITUTION] != 1.0 or f[core.F_WALL_RESTITUTION] != 1.0)
+        return bool(
+            f[core.F_RESTITUTION] != 1.0 or f[core.F_WALL_RESTITUTION] != 1.0 or f[core.F_WALL_KT] > 0.0
+        )
+
+    @property
+    def wall_temperature(self) -> float:
+        """The thermal wall's temperature ``kT_w`` [energy] (0: not a thermal wall)."""
+        return float(self.scalars[core.F_WALL_KT])
+
+    @property
+    def wall_heat(self) -> float:
+        """Kinetic energy the thermal wall gave the spheres so far [energy] (negative: took)."""
+        return float(self.scalars[core.F_WALL_HEAT])
+
+    def set_wall_temperature(self, kt: float = 0.0, seed: int | None = None) -> None:
+        """A thermal wall at temperature ``kt`` from now (0: the wall reflects again).
+
+        A sphere meeting the wall is re-emitted with the normal speed drawn
+        from the flux-weighted distribution and the tangential velocity from
+        the Maxwellian at ``kt`` (:func:`hardspheres.physics.thermal_wall`):
+        the wall of a heated container (Grossman, Zhou and Ben-Naim, Phys.
+        Rev. E 55, 4200 (1997)).  Compiled in the core's inelastic variant.
+        The draws come from a counter-based generator: ``seed`` and the
+        number of draws made are all its state (checkpoints carry both).
+
+        Args:
+            kt: the wall's temperature [energy], finite, ``>= 0``.
+            seed: the generator's seed, ``0 <= seed < 2^32`` (``None``: keep
+                the current seed and count of draws).
+
+        Raises:
+            ArgumentError: a negative or infinite ``kt``, a seed out of range,
+                a thermal wall without a wall (a periodic box), or while the
+                radii grow.
+
+        Example:
+            >>> eng = Engine([1.0], [1.0], [[0.0, 0, 0]], [[1.0, 0, 0]], container=5.0,
+            ...              wall_temperature=2.0, wall_seed=7)
+            >>> _ = eng.advance(until=100.0)
+            >>> eng.counters["reflections"] > 10 and eng.wall_heat != 0.0
+            True
+        """
+        kt = float(kt)
+        if not (kt >= 0.0 and np.isfinite(kt)):
+            raise ArgumentError(f"wall temperature must be a finite energy >= 0 (0: off), got {kt}")
+        if kt > 0.0 and not self.container.wall_area > 0:
+            raise ArgumentError("a wall temperature needs a wall: use a spherical or circular container")
+        if kt > 0.0 and self.scalars[core.F_GROW]:
+            raise ArgumentError("a thermal wall while the radii grow: stop the growth first")
+        if seed is not None:
+            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**32:
+                raise ArgumentError(f"wall seed must be an integer in [0, 2^32), got {seed!r}")
+            self.counts[core.C_WALL_SEED] = int(seed)
+            self.counts[core.C_WALL_DRAWS] = 0
+        self.scalars[core.F_WALL_KT] = kt
+        self._set_hit_t()
 
     @property
     def restitution(self) -> float:
@@ -280,7 +343,11 @@ class Engine:
             raise ArgumentError("restitution below 1 while the radii grow: stop the growth first")
         f = self.scalars
         f[core.F_RESTITUTION], f[core.F_WALL_RESTITUTION], f[core.F_TC] = e, ew, tc
-        if not inelastic:
+        self._set_hit_t()
+
+    def _set_hit_t(self) -> None:
+        """Each sphere's last collision (the inelastic variant's array), kept, made or dropped."""
+        if not self.inelastic:
             self.hit_t = np.zeros(0)
         elif self.hit_t.shape[0] != self.n:
             self.hit_t = np.full(self.n, -np.inf)
@@ -603,7 +670,9 @@ class Engine:
         if not (rate >= 0.0 and np.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         if rate and self.inelastic:
-            raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
+            raise ArgumentError(
+                "radii cannot grow with restitution below 1 or a thermal wall: grow elastic spheres first"
+            )
         self._rebase()  # radii to the clock
         self.scalars[core.F_GROW] = rate
         self._regrid()

@@ -78,6 +78,7 @@ from ..physics import (
     reflect,
     reflect_grow,
     reflect_inelastic,
+    thermal_wall,
     wall_time,
     wall_time_grow,
 )
@@ -800,6 +801,8 @@ class Reference:
         restitution, wall_restitution, tc: the collision rule, as the
             engine's (restitution between spheres and at the wall, the TC
             model's duration), with the core's arithmetic.
+        wall_temperature, wall_seed: a thermal wall, as the engine's
+            (:func:`~hardspheres.physics.thermal_wall`, the same draws).
         shear_rate: Lees-Edwards shear of a periodic box, ``g`` [1/time]
             (flow along x, gradient along y); default: the box's own
             (:attr:`PeriodicBox.shear_rate
@@ -842,6 +845,8 @@ class Reference:
         shear_rate: float | None = None,
         offset: float = 0.0,
         steps: Sequence[Sequence[float]] | None = None,
+        wall_temperature: float = 0.0,
+        wall_seed: int = 0,
     ) -> None:
         where, own = _sheared(as_container(container, box), shear_rate)
         self.container: Container = where
@@ -894,7 +899,18 @@ class Reference:
                 raise ArgumentError(f"{name} must be in (0, 1] (1: elastic), got {value}")
         if not (self._tc >= 0.0 and math.isfinite(self._tc)):
             raise ArgumentError(f"tc must be a finite time >= 0 (0: no TC model), got {self._tc}")
-        self._inelastic = self._e != 1.0 or self._ew != 1.0
+        # the thermal wall (the engine's set_wall_temperature, which checks the same)
+        self._kt_wall = float(wall_temperature)
+        if not (self._kt_wall >= 0.0 and math.isfinite(self._kt_wall)):
+            raise ArgumentError(
+                f"wall temperature must be a finite energy >= 0 (0: off), got {self._kt_wall}"
+            )
+        if self._kt_wall > 0.0 and not self._wall:
+            raise ArgumentError("a wall temperature needs a wall: use a spherical or circular container")
+        if isinstance(wall_seed, bool) or not 0 <= int(wall_seed) < 2**32 or int(wall_seed) != wall_seed:
+            raise ArgumentError(f"wall seed must be an integer in [0, 2^32), got {wall_seed!r}")
+        self._wall_seed, self._draws, self._wall_heat = int(wall_seed), 0, 0.0
+        self._inelastic = self._e != 1.0 or self._ew != 1.0 or self._kt_wall > 0.0
         #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
         self._last = [-INF] * n
         self._dissipated = 0.0
@@ -1108,7 +1124,9 @@ class Reference:
         if not (rate >= 0.0 and math.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
         if rate and self._inelastic:
-            raise ArgumentError("radii cannot grow with restitution below 1: grow elastic spheres first")
+            raise ArgumentError(
+                "radii cannot grow with restitution below 1 or a thermal wall: grow elastic spheres first"
+            )
         if rate and self._g:
             raise ShearError("radii cannot grow in a sheared box: compress without shear, then shear")
         if rate and self._lams:
@@ -1168,6 +1186,11 @@ class Reference:
     def dissipated(self) -> float:
         """Kinetic energy dissipated by inelastic collisions and reflections so far [mass*length^2/time^2]."""
         return self._dissipated
+
+    @property
+    def wall_heat(self) -> float:
+        """Kinetic energy the thermal wall gave the spheres so far [mass*length^2/time^2]."""
+        return self._wall_heat
 
     @property
     def restitution(self) -> float:
@@ -1516,6 +1539,8 @@ class Reference:
             pz = 0.0 if planar else pi[2] + vi[2] * dt
             if self._grow:
                 k = reflect_grow(px, py, pz, vi[0], vi[1], vi[2], self._radii[i] * self._grow, planar)
+            elif inelastic and self._kt_wall > 0.0:
+                k = 1.0  # (a thermal wall: the velocity is drawn below)
             elif inelastic:
                 k = reflect_inelastic(self.masses[i], px, py, pz, vi[0], vi[1], vi[2], e, planar)[0]
             else:
@@ -1537,6 +1562,29 @@ class Reference:
         if cross is not None:
             kind, imp, dpx, dpy, dpz, vir, dx, dy, dz = self._apply_step(i, j, cross)
             lost = 0.0
+        elif kind == REFLECTION and inelastic and self._kt_wall > 0.0:
+            vi, mi = v[i], self.masses[i]
+            wx, wy, wz, imp, gain = thermal_wall(
+                mi,
+                p[i][0],
+                p[i][1],
+                p[i][2],
+                vi[0],
+                vi[1],
+                vi[2],
+                self._kt_wall,
+                self._wall_seed,
+                self._draws,
+                planar,
+            )
+            dpx, dpy = mi * (wx - vi[0]), mi * (wy - vi[1])
+            dpz = 0.0 if planar else mi * (wz - vi[2])
+            vi[0], vi[1] = wx, wy
+            if not planar:
+                vi[2] = wz
+            self._draws += 1
+            self._wall_heat += gain
+            vir = lost = dx = dy = dz = 0.0
         else:
             imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
                 kind, i, j, p, v, self.masses, self._radii, self._edges, *rule
