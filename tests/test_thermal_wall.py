@@ -251,3 +251,29 @@ def test_simulation_refuses_bad_input_and_growth():
     periodic = hs.Simulation(hs.random_spheres(20, 0.05, PeriodicBox(20.0), seed=1), PeriodicBox(20.0))
     with pytest.raises(ValueError, match="needs a wall"):
         periodic.set_wall_temperature(1.0)
+
+
+def test_run_command_heats_the_wall_and_resumes(tmp_path):
+    from helpers import hs_cmd
+
+    box = SphericalContainer(10.0)
+    (tmp_path / "g.txt").write_text(hs.random_spheres(100, 0.1, box, seed=3, kT=0.25).to_text())
+    args = ("run", "g.txt", "--container", "10", "--until", "20", "--restitution", "0.9")
+    r = hs_cmd(*args, "--wall-temperature", "1", "--checkpoint", "g.npz", cwd=tmp_path, check=True)
+    assert "thermal wall kT_w 1" in r.stdout and "kinetic + dissipated - injected energy drift" in r.stdout
+    assert "heated by a thermal wall at kT_w 1" in r.stdout and "a2" not in r.stdout
+    again = hs_cmd("run", "--resume", "g.npz", "--until", "30", cwd=tmp_path, check=True)
+    assert "heated by a thermal wall at kT_w 1" in again.stdout
+    for extra, words in [
+        (("--wall-seed", "4294967296", "--wall-temperature", "1"), "--wall-seed 4294967296"),
+        (("--wall-seed", "3"), "give --wall-temperature"),
+        (("--wall-temperature", "0"), "--wall-temperature"),
+        (("--wall-temperature", "1", "--wall-restitution", "0.5"), "leave out --wall-restitution"),
+    ]:
+        bad = hs_cmd(*args, *extra, cwd=tmp_path)
+        assert bad.returncode == 1 and words in bad.stderr and "Traceback" not in bad.stderr, extra
+        assert bad.stdout == ""
+    boxed = hs_cmd("run", "g.txt", "--box", "40", "--until", "5", "--wall-temperature", "1", cwd=tmp_path)
+    assert boxed.returncode == 1 and "a periodic box has none" in boxed.stderr
+    resumed = hs_cmd("run", "--resume", "g.npz", "--until", "40", "--wall-temperature", "2", cwd=tmp_path)
+    assert resumed.returncode == 1 and "keeps its" in resumed.stderr

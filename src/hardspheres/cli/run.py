@@ -145,6 +145,11 @@ def _check_args(args: argparse.Namespace) -> None:
                 "--restitution/--wall-restitution/--tc cannot change a resumed run: the checkpoint "
                 "keeps its collision rule (leave them out)"
             )
+        if args.wall_temperature is not None or args.wall_seed is not None:
+            raise UsageError(
+                "--wall-temperature/--wall-seed cannot change a resumed run: the checkpoint keeps its "
+                "thermal wall (leave them out)"
+            )
         if args.kicks is not None:
             raise UsageError(
                 "--kicks cannot change a resumed run: the checkpoint keeps its driving, "
@@ -157,6 +162,7 @@ def _check_args(args: argparse.Namespace) -> None:
     if args.pressure_axes is not None and args.pressure is None:
         raise UsageError("--pressure-axes is for constant pressure: give --pressure P too")
     _check_kicks(args)
+    _check_wall(args)
     if args.trajectory is None:
         for option, value in (
             ("--every", args.every),
@@ -199,6 +205,37 @@ def _check_kicks(args: argparse.Namespace) -> None:
         )
 
 
+def _check_wall(args: argparse.Namespace) -> None:
+    """The thermal wall's options: ``--wall-temperature`` with a wall, not with a barostat."""
+    if args.wall_temperature is None:
+        if args.wall_seed is not None:
+            raise UsageError("--wall-seed is for the thermal wall: give --wall-temperature KT too")
+        return
+    if args.wall_seed is not None and args.wall_seed >= 2**32:
+        raise UsageError(f"--wall-seed {args.wall_seed}: give a seed below 2^32 = {2**32}")
+    if getattr(args, "box", None) is not None:
+        raise UsageError(
+            "--wall-temperature heats the container's wall, and a periodic box has none: "
+            "give --container R or --circle R"
+        )
+    if args.wall_restitution is not None:
+        raise UsageError(
+            "--wall-temperature replaces the wall's restitution (the wall re-emits at KT): "
+            "leave out --wall-restitution"
+        )
+    if args.pressure is not None:
+        raise UsageError(
+            "--wall-temperature with --pressure: the barostat holds kT = 1 and the wall its own KT; "
+            "give one or the other"
+        )
+
+
+def add_wall(sim: Simulation, args: argparse.Namespace) -> None:
+    """Make the wall the thermal wall ``--wall-temperature`` asks for."""
+    if args.wall_temperature is not None:
+        sim.set_wall_temperature(args.wall_temperature, 0 if args.wall_seed is None else args.wall_seed)
+
+
 def add_kicks(sim: Simulation, args: argparse.Namespace) -> None:
     """Set the white-noise kicks ``--kicks`` asks for (after ``--restitution``: a granular gas only)."""
     if args.kicks is None:
@@ -220,9 +257,9 @@ def _kicks(sim: Simulation) -> RandomKicks | None:
 
 
 def _injected(sim: Simulation) -> float:
-    """What the simulation's kicks injected so far (0 without them) [energy]."""
+    """What the simulation's kicks and thermal wall injected so far (0 without them) [energy]."""
     kicks = _kicks(sim)
-    return kicks.injected if kicks is not None else 0.0
+    return (kicks.injected if kicks is not None else 0.0) + sim.wall_heat
 
 
 #: A kick interval longer than this many mean free times is warned of
@@ -429,6 +466,16 @@ def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: flo
     """A cooling gas's summary: its temperature, how fast it cools (Haff's law), its a2."""
     lines = [f"granular temperature kT {summary['temperature']:.6g} at t = {sim.time:.6g}"]
     kicks = _kicks(sim)
+    if sim.wall_temperature > 0.0:
+        kt_w = sim.wall_temperature
+        lines.append(
+            f"heated by a thermal wall at kT_w {kt_w:g} (kT/kT_w {summary['temperature'] / kt_w:.4g} now): "
+            f"over t = {averaged_from:.6g} .. {sim.time:.6g} the wall gave {summary.get('injected', 0.0):.6g} "
+            f"and the collisions dissipated {summary.get('dissipated', 0.0):.6g} (equal in a steady state)"
+        )
+        # (no a2: a gas heated at its wall is colder and denser inside, and the
+        # kurtosis of all its velocities mixes those temperatures)
+        return lines
     if kicks is not None:
         lines += _driven_lines(sim, kicks, summary, averaged_from)
     elif "cooling_per_collision" in summary:
@@ -501,6 +548,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``hardspheres run``; returns the exit status."""
     _check_args(args)
     sim = starting_simulation(args)
+    add_wall(sim, args)
     add_kicks(sim, args)
     if args.pressure is not None:
         from ..barostat import Barostat
@@ -656,11 +704,13 @@ def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float, inje
     gained = _injected(sim) - injected0
     balance = abs(e1 + lost - gained - e0) / e0 if e0 else 0.0
     rule = f"restitution {sim.restitution:g}"
-    if sim.container.wall_area > 0:
+    if sim.wall_temperature > 0.0:
+        rule += f", thermal wall kT_w {sim.wall_temperature:g}"
+    elif sim.container.wall_area > 0:
         rule += f", wall {sim.wall_restitution:g}"
     if sim.tc:
         rule += f", tc {sim.tc:g}"
-    if kicks is not None:
+    if kicks is not None or sim.wall_temperature > 0.0:
         return (
             f"granular ({rule}), driven: injected {gained:.6g}, dissipated {lost:.6g} "
             f"({lost / e0 if e0 else 0.0:.3g} times the energy at the start); kinetic + dissipated - "
@@ -821,6 +871,20 @@ def _rule_args(p: argparse.ArgumentParser) -> None:
         metavar="T",
         help="the TC model [s]: a collision within T of either sphere's previous one is elastic, "
         "which resolves inelastic collapse (a small fraction of the mean free time; default 0: off)",
+    )
+    p.add_argument(
+        "--wall-temperature",
+        type=positive,
+        metavar="KT",
+        help="make the container's wall a thermal wall at temperature KT [J]: a sphere that meets it "
+        "leaves with a velocity drawn at KT (a heated granular gas, or a heat bath for elastic "
+        "spheres; --container or --circle; the checkpoint keeps it)",
+    )
+    p.add_argument(
+        "--wall-seed",
+        type=count,
+        metavar="SEED",
+        help="with --wall-temperature: the seed of the wall's random numbers (default 0; below 2^32)",
     )
     p.add_argument(
         "--kicks",
