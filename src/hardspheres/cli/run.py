@@ -468,10 +468,11 @@ def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: flo
     kicks = _kicks(sim)
     if sim.wall_temperature > 0.0:
         kt_w = sim.wall_temperature
+        gave, lost = summary.get("injected", 0.0), summary.get("dissipated", 0.0)
         lines.append(
             f"heated by a thermal wall at kT_w {kt_w:g} (kT/kT_w {summary['temperature'] / kt_w:.4g} now): "
-            f"over t = {averaged_from:.6g} .. {sim.time:.6g} the wall gave {summary.get('injected', 0.0):.6g} "
-            f"and the collisions dissipated {summary.get('dissipated', 0.0):.6g} (equal in a steady state)"
+            f"over t = {averaged_from:.6g} .. {sim.time:.6g} the wall gave {gave:.6g} "
+            f"and the collisions dissipated {lost:.6g} (equal in a steady state)"
         )
         # (no a2: a gas heated at its wall is colder and denser inside, and the
         # kurtosis of all its velocities mixes those temperatures)
