@@ -260,3 +260,15 @@ def test_a_driven_task_resumes_to_the_same_row(tmp_path, monkeypatch):
         studies.run_task(cut)
     monkeypatch.setattr(study_task, "block_value", real)
     assert studies.run_task(cut) == ref
+
+
+def test_run_command_balances_a_resumed_thermal_wall(tmp_path):
+    """A checkpoint with a heated wall, resumed by ``run``: its heat counts in the energy line."""
+    box = hs.SphericalContainer(8.0)
+    sim = hs.Simulation(hs.random_spheres(60, 0.1, box, seed=2), box, restitution=0.9)
+    sim.set_wall_temperature(2.0, seed=1).run(until=1.0)
+    sim.save(tmp_path / "w.npz")
+    r = hs_cmd("run", "--resume", "w.npz", "--until", "6", cwd=tmp_path, check=True)
+    assert "driven: injected" in r.stdout, r.stdout
+    drift = float(re.search(r"injected energy drift (\S+)", r.stdout).group(1))
+    assert drift < 1e-12
