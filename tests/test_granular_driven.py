@@ -162,6 +162,8 @@ def test_run_command_warns_of_a_long_kick_interval(scenario):
          ["--kick-seed", "whole number"]),
         (("--kicks", "1", "--kick-interval", "0.1", "--restitution", "0.9", "--pressure", "2"),
          ["--kicks with --pressure"]),
+        (("--kicks", "1", "--kick-interval", "0.1", "--restitution", "0.9", "--wall-temperature", "1"),
+         ["--kicks with --wall-temperature"]),
     ],
 )  # fmt: skip
 def test_run_command_refuses_bad_kicks(scenario, args, words):

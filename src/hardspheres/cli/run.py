@@ -197,6 +197,11 @@ def _check_kicks(args: argparse.Namespace) -> None:
             "--kicks needs --kick-interval T, the time between kicks: a small fraction of the mean "
             "free time (1/20 of it; the summary says if it is too long)"
         )
+    if args.wall_temperature:
+        raise UsageError(
+            "--kicks with --wall-temperature: one way of heating at a time (the summary weighs one "
+            "heat source against the dissipation); give one or the other"
+        )
     if (args.restitution or 1.0) >= 1.0 and (args.wall_restitution or 1.0) >= 1.0:
         raise UsageError(_ELASTIC_KICKS)
     if args.pressure is not None:
