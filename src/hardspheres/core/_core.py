@@ -2023,7 +2023,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             pz = vz = 0.0
             if not planar:
                 pz, vz = spheres[i, Z], spheres[i, VZ]
-            lost = wx = wy = wz = imp = gain = 0.0  # (the inelastic rule's)
+            lost = wx = wy = wz = imp_wall = gain = 0.0  # (the inelastic rule's)
             if scalars[F_GROW] != 0.0:
                 k = reflect_grow(
                     px,
@@ -2038,7 +2038,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             elif len(rule) == 1:
                 if scalars[F_WALL_KT] > 0.0:
                     # the thermal wall: a velocity drawn afresh (k: any nonzero)
-                    wx, wy, wz, imp, gain = thermal_wall(
+                    wx, wy, wz, imp_wall, gain = thermal_wall(
                         masses[i],
                         px,
                         py,
@@ -2072,28 +2072,24 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if len(rule) == 1 and scalars[F_GROW] == 0.0:
                 scalars[F_DISSIPATED] += lost
                 hit_t[i] = te
-                thermal = scalars[F_WALL_KT] > 0.0
-            if thermal:
-                counts[C_WALL_DRAWS] += 1
-                scalars[F_WALL_HEAT] += gain
-                rec_dp[row, 0] = masses[i] * (wx - spheres[i, VX])
-                rec_dp[row, 1] = masses[i] * (wy - spheres[i, VY])
-                rec_dp[row, 2] = 0.0 if planar else masses[i] * (wz - spheres[i, VZ])
-                spheres[i, VX] = wx
-                spheres[i, VY] = wy
-                if not planar:
-                    spheres[i, VZ] = wz
+                if scalars[F_WALL_KT] > 0.0:
+                    # the thermal wall: the drawn velocity, and a factor
+                    # 0 for the reflection's own update below (v - 0.0 is v)
+                    thermal = True
+                    counts[C_WALL_DRAWS] += 1
+                    scalars[F_WALL_HEAT] += gain
+                    wx, spheres[i, VX] = masses[i] * (wx - spheres[i, VX]), wx
+                    wy, spheres[i, VY] = masses[i] * (wy - spheres[i, VY]), wy
+                    if not planar:
+                        wz, spheres[i, VZ] = masses[i] * (wz - spheres[i, VZ]), wz
+                    k = px = py = pz = 0.0
+            spheres[i, VX] -= k * px
+            spheres[i, VY] -= k * py
+            if planar:
+                imp = masses[i] * k * np.sqrt(px * px + py * py)
             else:
-                spheres[i, VX] -= k * px
-                spheres[i, VY] -= k * py
-                if planar:
-                    imp = masses[i] * k * np.sqrt(px * px + py * py)
-                else:
-                    spheres[i, VZ] -= k * pz
-                    imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
-                rec_dp[row, 0] = -masses[i] * k * px
-                rec_dp[row, 1] = -masses[i] * k * py
-                rec_dp[row, 2] = 0.0 if planar else -masses[i] * k * pz
+                spheres[i, VZ] -= k * pz
+                imp = masses[i] * k * np.sqrt(px * px + py * py + pz * pz)
             scalars[F_WALL_IMPULSE] += imp
             book[i, CHANGES] += 1
             counts[C_REFLECTIONS] += 1
@@ -2104,6 +2100,16 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             rec_i[row] = book[i, ORIGIN]
             rec_j[row] = -1
             rec_imp[row] = imp
+            rec_dp[row, 0] = -masses[i] * k * px
+            rec_dp[row, 1] = -masses[i] * k * py
+            rec_dp[row, 2] = 0.0 if planar else -masses[i] * k * pz
+            if thermal:
+                # (the inelastic loop's: its normal impulse and momentum change)
+                scalars[F_WALL_IMPULSE] += imp_wall
+                rec_imp[row] = imp_wall
+                rec_dp[row, 0] = wx
+                rec_dp[row, 1] = wy
+                rec_dp[row, 2] = 0.0 if planar else wz
             done += 1
         elif not stale:
             return done, STOP_UNTIL

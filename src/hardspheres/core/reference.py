@@ -890,7 +890,19 @@ class Reference:
         self._coll = self._refl = 0
         self._wall_impulse = self._virial = 0.0
         self.last_reason, self.last_done = StopReason.UNTIL, 0
-        # the collision rule (the engine's set_restitution, which checks the same)
+        self._set_rule(restitution, wall_restitution, tc)
+        self._set_wall(wall_temperature, wall_seed)
+        self._inelastic = self._e != 1.0 or self._ew != 1.0 or self._kt_wall > 0.0
+        # the stress tallies (periodic box, xx yy zz xy xz yz): collisional virial, the time integral
+        # of the peculiar kinetic tensor of the closed flights, when each open flight began
+        self._vir_t = [0.0] * 6
+        self._kin_t = [0.0] * 6
+        self._kt = [self._clock] * n
+        self._crossed = -INF  # every crossing of a face up to this time is made
+        self._set_steps(steps)
+
+    def _set_rule(self, restitution: float, wall_restitution: float | None, tc: float) -> None:
+        """The collision rule (the engine's set_restitution, which checks the same)."""
         self._e = float(restitution)
         self._ew = self._e if wall_restitution is None else float(wall_restitution)
         self._tc = float(tc)
@@ -899,28 +911,37 @@ class Reference:
                 raise ArgumentError(f"{name} must be in (0, 1] (1: elastic), got {value}")
         if not (self._tc >= 0.0 and math.isfinite(self._tc)):
             raise ArgumentError(f"tc must be a finite time >= 0 (0: no TC model), got {self._tc}")
-        # the thermal wall (the engine's set_wall_temperature, which checks the same)
-        self._kt_wall = float(wall_temperature)
+        #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
+        self._last = [-INF] * len(self.masses)
+        self._dissipated = 0.0
+
+    def _set_wall(self, kt: float, seed: int) -> None:
+        """The thermal wall (the engine's set_wall_temperature, which checks the same)."""
+        self._kt_wall = float(kt)
         if not (self._kt_wall >= 0.0 and math.isfinite(self._kt_wall)):
             raise ArgumentError(
                 f"wall temperature must be a finite energy >= 0 (0: off), got {self._kt_wall}"
             )
         if self._kt_wall > 0.0 and not self._wall:
             raise ArgumentError("a wall temperature needs a wall: use a spherical or circular container")
-        if isinstance(wall_seed, bool) or not 0 <= int(wall_seed) < 2**32 or int(wall_seed) != wall_seed:
-            raise ArgumentError(f"wall seed must be an integer in [0, 2^32), got {wall_seed!r}")
-        self._wall_seed, self._draws, self._wall_heat = int(wall_seed), 0, 0.0
-        self._inelastic = self._e != 1.0 or self._ew != 1.0 or self._kt_wall > 0.0
-        #: each sphere's time of its last collision or reflection (inelastic rule; the TC model)
-        self._last = [-INF] * n
-        self._dissipated = 0.0
-        # the stress tallies (periodic box, xx yy zz xy xz yz): collisional virial, the time integral
-        # of the peculiar kinetic tensor of the closed flights, when each open flight began
-        self._vir_t = [0.0] * 6
-        self._kin_t = [0.0] * 6
-        self._kt = [self._clock] * n
-        self._crossed = -INF  # every crossing of a face up to this time is made
-        self._set_steps(steps)
+        if isinstance(seed, bool) or not 0 <= int(seed) < 2**32 or int(seed) != seed:
+            raise ArgumentError(f"wall seed must be an integer in [0, 2^32), got {seed!r}")
+        self._wall_seed, self._draws, self._wall_heat = int(seed), 0, 0.0
+
+    def _thermal(self, i: int, planar: bool) -> tuple[float, float, float, float]:
+        """Sphere ``i`` (at the wall) re-emitted by the thermal wall: ``(impulse, dp...)``; heat tallied."""
+        vi, mi, pi = self._v[i], self.masses[i], self._p[i]
+        wx, wy, wz, imp, gain = thermal_wall(
+            mi, pi[0], pi[1], pi[2], vi[0], vi[1], vi[2], self._kt_wall, self._wall_seed, self._draws, planar
+        )
+        dpx, dpy = mi * (wx - vi[0]), mi * (wy - vi[1])
+        dpz = 0.0 if planar else mi * (wz - vi[2])
+        vi[0], vi[1] = wx, wy
+        if not planar:
+            vi[2] = wz
+        self._draws += 1
+        self._wall_heat += gain
+        return imp, dpx, dpy, dpz
 
     def _set_shear(self, rate: float, offset: float, time: float) -> None:
         """Lees-Edwards: ``g``, the boundary speed ``g L_y``, the offset at time 0; centres into the box.
@@ -1502,6 +1523,13 @@ class Reference:
             vt[4] += dx * pz
             vt[5] += dy * pz
 
+    def _coefficient(self, kind: int, i: int, j: int, t: float) -> float:
+        """The restitution of this event: the wall's or the pair's, 1 within tc of a last collision."""
+        last, tc = self._last, self._tc
+        if kind == REFLECTION:
+            return 1.0 if t - last[i] < tc else self._ew
+        return 1.0 if (t - last[i] < tc or t - last[j] < tc) else self._e
+
     def _process(self, until: float) -> tuple[float, int, int, int, float, float, float, float] | None:
         """The next event up to ``until``, processed: ``(t, kind, i, j, impulse, dp..., virial)``.
 
@@ -1524,13 +1552,7 @@ class Reference:
         # the inelastic rule's coefficient of this event: 1 within tc of either
         # sphere's last collision or reflection (the TC model; the core's test)
         inelastic = self._inelastic and not self._grow
-        e = 1.0
-        if inelastic:
-            last, tc = self._last, self._tc
-            if kind == REFLECTION:
-                e = 1.0 if t - last[i] < tc else self._ew
-            else:
-                e = 1.0 if (t - last[i] < tc or t - last[j] < tc) else self._e
+        e = self._coefficient(kind, i, j, t) if inelastic else 1.0
         if kind == REFLECTION:
             pi, vi = p[i], v[i]
             dt = t - tloc[i]
@@ -1563,27 +1585,7 @@ class Reference:
             kind, imp, dpx, dpy, dpz, vir, dx, dy, dz = self._apply_step(i, j, cross)
             lost = 0.0
         elif kind == REFLECTION and inelastic and self._kt_wall > 0.0:
-            vi, mi = v[i], self.masses[i]
-            wx, wy, wz, imp, gain = thermal_wall(
-                mi,
-                p[i][0],
-                p[i][1],
-                p[i][2],
-                vi[0],
-                vi[1],
-                vi[2],
-                self._kt_wall,
-                self._wall_seed,
-                self._draws,
-                planar,
-            )
-            dpx, dpy = mi * (wx - vi[0]), mi * (wy - vi[1])
-            dpz = 0.0 if planar else mi * (wz - vi[2])
-            vi[0], vi[1] = wx, wy
-            if not planar:
-                vi[2] = wz
-            self._draws += 1
-            self._wall_heat += gain
+            imp, dpx, dpy, dpz = self._thermal(i, planar)
             vir = lost = dx = dy = dz = 0.0
         else:
             imp, dpx, dpy, dpz, vir, lost, dx, dy, dz = self._apply_event(
