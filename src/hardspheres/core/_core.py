@@ -346,7 +346,10 @@ F_TC = 54  # the TC model's duration: a collision this soon after either sphere'
 F_DISSIPATED = 55  # kinetic energy dissipated by inelastic collisions and reflections so far
 F_WALL_KT = 56  # the thermal wall's temperature (energy; 0: not a thermal wall; inelastic variant only)
 F_WALL_HEAT = 57  # kinetic energy the thermal wall gave the spheres so far (negative: took)
-N_SCALARS = 58
+# Lees-Edwards shear (read only by the sheared variant, ``len(axes[0]) == 1``; 0, 0 otherwise)
+F_SHEAR = 58  # the boundary speed w = g L_y: the images across the upper y face move at +w along x
+F_SHEAR0 = 59  # the offset at the time origin, in [0, L_x]: delta(t) = (F_SHEAR0 + w t) % L_x
+N_SCALARS = 60
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -900,6 +903,7 @@ def _pair(
     best_t,
     best_key,
     best_p,
+    vs,
     axes,
 ):
     """Sphere ``i``'s best event so far improved with the pair ``(i, j)``.
@@ -908,7 +912,8 @@ def _pair(
     pre-test and the comments that say why each expression is as it is.
 
     ``j`` seen at its image shifted by ``(sx, sy, sz)`` (``shifted``: not
-    all zero); ``oi`` is ``i``'s
+    all zero), moving ``vs`` faster along x (a sheared box's image across a
+    y face, ``ky w``; read only by the sheared variant); ``oi`` is ``i``'s
     input index (``book[i, ORIGIN]``: tie keys are on input indices);
     returns the new ``(best_t, best_key, best_p)``.
     """
@@ -956,7 +961,15 @@ def _pair(
         dy = yi - (yj + sy)
         if not planar:
             dz = zi - (zj + sz)
-    dvx = spheres[i, VX] - spheres[j, VX]
+    if len(axes[0]) == 1 and shifted:
+        # sheared: the image moves vs faster along x; formed as the
+        # reference forms it for the lower input index, negated if i is higher
+        if oi > book[j, ORIGIN]:
+            dvx = -(spheres[j, VX] - (spheres[i, VX] - vs))
+        else:
+            dvx = spheres[i, VX] - (spheres[j, VX] + vs)
+    else:
+        dvx = spheres[i, VX] - spheres[j, VX]
     dvy = spheres[i, VY] - spheres[j, VY]
     if not planar:
         dvz = spheres[i, VZ] - spheres[j, VZ]
@@ -1096,6 +1109,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i, axes):
             best_t,
             best_key,
             best_p,
+            0.0,
             axes,
         )
     _store(due, book, i, best_t, best_key, best_p)
@@ -1178,6 +1192,7 @@ def _scan_cells(
                             best_t,
                             best_key,
                             best_p,
+                            0.0,
                             axes,
                         )
                     j = np.int64(cell_next[j])
@@ -1192,6 +1207,7 @@ def _scan_cells(
         best_t, best_key, best_p = _scan_across(
             spheres,
             book,
+            due,
             cell_head,
             cell_next,
             scalars,
@@ -1220,6 +1236,7 @@ def _scan_cells(
 def _scan_across(
     spheres,
     book,
+    due,
     cell_head,
     cell_next,
     scalars,
@@ -1255,6 +1272,7 @@ def _scan_across(
     cx0, cy0, cz0 = book[i, CELL_X], book[i, CELL_Y], book[i, CELL_Z]
     ti = spheres[i, T_OWN]
     oi = book[i, ORIGIN]
+    strip = False  # (sheared: a row across a y face is the strip's, below)
     for oz in range(0, 1) if len(axes) == 2 else range(zlo, zhi + 1):
         nz, sz, there = _cell_step(cz0, oz, ncz, bz)
         if not there:
@@ -1263,6 +1281,9 @@ def _scan_across(
         for oy in range(ylo, yhi + 1):
             ny, sy, there = _cell_step(cy0, oy, ncy, by)
             if not there:
+                continue
+            if len(axes[0]) == 1 and ny != cy0 + oy:
+                strip = True
                 continue
             across = across_z or ny != cy0 + oy
             for ox in range(xlo, xhi + 1):
@@ -1292,9 +1313,125 @@ def _scan_across(
                             best_t,
                             best_key,
                             best_p,
+                            0.0,
                             axes,
                         )
                     j = np.int64(cell_next[j])
+    if len(axes[0]) == 1 and strip:
+        best_t, best_key, best_p = _scan_strip(
+            spheres, book, due, cell_head, cell_next, scalars, counts, i, now, soon, clock, one, best_t, best_key,
+            best_p, axes,
+        )  # fmt: skip
+    return best_t, best_key, best_p
+
+
+@_jit
+def _scan_strip(
+    spheres,
+    book,
+    due,
+    cell_head,
+    cell_next,
+    scalars,
+    counts,
+    i,
+    now,
+    soon,
+    clock,
+    one,
+    best_t,
+    best_key,
+    best_p,
+    axes,
+):
+    """A sheared box: sphere ``i`` (in the first or last row of cells along y) against the strip across the face.
+
+    Longer than 80 lines: the reference's choice of images, written out.
+
+    The images across a y face slide along x with no event, so a sphere in
+    a boundary row looks at every cell of the opposite row (the three
+    layers around its own along z), as DynamO's sheared cells do, each
+    centre there at every image along x that can come within contact from
+    the clock to the earlier of its best event so far and its next
+    crossing (where it is predicted afresh): the reference's images
+    (:func:`hardspheres.core.reference.next_event_sheared`), swept over the
+    core's own bound.  A superset of the images that can meet first, so the
+    earliest event, and every bit, is the reference's.  Returns the new
+    ``(best_t, best_key, best_p)``.
+    """
+    n = spheres.shape[0]
+    planar = len(axes) == 2
+    ncx, ncy, ncz = counts[C_GRID], counts[C_GRID + 1], counts[C_GRID + 2]
+    lx, ly, lz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
+    w = scalars[F_SHEAR]
+    cy0, cz0 = book[i, CELL_Y], book[i, CELL_Z]
+    # i in the first row: the strip is the last row's, seen below the box (ky = -1)
+    ky = -1 if cy0 == 0 else 1
+    ny = ncy - 1 if cy0 == 0 else 0
+    sy = ky * ly
+    vs = ky * w
+    ti = spheres[i, T_OWN]
+    oi = book[i, ORIGIN]
+    until = best_t if best_t < due[i, CROSS_T] else due[i, CROSS_T]
+    for oz in range(0, 1) if planar else range(-1, 2):
+        nz, sz, there = _cell_step(cz0, oz, ncz, lz)
+        if not there:
+            continue
+        for nx in range(ncx):
+            j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
+            while j >= 0:
+                tj = spheres[j, T_OWN]
+                t0 = ti if ti > tj else tj
+                di, dj = t0 - ti, t0 - tj
+                xi = spheres[i, X] + spheres[i, VX] * di
+                xj = spheres[j, X] + spheres[j, VX] * dj
+                dy0 = (spheres[i, Y] + spheres[i, VY] * di) - ((spheres[j, Y] + spheres[j, VY] * dj) + sy)
+                dvx = spheres[i, VX] - (spheres[j, VX] + vs)
+                dvy = spheres[i, VY] - spheres[j, VY]
+                dvz = 0.0 if planar else spheres[i, VZ] - spheres[j, VZ]
+                sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
+                bound = (until if until > soon else soon) - t0
+                if bound < 0.0:
+                    bound = 0.0
+                j_next = np.int64(cell_next[j])
+                if abs(dy0) > (sigma + abs(dvy) * bound) * (1.0 + 1e-9):
+                    j = j_next
+                    continue
+                delta = (scalars[F_SHEAR0] + w * t0) % lx
+                base = ky * delta
+                start = clock - t0 if clock > t0 else 0.0
+                span = bound
+                if span == np.inf:
+                    if dvy != 0.0:
+                        span = (abs(dy0) + sigma) / abs(dvy) * (1.0 + 1e-9)
+                    if not planar and dvz != 0.0:
+                        dz0 = abs(
+                            (spheres[i, Z] + spheres[i, VZ] * di) - (spheres[j, Z] + spheres[j, VZ] * dj)
+                        )
+                        dz0 = dz0 if dz0 < lz - dz0 else lz - dz0
+                        tz = (dz0 + sigma) / abs(dvz) * (1.0 + 1e-9)
+                        span = tz if tz < span else span
+                    if span == np.inf and dvx != 0.0:
+                        span = start + (2.0 * lx + 2.0 * sigma) / abs(dvx)
+                if span < start:
+                    j = j_next
+                    continue  # out of reach along y or z before the clock, for good
+                u0 = (xi - (xj + base)) / lx
+                ua = u0 + (dvx * start) / lx if dvx != 0.0 else u0
+                ub = u0 + (dvx * span) / lx if dvx != 0.0 else u0
+                lo = ua if ua < ub else ub
+                hi = ub if ua < ub else ua
+                margin = sigma / lx * (1.0 + 1e-9)
+                for kx in range(int(np.floor(lo - margin)) - 1, int(np.ceil(hi + margin)) + 2):
+                    sx = kx * lx + base
+                    dx = xi - (xj + sx)
+                    if abs(dx) > (sigma + abs(dvx) * bound) * (1.0 + 1e-9):
+                        continue
+                    best_t, best_key, best_p = _pair(
+                        spheres, book, i, oi, j, sx, sy, sz, True, ti, now, soon, clock, 0.0, one, n, best_t,
+                        best_key, best_p, vs, axes,
+                    )  # fmt: skip
+                j = j_next
     return best_t, best_key, best_p
 
 
@@ -1348,6 +1485,10 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
             if wrap_t < due[i, CROSS_T]:
                 due[i, CROSS_T] = wrap_t
                 book[i, CROSS_FACE] = BOX_FACE + wrap_code
+    elif len(axes[0]) == 1:
+        # sheared: the crossing first (the strip's images are swept up to it)
+        _crossing(spheres, book, due, scalars, counts, i, t, axes)
+        _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1, axes)
     else:
         _scan_cells(spheres, book, due, cell_head, cell_next, scalars, counts, i, -1, 1, -1, 1, -1, 1, axes)
         _crossing(spheres, book, due, scalars, counts, i, t, axes)
@@ -1360,6 +1501,44 @@ def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, sc
     (Each inlined copy holds both scans and costs compile time.)
     """
     predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes)
+
+
+@_inline
+def _offset(scalars, t):
+    """A sheared box's Lees-Edwards offset at time ``t`` (from the origin): the reference's arithmetic."""
+    return (scalars[F_SHEAR0] + scalars[F_SHEAR] * t) % scalars[F_EDGE]
+
+
+@_jit
+def _wrap_sheared(spheres, masses, book, images, scalars, counts, i, t, step, axes):
+    """A sheared box: sphere ``i`` leaves through a y face (``step`` +1: the upper) at its time ``t``.
+
+    Moved to ``t`` (its own time), then by ``-step L_y`` in y and ``-step
+    delta(t)`` in x (then into the box along x, whole sides), and its
+    ``v_x`` by ``-step w``: the reference's ``_cross_sheared``, the same
+    arithmetic.  Its x cell is found afresh (the caller sets its y cell and
+    relinks it) and its terms of the kinetic tallies are swapped, as a kick's.
+    """
+    dtk = t - scalars[F_T_KIN]
+    for q in range(6):
+        scalars[F_KIN_INT + q] += scalars[F_KIN_T + q] * dtk
+    for q in range(len(axes)):
+        scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
+    scalars[F_T_KIN] = t
+    _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], -1.0, axes)
+    _advance(spheres, i, t, axes)
+    lx = scalars[F_EDGE]
+    off = _offset(scalars, t)
+    spheres[i, Y] -= step * scalars[F_EDGE + 1]
+    spheres[i, X] -= step * off
+    spheres[i, VX] -= step * scalars[F_SHEAR]
+    images[i, 1] += step
+    m = np.floor((spheres[i, X] - scalars[F_LOW]) / lx)
+    if m != 0.0:
+        spheres[i, X] -= m * lx
+        images[i, 0] += np.int64(m)
+    book[i, CELL_X] = cell_of(spheres[i, X], scalars[F_LOW], scalars[F_WIDTH], counts[C_GRID])
+    _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], 1.0, axes)
 
 
 @_inline
@@ -1858,8 +2037,11 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if wrap:
                 # periodic wrap: shift the stored centre by one box side
                 k = (k + nc) % nc
-                spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
-                images[i, ax] += step
+                if len(axes[0]) == 1 and ax == 1:
+                    _wrap_sheared(spheres, masses, book, images, scalars, counts, i, te, step, axes)
+                else:
+                    spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
+                    images[i, ax] += step
             book[i, CELL_X + ax] = k
             _cell_remove(cell_head, cell_next, cell_prev, book, i)
             _cell_insert(cell_head, cell_next, cell_prev, book, i, counts[C_GRID], counts[C_GRID + 1])
@@ -1880,10 +2062,14 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
+            if len(axes[0]) == 1:
+                # sheared: the crossing first (the strip's images are swept up to it)
+                _crossing(spheres, book, due, scalars, counts, i, te, axes)
             _scan_cells(
                 spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh, axes
             )
-            _crossing(spheres, book, due, scalars, counts, i, te, axes)
+            if len(axes[0]) != 1:
+                _crossing(spheres, book, due, scalars, counts, i, te, axes)
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
         if heap_key[0] != book[i, EVENT_KEY]:
@@ -1957,15 +2143,26 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             dz = dvz = 0.0
             if not planar:
                 dz = spheres[a, Z] - spheres[b, Z]
+            ky = 0.0
             if box != 0.0:
                 # the partner may be an image across the box
                 # (the sides read here: kept out of the loop's registers)
                 bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
-                dx -= bx * np.round(dx / bx)
-                dy -= by * np.round(dy / by)
+                if len(axes[0]) == 1:
+                    # sheared: the image across the nearest y face, then along x
+                    ky = np.round(dy / by)
+                    dy -= by * ky
+                    dx -= ky * _offset(scalars, te)
+                    dx -= bx * np.round(dx / bx)
+                else:
+                    dx -= bx * np.round(dx / bx)
+                    dy -= by * np.round(dy / by)
                 if not planar:
                     dz -= bz * np.round(dz / bz)
-            dvx = spheres[a, VX] - spheres[b, VX]
+            if len(axes[0]) == 1:
+                dvx = spheres[a, VX] - (spheres[b, VX] + ky * scalars[F_SHEAR])
+            else:
+                dvx = spheres[a, VX] - spheres[b, VX]
             dvy = spheres[a, VY] - spheres[b, VY]
             if not planar:
                 dvz = spheres[a, VZ] - spheres[b, VZ]
@@ -2161,14 +2358,28 @@ def kick(arrays, i, t, vx, vy, vz):
 
 
 @_jit
-def positions_at(axes, spheres, t, out, edges):
+def positions_at(axes, spheres, t, out, edges, delta=0.0):
     """Centres of all spheres at time ``t`` into ``out`` (wrapped into the box; ``edges`` its sides, 0: none).
 
-    ``out`` has 3 columns; in 2-D only the first two are written.
+    ``out`` has 3 columns; in 2-D only the first two are written.  A sheared
+    box (``delta`` its offset at ``t``): a centre past a y face it has not
+    crossed yet is seen at its image, shifted by ``delta`` (the reference's).
     """
     n = spheres.shape[0]
     for i in range(n):
         dt = t - spheres[i, T_OWN]
+        if len(axes[0]) == 1:
+            y = spheres[i, Y] + spheres[i, VY] * dt
+            ky = np.floor(y / edges[1] + 0.5)
+            x = spheres[i, X] + spheres[i, VX] * dt
+            if ky != 0.0:
+                x -= ky * delta
+            out[i, 0] = x - edges[0] * np.floor(x / edges[0] + 0.5)
+            out[i, 1] = y - edges[1] * np.floor(y / edges[1] + 0.5)
+            if len(axes) == 3:
+                z = spheres[i, Z] + spheres[i, VZ] * dt
+                out[i, 2] = z - edges[2] * np.floor(z / edges[2] + 0.5)
+            continue
         for k in range(len(axes)):
             box = edges[k]
             x = spheres[i, X + k] + spheres[i, VX + k] * dt
@@ -2212,6 +2423,8 @@ def rebase(axes, spheres, due, heap_t, scalars):
     scalars[F_T_KIN] -= t
     scalars[F_STREAK] -= t
     scalars[F_OFFSET] += t
+    if len(axes[0]) == 1:
+        scalars[F_SHEAR0] = _offset(scalars, t)  # (the reference's when its origin moves)
     scalars[F_CLOCK] = 0.0
     grow = scalars[F_GROW]
     if grow != 0.0:
@@ -2259,6 +2472,51 @@ def max_overlap(axes, x, spheres, book, cell_head, cell_next, grid, edges, scale
                                     dz -= bz * np.round(dz / bz)
                                 r2 = dx * dx + dy * dy + dz * dz
                             sigma = (spheres[i, RADIUS] + spheres[j, RADIUS]) * scale
+                            if sigma > 0.0:
+                                ov = 1.0 - np.sqrt(r2) / sigma
+                                if ov > worst:
+                                    worst = ov
+                        j = np.int64(cell_next[j])
+    return worst
+
+
+@_jit
+def max_overlap_sheared(axes, x, spheres, book, cell_head, cell_next, grid, edges, delta):
+    """:func:`max_overlap` in a sheared box (``delta`` its offset at the time of ``x``).
+
+    A pair across a y face is taken at the image there (``dy`` to the
+    nearest, ``dx`` shifted by the offset, then to the nearest image along
+    x: the collision's arithmetic), and a sphere in a boundary row of cells
+    looks at the whole opposite row (the images there slide along x).
+    """
+    n = x.shape[0]
+    worst = 0.0
+    ncx, ncy, ncz = grid[0], grid[1], grid[2]
+    bx, by, bz = edges[0], edges[1], edges[2]
+    for i in range(n):
+        for oz in range(0, 1) if len(axes) == 2 else range(-1, 2):
+            nz = (book[i, CELL_Z] + oz + ncz) % ncz
+            for oy in range(-1, 2):
+                ny = book[i, CELL_Y] + oy
+                across = ny < 0 or ny >= ncy
+                ny = (ny + ncy) % ncy
+                for q in range(ncx if across else 3):
+                    nx = q if across else (book[i, CELL_X] + q - 1 + ncx) % ncx
+                    j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
+                    while j >= 0:
+                        if j > i:
+                            dx = x[i, 0] - x[j, 0]
+                            dy = x[i, 1] - x[j, 1]
+                            ky = np.round(dy / by)
+                            dy -= by * ky
+                            dx -= ky * delta
+                            dx -= bx * np.round(dx / bx)
+                            r2 = dx * dx + dy * dy
+                            if len(axes) == 3:
+                                dz = x[i, 2] - x[j, 2]
+                                dz -= bz * np.round(dz / bz)
+                                r2 = dx * dx + dy * dy + dz * dz
+                            sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
                             if sigma > 0.0:
                                 ov = 1.0 - np.sqrt(r2) / sigma
                                 if ov > worst:

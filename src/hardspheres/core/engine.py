@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from .. import events as _events
 from ..containers import MAX_PACKING, Container, as_container, from_record
 from ..eos import carnahan_starling, collision_rate_from_z
-from ..errors import ArgumentError, BoxShapeError, CheckpointError  # noqa: F401 (re-exported)
+from ..errors import ArgumentError, BoxShapeError, CheckpointError, ShearError  # noqa: F401 (re-exported)
 from ..events import StopReason
 from ..scenario import StuckError
 from ..state import kinetic_energy
@@ -78,6 +78,18 @@ _LINKED = ("cell_next", "cell_prev", "cell_head", "heap")
 # the dimension as the core takes it: a tuple of d empty tuples, whose length
 # numba folds (each d compiles a loop of its own; _core, "the arrays")
 _AXES = {2: ((),) * 2, 3: ((),) * 3}
+#: ... and in a sheared box: the first axis's entry is ``((),)`` (the core's
+#: sheared variant, ``len(axes[0]) == 1``; the dimension is still ``len(axes)``)
+_SHEARED_AXES = {2: (((),), ()), 3: (((),), (), ())}
+
+
+def _core_params(container: Container) -> dict:
+    """What the core reads of ``container`` (a sheared box's too: the engine runs Lees-Edwards boundaries)."""
+    if getattr(container, "shear_rate", 0.0):
+        return container.core_params(shear=True)  # type: ignore[call-arg]
+    return container.core_params()
+
+
 # the collision rule as the core takes it: elastic (), inelastic ((),) (each its own loop)
 _RULES = {False: (), True: ((),)}
 
@@ -135,6 +147,10 @@ class Engine:
             drawn at ``kT_w`` (a heated container; 0: off, the wall reflects
             with ``wall_restitution``; see :meth:`set_wall_temperature`).
         wall_seed: the thermal wall's generator seed, ``0 <= seed < 2^32``.
+        shear_offset: a sheared box's Lees-Edwards offset at ``time``
+            [length]: how far along x the images above the box are ahead of
+            it (a :class:`~hardspheres.containers.PeriodicBox` with
+            ``shear_rate``: the core's sheared variant, cells only).
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -161,6 +177,7 @@ class Engine:
         tc: float = 0.0,
         wall_temperature: float = 0.0,
         wall_seed: int = 0,
+        shear_offset: float = 0.0,
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
@@ -207,6 +224,7 @@ class Engine:
         self.set_restitution(restitution, wall_restitution, tc)
         self.set_wall_temperature(wall_temperature, wall_seed)
         self._grid(n)
+        self._set_shear(shear_offset)
         self._into_box()
         self._event_buffers = _events.empty_buffers(CHUNK)
         self._since_rebase = 0
@@ -228,8 +246,39 @@ class Engine:
 
     @property
     def axes(self) -> tuple[tuple[()], ...]:
-        """The dimension as the compiled core takes it: ``d`` empty tuples."""
+        """The dimension as the compiled core takes it: ``d`` empty tuples (the first ``((),)``: sheared)."""
+        if self.scalars[core.F_SHEAR] != 0.0:
+            return _SHEARED_AXES[self.dimensions]  # type: ignore[return-value]
         return _AXES[self.dimensions]
+
+    def _set_shear(self, offset: float) -> None:
+        """A sheared box's boundary speed and offset at the time origin (``offset`` now) [length]."""
+        rate = float(getattr(self.container, "shear_rate", 0.0))
+        if not rate:
+            return
+        offset = float(offset)
+        if not np.isfinite(offset):
+            raise ShearError(f"shear offset {offset!r}: give a finite length")
+        lx, ly = self._edges[0], self._edges[1]
+        self.scalars[core.F_SHEAR] = rate * ly
+        self.scalars[core.F_SHEAR0] = (offset + self.scalars[core.F_SHEAR] * 0.0) % lx
+
+    @property
+    def shear_rate(self) -> float:
+        """The shear rate ``g`` of a sheared box [1/time] (0: not sheared)."""
+        return float(getattr(self.container, "shear_rate", 0.0))
+
+    def shear_offset(self, t: float | None = None) -> float:
+        """A sheared box's Lees-Edwards offset at absolute time ``t`` (default: now) [length] (0: unsheared).
+
+        How far along x the images above the box are ahead of it:
+        ``(offset0 + g L_y (t - origin)) mod L_x``, the core's arithmetic.
+        """
+        f = self.scalars
+        if f[core.F_SHEAR] == 0.0:
+            return 0.0
+        t = (self.time if t is None else t) - self.offset
+        return float((f[core.F_SHEAR0] + f[core.F_SHEAR] * t) % f[core.F_EDGE])
 
     @property
     def rule(self) -> tuple[tuple[()], ...]:
@@ -401,8 +450,13 @@ class Engine:
     def _inside_at(self, t: float) -> np.ndarray:
         """``(N, 3)`` centres at core time ``t`` in the engine's order (wrapped into a box)."""
         out = np.zeros((self.n, 3))  # (2-D: the third column stays 0)
-        core.positions_at(self.axes, self.spheres, t, out, self._edges)
+        core.positions_at(self.axes, self.spheres, t, out, self._edges, self._delta(t))
         return out
+
+    def _delta(self, t: float) -> float:
+        """The Lees-Edwards offset at core time ``t`` (0.0 unsheared)."""
+        f = self.scalars
+        return float((f[core.F_SHEAR0] + f[core.F_SHEAR] * t) % f[core.F_EDGE]) if f[core.F_SHEAR] else 0.0
 
     @property
     def _edges(self) -> np.ndarray:
@@ -527,7 +581,7 @@ class Engine:
     def _grid(self, n: int, headroom: float = 1.0) -> None:
         radii = self.radii_at() if n else self.radii
         sigma = 2.0 * float(radii.max()) * headroom if n else 0.0
-        params = self.container.core_params()
+        params = _core_params(self.container)
         spans, edges = params["spans"], params["edges"]
         self.scalars[core.F_CONTAINER] = params["wall_radius"]
         self.scalars[core.F_BOX] = params["box"]
@@ -538,6 +592,8 @@ class Engine:
         # relative margin for rounding, and a few cells per sphere at most
         phi = self._packing(radii) if n else 0.0
         shell = SHELL if phi >= (LISTS_FROM if self.dimensions == 3 else LISTS_FROM_2D) else 0.0
+        if getattr(self.container, "shear_rate", 0.0):
+            shell = 0.0  # a sheared box: cells (the strip across a sliding face), no lists yet
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma
@@ -574,6 +630,19 @@ class Engine:
         Once, at the start: from then on a centre moves by a side exactly when
         it leaves the box (``_core._box_exit``), as the reference's does.
         """
+        if self.scalars[core.F_SHEAR] != 0.0:
+            # a centre outside along y is an image: moved by whole sides in
+            # y, by the offset in x and by the boundary speed in v_x (the
+            # reference's arithmetic, DynamO's applyBC)
+            lx, ly, lo = self._edges[0], self._edges[1], self.scalars[core.F_LOW + 1]
+            now_off = (self.scalars[core.F_SHEAR0] + self.scalars[core.F_SHEAR] * 0.0) % lx
+            for k in range(self.n):
+                m = np.floor((self.spheres[k, core.Y] - lo) / ly)
+                if m:
+                    self.spheres[k, core.Y] -= m * ly
+                    self.spheres[k, core.X] -= m * now_off
+                    self.spheres[k, core.VX] -= m * self.scalars[core.F_SHEAR]
+                    self._images[k, 1] += int(m)
         for ax in range(self.dimensions):
             edge = self.scalars[core.F_EDGE + ax]
             if not edge:
@@ -669,6 +738,8 @@ class Engine:
         rate = float(rate)
         if not (rate >= 0.0 and np.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
+        if rate and self.scalars[core.F_SHEAR]:
+            raise ArgumentError("radii cannot grow in a sheared box: grow them unsheared first")
         if rate and self.inelastic:
             raise ArgumentError(
                 "radii cannot grow with restitution below 1 or a thermal wall: grow elastic spheres first"
@@ -966,7 +1037,7 @@ class Engine:
         out["scalars"][core.F_BUCKET_RATE] = 0.0
         # the last two: the core's wall radius and box edge, NaN when absent
         # (files before the container record had only these)
-        params = self.container.core_params()
+        params = _core_params(self.container)
         out["meta"] = np.array(
             [
                 self.offset,
@@ -1011,7 +1082,7 @@ class Engine:
                 eng.container = from_record(data["container"])
             except (ValueError, TypeError):
                 raise CheckpointError("damaged checkpoint: no valid container") from None
-            params = eng.container.core_params()
+            params = _core_params(eng.container)
             if (
                 params["wall_radius"] != eng.scalars[core.F_CONTAINER]
                 or params["box"] != eng.scalars[core.F_BOX]
@@ -1025,7 +1096,7 @@ class Engine:
             before_core(eng.dimensions)
         if kinetic_sums_missing:  # a checkpoint from before the transport tallies
             eng._kinetic_sums()
-        edges = np.array(eng.container.core_params()["edges"])
+        edges = np.array(_core_params(eng.container)["edges"])
         if np.any(eng.scalars[core.F_EDGE : core.F_EDGE + 3] != edges):
             raise CheckpointError("damaged checkpoint: the box's sides disagree with the core's")
         eng.calendar = np.full(core.calendar_size(n), -1, LINK)
@@ -1064,7 +1135,9 @@ class Engine:
                 out[k] = (x + vx * dt, y + vy * dt, z + vz * dt)
             return out
         if self._rank is None:
-            core.positions_at(self.axes, self.spheres, t - self.offset, out, self._edges)
+            core.positions_at(
+                self.axes, self.spheres, t - self.offset, out, self._edges, self._delta(t - self.offset)
+            )
         else:
             out[self.order] = self._inside_at(t - self.offset)
         return out
@@ -1146,6 +1219,13 @@ class Engine:
         """Largest overlap over all pairs, relative to the pair's contact distance."""
         t = self.time if t is None else t
         x = self._inside_at(t - self.offset)  # pairs across the box compare by minimum image
+        if self.scalars[core.F_SHEAR]:
+            return float(
+                core.max_overlap_sheared(
+                    self.axes, x, self.spheres, self.book, self.cell_head, self.cell_next, self._cells,
+                    self._edges, self._delta(t - self.offset),
+                )
+            )  # fmt: skip
         g = self.scalars[core.F_GROW]
         scale = 1.0 + g * (t - self.offset) if g else 1.0
         return float(
