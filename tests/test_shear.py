@@ -15,11 +15,12 @@ import pytest
 
 import hardspheres as hs
 from hardspheres.containers import PeriodicBox, from_fields, from_record
+from hardspheres.core import _core as core
 from hardspheres.core.engine import Engine
 from hardspheres.core.reference import Reference, next_event_sheared, shear_offset
 from hardspheres.errors import ShearError
 
-from test_engine import CompiledReference
+from test_engine import CompiledReference, same_events
 from test_planar import disks
 
 
@@ -56,14 +57,14 @@ def test_a_shear_rate_that_is_not_a_finite_number_is_refused_in_one_line(bad):
     assert "\n" not in str(info.value)
 
 
-def test_the_compiled_core_and_simulation_refuse_a_sheared_box_in_one_line():
+def test_simulation_refuses_a_sheared_box_in_one_line():
     box = PeriodicBox(8.0, shear_rate=0.1)
     s = hs.random_spheres(10, 0.1, container=box, seed=1)  # the builders place spheres in it
     with pytest.raises(ShearError, match="Simulation cannot shear yet") as info:
         hs.Simulation(s, box)
     assert "\n" not in str(info.value)
     with pytest.raises(ShearError, match="compiled event core does not shear yet"):
-        Engine(s.masses, s.radii, s.positions, s.velocities, container=box)
+        box.core_params()  # (the engine asks with shear=True)
 
 
 def test_the_sheared_nearest_image_shifts_x_by_the_offset_across_y():
@@ -481,3 +482,99 @@ def test_images_that_slid_far_since_the_pairs_last_event_are_found(d, phi, rate,
     for _ in range(150):
         assert ref._next() == _brute_next(ref)
         ref.step()
+
+
+# ---- the compiled core's sheared variant against the reference ------------------------
+
+
+def _engine_and_reference(d, n, phi, rate, seed, offset, window=0.0, events=2000):
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    eng = Engine(m, r, x, v, container=box, window=window, rebase=False, reorder=0.0, shear_offset=offset)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, window=window, offset=offset)
+    return eng, ref, eng.advance(events=events), ref.advance(events=events)
+
+
+def _same_state(eng, ref):
+    n, d = eng.n, eng.dimensions
+    assert np.array_equal(eng.velocities, np.asarray(ref.velocities, dtype=float).reshape(n, d))
+    assert np.array_equal(eng.positions_at(), np.asarray(ref.positions_at(), dtype=float).reshape(n, d))
+    assert np.array_equal(eng.images[:, :d], np.asarray(ref.images)[:, :d])
+    assert eng.time == ref.time and eng.shear_offset() == ref.shear_offset()
+    assert eng.counters["collisions"] == ref.counters["collisions"]
+
+
+@pytest.mark.parametrize("d,n,phi,rate,seed,offset", CASES)
+@pytest.mark.parametrize("window", [0.0, 1e-8])
+def test_the_engine_shears_as_the_reference_bit_for_bit(d, n, phi, rate, seed, offset, window):
+    """The same events, velocities, centres, images and offset, in 2-D and 3-D, both signs of the rate."""
+    eng, ref, a, b = _engine_and_reference(d, n, phi, rate, seed, offset, window)
+    assert eng.axes[0] == ((),) and eng.scalars[core.F_SHELL] == 0.0  # (the sheared variant, cells)
+    assert len(a) == len(b) == 2000 and same_events(a, b)
+    _same_state(eng, ref)
+    assert np.any(np.asarray(ref.images)[:, 1] != 0)  # (centres did cross the sliding faces)
+    assert eng.max_overlap() < 1e-9
+
+
+@pytest.mark.parametrize("cells", [3, 5])
+def test_a_few_wide_cells_or_many_narrow_ones_give_the_same_bits(cells, monkeypatch):
+    """The strip across the face is found at every cell width (a dilute gas: many cells per side)."""
+    d, n, phi, rate, seed, offset = 3, 60, 0.05, 0.7, 6, 1.3
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    eng = Engine(m, r, x, v, container=box, rebase=False, reorder=0.0, shear_offset=offset)
+    if cells == 3:  # the fewest cells a side: every other cell row is a boundary row
+        eng.counts[core.C_GRID : core.C_GRID + 3] = 3
+        eng.counts[core.C_CELLS] = 3
+        for ax in range(3):
+            eng.scalars[core.F_WIDTH + ax] = eng._edges[ax] / 3
+        eng.scalars[core.F_W] = eng.scalars[core.F_WIDTH]
+        eng.cell_head = np.full(27, -1, eng.cell_head.dtype)
+        eng._build()
+    assert np.all(eng._cells >= cells)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, offset=offset)
+    assert same_events(eng.advance(events=1500), ref.advance(events=1500))
+    _same_state(eng, ref)
+
+
+def test_rebased_sheared_runs_stay_exact_physics():
+    """With rebases (the offset's origin moved) the bits may part from the reference's; the physics may not."""
+    d, n, phi, rate, seed, offset = CASES[2]
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    eng = Engine(m, r, x, v, container=box, shear_offset=offset)
+    p0 = np.sum(m[:, None] * v, axis=0)
+    for _ in range(10):
+        eng.advance(events=3000)
+        assert eng.max_overlap() < 1e-9
+    p = np.sum(m[:, None] * eng.velocities, axis=0)
+    scale = float(np.sum(m * np.linalg.norm(v, axis=1)))
+    assert abs(p[1] - p0[1]) < 1e-12 * scale
+    net = eng.images[:, 1].astype(float)
+    assert abs(p[0] - (p0[0] - box.boundary_speed * np.sum(m * net))) < 1e-11 * scale
+    assert eng.shear_offset() == pytest.approx(
+        shear_offset(offset, box.boundary_speed, box.sides[0], eng.time)
+    )
+
+
+def test_a_sheared_engine_resumes_from_its_checkpoint_bit_for_bit():
+    d, n, phi, rate, seed, offset = CASES[1]
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    a = Engine(m, r, x, v, container=box, shear_offset=offset)
+    a.advance(events=2000)
+    b = Engine.restore({k: np.copy(w) for k, w in a.checkpoint().items()})
+    assert b.shear_rate == rate and b.axes[0] == ((),) and b.shear_offset() == a.shear_offset()
+    assert same_events(a.advance(events=2000), b.advance(events=2000))
+    assert np.array_equal(a.velocities, b.velocities)
+
+
+def test_a_sheared_engine_refuses_growth_and_a_bad_offset():
+    box, m, r, x, v = _system(2, 20, 0.2, 0.5, 1)
+    eng = Engine(m, r, x, v, container=box)
+    with pytest.raises(ValueError, match="sheared"):
+        eng.set_growth(0.1)
+    with pytest.raises(ShearError, match="offset"):
+        Engine(m, r, x, v, container=box, shear_offset=math.nan)
+
+
+def test_unsheared_engines_keep_their_loop():
+    box, m, r, x, v = _system(3, 40, 0.2, 0.0, 2)
+    eng = Engine(m, r, x, v, container=box)
+    assert eng.axes == ((), (), ()) and eng.shear_offset() == 0.0 and eng.shear_rate == 0.0
