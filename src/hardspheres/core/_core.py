@@ -349,7 +349,9 @@ F_WALL_HEAT = 57  # kinetic energy the thermal wall gave the spheres so far (neg
 # Lees-Edwards shear (read only by the sheared variant, ``len(axes[0]) == 1``; 0, 0 otherwise)
 F_SHEAR = 58  # the boundary speed w = g L_y: the images across the upper y face move at +w along x
 F_SHEAR0 = 59  # the offset at the time origin, in [0, L_x]: delta(t) = (F_SHEAR0 + w t) % L_x
-N_SCALARS = 60
+F_SHEAR_G = 60  # the shear rate g (w = g L_y)
+F_PEC_INT = 61  # the time integral of sum m c c (c = v - g y e_x) over the closed flights (xx yy zz xy xz yz)
+N_SCALARS = 67
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -1504,6 +1506,33 @@ def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, sc
 
 
 @_inline
+def _close_flight(spheres, masses, scalars, i, t, axes):
+    """Sheared: sphere ``i``'s flight, from its own time to ``t``, added to the peculiar kinetic integral.
+
+    Along the flight ``c_x = v_x - g y(s)`` falls linearly, so ``int m c c
+    ds`` is a polynomial in the flight's length (the reference's
+    ``peculiar_segment``; called before the sphere's velocity or centre
+    changes: a collision, a crossing of a y face, a kick, a rebase).
+    """
+    tau = t - spheres[i, T_OWN]
+    if tau == 0.0:
+        return
+    g = scalars[F_SHEAR_G]
+    vx, vy = spheres[i, VX], spheres[i, VY]
+    vz = 0.0 if len(axes) == 2 else spheres[i, VZ]
+    cx = vx - g * spheres[i, Y]
+    sl = g * vy
+    mt = masses[i] * tau
+    scalars[F_PEC_INT] += mt * (cx * cx - sl * cx * tau + sl * sl * tau * tau / 3.0)
+    scalars[F_PEC_INT + 1] += mt * vy * vy
+    scalars[F_PEC_INT + 2] += mt * vz * vz
+    half = cx - 0.5 * sl * tau
+    scalars[F_PEC_INT + 3] += mt * half * vy
+    scalars[F_PEC_INT + 4] += mt * half * vz
+    scalars[F_PEC_INT + 5] += mt * vy * vz
+
+
+@_inline
 def _offset(scalars, t):
     """A sheared box's Lees-Edwards offset at time ``t`` (from the origin): the reference's arithmetic."""
     return (scalars[F_SHEAR0] + scalars[F_SHEAR] * t) % scalars[F_EDGE]
@@ -1526,6 +1555,7 @@ def _wrap_sheared(spheres, masses, book, images, scalars, counts, i, t, step, ax
         scalars[F_HEAT_INT + q] += scalars[F_HEAT_KIN + q] * dtk
     scalars[F_T_KIN] = t
     _kinetic_terms(scalars, masses[i], spheres[i, VX], spheres[i, VY], spheres[i, VZ], -1.0, axes)
+    _close_flight(spheres, masses, scalars, i, t, axes)
     _advance(spheres, i, t, axes)
     lx = scalars[F_EDGE]
     off = _offset(scalars, t)
@@ -2134,6 +2164,9 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             counts[C_FROZEN] += 1
             scalars[F_CLOCK] = te
             scalars[F_ANCHOR] = te
+            if len(axes[0]) == 1:
+                _close_flight(spheres, masses, scalars, i, te, axes)
+                _close_flight(spheres, masses, scalars, j, te, axes)
             _advance(spheres, i, te, axes)
             _advance(spheres, j, te, axes)
             # lower input index minus higher (the tie rule's order)
@@ -2333,6 +2366,8 @@ def kick(arrays, i, t, vx, vy, vz):
     cell_prev, heap, heap_t, heap_key, scalars, counts, scratch, images = arrays[8:16]
     calendar, axes = arrays[16], arrays[17]
     scalars[F_CLOCK] = t
+    if len(axes[0]) == 1:
+        _close_flight(spheres, masses, scalars, i, t, axes)
     _advance(spheres, i, t, axes)
     # the transport tallies' kinetic sums: integrated up to t, then i's terms swapped
     dtk = t - scalars[F_T_KIN]
@@ -2523,3 +2558,26 @@ def max_overlap_sheared(axes, x, spheres, book, cell_head, cell_next, grid, edge
                                     worst = ov
                         j = np.int64(cell_next[j])
     return worst
+
+
+@_jit
+def close_flights(axes, spheres, masses, scalars, t):
+    """Sheared: every sphere's flight up to ``t`` added to the peculiar kinetic integral (before a rebase)."""
+    for i in range(spheres.shape[0]):
+        _close_flight(spheres, masses, scalars, i, t, axes)
+
+
+@_jit
+def peculiar_kinetic(axes, spheres, masses, scalars, t, out):
+    """Sheared: the time integral of ``sum m c c`` up to ``t`` into ``out`` (6,): closed flights and open ones.
+
+    The open flights are added to a copy (``out``); the core's tally is not changed.
+    """
+    for q in range(6):
+        out[q] = scalars[F_PEC_INT + q]  # (kept here meanwhile)
+    for i in range(spheres.shape[0]):
+        _close_flight(spheres, masses, scalars, i, t, axes)
+    for q in range(6):
+        total = scalars[F_PEC_INT + q]
+        scalars[F_PEC_INT + q] = out[q]
+        out[q] = total

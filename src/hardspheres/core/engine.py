@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import events as _events
-from ..containers import MAX_PACKING, Container, as_container, from_record
+from ..containers import MAX_PACKING, Container, as_container, from_record, require_periodic
 from ..eos import carnahan_starling, collision_rate_from_z
 from ..errors import ArgumentError, BoxShapeError, CheckpointError, ShearError  # noqa: F401 (re-exported)
 from ..events import StopReason
@@ -261,6 +261,7 @@ class Engine:
             raise ShearError(f"shear offset {offset!r}: give a finite length")
         lx, ly = self._edges[0], self._edges[1]
         self.scalars[core.F_SHEAR] = rate * ly
+        self.scalars[core.F_SHEAR_G] = rate
         self.scalars[core.F_SHEAR0] = (offset + self.scalars[core.F_SHEAR] * 0.0) % lx
 
     @property
@@ -704,6 +705,10 @@ class Engine:
         calendar's layout and the spheres' order.  A prediction per sphere
         every REBASE_EVERY events per sphere.)
         """
+        if self.scalars[core.F_SHEAR]:  # the open flights closed where the centres move to the clock
+            core.close_flights(
+                self.axes, self.spheres, self._masses, self.scalars, self.scalars[core.F_CLOCK]
+            )
         t = core.rebase(self.axes, self.spheres, self.due, self.heap_t, self.scalars)
         self.offset += t
         self.hit_t -= t  # (the inelastic rule's last collisions: the same shift as every time)
@@ -1203,6 +1208,31 @@ class Engine:
                 f[core.F_HEAT_INT : core.F_HEAT_INT + 3] + dt * f[core.F_HEAT_KIN : core.F_HEAT_KIN + 3]
             ),
         }
+
+    def stress_tallies(self, t: float | None = None) -> dict[str, np.ndarray]:
+        """The stress tallies at absolute time ``t`` (default: now; periodic box), since the engine was built.
+
+        Returns:
+            dict of ``(6,)`` arrays (xx yy zz xy xz yz): ``virial`` the
+            collisional virial tensor ``sum r_ij dp_i`` [mass*length^2/time]
+            and ``kinetic`` the time integral of ``sum m c c``
+            [mass*length^2/time], ``c = v - g y e_x`` the peculiar velocities
+            (the velocities when not sheared: :meth:`transport_tallies`'),
+            each flight integrated exactly, as the reference's
+            (:meth:`hardspheres.core.reference.Reference.stress_tallies`; equal
+            to rounding).
+
+        Raises:
+            PeriodicBoxRequired: not a periodic box.
+        """
+        require_periodic(self.container, "the stress tallies")
+        if not self.scalars[core.F_SHEAR]:
+            tal = self.transport_tallies(t)
+            return {"virial": tal["virial"], "kinetic": tal["kinetic"]}
+        t = (self.time if t is None else t) - self.offset
+        out = np.zeros(6)
+        core.peculiar_kinetic(self.axes, self.spheres, self._masses, self.scalars, t, out)
+        return {"virial": self.scalars[core.F_VIR_T : core.F_VIR_T + 6].copy(), "kinetic": out}
 
     @property
     def wall_impulse(self) -> float:
