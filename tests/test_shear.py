@@ -57,14 +57,11 @@ def test_a_shear_rate_that_is_not_a_finite_number_is_refused_in_one_line(bad):
     assert "\n" not in str(info.value)
 
 
-def test_simulation_refuses_a_sheared_box_in_one_line():
+def test_the_box_refuses_the_unsheared_core_parameters_in_one_line():
     box = PeriodicBox(8.0, shear_rate=0.1)
-    s = hs.random_spheres(10, 0.1, container=box, seed=1)  # the builders place spheres in it
-    with pytest.raises(ShearError, match="Simulation cannot shear yet") as info:
-        hs.Simulation(s, box)
-    assert "\n" not in str(info.value)
-    with pytest.raises(ShearError, match="compiled event core does not shear yet"):
+    with pytest.raises(ShearError, match="runs on the event-driven engine") as info:
         box.core_params()  # (the engine asks with shear=True)
+    assert "\n" not in str(info.value)
 
 
 def test_the_sheared_nearest_image_shifts_x_by_the_offset_across_y():
@@ -593,3 +590,40 @@ def test_the_engines_peculiar_stress_tallies_are_the_references(d, n, phi, rate,
     assert eng.stress_tallies(eng.time + 0.37)["kinetic"][3] != eng.stress_tallies()["kinetic"][3]
     again = Engine.restore({k: np.copy(w) for k, w in eng.checkpoint().items()})
     assert np.array_equal(again.stress_tallies()["kinetic"], eng.stress_tallies()["kinetic"])
+
+
+# ---- Simulation in a sheared box ----------------------------------------------------
+
+
+def _sheared_simulation(n=200, phi=0.3, rate=0.5, seed=1):
+    from hardspheres.dense import PeculiarRescale
+
+    box = PeriodicBox.for_packing(n, phi, (1.0, 1.0, 1.0)).sheared_by(rate)
+    sim = hs.Simulation(hs.random_spheres(n, phi, box, seed=seed), box)
+    return sim.set_thermostat(PeculiarRescale(1.0, 0.5))
+
+
+def test_a_sheared_simulation_measures_the_viscosity_with_peculiar_velocities(tmp_path):
+    sim = _sheared_simulation()
+    sim.run(until=10.0)
+    sim.observables.reset()
+    sim.run(until=60.0)
+    out = sim.observables.summary()
+    assert out["temperature"] == pytest.approx(1.0, rel=1e-12)  # (the thermostat's, peculiar)
+    assert out["shear_rate"] == 0.5 and out["viscosity"] > 0.0 and np.isfinite(out["viscosity_error"])
+    assert "normal_stress_1" in out and "normal_stress_2" in out
+    assert sim.engine.max_overlap() < 1e-9
+    sim.save(tmp_path / "s.npz")
+    again = hs.Simulation.load(tmp_path / "s.npz")
+    assert again.container.shear_rate == 0.5 and again.engine.shear_offset() == sim.engine.shear_offset()
+    sim.run(until=70.0)
+    again.run(until=70.0)
+    assert np.array_equal(sim.engine.velocities, again.engine.velocities)
+
+
+def test_a_sheared_simulation_refuses_a_thermostat_that_fights_the_flow():
+    from hardspheres.dense import Andersen
+
+    sim = _sheared_simulation(n=50)
+    with pytest.raises(ShearError, match="PeculiarRescale"):
+        sim.set_thermostat(Andersen(1.0, 0.1))

@@ -628,14 +628,14 @@ class PeriodicBox:
 
         Raises:
             ShearError: the box is sheared and ``shear`` is not set: the
-                compiled event core does not shear yet (an engine that
-                handles Lees-Edwards boundaries itself, the brute-force
-                reference, passes ``shear=True``).
+                caller has no Lees-Edwards boundaries (an engine that runs
+                them, the event core or the brute-force reference, passes
+                ``shear=True``; event chains, for one, do not).
         """
         if self.shear_rate and not shear:
             raise ShearError(
-                f"the compiled event core does not shear yet (shear_rate {self.shear_rate:g}): "
-                "run a sheared box on hardspheres.core.reference.Reference, or give shear_rate=0"
+                f"a sheared box (shear_rate {self.shear_rate:g}) runs on the event-driven engine "
+                "(hardspheres.Simulation), not here; give shear_rate=0"
             )
         x = self.sides[0]
         if self.dimensions == 2:  # one layer of cells, not periodic along z (the core never reads z)

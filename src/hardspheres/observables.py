@@ -74,6 +74,8 @@ class Observables:
 
     def __init__(self, sim: SimulationView, every: float | None = None) -> None:
         self._sim = sim
+        #: a sheared box's rate [1/time] (0: not sheared): temperature and stress then peculiar
+        self._shear_rate = float(getattr(sim.container, "shear_rate", 0.0))
         self.reset(every)
 
     def _now(self) -> tuple[float, ...]:
@@ -83,6 +85,8 @@ class Observables:
         now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse, eng.virial)
         if self._sim.container.periodic:  # the transport tallies
             tt = eng.transport_tallies(t)
+            if self._shear_rate:  # a sheared box: the kinetic tensor of the peculiar velocities
+                tt["kinetic"] = eng.stress_tallies(t)["kinetic"]
             now += tuple(
                 np.concatenate(
                     [tt["virial"], tt["kinetic"], tt["heat_collisional"], tt["heat_kinetic"]]
@@ -215,6 +219,10 @@ class Observables:
         thermal (:meth:`Container.degrees_of_freedom
         <hardspheres.containers.Container.degrees_of_freedom>`).
         """
+        if self._shear_rate:  # the peculiar velocities' (the flow's kinetic energy is not heat)
+            eng = self._sim.engine
+            c = peculiar_velocities(eng.positions_at(), eng.velocities, self._shear_rate)
+            return float(np.sum(eng.masses[:, None] * c * c)) / max(self._dof(), 1)
         return 2.0 * self._sim.engine.kinetic_energy() / max(self._dof(), 1)
 
     # ---- granular gases: the temperature is not conserved -----------------------
@@ -342,6 +350,11 @@ class Observables:
                 ptensor = (d[..., _VIR_T] + d[..., _KIN_T]) / (dt[..., None] * cont.volume)
                 for q, name in enumerate(_TENSOR):
                     out[f"pressure_{name}"] = ptensor[..., q]
+                if self._shear_rate:  # eta = -P_xy / g; N1 = P_xx - P_yy, N2 = P_yy - P_zz
+                    out["viscosity"] = -ptensor[..., 3] / self._shear_rate
+                    out["normal_stress_1"] = ptensor[..., 0] - ptensor[..., 1]
+                    if cont.dimensions == 3:
+                        out["normal_stress_2"] = ptensor[..., 1] - ptensor[..., 2]
         return out
 
     def _whole(self, name: str) -> float:
@@ -537,6 +550,18 @@ class Observables:
                 )
             for key in ("", "_error", "_converged"):  # the old name, kept
                 out[f"compressibility{key}"] = out[f"Z{key}"]
+            if self._shear_rate:
+                out["shear_rate"] = self._shear_rate
+                names = ["viscosity", "normal_stress_1"] + (
+                    ["normal_stress_2"] if self._sim.container.dimensions == 3 else []
+                )
+                for name in names:
+                    est = self.estimate(name)
+                    out[name], out[f"{name}_error"], out[f"{name}_converged"] = (
+                        est.mean,
+                        est.sem,
+                        est.converged,
+                    )
             rate, rate_err = out["collision_rate"], out["collision_rate_error"]
             out.update(mean_free_time=self.mean_free_time(), mean_free_path=self.mean_free_path())
             rel = rate_err / rate if rate > 0 else np.nan

@@ -144,12 +144,6 @@ class Simulation:
         tc: float = 0.0,
     ) -> None:
         container = as_container(container)
-        if getattr(container, "shear_rate", 0.0):
-            raise ShearError(
-                f"Simulation cannot shear yet (shear_rate {container.shear_rate:g}): the compiled event "  # type: ignore[attr-defined]
-                "core has no Lees-Edwards boundaries; run a sheared box on "
-                "hardspheres.core.reference.Reference (small N), or give shear_rate=0"
-            )
         state.check()
         window = _number(window, "window", "a finite number >= 0 [time]", minimum=0.0)
         restitution, wall_restitution, tc = _rule(restitution, wall_restitution, tc)
@@ -174,7 +168,12 @@ class Simulation:
         images = container.image_counts(state.positions)
         if state.images is not None:
             images += np.asarray(state.images, dtype=np.int64).reshape(images.shape)
-        _compiled(container.dimensions, inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0)
+        sheared = bool(getattr(container, "shear_rate", 0.0))
+        _compiled(
+            container.dimensions,
+            inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0,
+            sheared=sheared,
+        )
         self._engine = Engine(
             state.masses,
             state.radii,
@@ -359,7 +358,11 @@ class Simulation:
             0.9
         """
         restitution, wall_restitution, tc = _rule(restitution, wall_restitution, tc)
-        _compiled(self.container.dimensions, inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0)
+        _compiled(
+            self.container.dimensions,
+            inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0,
+            sheared=bool(getattr(self.container, "shear_rate", 0.0)),
+        )
         self._engine.set_restitution(restitution, wall_restitution, tc)
         return self
 
@@ -547,6 +550,15 @@ class Simulation:
         :class:`hardspheres.dense.RandomKicks` (white-noise driving of a
         granular gas); checkpoints keep it.
         """
+        if (
+            thermostat is not None
+            and getattr(self.container, "shear_rate", 0.0)
+            and type(thermostat).__name__ not in ("PeculiarRescale", "PeculiarAndersen")
+        ):
+            raise ShearError(
+                f"thermostat: {type(thermostat).__name__} would act on the flow of a sheared box; "
+                "use hardspheres.dense.PeculiarRescale or PeculiarAndersen (on the peculiar velocities)"
+            )
         if thermostat is not None and self._engine.window > 0.0:
             raise ArgumentError(
                 f"thermostat: not with a simultaneity window (window={self._engine.window:g}); "
@@ -679,8 +691,9 @@ class Simulation:
         except CheckpointError as e:
             raise CheckpointError(f"{path}: {e}") from None
         sim.container = sim._engine.container
-        if sim._engine.inelastic:  # (the inelastic variant of the core is compiled on its own)
-            _compiled(sim.container.dimensions, inelastic=True)
+        sheared = bool(getattr(sim.container, "shear_rate", 0.0))
+        if sim._engine.inelastic or sheared:  # (these variants of the core are compiled on their own)
+            _compiled(sim.container.dimensions, inelastic=sim._engine.inelastic, sheared=sheared)
         n = sim._engine.n
         if names is None or names.dtype.kind != "U" or names.shape != (n,) or len(set(names.tolist())) != n:
             raise CheckpointError(f"{path}: damaged checkpoint: not {n} distinct names")
@@ -713,10 +726,10 @@ class Simulation:
         return sim
 
 
-_WARM: set[tuple[int, bool]] = set()
+_WARM: set[tuple[int, bool, bool]] = set()
 
 
-def _compiled(dimensions: int = 3, inelastic: bool = False) -> None:
+def _compiled(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> None:
     """Compile the event core for ``dimensions`` now if numba's cache is cold (once per process).
 
     :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
@@ -724,9 +737,9 @@ def _compiled(dimensions: int = 3, inelastic: bool = False) -> None:
     install is not a silent wait of half a minute.  ``inelastic``: the
     core's inelastic variant (granular gases), compiled on its own.
     """
-    if (dimensions, inelastic) not in _WARM:
-        _WARM.add((dimensions, inelastic))
-        ensure_compiled(dimensions=dimensions, inelastic=inelastic)
+    if (dimensions, inelastic, sheared) not in _WARM:
+        _WARM.add((dimensions, inelastic, sheared))
+        ensure_compiled(dimensions=dimensions, inelastic=inelastic, sheared=sheared)
 
 
 def _rule(restitution: float, wall: float | None, tc: float) -> tuple[float, float | None, float]:

@@ -1262,6 +1262,9 @@ def _scan_across(
 ):
     """:func:`_scan_cells`'s cells across the periodic box: sphere ``i``'s best event so far improved.
 
+    Longer than 80 lines: the pair kernel's call written out, argument by
+    argument, and the hand-off of a sheared box's rows across a y face.
+
     The cells of the block whose coordinate wraps along some axis, each
     centre in them seen at its image next to ``i`` (shifted by a box side
     per wrapped axis); returns the new ``(best_t, best_key, best_p)``.

@@ -50,17 +50,18 @@ def _index_paths() -> list[str]:
     return paths
 
 
-def _marker(dimensions: int, inelastic: bool = False) -> str | None:
+def _marker(dimensions: int, inelastic: bool = False, sheared: bool = False) -> str | None:
     """The file that says the core was compiled for ``dimensions`` (None: numba cannot tell where)."""
     paths = _index_paths()
-    name = f"compiled-{dimensions}d" + ("-inelastic" if inelastic else "")
+    name = f"compiled-{dimensions}d" + ("-inelastic" if inelastic else "") + ("-sheared" if sheared else "")
     return os.path.join(os.path.dirname(paths[0]), name) if paths else None
 
 
-def is_cold(dimensions: int = 3, inelastic: bool = False) -> bool:
+def is_cold(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> bool:
     """True when numba's on-disk cache lacks part of the compiled core for ``dimensions`` (2 or 3).
 
-    ``inelastic``: the core's inelastic variant (its own machine code).
+    ``inelastic``: the core's inelastic variant (its own machine code);
+    ``sheared``: its Lees-Edwards variant (its own too).
 
     Cheap: looks for the cache's index files and the dimension's marker,
     compiles nothing.  When numba cannot tell (its internals changed),
@@ -71,16 +72,33 @@ def is_cold(dimensions: int = 3, inelastic: bool = False) -> bool:
     paths = _index_paths()
     if not paths:
         return False
-    marker = _marker(dimensions, inelastic)
+    marker = _marker(dimensions, inelastic, sheared)
     return not all(os.path.exists(p) for p in paths) or not (marker and os.path.exists(marker))
 
 
-def _compile(dimensions: int = 3, inelastic: bool = False) -> None:
+def _compile(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> None:
     """Run every entry point of the core once, on two spheres in ``dimensions`` (compiles them)."""
-    from ..containers import CircularContainer, SphericalContainer
+    from ..containers import CircularContainer, PeriodicBox, SphericalContainer
     from .engine import Engine
 
     d = dimensions
+    if sheared:  # two spheres in a sheared box, crossing its faces
+        engine = Engine(
+            [1.0, 1.0],
+            [1.0, 1.0],
+            [[-3.0, 0, 0][:d], [3.0, 0.5, 0][:d]],
+            [[1.0, 0.7, 0.3][:d], [-1.0, -0.6, 0.2][:d]],
+            PeriodicBox((10.0,) * d, shear_rate=0.1),
+            restitution=0.9 if inelastic else 1.0,
+            tc=1e-3 if inelastic else 0.0,
+        )
+        engine.max_overlap()
+        engine.advance(events=2000)
+        engine.positions_at()
+        engine.stress_tallies()
+        engine.kick(0, engine.time, [0.5, 0.1, 0.0][:d])
+        _mark(_marker(d, inelastic, sheared))
+        return
     engine = Engine(
         [1.0, 1.0],
         [1.0, 1.0],
@@ -93,7 +111,11 @@ def _compile(dimensions: int = 3, inelastic: bool = False) -> None:
     engine.max_overlap()
     engine.advance(events=2000)  # past the first rebase of the time origin
     engine.positions_at()
-    marker = _marker(d, inelastic)
+    _mark(_marker(d, inelastic))
+
+
+def _mark(marker: str | None) -> None:
+    """Write the marker that says a variant is compiled (nothing if numba cannot tell where)."""
     if marker:
         try:
             tmp = f"{marker}.{os.getpid()}.tmp"
@@ -105,7 +127,11 @@ def _compile(dimensions: int = 3, inelastic: bool = False) -> None:
 
 
 def ensure_compiled(
-    quiet: bool = False, stream: TextIO | None = None, dimensions: int = 3, inelastic: bool = False
+    quiet: bool = False,
+    stream: TextIO | None = None,
+    dimensions: int = 3,
+    inelastic: bool = False,
+    sheared: bool = False,
 ) -> float:
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
@@ -117,22 +143,24 @@ def ensure_compiled(
             has machine code of its own).
         inelastic: the inelastic collision rule's variant (granular gases;
             machine code of its own too).
+        sheared: the Lees-Edwards variant (a sheared box; its own too).
 
     Returns:
         Seconds spent compiling (0.0 when the cache was warm).
     """
-    if not is_cold(dimensions, inelastic):
+    if not is_cold(dimensions, inelastic, sheared):
         return 0.0
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
         stream.write(
-            f"compiling the event core for {dimensions}-D{', inelastic' if inelastic else ''} "
+            f"compiling the event core for {dimensions}-D{', inelastic' if inelastic else ''}"
+            f"{', sheared' if sheared else ''} "
             "(once per dimension and collision rule, then cached; "
             f"typically {TYPICAL_SECONDS} s) ..."
         )
         stream.flush()
     t0 = time.perf_counter()
-    _compile(dimensions, inelastic)
+    _compile(dimensions, inelastic, sheared)
     seconds = time.perf_counter() - t0
     if stream is not None:
         stream.write(f" done in {seconds:.1f} s\n")
