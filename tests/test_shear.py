@@ -627,3 +627,22 @@ def test_a_sheared_simulation_refuses_a_thermostat_that_fights_the_flow():
     sim = _sheared_simulation(n=50)
     with pytest.raises(ShearError, match="PeculiarRescale"):
         sim.set_thermostat(Andersen(1.0, 0.1))
+
+
+@pytest.mark.parametrize("d,n,phi,rate,seed,offset", CASES)
+def test_a_sheared_granular_gas_and_a_thermostatted_flow_are_the_references(d, n, phi, rate, seed, offset):
+    """The inelastic rule in the sheared variant, and peculiar kicks (ShearFlow's thermostat): bit for bit."""
+    from hardspheres.dense import PeculiarRescale
+    from hardspheres.observables import ShearFlow
+
+    box, m, r, x, v = _system(d, n, phi, rate, seed)
+    rule = dict(restitution=0.8, tc=1e-4)
+    eng = Engine(m, r, x, v, container=box, rebase=False, reorder=0.0, shear_offset=offset, **rule)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, offset=offset, **rule)
+    assert same_events(eng.advance(events=1500), ref.advance(events=1500))
+    assert eng.dissipated == ref.dissipated > 0.0
+    eng = Engine(m, r, x, v, container=box, rebase=False, reorder=0.0, shear_offset=offset)
+    ref = CompiledReference(m, r, x.tolist(), v.tolist(), container=box, offset=offset)
+    for engine in (eng, ref):
+        ShearFlow(engine, thermostat=PeculiarRescale(kT=1.0, interval=0.3)).run(4.0)
+    _same_state(eng, ref)
