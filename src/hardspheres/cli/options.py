@@ -66,6 +66,18 @@ def restitution(text: str) -> float:
     return x
 
 
+def shear_rate(text: str) -> float:
+    """A shear rate [1/time]: a finite number other than 0 (either sign: the flow's direction)."""
+    import math
+
+    x = number(text)
+    if not math.isfinite(x) or x == 0.0:
+        raise argparse.ArgumentTypeError(
+            f"must be a finite number other than 0 (leave the option out for no shear), got {quote(text)}"
+        )
+    return x
+
+
 def nonnegative(text: str) -> float:
     import math
 

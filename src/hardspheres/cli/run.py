@@ -33,7 +33,7 @@ from ..errors import UsageError
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
-from .options import count, nonnegative, positive, refuse_existing, restitution, where_args
+from .options import count, nonnegative, positive, refuse_existing, restitution, shear_rate, where_args
 from .source import given_container, starting_simulation
 
 if TYPE_CHECKING:
@@ -155,6 +155,11 @@ def _check_args(args: argparse.Namespace) -> None:
                 "--kicks cannot change a resumed run: the checkpoint keeps its driving, "
                 "kicks included (leave it out)"
             )
+        if args.shear_rate is not None or args.shear_temperature is not None:
+            raise UsageError(
+                "--shear-rate/--shear-temperature cannot change a resumed run: the checkpoint keeps its "
+                "shear and its thermostat (leave them out)"
+            )
     elif not args.scenario:
         raise UsageError("give a scenario file (or --resume CHECKPOINT)")
     elif not given_container(args):
@@ -163,6 +168,7 @@ def _check_args(args: argparse.Namespace) -> None:
         raise UsageError("--pressure-axes is for constant pressure: give --pressure P too")
     _check_kicks(args)
     _check_wall(args)
+    _check_shear(args)
     if args.trajectory is None:
         for option, value in (
             ("--every", args.every),
@@ -208,6 +214,66 @@ def _check_kicks(args: argparse.Namespace) -> None:
         raise UsageError(
             "--kicks with --pressure: the barostat holds kT = 1 and the kicks heat; give one or the other"
         )
+
+
+_HEATS = (
+    "a sheared elastic fluid heats without end (the shear's work stays in it): give "
+    "--shear-temperature KT to hold its peculiar temperature, or --restitution below 1 (a granular "
+    "gas, whose collisions take the heat out)"
+)
+
+
+def _check_shear(args: argparse.Namespace) -> None:
+    """The shear's options: ``--shear-rate`` in a periodic box, held at a temperature if elastic."""
+    if args.shear_rate is None:
+        for option, value in (
+            ("--shear-temperature", args.shear_temperature),
+            ("--rescale-interval", args.rescale_interval),
+        ):
+            if value is not None and not args.resume:
+                raise UsageError(f"{option} is for a sheared box: give --shear-rate G too")
+        return
+    if getattr(args, "box", None) is None:
+        raise UsageError(
+            "--shear-rate shears a periodic box (Lees-Edwards boundaries): give --box L [LY [LZ]] "
+            "(a container's wall cannot slide)"
+        )
+    if args.shear_temperature is None and args.rescale_interval is not None:
+        raise UsageError("--rescale-interval is for --shear-temperature: give --shear-temperature KT too")
+    granular = (args.restitution or 1.0) < 1.0
+    if args.shear_temperature is None and not granular:
+        raise UsageError(_HEATS)
+    if args.shear_temperature is not None:
+        if granular:
+            raise UsageError(
+                "--shear-temperature with --restitution below 1: a sheared granular gas reaches its own "
+                "steady state (the shear heats, the collisions cool); leave out --shear-temperature"
+            )
+        if args.rescale_interval is None:
+            raise UsageError(
+                "--shear-temperature needs --rescale-interval T, the time between rescalings: short "
+                "against the heating time (1/10 of the mean free time to start; the summary says if "
+                "it is too long)"
+            )
+    for option, value in (("--kicks", args.kicks), ("--pressure", args.pressure)):
+        if value is not None:
+            raise UsageError(
+                f"--shear-rate with {option}: "
+                + (
+                    "the kicks act on the whole velocity, flow included; give one or the other"
+                    if option == "--kicks"
+                    else "the barostat's volume moves would change the sheared box; give one or the other"
+                )
+            )
+
+
+def add_shear(sim: Simulation, args: argparse.Namespace) -> None:
+    """Hold the peculiar temperature ``--shear-temperature`` asks for (the box is sheared already)."""
+    if getattr(args, "shear_temperature", None) is None:
+        return
+    from ..dense import PeculiarRescale
+
+    sim.set_thermostat(PeculiarRescale(args.shear_temperature, args.rescale_interval))
 
 
 def _check_wall(args: argparse.Namespace) -> None:
@@ -443,6 +509,8 @@ def summary_lines(
     )
     lines.append(since)
     kT = f"kT {summary['temperature']:.6g}"
+    if "mean_temperature" in summary:  # (a sheared run's: the flow's kinetic energy is not heat)
+        kT = f"peculiar kT {summary['mean_temperature']:.6g} (mean; {summary['temperature']:.6g} now)"
     if sim.container.wall_area > 0:
         lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
         term = (
@@ -464,11 +532,108 @@ def summary_lines(
         return lines
     lines.append(f"collision rate {_value(summary, 'collision_rate')} per sphere per unit time")
     lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
+    if _sheared(sim):
+        lines += shear_lines(sim, summary)
+    return lines
+
+
+def _sheared(sim: Simulation) -> bool:
+    return bool(getattr(sim.container, "shear_rate", 0.0))
+
+
+def _kinetic_integral(sim: Simulation) -> np.ndarray | None:
+    """A sheared run's time integral of ``sum m c c`` so far (peculiar velocities; ``None`` unsheared)."""
+    if not _sheared(sim):
+        return None
+    return sim.engine.stress_tallies(sim.time)["kinetic"].copy()
+
+
+def _mean_peculiar_kT(sim: Simulation, kinetic0: np.ndarray, since: float) -> float:
+    """The peculiar kT averaged over ``since .. now`` [energy], from the engine's kinetic integral."""
+    d = sim.container.dimensions
+    k = sim.engine.stress_tallies(sim.time)["kinetic"] - kinetic0
+    return float(k[:d].sum()) / ((sim.time - since) * sim.container.degrees_of_freedom(sim.n))
+
+
+#: The fluid may heat by at most this fraction of kT between two rescalings
+#: of ``--shear-temperature`` (else a warning: the mean kT sits above the target).
+MOST_HEATING_PER_RESCALE = 0.05
+
+_SHEAR_NAMES = ("viscosity", "normal_stress_1", "normal_stress_2")
+
+
+def _shear_estimates(sim: Simulation) -> dict[str, Any]:
+    """The shear's averages with their blocking errors, as the summary gives them (a granular gas's too)."""
+    out: dict[str, Any] = {}
+    names = _SHEAR_NAMES if sim.container.dimensions == 3 else _SHEAR_NAMES[:2]
+    for name in names:
+        try:
+            est = sim.observables.estimate(name)
+        except ValueError:  # nothing measured since the averages started
+            return {}
+        out[name], out[f"{name}_error"], out[f"{name}_converged"] = est.mean, est.sem, est.converged
+    return out
+
+
+def shear_lines(sim: Simulation, summary: dict[str, Any]) -> list[str]:
+    """A sheared run's lines: the rate and thermostat, the viscosity, the normal stress differences.
+
+    Each with its blocking error (``(error not converged: a lower bound)``
+    when the blocking has not converged).  A rescaling interval so long
+    that the fluid heats by more than :data:`MOST_HEATING_PER_RESCALE` of
+    kT between two rescalings is warned of on stderr.
+    """
+    from ..dense import PeculiarRescale
+
+    g = float(sim.container.shear_rate)  # type: ignore[attr-defined]
+    th = sim.thermostat
+    held = (
+        f"; peculiar kT held at {th.kT:g} by rescaling every {th.interval:g}"
+        if isinstance(th, PeculiarRescale)
+        else ""
+    )
+    lines = [
+        f"sheared at rate {g:g} (Lees-Edwards; flow along x, gradient along y): offset "
+        f"{sim.engine.shear_offset():.6g} now{held}"
+    ]
+    if "viscosity" not in summary:
+        summary = {**summary, **_shear_estimates(sim)}
+    if "viscosity" not in summary:
+        return lines + ["viscosity: nothing measured since the averages started"]
+    lines.append(f"viscosity eta = -P_xy/g {_value(summary, 'viscosity')}")
+    n2 = f"; N2 = P_yy - P_zz {_value(summary, 'normal_stress_2')}" if "normal_stress_2" in summary else ""
+    lines.append(f"normal stress differences: N1 = P_xx - P_yy {_value(summary, 'normal_stress_1')}{n2}")
+    eta = summary["viscosity"]
+    if isinstance(th, PeculiarRescale) and math.isfinite(eta) and eta > 0:
+        # between rescalings kT rises by 2 eta g^2 V / (d N) per unit time
+        d, n = sim.container.dimensions, sim.n
+        heating = 2.0 * eta * g * g * sim.container.volume * th.interval / (d * n * th.kT)
+        if heating > MOST_HEATING_PER_RESCALE:
+            print(
+                f"hardspheres run: warning: the fluid heats by {heating:.2g} of kT between rescalings "
+                f"(eta {eta:.3g}): the mean peculiar kT sits above {th.kT:g}; give --rescale-interval "
+                f"{th.interval * 0.01 / heating:.2g} or less (1% of kT)",
+                file=sys.stderr,
+            )
     return lines
 
 
 def _granular_lines(sim: Simulation, summary: dict[str, Any], averaged_from: float) -> list[str]:
-    """A cooling gas's summary: its temperature, how fast it cools (Haff's law), its a2."""
+    """A cooling gas's summary: its temperature, how fast it cools (Haff's law), its a2.
+
+    A sheared one is heated by the shear: its peculiar temperature and the
+    shear's lines instead (no Haff's law, and no a2 of a flowing gas).
+    """
+    if _sheared(sim):
+        mean = (
+            f"{summary['mean_temperature']:.6g} on average over t = {averaged_from:.6g} .. {sim.time:.6g}, "
+            if "mean_temperature" in summary
+            else ""
+        )
+        return [
+            f"granular temperature (peculiar) kT {mean}{summary['temperature']:.6g} at t = {sim.time:.6g}: "
+            "heated by the shear"
+        ] + shear_lines(sim, {})
     lines = [f"granular temperature kT {summary['temperature']:.6g} at t = {sim.time:.6g}"]
     kicks = _kicks(sim)
     if sim.wall_temperature > 0.0:
@@ -556,6 +721,7 @@ def run(args: argparse.Namespace) -> int:
     sim = starting_simulation(args)
     add_wall(sim, args)
     add_kicks(sim, args)
+    add_shear(sim, args)
     if args.pressure is not None:
         from ..barostat import Barostat
 
@@ -631,6 +797,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     t0 = time.perf_counter()
     equilibrated = ""
     averaged_from = sim.time
+    kinetic0 = None
     with _Stopper(sim) as stopper:
         try:
             writer, warn = _trajectory_writer(args, sim, start_time)
@@ -643,6 +810,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             if sim.barostat is not None:
                 sim.barostat.reset_averages()
             averaged_from = sim.time
+            kinetic0 = _kinetic_integral(sim)
             if stopper.signum is None:
                 sim.run(until=args.until)
             if writer is not None and writer.last_time is not None and (writer.last_time < sim.time):
@@ -670,6 +838,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
     summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
+    if summary and _sheared(sim) and kinetic0 is not None:
+        summary["mean_temperature"] = _mean_peculiar_kT(sim, kinetic0, averaged_from)
     lines = [
         f"time {sim.time:.9g}"
         + (" (interrupted)" if signum is not None else "")
@@ -704,8 +874,16 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
 def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float, injected0: float = 0.0) -> str:
     """The energy check: the drift of an elastic run, the balance of a granular one (driven or not)."""
     if not sim.inelastic:
+        if _sheared(sim):  # (no drift to show: not conserved)
+            return "energy: the shear works on the fluid and the thermostat takes the heat out"
         return f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)"
     lost = sim.dissipated - dissipated0
+    if _sheared(sim):
+        return (
+            f"granular (restitution {sim.restitution:g}), sheared: dissipated {lost:.6g} "
+            f"({lost / e0 if e0 else 0.0:.3g} of the energy at the start), which the shear's work "
+            "supplies (no energy balance shown)"
+        )
     kicks = _kicks(sim)
     gained = _injected(sim) - injected0
     balance = abs(e1 + lost - gained - e0) / e0 if e0 else 0.0
@@ -912,4 +1090,27 @@ def _rule_args(p: argparse.ArgumentParser) -> None:
         type=count,
         metavar="SEED",
         help="with --kicks: the seed of the kicks' random numbers (default 0; the same seed, the same run)",
+    )
+    p.add_argument(
+        "--shear-rate",
+        type=shear_rate,
+        metavar="G",
+        help="shear the periodic box at rate G [1/s] by Lees-Edwards boundaries (--box; flow along x, "
+        "gradient along y): the summary gives the viscosity -P_xy/G and the normal stress "
+        "differences (the checkpoint keeps the shear)",
+    )
+    p.add_argument(
+        "--shear-temperature",
+        type=positive,
+        metavar="KT",
+        help="with --shear-rate: hold the temperature of the peculiar velocities (less the flow G y) "
+        "at KT [J] by rescaling them (hardspheres.dense.PeculiarRescale); an elastic fluid needs it, "
+        "the shear heats it",
+    )
+    p.add_argument(
+        "--rescale-interval",
+        type=positive,
+        metavar="T",
+        help="with --shear-temperature: the time between rescalings [s], short against the heating "
+        "time (1/10 of the mean free time to start)",
     )

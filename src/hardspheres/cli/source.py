@@ -110,6 +110,9 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
             f"note: every sphere of {name} has z = 0 and vz = 0: run as a flat layer of spheres (3-D, "
             "kT over 3 degrees of freedom each); for disks give --circle R or --box LX LY"
         )
+    g = getattr(args, "shear_rate", None)  # (run's option: a periodic box, checked)
+    if g is not None:
+        container = container.sheared_by(g)  # type: ignore[attr-defined]
     compile_first()  # before any clock starts: no rate includes compilation
     e = getattr(args, "restitution", None)  # (the collision rule: run's options)
     return Simulation(

@@ -27,7 +27,11 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
   ``.../kind`` (:class:`~hardspheres.events.EventKind`: 0 reflection,
   1 collision), ``.../i``, ``.../j`` (-1 for a reflection),
   ``.../impulse`` (files written before these read as well: one ``(E, 5)``
-  float64 array ``log/hardspheres/events``).
+  float64 array ``log/hardspheres/events``);
+* a sheared box (Lees-Edwards): ``log/hardspheres/shear_rate`` [1/time] and
+  ``log/hardspheres/shear_offset`` [length], the offset at the frame's time
+  (how far along x the images above the box are ahead of it, in
+  ``[0, L_x)``; HOOMD's schema has no such field).
 
 Example:
     >>> import hardspheres as hs, tempfile, os
@@ -343,6 +347,8 @@ class GSDWriter(_FrameWriter):
             f.log["hardspheres/names"] = np.frombuffer("\n".join(state.names).encode("utf-8"), dtype=np.uint8)
         f.log["hardspheres/time"] = np.array([state.time])
         f.log["hardspheres/run_end"] = np.array(self._run_end)
+        if getattr(c, "shear_rate", 0.0):  # (HOOMD's schema has no Lees-Edwards offset)
+            f.log["hardspheres/shear_offset"] = np.array([sim.engine.shear_offset(state.time)])
         if self.wants_events:
             for name in EVENT_DTYPE.names or ():
                 f.log[f"{_GSD_EVENTS}/{name}"] = np.ascontiguousarray(events[name])
