@@ -129,6 +129,7 @@ for _callee in (
     physics.wall_time_grow,
     physics.mix32,
     physics.uniform_draw,
+    physics.collide,
 ):
     numba.extending.register_jitable(forceinline=True, error_model="numpy", **_NO_NRT)(_callee)
 pair_time_within = _kernel(physics.pair_time_within)
@@ -143,6 +144,7 @@ reflect_grow = _kernel(physics.reflect_grow)
 collide_inelastic = _kernel(physics.collide_inelastic)
 reflect_inelastic = _kernel(physics.reflect_inelastic)
 thermal_wall = _kernel(physics.thermal_wall)
+cross_step = _kernel(physics.cross_step)
 frozen_limit_of = _kernel(physics.frozen_limit)
 
 
@@ -180,6 +182,9 @@ REFLECTION = int(events.EventKind.REFLECTION)
 COLLISION = int(events.EventKind.COLLISION)
 CROSSING = 2
 NONE = 3
+CAPTURE = int(events.EventKind.CAPTURE)  # (the stepped variant's: a pair crosses a step inward,
+RELEASE = int(events.EventKind.RELEASE)  # outward, or is reflected at it)
+BOUNCE = int(events.EventKind.BOUNCE)
 
 #: Why :func:`run` returned: :class:`hardspheres.events.StopReason`'s numbers.
 STOP_UNTIL = int(events.StopReason.UNTIL)
@@ -308,6 +313,13 @@ NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its
 # are on input indices, never on i (here, in a row the event touches anyway)
 ORIGIN = 13
 BOOK_COLS = 14
+# the stepped variant (``len(axes[1]) == 1``): each sphere's bond table in
+# its book row from BONDS on: the count, then ``partner << 3 | state`` for
+# each partner in a step (state 1..K, the edges the pair is inside; the
+# partner an engine index, renamed when the spheres are reordered)
+BONDS = BOOK_COLS
+# a stepped prediction's partner carries its kind above bit KIND_SHIFT (_store)
+KIND_SHIFT = 29
 #: CROSS_FACE of a sphere (neighbour lists) that leaves the periodic box before its shell
 BOX_FACE = 8
 
@@ -351,7 +363,11 @@ F_SHEAR = 58  # the boundary speed w = g L_y: the images across the upper y face
 F_SHEAR0 = 59  # the offset at the time origin, in [0, L_x]: delta(t) = (F_SHEAR0 + w t) % L_x
 F_SHEAR_G = 60  # the shear rate g (w = g L_y)
 F_PEC_INT = 61  # the time integral of sum m c c (c = v - g y e_x) over the closed flights (xx yy zz xy xz yz)
-N_SCALARS = 67
+# steps (the stepped variant): K steps, outermost first: lambda_k at F_STEP + 2k, U_k at F_STEP + 2k + 1
+F_NSTEP = 67
+F_STEP = 68
+STEP_MAX = 4
+N_SCALARS = 76
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -368,12 +384,15 @@ C_QUEUED = 10  # entries in the buckets' lists (not the heap, not the overflow)
 C_GRID = 11  # cells per axis (x, y, z); C_CELLS is the x axis's
 C_WALL_SEED = 14  # the thermal wall's generator: its seed (0 <= seed < 2^32)
 C_WALL_DRAWS = 15  # ... and the draws made so far (the next draw's number)
-N_COUNTS = 16
+C_BONDED = 16  # the stepped variant: pairs in state k + 1 now, k = 0..STEP_MAX - 1
+C_STEP_EVENTS = 20  # ... and the captures, releases and bounces so far
+N_COUNTS = 23
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
 STOP_SLIDING = int(events.StopReason.SLIDING)
 STOP_LISTS_FULL = 6  # the core's own: a neighbour list would overflow (the engine widens them)
+STOP_BONDS_FULL = 7  # the core's own: a bond table would overflow (the engine widens them)
 
 
 # ---- the calendar: buckets of time and a binary heap of the current one ----------
@@ -1035,13 +1054,144 @@ def _pair(
 
 
 @_inline
-def _store(due, book, i, best_t, best_key, best_p):
+def _store(due, book, i, best_t, best_key, best_p, axes):
     if best_p >= 0:
         due[i, EVENT_T] = best_t
         book[i, EVENT_KEY] = best_key
+        if len(axes[1]) == 1:
+            # stepped: the partner carries the pair event's kind
+            p = best_p & ((1 << KIND_SHIFT) - 1)
+            book[i, EVENT_KIND] = best_p >> KIND_SHIFT
+            book[i, PARTNER] = p
+            book[i, PARTNER_CHANGES] = book[p, CHANGES]
+            return
         book[i, EVENT_KIND] = COLLISION
         book[i, PARTNER] = best_p
         book[i, PARTNER_CHANGES] = book[best_p, CHANGES]
+
+
+@_inline
+def _bond_state(book, i, j):
+    """The stepped variant: the state of the pair ``(i, j)`` (0: outside every step), from ``i``'s table."""
+    for q in range(book[i, BONDS]):
+        e = book[i, BONDS + 1 + q]
+        if (e >> 3) == j:
+            return e & 7
+    return 0
+
+
+@_inline
+def _bond_set(book, i, j, state):
+    """The stepped variant: set the pair's state in ``i``'s table (0: remove it; swap-remove)."""
+    cnt = book[i, BONDS]
+    for q in range(cnt):
+        if (book[i, BONDS + 1 + q] >> 3) == j:
+            if state == 0:
+                book[i, BONDS + 1 + q] = book[i, BONDS + cnt]
+                book[i, BONDS + cnt] = 0
+                book[i, BONDS] = cnt - 1
+            else:
+                book[i, BONDS + 1 + q] = (j << 3) | state
+            return
+    if state != 0:
+        book[i, BONDS + 1 + cnt] = (j << 3) | state
+        book[i, BONDS] = cnt + 1
+
+
+@_inline
+def _step_energy(scalars, state):
+    """The potential energy of a pair in ``state`` (0: outside every step)."""
+    return 0.0 if state == 0 else scalars[F_STEP + 2 * (state - 1) + 1]
+
+
+@_inline
+def _pair_stepped(
+    spheres,
+    book,
+    scalars,
+    i,
+    oi,
+    j,
+    sx,
+    sy,
+    sz,
+    shifted,
+    ti,
+    now,
+    soon,
+    clock,
+    n,
+    best_t,
+    best_key,
+    best_p,
+    axes,
+):
+    """The stepped variant's :func:`_pair`: the pair's next event by its state (the reference's ``pair_step_time``).
+
+    The inner edge from outside (the core, ``COLLISION``, in the innermost
+    state; else the next step in, ``CAPTURE``) with ``pair_time``; when the
+    chord misses it, the outer edge from inside (``RELEASE``) with
+    ``pair_time_out``.  All pair events tie as collisions; the returned
+    partner carries the kind above bit ``KIND_SHIFT``.
+    """
+    tj = spheres[j, T_OWN]
+    t0 = ti if ti > tj else tj
+    di = t0 - ti
+    dj = t0 - tj
+    planar = len(axes) == 2
+    xi = spheres[i, X] + spheres[i, VX] * di
+    yi = spheres[i, Y] + spheres[i, VY] * di
+    xj = spheres[j, X] + spheres[j, VX] * dj
+    yj = spheres[j, Y] + spheres[j, VY] * dj
+    zi = zj = dz = dvz = 0.0
+    if not planar:
+        zi = spheres[i, Z] + spheres[i, VZ] * di
+        zj = spheres[j, Z] + spheres[j, VZ] * dj
+    if not shifted:
+        dx = xi - xj
+        dy = yi - yj
+        if not planar:
+            dz = zi - zj
+    elif oi > book[j, ORIGIN]:
+        dx = -(xj - (xi - sx))
+        dy = -(yj - (yi - sy))
+        if not planar:
+            dz = -(zj - (zi - sz))
+    else:
+        dx = xi - (xj + sx)
+        dy = yi - (yj + sy)
+        if not planar:
+            dz = zi - (zj + sz)
+    dvx = spheres[i, VX] - spheres[j, VX]
+    dvy = spheres[i, VY] - spheres[j, VY]
+    if not planar:
+        dvz = spheres[i, VZ] - spheres[j, VZ]
+    sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
+    state = _bond_state(book, i, j)
+    nstep = np.int64(scalars[F_NSTEP])
+    if state == nstep:
+        inner = sigma
+        kind = COLLISION
+    else:
+        inner = scalars[F_STEP + 2 * state] * sigma
+        kind = CAPTURE
+    dt = pair_time(dx, dy, dz, dvx, dvy, dvz, inner, planar)
+    if not dt < np.inf:
+        if state == 0:
+            return best_t, best_key, best_p
+        dt = wall_time(dx, dy, dz, dvx, dvy, dvz, scalars[F_STEP + 2 * (state - 1)] * sigma, planar)
+        kind = RELEASE
+    te = t0 + dt
+    if te < soon:
+        te = now
+    if te < clock:
+        te = clock  # a root rounded into the past
+    if te <= best_t:
+        oj = book[j, ORIGIN]
+        kk = _key(COLLISION, min(oi, oj), max(oi, oj), n)
+        if te < best_t or kk < best_key:
+            best_t, best_key, best_p = te, kk, j | (np.int64(kind) << KIND_SHIFT)
+    return best_t, best_key, best_p
 
 
 @_inline
@@ -1114,7 +1264,7 @@ def _scan_list(spheres, book, due, neighbours, scalars, i, axes):
             0.0,
             axes,
         )
-    _store(due, book, i, best_t, best_key, best_p)
+    _store(due, book, i, best_t, best_key, best_p, axes)
 
 
 @_inline
@@ -1173,7 +1323,12 @@ def _scan_cells(
                     continue
                 j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
-                    if j != i:
+                    if j != i and len(axes[1]) == 1:
+                        best_t, best_key, best_p = _pair_stepped(
+                            spheres, book, scalars, i, oi, j, 0.0, 0.0, 0.0, False, ti, now, soon, clock, n,
+                            best_t, best_key, best_p, axes,
+                        )  # fmt: skip
+                    elif j != i:
                         best_t, best_key, best_p = _pair(
                             spheres,
                             book,
@@ -1231,7 +1386,7 @@ def _scan_cells(
             best_p,
             axes,
         )
-    _store(due, book, i, best_t, best_key, best_p)
+    _store(due, book, i, best_t, best_key, best_p, axes)
 
 
 @_jit
@@ -1297,7 +1452,12 @@ def _scan_across(
                     continue  # (this side of the box: _scan_cells's)
                 j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
-                    if j != i:
+                    if j != i and len(axes[1]) == 1:
+                        best_t, best_key, best_p = _pair_stepped(
+                            spheres, book, scalars, i, oi, j, sx, sy, sz, True, ti, now, soon, clock, n,
+                            best_t, best_key, best_p, axes,
+                        )  # fmt: skip
+                    elif j != i:
                         best_t, best_key, best_p = _pair(
                             spheres,
                             book,
@@ -2146,7 +2306,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             stale = True  # (not an event: predict i, then on)
         else:
             kind = book[i, EVENT_KIND]
-        if kind == COLLISION:
+        if kind == COLLISION or (len(axes[1]) == 1 and kind >= CAPTURE):
             j = book[i, PARTNER]
             if book[j, CHANGES] != book[i, PARTNER_CHANGES]:
                 # stale: the partner has changed course since
@@ -2163,7 +2323,8 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             else:
                 counts[C_FROZEN] = 0
                 scalars[F_STREAK] = te
-        if kind == COLLISION and not stale:
+        if (kind == COLLISION or (len(axes[1]) == 1 and kind >= CAPTURE)) and not stale:
+            clock_before = scalars[F_CLOCK]  # (the stepped variant's, should it stop here)
             counts[C_FROZEN] += 1
             scalars[F_CLOCK] = te
             scalars[F_ANCHOR] = te
@@ -2202,7 +2363,34 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             dvy = spheres[a, VY] - spheres[b, VY]
             if not planar:
                 dvz = spheres[a, VZ] - spheres[b, VZ]
-            if scalars[F_GROW] != 0.0:
+            step_kind = COLLISION
+            if len(axes[1]) == 1 and kind != COLLISION:
+                # stepped: the pair at a step's edge crosses it or bounces back
+                # (the reference's _step_factors and _apply_step)
+                old = _bond_state(book, a, b)
+                new = old + 1 if kind == CAPTURE else old - 1
+                du = _step_energy(scalars, new) - _step_energy(scalars, old)
+                k1, k2, crossed = cross_step(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, du, planar)
+                if not crossed and k1 == 0.0:
+                    scalars[F_CLOCK] = clock_before
+                    scalars[F_ANCHOR] = anchor
+                    return done, STOP_SLIDING  # (the pair slides along the edge)
+                if crossed:
+                    width = book.shape[1] - BONDS - 1
+                    if old == 0 and (book[a, BONDS] >= width or book[b, BONDS] >= width):
+                        scalars[F_CLOCK] = clock_before
+                        scalars[F_ANCHOR] = anchor
+                        return done, STOP_BONDS_FULL  # (nothing changed but the own times)
+                    step_kind = kind
+                    _bond_set(book, a, b, new)
+                    _bond_set(book, b, a, new)
+                    if old != 0:
+                        counts[C_BONDED + old - 1] -= 1
+                    if new != 0:
+                        counts[C_BONDED + new - 1] += 1
+                else:
+                    step_kind = BOUNCE
+            elif scalars[F_GROW] != 0.0:
                 u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
                 k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u, planar)
             elif len(rule) == 1:
@@ -2233,13 +2421,16 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             scalars[F_VIRIAL] -= masses[a] * k1 * d2
             book[a, CHANGES] += 1
             book[b, CHANGES] += 1
-            counts[C_COLLISIONS] += 1
+            if step_kind == COLLISION:
+                counts[C_COLLISIONS] += 1
+            else:
+                counts[C_STEP_EVENTS + step_kind - CAPTURE] += 1
             counts[C_SERIAL] += 1
             book[a, FRESH] = counts[C_SERIAL]
             book[b, FRESH] = counts[C_SERIAL]
             p0, p1 = a, b
             rec_t[row] = te
-            rec_kind[row] = COLLISION
+            rec_kind[row] = step_kind
             rec_i[row] = book[a, ORIGIN]
             rec_j[row] = book[b, ORIGIN]
             rec_imp[row] = -masses[a] * k1 * np.sqrt(d2)

@@ -81,6 +81,10 @@ _AXES = {2: ((),) * 2, 3: ((),) * 3}
 #: ... and in a sheared box: the first axis's entry is ``((),)`` (the core's
 #: sheared variant, ``len(axes[0]) == 1``; the dimension is still ``len(axes)``)
 _SHEARED_AXES = {2: (((),), ()), 3: (((),), (), ())}
+#: ... and with steps (square wells): the second's (``len(axes[1]) == 1``)
+_STEPPED_AXES = {2: ((), ((),)), 3: ((), ((),), ())}
+#: Entries of a new bond table per sphere (widened on demand, doubling).
+BONDS_FIRST = 8
 
 
 def _core_params(container: Container) -> dict:
@@ -151,6 +155,14 @@ class Engine:
             [length]: how far along x the images above the box are ahead of
             it (a :class:`~hardspheres.containers.PeriodicBox` with
             ``shear_rate``: the core's sheared variant, cells only).
+        steps: a stepped pair potential ``[(lambda_k, U_k), ...]``,
+            outermost first (a square well of depth ``eps``: ``[(lambda,
+            -eps)]``; at most four steps): each pair ``(i, j)`` has the
+            potential energy ``U_k`` inside ``lambda_k (R_i + R_j)`` (and
+            outside the next edge), 0 outside every edge.  The core's stepped
+            variant (cells only; not with shear, restitution below 1 or
+            growth); each pair's state starts from the distances, as the
+            reference's.
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -178,6 +190,7 @@ class Engine:
         wall_temperature: float = 0.0,
         wall_seed: int = 0,
         shear_offset: float = 0.0,
+        steps: Sequence[Sequence[float]] | None = None,
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
@@ -223,6 +236,7 @@ class Engine:
         self.hit_t = np.zeros(0)
         self.set_restitution(restitution, wall_restitution, tc)
         self.set_wall_temperature(wall_temperature, wall_seed)
+        self._set_steps(steps)
         self._grid(n)
         self._set_shear(shear_offset)
         self._into_box()
@@ -232,6 +246,8 @@ class Engine:
         self.last_reason, self.last_done = StopReason.UNTIL, 0
         if self._reorder_every and n > 1:
             self._permute(self._morton(self._inside_at(0.0)), built=False)
+        if self.scalars[core.F_NSTEP]:
+            self._bond_from_distances()
         self._build()
 
     @property
@@ -249,7 +265,115 @@ class Engine:
         """The dimension as the compiled core takes it: ``d`` empty tuples (the first ``((),)``: sheared)."""
         if self.scalars[core.F_SHEAR] != 0.0:
             return _SHEARED_AXES[self.dimensions]  # type: ignore[return-value]
+        if self.scalars[core.F_NSTEP] != 0.0:
+            return _STEPPED_AXES[self.dimensions]  # type: ignore[return-value]
         return _AXES[self.dimensions]
+
+    # ---- steps (square wells) ---------------------------------------------------
+    def _set_steps(self, steps: Sequence[Sequence[float]] | None) -> None:
+        """The stepped potential into the scalars, and a bond table in the book (none: hard spheres)."""
+        if steps is None or len(steps) == 0:
+            return
+        from .reference import check_steps
+
+        lams, us = check_steps(steps)
+        if len(lams) > core.STEP_MAX:
+            raise ArgumentError(f"{len(lams)} steps: the engine takes at most {core.STEP_MAX}")
+        if getattr(self.container, "shear_rate", 0.0):
+            raise ShearError("steps in a sheared box are not built yet: give shear_rate=0 or no steps")
+        if self.inelastic:
+            raise ArgumentError("steps with restitution below 1 are not built yet: give restitution=1")
+        edges = self._edges_of_container()
+        if edges and self.n:
+            reach = lams[0] * 2.0 * float(np.max(self.spheres[:, core.RADIUS]))
+            side = min(edges)
+            if not reach < 0.5 * side:
+                raise BoxShapeError(
+                    f"the outermost step reaches {reach:g}, not less than half the box's side {side:g}: "
+                    "give a larger box or a narrower step"
+                )
+        self.scalars[core.F_NSTEP] = len(lams)
+        for k, (lam, u) in enumerate(zip(lams, us)):
+            self.scalars[core.F_STEP + 2 * k] = lam
+            self.scalars[core.F_STEP + 2 * k + 1] = u
+        self.book = np.concatenate([self.book, np.zeros((self.n, 1 + BONDS_FIRST), np.int64)], axis=1)
+
+    def _edges_of_container(self) -> list[float]:
+        """The periodic box's sides (empty: a container with a wall)."""
+        params = _core_params(self.container)
+        return [float(e) for e in params["edges"] if e] if not params["wall_radius"] else []
+
+    @property
+    def steps(self) -> tuple[tuple[float, float], ...]:
+        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
+        f = self.scalars
+        return tuple(
+            (float(f[core.F_STEP + 2 * k]), float(f[core.F_STEP + 2 * k + 1]))
+            for k in range(int(f[core.F_NSTEP]))
+        )
+
+    def _bond_from_distances(self) -> None:
+        """Each pair's state from the distances now (the reference's ``step_state``, the same arithmetic)."""
+        n, lams = self.n, [lam for lam, _ in self.steps]
+        x = self.spheres[:, core.X : core.X + 3]
+        r = self.spheres[:, core.RADIUS]
+        edges = self._edges[:3]
+        width = self.book.shape[1] - core.BONDS - 1
+        rows: list[list[int]] = [[] for _ in range(n)]
+        self.counts[core.C_BONDED : core.C_BONDED + core.STEP_MAX] = 0
+        for i in range(n - 1):
+            d2 = np.zeros(n - 1 - i)
+            for ax in range(3):
+                dx = x[i, ax] - x[i + 1 :, ax]
+                if edges[ax]:
+                    dx = dx - edges[ax] * np.round(dx / edges[ax])
+                d2 = d2 + dx * dx
+            sigma = r[i] + r[i + 1 :]
+            state = np.zeros(n - 1 - i, np.int64)
+            for lam in lams:
+                edge = lam * sigma
+                state += d2 < edge * edge
+            for q in np.nonzero(state)[0]:
+                j, st = i + 1 + int(q), int(state[q])
+                rows[i].append((j << 3) | st)
+                rows[j].append((i << 3) | st)
+                self.counts[core.C_BONDED + st - 1] += 1
+        longest = max((len(row) for row in rows), default=0)
+        if longest > width:
+            extra = max(longest - width, width)
+            self.book = np.concatenate([self.book, np.zeros((n, extra), np.int64)], axis=1)
+        self.book[:, core.BONDS :] = 0
+        for i, row in enumerate(rows):
+            self.book[i, core.BONDS] = len(row)
+            self.book[i, core.BONDS + 1 : core.BONDS + 1 + len(row)] = row
+
+    def _widen_bonds(self) -> None:
+        """Twice as many entries per bond table (the tables stay as they are)."""
+        width = self.book.shape[1] - core.BONDS - 1
+        self.book = np.concatenate([self.book, np.zeros((self.n, width), np.int64)], axis=1)
+
+    def potential_energy(self) -> float:
+        """The stepped potential's energy now [mass*length^2/time^2] (0 for hard spheres).
+
+        Formed afresh from the count of pairs in each step, in a fixed order
+        (the reference's): it cannot drift.
+        """
+        u = 0.0
+        for k, (_, energy) in enumerate(self.steps):
+            u += int(self.counts[core.C_BONDED + k]) * energy
+        return u
+
+    @property
+    def pair_states(self) -> dict[tuple[int, int], int]:
+        """Each pair ``(i, j)`` of input indices, ``i < j``, in a step, and its state (edges it is inside)."""
+        out: dict[tuple[int, int], int] = {}
+        order = self.order
+        for a in range(self.n):
+            for q in range(int(self.book[a, core.BONDS])):
+                e = int(self.book[a, core.BONDS + 1 + q])
+                i, j = int(order[a]), int(order[e >> 3])
+                out[(min(i, j), max(i, j))] = e & 7
+        return out
 
     def _set_shear(self, offset: float) -> None:
         """A sheared box's boundary speed and offset at the time origin (``offset`` now) [length]."""
@@ -520,6 +644,10 @@ class Engine:
         self.shells = self.shells[perm]
         partner = book[:, core.PARTNER]
         book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
+        if self.scalars[core.F_NSTEP]:  # the bond tables' partners renamed
+            held = np.arange(book.shape[1] - core.BONDS - 1)[None, :] < book[:, core.BONDS][:, None]
+            entries = book[:, core.BONDS + 1 :]
+            entries[held] = (new[entries[held] >> 3] << 3) | (entries[held] & 7)
         nb = self.neighbours[perm]
         used = np.arange(nb.shape[1])[None, :] < book[:, core.NEIGHBOURS][:, None]
         entries = nb[used].astype(np.int64)
@@ -595,6 +723,9 @@ class Engine:
         shell = SHELL if phi >= (LISTS_FROM if self.dimensions == 3 else LISTS_FROM_2D) else 0.0
         if getattr(self.container, "shear_rate", 0.0):
             shell = 0.0  # a sheared box: cells (the strip across a sliding face), no lists yet
+        if self.scalars[core.F_NSTEP]:
+            shell = 0.0  # steps: cells as wide as the outermost step, no lists yet
+            sigma *= float(self.scalars[core.F_STEP])
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma
@@ -743,6 +874,8 @@ class Engine:
         rate = float(rate)
         if not (rate >= 0.0 and np.isfinite(rate)):
             raise ArgumentError(f"growth rate must be a finite number >= 0, got {rate}")
+        if rate and self.scalars[core.F_NSTEP]:
+            raise ArgumentError("radii cannot grow with steps (square wells): grow hard spheres first")
         if rate and self.scalars[core.F_SHEAR]:
             raise ArgumentError("radii cannot grow in a sheared box: grow them unsheared first")
         if rate and self.inelastic:
@@ -967,6 +1100,9 @@ class Engine:
             if reason == core.STOP_LISTS_FULL:
                 self._widen_lists()
                 continue
+            if reason == core.STOP_BONDS_FULL:
+                self._widen_bonds()
+                continue
             if reason == StopReason.FROZEN or reason == StopReason.SLIDING:
                 if done_total == 0:
                     self.last_reason, self.last_done = StopReason(reason), 0
@@ -1180,13 +1316,20 @@ class Engine:
         or, with neighbour lists, of a sphere's shell), stale (predictions
         dropped), refreshed (made afresh by the window rule)."""
         c = self.counts
-        return {
+        out = {
             "collisions": int(c[core.C_COLLISIONS]),
             "reflections": int(c[core.C_REFLECTIONS]),
             "crossings": int(c[core.C_CROSSINGS]),
             "stale": int(c[core.C_STALE]),
             "refreshed": int(c[core.C_REFRESHED]),
         }
+        if self.scalars[core.F_NSTEP]:  # (with steps, as the reference's)
+            out.update(
+                captures=int(c[core.C_STEP_EVENTS]),
+                releases=int(c[core.C_STEP_EVENTS + 1]),
+                bounces=int(c[core.C_STEP_EVENTS + 2]),
+            )
+        return out
 
     def transport_tallies(self, t: float | None = None) -> dict[str, np.ndarray]:
         """The transport tallies at absolute time ``t`` (default: now; periodic box).
