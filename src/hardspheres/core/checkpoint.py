@@ -165,10 +165,10 @@ def check_arrays(data: Mapping[str, np.ndarray]) -> None:
     book = np.asarray(data.get("book", np.zeros((0, 0), np.int64)))
     if "book" not in data:
         _bad("no array 'book'")
-    if book.dtype != np.int64 or book.shape not in (
-        (n, core.BOOK_COLS),
-        (n, core.ORIGIN),
-        (n, core.NEIGHBOURS),
+    stepped = scalars_of(data).shape[0] > core.F_NSTEP and scalars_of(data)[core.F_NSTEP] != 0.0
+    if book.dtype != np.int64 or (
+        book.shape not in ((n, core.BOOK_COLS), (n, core.ORIGIN), (n, core.NEIGHBOURS))
+        and not (stepped and book.ndim == 2 and book.shape[0] == n and book.shape[1] > core.BONDS + 1)
     ):
         # (13 columns: from before the engine's own order; 12: before the neighbour lists)
         _bad(f"'book' is {book.dtype}{list(book.shape)}, expected int64{[n, core.BOOK_COLS]}")
@@ -209,6 +209,8 @@ def check_arrays(data: Mapping[str, np.ndarray]) -> None:
     cell_head = _array(data, "cell_head", np.int64, (int(np.prod(grid)),))
     _check_state(masses, spheres, due, heap_t, scalars, counts, meta)
     _check_rule(data, scalars, n)
+    if scalars.shape[0] > core.F_NSTEP and scalars[core.F_NSTEP]:
+        _check_bonds(book, scalars, counts, n)
     if n == 0:
         if np.any(cell_head != -1):
             _bad("cells hold spheres that do not exist")
@@ -275,6 +277,46 @@ def _check_rule(data: Mapping[str, np.ndarray], scalars: np.ndarray, n: int) -> 
         _bad("a last collision time is NaN or +inf")
 
 
+def scalars_of(data: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The ``scalars`` array of ``data`` as float64 (empty if absent: the caller refuses that)."""
+    try:
+        return np.asarray(data.get("scalars", np.zeros(0)), dtype=np.float64).reshape(-1)
+    except (ValueError, TypeError):
+        return np.zeros(0)
+
+
+def _check_bonds(book: np.ndarray, scalars: np.ndarray, counts: np.ndarray, n: int) -> None:
+    """The steps and the bond tables: steps in order, entries in range, symmetric, counted per step."""
+    k = scalars[core.F_NSTEP]
+    if not (k == int(k) and 1 <= k <= core.STEP_MAX):
+        _bad(f"{k} steps, expected 1 to {core.STEP_MAX}")
+    k = int(k)
+    lams = scalars[core.F_STEP : core.F_STEP + 2 * k : 2]
+    us = scalars[core.F_STEP + 1 : core.F_STEP + 2 * k : 2]
+    if not (np.all(np.isfinite(lams)) and np.all(np.isfinite(us)) and np.all(lams > 1.0)) or np.any(
+        np.diff(lams) >= 0.0
+    ):
+        _bad("the steps are not finite with lambda decreasing from the outermost and above 1")
+    width = book.shape[1] - core.BONDS - 1
+    count = book[:, core.BONDS]
+    if np.any((count < 0) | (count > width)):
+        _bad("a bond table longer than its row")
+    held = np.arange(width)[None, :] < count[:, None]
+    entries = book[:, core.BONDS + 1 :]
+    rows = np.repeat(np.arange(n), count)
+    partner, state = entries[held] >> 3, entries[held] & 7
+    if np.any((partner < 0) | (partner >= n) | (partner == rows) | (state < 1) | (state > k)):
+        _bad("a bond entry out of range")
+    there = np.sort((rows * n + partner) * 8 + state)
+    back = np.sort((partner * n + rows) * 8 + state)
+    if not np.array_equal(there, back) or np.any(np.diff(there // 8) == 0):
+        _bad("the bond tables are not symmetric")
+    if counts.shape[0] >= core.C_BONDED + core.STEP_MAX:
+        per_step = np.bincount(state, minlength=core.STEP_MAX + 1)[1 : core.STEP_MAX + 1] // 2
+        if np.any(counts[core.C_BONDED : core.C_BONDED + core.STEP_MAX] != per_step):
+            _bad("the counts of pairs per step disagree with the bond tables")
+
+
 def _check_cells(
     book: np.ndarray,
     grid: np.ndarray,
@@ -320,8 +362,10 @@ def _check_calendar(
     if not np.array_equal(np.sort(heap), ids) or np.any(book[heap, core.HEAP_POS] != ids):
         _bad("the event calendar is not a permutation of the spheres")
     kind, partner = book[:, core.EVENT_KIND], book[:, core.PARTNER]
-    coll = kind == core.COLLISION
-    if np.any(~np.isin(kind, (core.REFLECTION, core.COLLISION, core.NONE))):
+    stepped = scalars.shape[0] > core.F_NSTEP and scalars[core.F_NSTEP] != 0.0
+    pair_kinds = (core.COLLISION, core.CAPTURE, core.RELEASE) if stepped else (core.COLLISION,)
+    coll = np.isin(kind, pair_kinds)  # (every pair event ties as a collision)
+    if np.any(~np.isin(kind, (core.REFLECTION, core.NONE, *pair_kinds))):
         _bad("an unknown event kind")
     if np.any(coll & ((partner < 0) | (partner >= n) | (partner == ids))):
         _bad("a collision partner outside the spheres")
