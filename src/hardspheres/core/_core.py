@@ -1128,6 +1128,9 @@ def _pair_stepped(
 ):
     """The stepped variant's :func:`_pair`: the pair's next event by its state (the reference's ``pair_step_time``).
 
+    Longer than 80 lines: :func:`_pair`'s image arithmetic written out again
+    (the hard-sphere kernel stays as it is), then the state's edges.
+
     The inner edge from outside (the core, ``COLLISION``, in the innermost
     state; else the next step in, ``CAPTURE``) with ``pair_time``; when the
     chord misses it, the outer edge from inside (``RELEASE``) with
