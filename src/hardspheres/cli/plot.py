@@ -22,7 +22,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     """Add the subcommand to ``sub`` (the ``hardspheres`` parser's subparsers)."""
     p = sub.add_parser(
         "plot",
-        help="plots (.png, .pdf, .svg): conservation, speeds, eos, transport, sweep, gr, msd, "
+        help="plots (.png, .pdf, .svg): conservation, speeds, eos, transport, sweep, flow, gr, msd, "
         "fs, chi4, contacts",
     )
     p.add_argument(
@@ -33,6 +33,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
             "eos",
             "transport",
             "sweep",
+            "flow",
             "gr",
             "msd",
             "fs",
@@ -42,7 +43,8 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         help="energy/momentum over time, speeds vs Maxwell-Boltzmann, "
         "the validate CSV vs Carnahan-Starling, the validate --transport CSV "
         "vs published values, a study's results "
-        "(--x PARAMETER --y OBSERVABLE), g(r) (periodic box), the "
+        "(--x PARAMETER --y OBSERVABLE), a sheared study's flow curve (viscosity against shear "
+        "rate), g(r) (periodic box), the "
         "mean squared displacement with D (periodic box), F_s(k, t) with "
         "tau_alpha, chi_4(t) of the overlap (periodic box), or a packing's "
         "contacts Z(h) and forces P(f) (a scenario with --box)",
@@ -72,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     from ..viz import plots
 
     need("matplotlib", "hardspheres plot")  # before a simulation, not after
-    if args.what not in ("eos", "transport", "sweep", "contacts"):
+    if args.what not in ("eos", "transport", "sweep", "flow", "contacts"):
         check_source(args)  # the input's options first, then the output
     refuse_existing("-o", args.output, args.overwrite)
     with warnings.catch_warnings(record=True) as caught:
@@ -94,6 +96,8 @@ def _plot(args: argparse.Namespace, plots: ModuleType) -> None:
         plots.plot_transport(args.input, args.output)
     elif args.what == "sweep":
         plots.plot_sweep(args.input, args.output, x=args.x, y=args.y)
+    elif args.what == "flow":
+        plots.plot_flow(args.input, args.output)
     elif args.what == "contacts":
         from ..analysis.collisions import packing_contact_forces
 

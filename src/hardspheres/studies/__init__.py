@@ -47,6 +47,8 @@ Study file (every key but ``packing`` and ``n`` is optional)::
     # restitution = [0.9, 0.8]  # inelastic collisions: a granular gas that cools (or a list)
     # kicks = 0.5               # ... or driven by white noise of this strength xi_0^2 (or a list)
     # kick_interval = 0.02      # the time between its kicks (or a list)
+    # shear_rate = [0.1, 0.5]   # Lees-Edwards shear rate(s) g of the periodic box (or one)
+    # rescale_interval = 0.05   # sheared elastic fluid: time between its rescalings to kT = 1
     equilibrate = 50            # collisions per sphere before measuring
     collisions = 500            # collisions per sphere measured (or: time = 20.0)
     blocks = 10                 # blocks for the error bars within a run
@@ -82,6 +84,22 @@ is driven to a steady state instead: every restitution must be below 1,
 each task's kicks are seeded from its seed (a stream apart from the
 builder's), ``measure`` defaults to ``temperature`` and ``a2``, and ``Z``,
 ``pressure`` and the cooling rates are refused.
+
+Shear flow: with ``shear_rate`` (one rate ``g`` other than 0, or a list, a
+grid column) each run's periodic box is sheared by Lees-Edwards boundaries
+(flow along x, gradient along y; ``container = "box"``, constant volume, no
+kicks, ``method = "edmd"``).  An elastic fluid is held at ``kT = 1`` (the
+study's unit: no ``kT`` key) by rescaling its peculiar velocities
+(:class:`~hardspheres.dense.PeculiarRescale`) every ``rescale_interval``
+(default ``min(0.05, 0.02 / g^2)``, a number: the fluid heats by about
+``2 eta g^2 V / (d N)`` in kT per unit time between rescalings, so shorten
+it for a dense fluid or a high rate); a granular one (``restitution``
+below 1) gets no thermostat: its steady state balances the shear's work
+against the dissipation.  ``measure`` defaults to ``viscosity`` (``-P_xy /
+g`` over each block) and ``temperature`` (the peculiar kT at each block's
+end: how far the rescaling lets it rise); ``normal_stress_1`` and (3-D)
+``normal_stress_2`` may be measured too.  ``hardspheres plot flow
+results.parquet`` draws the flow curve.
 
 Constant pressure: with ``pressure`` (``beta P sigma^3``, one or a list) each
 run holds it with a :class:`~hardspheres.barostat.Barostat` (isotropic

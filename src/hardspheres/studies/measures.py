@@ -62,6 +62,10 @@ OBSERVABLES: dict[str, Measure] = {
     "speeds_ks": _ks,
     "mean_packing": _packing,
     "mean_volume": _volume,
+    # a sheared box's (Lees-Edwards): eta = -P_xy / g, N1 = P_xx - P_yy, N2 = P_yy - P_zz
+    "viscosity": lambda sim, o: o.estimate("viscosity").mean,
+    "normal_stress_1": lambda sim, o: o.estimate("normal_stress_1").mean,
+    "normal_stress_2": lambda sim, o: o.estimate("normal_stress_2").mean,
 }
 _NOT_OBSERVABLES = {"reset", "summary", "speed_histogram", "elapsed"}
 

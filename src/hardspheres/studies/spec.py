@@ -41,6 +41,7 @@ GRID: tuple[str, ...] = (
     "restitution",
     "kicks",
     "kick_interval",
+    "shear_rate",
     "seed",
 )
 
@@ -69,6 +70,9 @@ _KEYS: dict[str, str] = {
     "restitution": "collisions' restitution coefficient(s), number(s) in (0, 1] (below 1: granular)",
     "kicks": "white-noise driving's strength(s) xi_0^2, number(s) > 0 (with restitution below 1)",
     "kick_interval": "time(s) between kicks, number(s) > 0 (a small fraction of the mean free time)",
+    "shear_rate": "Lees-Edwards shear rate(s) g, finite number(s) other than 0 (a periodic box)",
+    "rescale_interval": "time between rescalings of the peculiar velocities to kT = 1 in a sheared "
+    "elastic fluid, a number > 0 (default min(0.05, 0.02 / shear_rate^2))",
     "equilibrate": "collisions per sphere before measuring, number >= 0",
     "collisions": "collisions per sphere measured, number > 0",
     "time": "time measured per run, number > 0",
@@ -101,6 +105,8 @@ class Study(TypedDict):
     restitution: list[float] | None
     kicks: list[float] | None
     kick_interval: list[float] | None
+    shear_rate: list[float] | None
+    rescale_interval: float | None
     equilibrate: float
     collisions: float | None
     time: float | None
@@ -120,6 +126,8 @@ class _TaskSpace(TypedDict, total=False):
     restitution: float
     kicks: float
     kick_interval: float
+    shear_rate: float
+    rescale_interval: float
 
 
 class Task(_TaskSpace):
@@ -296,6 +304,7 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
                 "barostat holds kT = 1; give one or the other"
             )
     kicks, kick_interval = _kicks(data, restitution, source)
+    shear_rate, rescale_interval = _shear(data, container, method, pressure, kicks, source)
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
     length: dict[str, Any] = {}
@@ -319,7 +328,15 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
             raise StudyError(f"{_where(source)}{key} = {v!r} is not allowed: give {_KEYS[key]}")
         counts[key] = v
     granular = restitution is not None and min(restitution) < 1.0
-    usual = ["temperature", "a2"] if kicks else ["cooling_per_collision", "a2"] if granular else ["Z"]
+    usual = (
+        ["viscosity", "temperature"]
+        if shear_rate
+        else ["temperature", "a2"]
+        if kicks
+        else ["cooling_per_collision", "a2"]
+        if granular
+        else ["Z"]
+    )
     measure = data.get("measure", usual)
     if isinstance(measure, str):
         measure = [measure]
@@ -329,6 +346,17 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
     for m in measure:
         if m not in known:
             raise StudyError(f"{_where(source)}measure: unknown observable {m!r} (known: {', '.join(known)})")
+        if m in SHEAR_MEASURES and not shear_rate:
+            raise StudyError(
+                f"{_where(source)}measure: {m} is measured in a sheared box: give shear_rate too"
+            )
+        if m == "normal_stress_2" and 2 in dimensions:
+            raise StudyError(f"{_where(source)}measure: normal_stress_2 (P_yy - P_zz) is 3-D only")
+        if shear_rate and m in ("cooling_rate", "cooling_per_collision", "a2"):
+            raise StudyError(
+                f"{_where(source)}measure: {m} is not measured in a sheared gas (the shear heats it, "
+                "and its velocities hold the flow); measure viscosity, normal_stress_1, temperature"
+            )
         if kicks and m in ("Z", "compressibility", "pressure", "cooling_rate", "cooling_per_collision"):
             raise StudyError(
                 f"{_where(source)}measure: {m} is not measured in a gas driven by kicks (its kT is "
@@ -368,6 +396,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         restitution=restitution,
         kicks=kicks,
         kick_interval=kick_interval,
+        shear_rate=shear_rate,
+        rescale_interval=rescale_interval,
         equilibrate=length["equilibrate"],
         collisions=length["collisions"],
         time=length["time"],
@@ -410,6 +440,53 @@ def _kicks(
             "elastic spheres, kicked, heat without end)"
         )
     return kicks, interval
+
+
+#: What only a sheared study measures (:data:`hardspheres.studies.measures.OBSERVABLES`).
+SHEAR_MEASURES = ("viscosity", "normal_stress_1", "normal_stress_2")
+
+
+def rescale_interval(shear_rate: float) -> float:
+    """The default time between rescalings of a sheared elastic task's peculiar velocities [sigma sqrt(m/kT)].
+
+    ``min(0.05, 0.02 / g^2)``: half the mean free time at packing 0.3, and
+    shorter at high rates, where the fluid heats by ``2 eta g^2 V / (d N)``
+    in kT per unit time (about 2% of kT between rescalings for ``eta`` near
+    1, as at packing 0.3).
+
+    Example:
+        >>> rescale_interval(0.1), rescale_interval(2.0)
+        (0.05, 0.005)
+    """
+    return min(0.05, 0.02 / (shear_rate * shear_rate))
+
+
+def _shear(
+    data: Any, container: str, method: str, pressure: list[float] | None, kicks: Any, source: str | None
+) -> tuple[list[float] | None, float | None]:
+    """``(shear_rate, rescale_interval)``: the rates and the rescaling's interval (``None``: no shear)."""
+    raw = data.get("shear_rate")
+    interval = data.get("rescale_interval")
+    if raw is None:
+        if interval is not None:
+            raise StudyError(f"{_where(source)}rescale_interval is for a sheared box: give shear_rate too")
+        return None, None
+    sheared = _list_of(raw, "shear_rate", lambda v: _is_number(v) and v != 0.0, _KEYS["shear_rate"], source)
+    rates = [float(v) for v in sheared]
+    if len(set(rates)) != len(rates):
+        raise StudyError(f"{_where(source)}shear_rate lists a rate twice: {rates}")
+    if interval is not None and not (_is_number(interval) and interval > 0):
+        what = _KEYS["rescale_interval"]
+        raise StudyError(f"{_where(source)}rescale_interval = {interval!r} is not allowed: give {what}")
+    for bad, why in (
+        (container != "box", f'container = "box" (Lees-Edwards boundaries slide; not {container!r})'),
+        (method != "edmd", 'method = "edmd" (event-chain Monte Carlo has no flow)'),
+        (pressure is not None, "constant volume (leave out pressure: the barostat would move the box)"),
+        (kicks is not None, "no kicks (they act on the whole velocity, flow included)"),
+    ):
+        if bad:
+            raise StudyError(f"{_where(source)}shear_rate needs {why}")
+    return rates, None if interval is None else float(interval)
 
 
 def _space(data: Any, container: str, source: str | None) -> tuple[list[int], list[tuple[float, ...] | None]]:

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import StudyError
 from .measures import block_value
 from .files import atomic, row_path, write_json
-from .spec import GRID, GRID_DEFAULTS, Study, Task, aspect_text
+from .spec import GRID, GRID_DEFAULTS, Study, Task, aspect_text, rescale_interval
 
 if TYPE_CHECKING:
     from ..containers import Container
@@ -58,7 +58,10 @@ def tasks(study: Study) -> list[Task]:
     drives: list[tuple[float, float] | None] = (
         [*itertools.product(strengths, intervals)] if strengths and intervals else [None]
     )
-    for pressure, d, aspect, packing, n, rr, mr, e, drive, seed in itertools.product(
+    given_rates = study.get("shear_rate")
+    rates: list[float | None] = [*given_rates] if given_rates else [None]
+    driven = [*itertools.product(drives, rates)]  # (one argument less: product's types go to 10)
+    for pressure, d, aspect, packing, n, rr, mr, e, (drive, g), seed in itertools.product(
         pressures,
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
@@ -67,7 +70,7 @@ def tasks(study: Study) -> list[Task]:
         study["radius_ratio"],
         study["mass_ratio"],
         rules,
-        drives,
+        driven,
         study["seeds"],
     ):
         if packing is None:
@@ -108,6 +111,10 @@ def tasks(study: Study) -> list[Task]:
             t["restitution"] = e
         if drive is not None:  # (the same again: driven tasks only)
             t["kicks"], t["kick_interval"] = drive
+        if g is not None:  # (and again: sheared tasks only; an elastic one holds kT = 1 by rescaling)
+            t["shear_rate"] = g
+            if e is None or e >= 1.0:
+                t["rescale_interval"] = study.get("rescale_interval") or rescale_interval(g)
         t["key"] = _key(t)
         out.append(t)
     return out
@@ -134,6 +141,8 @@ def _build(task: Task) -> Simulation | EventChain:
             aspect = "1:1"
         sides = None if aspect is None else tuple(float(x) for x in aspect.split(":"))
         container = PeriodicBox.for_packing(n, phi, sides)  # spheres of diameter 1 (equal spheres)
+        if "shear_rate" in task:
+            container = container.sheared_by(task["shear_rate"])
     elif d == 2:
         container = CircularContainer.for_packing(n, phi)
     else:
@@ -156,6 +165,10 @@ def _build(task: Task) -> Simulation | EventChain:
         from ..dense import RandomKicks
 
         sim.set_thermostat(RandomKicks(task["kicks"], task["kick_interval"], seed=kick_seed(task["seed"])))
+    if "rescale_interval" in task:  # a sheared elastic fluid, held at kT = 1 (the builder's)
+        from ..dense import PeculiarRescale
+
+        sim.set_thermostat(PeculiarRescale(1.0, task["rescale_interval"]))
     if "betaP" in task:
         from ..barostat import Barostat
 

@@ -8,6 +8,7 @@
     plots.plot_eos("docs/validation.csv", "eos.png")     # Z against Carnahan-Starling
     plots.plot_transport("docs/validation-transport.csv", "transport.png")  # D, eta, lambda
     plots.plot_sweep("study/results.parquet", "Z.png")   # a study, Z against Hansen-Goos
+    plots.plot_flow("study/results.parquet", "flow.png") # a sheared study: eta against g
     plots.plot_gr(frames, "gr.png")                      # g(r), periodic box
     plots.plot_msd(frames, "msd.png")                    # MSD and D, periodic box
 
@@ -395,16 +396,20 @@ def read_table(path: str | os.PathLike[str]) -> Any:
     """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
     import pandas as pd
 
+    from ..studies import GRID_DEFAULTS
+
     path = str(path)
     try:
-        if path.endswith(".csv"):
-            return pd.read_csv(path)
-        return pd.read_parquet(path)
+        df = pd.read_csv(path) if path.endswith(".csv") else pd.read_parquet(path)
     except (OSError, ValueError) as e:
         if isinstance(e, FileNotFoundError):
             raise OSError(f"{path}: no such file") from None
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise StudyError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
+    for k, v in GRID_DEFAULTS.items():  # a CSV reads the empty aspect "" back as NaN (rows then drop)
+        if k in df.columns and df[k].isna().any():
+            df[k] = df[k].astype(object).where(df[k].notna(), v)
+    return df
 
 
 def plot_sweep(
@@ -502,6 +507,81 @@ def plot_sweep(
         dx.set_ylabel(f"{y} / {'phi' if npt else 'Z'}_HG - 1 [%]")
         dx.grid(alpha=0.3)
     last.set_xlabel(x)
+    return _save(fig, path, dpi)
+
+
+def plot_flow(
+    table: Any, path: str | os.PathLike[str], *, size: tuple[int, int] = SIZE, dpi: int = 100
+) -> Path:
+    """A study's flow curve: the viscosity ``eta = -P_xy/g`` against the shear rate ``g``, with error bars.
+
+    ``table`` is a sheared study's ``results.parquet`` (averaged here over
+    seeds, :func:`hardspheres.studies.summarize`) or its ``summary.parquet``
+    (or either as ``.csv``), with the columns ``shear_rate``, ``viscosity``
+    and ``viscosity_err``; rows without a shear rate are left out.  Points
+    are the means, error bars one standard error; one series per value of
+    the other parameters that vary (packing, N, ...).  Rates of both signs
+    are drawn at ``|g|`` (the viscosity is even in ``g``).  When the rates
+    span a decade or more the axes are logarithmic (the viscosity's too,
+    if every mean is above 0).
+
+    Args:
+        table: path of the results or summary table (or a DataFrame).
+        path: the picture to write (.png, .pdf, .svg).
+
+    Returns:
+        ``path`` as a :class:`pathlib.Path`.
+
+    Raises:
+        StudyError: no sheared row, or no viscosity measured (the message
+            says what to give).
+
+    Example:
+        >>> import pandas as pd, tempfile, os
+        >>> rows = pd.DataFrame({"container": "box", "packing": 0.3, "n": 64, "radius_ratio": 1.0,
+        ...     "shear_rate": [0.1, 1.0], "viscosity": [0.8, 0.7], "viscosity_err": [0.05, 0.02]})
+        >>> plot_flow(rows, os.path.join(tempfile.mkdtemp(), "flow.png")).name
+        'flow.png'
+    """
+    from ..studies import GRID, measured, summarize
+
+    df = read_table(table) if not hasattr(table, "columns") else table
+    name = table if isinstance(table, (str, os.PathLike)) else "the table"
+    if "shear_rate" not in df.columns:
+        raise StudyError(f"{name}: no shear_rate column: a flow curve is drawn from a sheared study")
+    if "seed" in df.columns:
+        df = summarize(df)
+    if "viscosity" not in measured(df):
+        raise StudyError(
+            f"{name}: viscosity is not measured (measured: {', '.join(measured(df)) or 'nothing'}); "
+            "measure viscosity"
+        )
+    df = df[np.isfinite(df["shear_rate"].to_numpy(float)) & (df["shear_rate"] != 0)].copy()
+    if df.empty:
+        raise StudyError(f"{name}: no sheared row (shear_rate other than 0)")
+    both = bool((df["shear_rate"] < 0).any() and (df["shear_rate"] > 0).any())
+    df["rate"] = df["shear_rate"].abs()
+    df = df.sort_values("rate", kind="stable")
+    params = [c for c in GRID if c in df.columns and c not in ("seed", "shear_rate")]
+    others = [c for c in params if df[c].nunique() > 1]
+    groups = list(df.groupby(others, sort=True)) if others else [((), df)]
+    fig = _figure(size, dpi)
+    ax = fig.subplots()
+    for k, (key, g) in enumerate(groups):
+        key = key if isinstance(key, tuple) else (key,)
+        label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
+        ax.errorbar(g["rate"], g["viscosity"], yerr=g["viscosity_err"], fmt="o-", ms=4, capsize=3,
+                    lw=0.8, color=f"C{k % 10}", label=label)  # fmt: skip
+    rates = df["rate"].to_numpy(float)
+    if rates.max() >= 10.0 * rates.min():
+        ax.set_xscale("log")
+        if (df["viscosity"] > 0).all():
+            ax.set_yscale("log")
+    ax.set_xlabel("|shear rate| |g|" if both else "shear rate g")
+    ax.set_ylabel("viscosity eta = -P_xy / g")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title(f"flow curve: mean ± standard error{_seeds_note(df)}")
     return _save(fig, path, dpi)
 
 
