@@ -106,6 +106,12 @@ class Simulation:
             collision within ``tc`` of either sphere's previous one is
             elastic, which resolves inelastic collapse; 0 (the default) is
             off.  A small fraction of the mean free time, e.g. 1e-3 of it.
+        steps: a stepped pair potential ``[(lambda_k, U_k), ...]``,
+            outermost first: a square well of width ``lambda`` and depth
+            ``eps`` is ``[(lambda, -eps)]``; each pair ``(i, j)`` has the
+            energy ``U_k`` inside ``lambda_k (R_i + R_j)`` and outside the
+            next edge, 0 outside every edge (docs/numerics.md, "Steps:
+            wells and shoulders").  Default: none (hard spheres).
 
     Attributes:
         container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
@@ -142,6 +148,7 @@ class Simulation:
         restitution: float = 1.0,
         wall_restitution: float | None = None,
         tc: float = 0.0,
+        steps: Sequence[Sequence[float]] | None = None,
     ) -> None:
         container = as_container(container)
         state.check()
@@ -173,6 +180,7 @@ class Simulation:
             container.dimensions,
             inelastic=restitution < 1.0 or (wall_restitution or 1.0) < 1.0,
             sheared=sheared,
+            stepped=bool(steps),
         )
         self._engine = Engine(
             state.masses,
@@ -185,6 +193,7 @@ class Simulation:
             restitution=restitution,
             wall_restitution=wall_restitution,
             tc=tc,
+            steps=steps,
         )
         self._engine.images = images
         if state.n > 1:
@@ -211,12 +220,13 @@ class Simulation:
         restitution: float = 1.0,
         wall_restitution: float | None = None,
         tc: float = 0.0,
+        steps: Sequence[Sequence[float]] | None = None,
     ) -> Simulation:
         """Build from arrays: ``masses (N,)`` [mass], ``radii (N,)`` [length],
         ``positions (N, 3)`` [length], ``velocities (N, 3)`` [length/time]
         (the other arguments as the constructor's)."""
         state = State.from_arrays(masses, radii, positions, velocities, names, time)
-        return cls(state, container, window, restitution, wall_restitution, tc)
+        return cls(state, container, window, restitution, wall_restitution, tc, steps)
 
     @classmethod
     def from_scenario(
@@ -290,6 +300,19 @@ class Simulation:
     def inelastic(self) -> bool:
         """Whether events change the kinetic energy (a restitution coefficient below 1, or a thermal wall)."""
         return self._engine.inelastic
+
+    @property
+    def steps(self) -> tuple[tuple[float, float], ...]:
+        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
+        return self._engine.steps
+
+    def potential_energy(self) -> float:
+        """The stepped potential's energy now [energy] (0: hard spheres): exact, from the count per step."""
+        return self._engine.potential_energy()
+
+    def total_energy(self) -> float:
+        """Kinetic plus potential energy now [energy]: conserved to rounding by elastic spheres with steps."""
+        return self._engine.kinetic_energy() + self._engine.potential_energy()
 
     @property
     def wall_temperature(self) -> float:
@@ -692,8 +715,13 @@ class Simulation:
             raise CheckpointError(f"{path}: {e}") from None
         sim.container = sim._engine.container
         sheared = bool(getattr(sim.container, "shear_rate", 0.0))
-        if sim._engine.inelastic or sheared:  # (these variants of the core are compiled on their own)
-            _compiled(sim.container.dimensions, inelastic=sim._engine.inelastic, sheared=sheared)
+        stepped = bool(sim._engine.steps)
+        if (
+            sim._engine.inelastic or sheared or stepped
+        ):  # (these variants of the core are compiled on their own)
+            _compiled(
+                sim.container.dimensions, inelastic=sim._engine.inelastic, sheared=sheared, stepped=stepped
+            )
         n = sim._engine.n
         if names is None or names.dtype.kind != "U" or names.shape != (n,) or len(set(names.tolist())) != n:
             raise CheckpointError(f"{path}: damaged checkpoint: not {n} distinct names")
@@ -726,10 +754,12 @@ class Simulation:
         return sim
 
 
-_WARM: set[tuple[int, bool, bool]] = set()
+_WARM: set[tuple[int, bool, bool, bool]] = set()
 
 
-def _compiled(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> None:
+def _compiled(
+    dimensions: int = 3, inelastic: bool = False, sheared: bool = False, stepped: bool = False
+) -> None:
     """Compile the event core for ``dimensions`` now if numba's cache is cold (once per process).
 
     :func:`~hardspheres.core.warmup.ensure_compiled` says so on stderr first,
@@ -737,9 +767,9 @@ def _compiled(dimensions: int = 3, inelastic: bool = False, sheared: bool = Fals
     install is not a silent wait of half a minute.  ``inelastic``: the
     core's inelastic variant (granular gases), compiled on its own.
     """
-    if (dimensions, inelastic, sheared) not in _WARM:
-        _WARM.add((dimensions, inelastic, sheared))
-        ensure_compiled(dimensions=dimensions, inelastic=inelastic, sheared=sheared)
+    if (dimensions, inelastic, sheared, stepped) not in _WARM:
+        _WARM.add((dimensions, inelastic, sheared, stepped))
+        ensure_compiled(dimensions=dimensions, inelastic=inelastic, sheared=sheared, stepped=stepped)
 
 
 def _rule(restitution: float, wall: float | None, tc: float) -> tuple[float, float | None, float]:

@@ -50,18 +50,28 @@ def _index_paths() -> list[str]:
     return paths
 
 
-def _marker(dimensions: int, inelastic: bool = False, sheared: bool = False) -> str | None:
+def _marker(
+    dimensions: int, inelastic: bool = False, sheared: bool = False, stepped: bool = False
+) -> str | None:
     """The file that says the core was compiled for ``dimensions`` (None: numba cannot tell where)."""
     paths = _index_paths()
-    name = f"compiled-{dimensions}d" + ("-inelastic" if inelastic else "") + ("-sheared" if sheared else "")
+    name = (
+        f"compiled-{dimensions}d"
+        + ("-inelastic" if inelastic else "")
+        + ("-sheared" if sheared else "")
+        + ("-stepped" if stepped else "")
+    )
     return os.path.join(os.path.dirname(paths[0]), name) if paths else None
 
 
-def is_cold(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> bool:
+def is_cold(
+    dimensions: int = 3, inelastic: bool = False, sheared: bool = False, stepped: bool = False
+) -> bool:
     """True when numba's on-disk cache lacks part of the compiled core for ``dimensions`` (2 or 3).
 
     ``inelastic``: the core's inelastic variant (its own machine code);
-    ``sheared``: its Lees-Edwards variant (its own too).
+    ``sheared``: its Lees-Edwards variant (its own too); ``stepped``: its
+    variant with steps (square wells).
 
     Cheap: looks for the cache's index files and the dimension's marker,
     compiles nothing.  When numba cannot tell (its internals changed),
@@ -72,11 +82,13 @@ def is_cold(dimensions: int = 3, inelastic: bool = False, sheared: bool = False)
     paths = _index_paths()
     if not paths:
         return False
-    marker = _marker(dimensions, inelastic, sheared)
+    marker = _marker(dimensions, inelastic, sheared, stepped)
     return not all(os.path.exists(p) for p in paths) or not (marker and os.path.exists(marker))
 
 
-def _compile(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> None:
+def _compile(
+    dimensions: int = 3, inelastic: bool = False, sheared: bool = False, stepped: bool = False
+) -> None:
     """Run every entry point of the core once, on two spheres in ``dimensions`` (compiles them)."""
     from ..containers import CircularContainer, PeriodicBox, SphericalContainer
     from .engine import Engine
@@ -107,11 +119,12 @@ def _compile(dimensions: int = 3, inelastic: bool = False, sheared: bool = False
         SphericalContainer(10.0) if d == 3 else CircularContainer(10.0),
         restitution=0.9 if inelastic else 1.0,
         tc=1e-3 if inelastic else 0.0,
+        steps=[(1.5, -1.0)] if stepped else None,
     )
     engine.max_overlap()
     engine.advance(events=2000)  # past the first rebase of the time origin
     engine.positions_at()
-    _mark(_marker(d, inelastic))
+    _mark(_marker(d, inelastic, stepped=stepped))
 
 
 def _mark(marker: str | None) -> None:
@@ -132,6 +145,7 @@ def ensure_compiled(
     dimensions: int = 3,
     inelastic: bool = False,
     sheared: bool = False,
+    stepped: bool = False,
 ) -> float:
     """Compile the core now if its cache is cold, saying so on ``stream``.
 
@@ -144,23 +158,24 @@ def ensure_compiled(
         inelastic: the inelastic collision rule's variant (granular gases;
             machine code of its own too).
         sheared: the Lees-Edwards variant (a sheared box; its own too).
+        stepped: the variant with steps (square wells; its own too).
 
     Returns:
         Seconds spent compiling (0.0 when the cache was warm).
     """
-    if not is_cold(dimensions, inelastic, sheared):
+    if not is_cold(dimensions, inelastic, sheared, stepped):
         return 0.0
     stream = None if quiet else (sys.stderr if stream is None else stream)
     if stream is not None:
         stream.write(
             f"compiling the event core for {dimensions}-D{', inelastic' if inelastic else ''}"
-            f"{', sheared' if sheared else ''} "
+            f"{', sheared' if sheared else ''}{', with steps' if stepped else ''} "
             "(once per dimension and collision rule, then cached; "
             f"typically {TYPICAL_SECONDS} s) ..."
         )
         stream.flush()
     t0 = time.perf_counter()
-    _compile(dimensions, inelastic, sheared)
+    _compile(dimensions, inelastic, sheared, stepped)
     seconds = time.perf_counter() - t0
     if stream is not None:
         stream.write(f" done in {seconds:.1f} s\n")
