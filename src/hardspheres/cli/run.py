@@ -806,11 +806,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             bar = ProgressWriter(progress, start_time, first=warn)
             sim.writers.append(bar)
             equilibrated = _equilibrate(sim, args, progress, start_time)
-            sim.observables.reset()
-            if sim.barostat is not None:
-                sim.barostat.reset_averages()
-            averaged_from = sim.time
-            kinetic0 = _kinetic_integral(sim)
+            averaged_from, kinetic0 = _start_averages(sim)
             if stopper.signum is None:
                 sim.run(until=args.until)
             if writer is not None and writer.last_time is not None and (writer.last_time < sim.time):
@@ -837,9 +833,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     c1 = sim.counters
     events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
     e1 = sim.state().kinetic_energy()
-    summary = sim.observables.summary() if sim.time > averaged_from and e1 > 0 else {}
-    if summary and _sheared(sim) and kinetic0 is not None:
-        summary["mean_temperature"] = _mean_peculiar_kT(sim, kinetic0, averaged_from)
+    summary = _summary(sim, averaged_from, kinetic0) if sim.time > averaged_from and e1 > 0 else {}
     lines = [
         f"time {sim.time:.9g}"
         + (" (interrupted)" if signum is not None else "")
@@ -869,6 +863,22 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     print("\n".join(lines))
     return _exit_status(failure, signum, checkpoint)
+
+
+def _start_averages(sim: Simulation) -> tuple[float, np.ndarray | None]:
+    """Start the averages now: ``(the time, a sheared run's kinetic integral then)``."""
+    sim.observables.reset()
+    if sim.barostat is not None:
+        sim.barostat.reset_averages()
+    return sim.time, _kinetic_integral(sim)
+
+
+def _summary(sim: Simulation, averaged_from: float, kinetic0: np.ndarray | None) -> dict[str, Any]:
+    """The observables' summary, with a sheared run's mean peculiar kT (``mean_temperature``)."""
+    summary = sim.observables.summary()
+    if kinetic0 is not None:
+        summary["mean_temperature"] = _mean_peculiar_kT(sim, kinetic0, averaged_from)
+    return summary
 
 
 def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float, injected0: float = 0.0) -> str:
