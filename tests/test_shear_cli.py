@@ -126,3 +126,22 @@ def test_shear_needs_a_periodic_box(folder):
     r = hs_cmd("run", "s.txt", "--container", "6", "--until", "1", *SHEAR, *HELD, cwd=folder)
     assert r.returncode == 1 and r.stdout == "" and "give --box" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_xyz_frames_carry_the_shear_offset_and_read_back(folder, sheared):
+    from hardspheres.io.trajectory import read_trajectory
+
+    r = hs_cmd("run", "--resume", "c.npz", "--until", "13", "--checkpoint", "c3.npz", "--trajectory", "t.xyz",
+               "--every", "0.5", cwd=folder, check=True)  # fmt: skip
+    assert "sheared at rate 0.5" in r.stdout
+    sim = hs.Simulation.load(folder / "c3.npz")
+    lx, ly = sim.container.sides[:2]
+    headers = [line for line in (folder / "t.xyz").read_text().splitlines() if line.startswith("Lattice=")]
+    assert len(headers) == 3  # t = 12, 12.5, 13
+    for line in headers:
+        t = float(re.search(r"Time=(\S+)", line).group(1))
+        offset = float(re.search(r"shear_offset=(\S+)", line).group(1))
+        assert "shear_rate=0.5" in line
+        assert offset == pytest.approx(math.fmod(0.5 * ly * t, lx), abs=1e-9)
+    frames = read_trajectory(folder / "t.xyz")
+    assert np.allclose(frames.times, [12, 12.5, 13]) and frames.container.shear_rate == 0.5

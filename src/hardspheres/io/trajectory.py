@@ -31,7 +31,8 @@ MDAnalysis open them; see ``docs/ovito.md``. Per frame:
 * a sheared box (Lees-Edwards): ``log/hardspheres/shear_rate`` [1/time] and
   ``log/hardspheres/shear_offset`` [length], the offset at the frame's time
   (how far along x the images above the box are ahead of it, in
-  ``[0, L_x)``; HOOMD's schema has no such field).
+  ``[0, L_x)``; HOOMD's schema has no such field); in XYZ files
+  ``shear_rate=`` and ``shear_offset=`` in each frame's comment line.
 
 Example:
     >>> import hardspheres as hs, tempfile, os
@@ -420,6 +421,8 @@ class XYZWriter(_FrameWriter):
         x, y, z = c.gsd_box[:3]  # (a spherical container: its enclosing cube)
         pbc = "T T T" if c.periodic else "F F F"
         size = " ".join(f"{k}={v!r}" for k, v in c.fields().items())
+        if getattr(c, "shear_rate", 0.0):  # a sheared box: the images' offset at the frame's time
+            size += f" shear_offset={sim.engine.shear_offset(state.time)!r}"
         images = state.images
         props = _XYZ_PROPS + (_XYZ_IMAGE if images is not None else "")
         header = (
