@@ -40,6 +40,8 @@ _VIR_T = slice(5, 11)  # collisional virial tensor (xx yy zz xy xz yz)
 _KIN_T = slice(11, 17)  # time integral of the kinetic tensor
 _HEAT_C = slice(17, 20)  # heat Helfand moment: collisional part
 _HEAT_K = slice(20, 23)  # heat Helfand moment: free flight
+# a stepped run's samples end with two snapshots (not tallies): the kinetic and potential energy then
+_K_NOW, _U_NOW = -2, -1
 _TENSOR = ("xx", "yy", "zz", "xy", "xz", "yz")
 _PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
@@ -76,13 +78,21 @@ class Observables:
         self._sim = sim
         #: a sheared box's rate [1/time] (0: not sheared): temperature and stress then peculiar
         self._shear_rate = float(getattr(sim.container, "shear_rate", 0.0))
+        #: the pair potential's steps (empty: hard spheres): the potential energy is sampled then
+        self._stepped = bool(getattr(sim, "steps", ()))
         self.reset(every)
 
     def _now(self) -> tuple[float, ...]:
         eng = self._sim.engine
         c = eng.counters
         t = float(self._sim.time)
-        now = (t, float(c["collisions"]), float(c["reflections"]), eng.wall_impulse, eng.virial)
+        now: tuple[float, ...] = (
+            t,
+            float(c["collisions"]),
+            float(c["reflections"]),
+            eng.wall_impulse,
+            eng.virial,
+        )
         if self._sim.container.periodic:  # the transport tallies
             tt = eng.transport_tallies(t)
             if self._shear_rate:  # a sheared box: the kinetic tensor of the peculiar velocities
@@ -92,6 +102,8 @@ class Observables:
                     [tt["virial"], tt["kinetic"], tt["heat_collisional"], tt["heat_kinetic"]]
                 ).tolist()
             )
+        if self._stepped:  # snapshots, not tallies: the last two columns (K, U now)
+            now += (eng.kinetic_energy(), eng.potential_energy())
         return now
 
     def reset(self, every: float | None = None, max_samples: int | None = None) -> Observables:
@@ -114,6 +126,8 @@ class Observables:
         self.merges = 0
         eng = self._sim.engine
         self._granular_mark = (eng.kinetic_energy(), eng.dissipated)  # (energy now and dissipated)
+        #: the total energy K + U at reset (the drift check of a stepped run)
+        self._energy_mark = eng.kinetic_energy() + (eng.potential_energy() if self._stepped else 0.0)
         # a driving thermostat's tally now, and what thermostats replaced since injected
         self._injected_mark = (self._injected_total(), 0.0)
         self._mark = self._now()
@@ -336,13 +350,138 @@ class Observables:
         d = self._sim.container.dimensions
         return float(np.mean(v2 * v2)) / (m2 * m2 * (1.0 + 2.0 / d)) - 1.0
 
-    def _measured(self, d: np.ndarray) -> dict[str, np.ndarray]:
-        """The observables from tally differences ``d`` (columns as a sample; rows: blocks)."""
+    # ---- stepped potentials (square wells): the potential energy ---------------------
+    def _potential_snapshots(self) -> np.ndarray:
+        """A stepped run's potential energy at the end of each block since :meth:`reset` [energy]."""
+        if not self._stepped:
+            raise NoMeasurementError(
+                "no potential energy: hard spheres have none (give steps=[(lambda, -eps)] for a well)"
+            )
+        if self.n_blocks < 1:
+            raise NoMeasurementError("no block sampled since reset(): run first")
+        return np.array([r[_U_NOW] for r in self._samples[1:]])
+
+    def potential_energy(self) -> Blocking:
+        """The potential energy averaged since :meth:`reset`, with its blocking error [energy].
+
+        A stepped run's (``Simulation(..., steps=...)``): the exact energy
+        (``U_k`` times the pairs in step ``k``, summed) sampled at the end of
+        each block, on the grid the tallies are sampled on; the mean of the
+        samples estimates the time average, and Flyvbjerg-Petersen blocking
+        of them gives its error (``nan`` with fewer than two blocks).
+
+        Raises:
+            NoMeasurementError: hard spheres (no steps), or no block sampled yet.
+
+        Example:
+            >>> import hardspheres as hs
+            >>> s = hs.random_spheres(64, 0.2, box=8.0, seed=2)
+            >>> sim = hs.Simulation(s, hs.PeriodicBox(8.0), steps=[(1.5, -1.0)])
+            >>> obs = sim.run(until=1.0).observables.reset()
+            >>> u = sim.run(until=6.0).observables.potential_energy()
+            >>> u.mean < 0, u.sem > 0
+            (True, True)
+        """
+        u = self._potential_snapshots()
+        if u.size < 2:
+            return _unknown_error(float(u.mean()))
+        return blocking(u)
+
+    def energy_drift(self) -> float:
+        """``(K + U now - (K + U) at reset) / K at reset``: zero to rounding for a stepped run [1].
+
+        The energy check of elastic spheres with steps, as
+        :meth:`energy_balance` is hard spheres' (``U = 0`` without steps).
+        Relative to the kinetic energy, which is positive, since ``K + U``
+        may be near zero or negative in a deep well.
+
+        Raises:
+            NoMeasurementError: no kinetic energy at :meth:`reset`.
+        """
+        k0 = self._granular_mark[0]
+        if not k0 > 0:
+            raise NoMeasurementError("no kinetic energy at reset(): nothing to compare the drift with")
+        eng = self._sim.engine
+        u = eng.potential_energy() if self._stepped else 0.0
+        return (eng.kinetic_energy() + u - self._energy_mark) / k0
+
+    def heat_capacity(self) -> Blocking:
+        """Heat capacity at constant volume per sphere, ``C_V / (N k_B)`` [1], from the fluctuations.
+
+        At constant ``N``, ``V`` and ``E`` the kinetic energy fluctuates as
+        ``U`` does (``K + U = E``), and Lebowitz, Percus and Verlet's
+        relation (Phys. Rev. 153, 250 (1967)) gives the heat capacity:
+        ``<dK^2> = (f/2) kT^2 (1 - f k_B / (2 C_V))``, so
+        ``C_V / k_B = (f/2) / (1 - 2 <dK^2> / (f kT^2))``, ``f`` the
+        degrees of freedom and ``kT = 2 <K> / f``.  Hard spheres' is
+        ``f / 2`` exactly (``3/2`` per sphere in 3-D); a well adds to it.
+        The variance comes from the samples at the block ends; its error
+        from blocking the squared deviations (the mean's error neglected).
+
+        Raises:
+            NoMeasurementError: hard spheres, fewer than
+                :data:`MIN_FLUCTUATION_BLOCKS` blocks, a run whose energy is
+                not conserved (a thermostat, a barostat, a thermal wall), or
+                fluctuations too large for the relation (not constant energy).
+        """
+        u = self._potential_snapshots()
+        if u.size < MIN_FLUCTUATION_BLOCKS:
+            raise NoMeasurementError(
+                f"{u.size} blocks sampled: the heat capacity from fluctuations needs "
+                f"{MIN_FLUCTUATION_BLOCKS}; run longer"
+            )
+        sim = self._sim
+        if (
+            getattr(sim, "thermostat", None) is not None
+            or getattr(sim, "barostat", None) is not None
+            or sim.engine.wall_temperature > 0
+        ):
+            raise NoMeasurementError(
+                "the heat capacity from fluctuations holds at constant energy: a thermostat, a barostat "
+                "or a thermal wall changes it; run without them"
+            )
+        f = max(self._dof(), 1)
+        k = np.array([r[_K_NOW] for r in self._samples[1:]])
+        kT = 2.0 * float(k.mean()) / f
+        dev2 = (k - k.mean()) ** 2
+        var = float(dev2.mean())
+        x = 2.0 * var / (f * kT * kT) if kT > 0 else math.inf
+        if not x < 1.0:
+            raise NoMeasurementError(
+                f"the kinetic energy fluctuates more than constant energy allows (2 <dK^2> / (f kT^2) = "
+                f"{x:.3g}, not below 1): is the run conserving energy? check energy_drift()"
+            )
+        b = blocking(dev2)
+        cv = 0.5 * f / (1.0 - x) / sim.n
+        scale = 0.5 * f / (1.0 - x) ** 2 * 2.0 / (f * kT * kT) / sim.n  # d C_V / d <dK^2>
+        return b._replace(mean=cv, sem=scale * b.sem, sems=scale * b.sems, sem_errors=scale * b.sem_errors)
+
+    def _mean_kT(self, s: np.ndarray) -> np.ndarray:
+        """A stepped run's mean ``kT`` over each block between the rows of samples ``s`` [energy].
+
+        The kinetic energy changes at every capture and release: a periodic
+        box's from the kinetic tensor's time integral (exact), a
+        container's from the snapshots at the block's ends (trapezoid).
+        """
+        dof = max(self._dof(), 1)
+        if self._sim.container.periodic:
+            d = np.diff(s, axis=0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return d[:, _KIN_T][:, :3].sum(axis=1) / (d[:, _T] * dof)
+        k = s[:, _K_NOW]
+        return (k[1:] + k[:-1]) / dof
+
+    def _measured(self, d: np.ndarray, kT: float | np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """The observables from tally differences ``d`` (columns as a sample; rows: blocks).
+
+        ``kT``: the temperature of each block (default: now, which a hard-sphere run keeps).
+        """
         dt = d[..., _T]
         cont = self._sim.container
-        n, kT = self._sim.n, self.temperature()
+        n = self._sim.n
+        kT = self.temperature() if kT is None else kT
         with np.errstate(divide="ignore", invalid="ignore"):
-            p = cont.pressure(n, kT, dt, d[..., _WALL], d[..., _VIRIAL])
+            p = cont.pressure(n, kT, dt, d[..., _WALL], d[..., _VIRIAL])  # type: ignore[arg-type]
             z = p * cont.volume / (n * kT)
             rate = 2.0 * d[..., _COLL] / (n * dt)
             out = {"pressure": p, "Z": z, "collision_rate": rate}
@@ -362,10 +501,17 @@ class Observables:
         d = np.array(self._delta())
         if not d[_T] > 0:
             raise NoMeasurementError("no time has passed since reset(); run first")
-        values = self._measured(d)
+        kT = None
+        if self._stepped:
+            now = np.array(self._now())
+            kT = self._mean_kT(np.array([self._mark, now]))
+            if not self._sim.container.periodic:  # the snapshots' mean (trapezoid over the blocks)
+                k = np.array([r[_K_NOW] for r in self._samples] + [now[_K_NOW]])
+                kT = np.array([2.0 * float(np.mean(k)) / max(self._dof(), 1)])
+        values = self._measured(d, kT)
         if name not in values:
             raise ArgumentError(f"no time average {name!r} here: choose one of {', '.join(values)}")
-        return float(values[name])
+        return float(np.asarray(values[name]).reshape(-1)[0])
 
     def blocks(self, name: str) -> np.ndarray:
         """``(n_blocks,)`` the values of ``name`` over each block of equal length.
@@ -376,7 +522,7 @@ class Observables:
         ... ``"pressure_yz"`` (the components of :meth:`pressure_tensor`).
         """
         s = np.array(self._samples)
-        values = self._measured(np.diff(s, axis=0))
+        values = self._measured(np.diff(s, axis=0), self._mean_kT(s) if self._stepped else None)
         name = ALIASES.get(name, name)
         if name not in values:
             raise ArgumentError(f"no time average {name!r} here: choose one of {', '.join(values)}")
@@ -512,6 +658,14 @@ class Observables:
         periodic box (the bulk Z), ``"wall"`` in a spherical container,
         where it is the wall's ``P V / (N kT)`` and ``Z_note`` says that it
         includes a surface term.
+
+        A stepped run (square wells) adds ``potential_energy`` (with its
+        error; :meth:`potential_energy`), ``energy_drift``
+        (:meth:`energy_drift`; left out with a thermostat, a barostat or a
+        thermal wall) and, from :data:`MIN_FLUCTUATION_BLOCKS` blocks on,
+        ``heat_capacity`` per sphere (:meth:`heat_capacity`).  Its ``Z``
+        divides by the mean ``kT`` over the run (``temperature`` is ``kT``
+        now, which changes at every capture and release).
         """
         out: dict[str, Any] = {
             "time": self._sim.time,
@@ -567,6 +721,31 @@ class Observables:
             rel = rate_err / rate if rate > 0 else np.nan
             out["mean_free_time_error"] = out["mean_free_time"] * rel
             out["mean_free_path_error"] = out["mean_free_path"] * rel
+        if self._stepped:
+            out.update(self._stepped_summary())
+        return out
+
+    def _stepped_summary(self) -> dict[str, Any]:
+        """A stepped run's keys: the potential energy, the energy drift, the heat capacity if measurable."""
+        out: dict[str, Any] = {}
+        if self.n_blocks >= 1:
+            est = self.potential_energy()
+            out["potential_energy"], out["potential_energy_error"] = est.mean, est.sem
+            out["potential_energy_converged"] = est.converged
+        sim = self._sim
+        if (
+            getattr(sim, "thermostat", None) is None
+            and getattr(sim, "barostat", None) is None
+            and not sim.engine.wall_temperature > 0
+            and self._granular_mark[0] > 0
+        ):
+            out["energy_drift"] = self.energy_drift()
+        try:
+            est = self.heat_capacity()
+        except NoMeasurementError:  # (too few blocks, or not at constant energy: no number)
+            return out
+        out["heat_capacity"], out["heat_capacity_error"] = est.mean, est.sem
+        out["heat_capacity_converged"] = est.converged
         return out
 
 
@@ -879,6 +1058,8 @@ class ShearFlow:
             )
 
 
+#: Fewest blocks :meth:`Observables.heat_capacity` gives a variance from.
+MIN_FLUCTUATION_BLOCKS = 32
 #: Fewest blocks :meth:`ShearFlow.estimate` gives an error bar from (blocking's own minimum).
 MIN_SHEAR_BLOCKS = 16
 #: A temperature trend below this fraction of the mean is not a drift (:class:`ShearFlow`).
