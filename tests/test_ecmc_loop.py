@@ -48,8 +48,31 @@ def test_a_checkpoint_of_other_lengths_or_damaged_is_refused(loop, tmp_path, mon
     monkeypatch.setattr(loop, "psi6", lambda chain: (_ for _ in ()).throw(KeyboardInterrupt))
     with pytest.raises(KeyboardInterrupt):
         loop.measure("crystal", 0.70, "crystal", 1, *LENGTHS, str(tmp_path))
-    with pytest.raises(loop.CheckpointProblem, match="rerun with those or remove it"):
+    with pytest.raises(loop.CheckpointProblem, match="lifts per chunk"):
         loop.measure("crystal", 0.70, "crystal", 1, 20, 320, 8, str(tmp_path))
+    with pytest.raises(loop.CheckpointProblem, match="lifts per chunk"):
+        loop.measure("crystal", 0.70, "crystal", 1, 40, 160, 8, str(tmp_path))
     (tmp_path / "crystal_0.7000_crystal_1.json").write_text("{not json")
     with pytest.raises(loop.CheckpointProblem, match="not a checkpoint of this script"):
         loop.measure("crystal", 0.70, "crystal", 1, *LENGTHS, str(tmp_path))
+
+
+def test_a_checkpoint_resumes_into_a_shorter_run_of_the_same_chunks(loop, tmp_path, monkeypatch):
+    short, short_series = loop.measure("crystal", 0.70, "crystal", 1, 20, 80, 4)
+    calls = {"n": 0}
+    real = loop.psi6
+
+    def dies_at_the_third_chunk(chain):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return real(chain)
+
+    monkeypatch.setattr(loop, "psi6", dies_at_the_third_chunk)
+    with pytest.raises(KeyboardInterrupt):
+        loop.measure("crystal", 0.70, "crystal", 1, *LENGTHS, str(tmp_path))  # 8 chunks of 20
+    monkeypatch.setattr(loop, "psi6", real)
+    row, series = loop.measure("crystal", 0.70, "crystal", 1, 20, 80, 4, str(tmp_path))  # 4 of 20
+    assert [s["bp"] for s in series] == [s["bp"] for s in short_series]
+    for key in ("bp", "error_run", "error_chunks", "psi6_mean"):
+        assert row[key] == short[key], key

@@ -40,7 +40,9 @@ saved in DIR after its equilibration and after every chunk (the chains,
 ``EventChain.save``, and the series so far), and a run found there is
 resumed from its last chunk, bit for bit (a run of half a CPU-hour or more
 then survives an interruption); the files go once its row is
-written.  ``table`` prints the table of the CSV again.
+written.  A run resumes into any length of the same ``--equilibrate`` and
+lifts per chunk (``--lifts / --chunks``) that it has not passed: the
+first k chunks of a longer run are a run of k chunks.  ``table`` prints the table of the CSV again.
 
 usage:
     nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
@@ -217,9 +219,15 @@ def measure(
     lengths = {"equilibrate": equilibrate, "lifts": lifts, "chunks": chunks}
     rec = read_checkpoint(path) if path else None
     if rec is not None:
-        if rec["lengths"] != lengths:
+        was = rec["lengths"]
+        if not (
+            was["equilibrate"] == equilibrate
+            and was["lifts"] * N // was["chunks"] == lifts * N // chunks
+            and rec["chunk"] <= chunks
+        ):
             raise CheckpointProblem(
-                f"{path} was written with {rec['lengths']}: rerun with those or remove it"
+                f"{path} was written with {was} and is at chunk {rec['chunk']}: rerun with the same "
+                "--equilibrate and lifts per chunk and at least as many chunks, or remove it"
             )
         try:
             chain = hs.EventChain.load(os.path.join(folder, rec["chain"]))
