@@ -1197,6 +1197,71 @@ def _pair_stepped(
     return best_t, best_key, best_p
 
 
+# ---- gates: a variant's code reached through an argument, so that numba
+# drops it before typing from the other variants (it folds len() of an
+# argument, not of an entry of one): their first compilation stays as short
+# as before the variants came
+@_inline
+def _stepped_gate(
+    pot,
+    spheres,
+    book,
+    scalars,
+    i,
+    oi,
+    j,
+    sx,
+    sy,
+    sz,
+    shifted,
+    ti,
+    now,
+    soon,
+    clock,
+    n,
+    best_t,
+    best_key,
+    best_p,
+    axes,
+):
+    """:func:`_pair_stepped` in the stepped variant (``pot = ((),)``); nothing in the others."""
+    if len(pot) == 1:
+        return _pair_stepped(
+            spheres, book, scalars, i, oi, j, sx, sy, sz, shifted, ti, now, soon, clock, n, best_t, best_key, best_p,
+            axes,
+        )  # fmt: skip
+    return best_t, best_key, best_p
+
+
+@_inline
+def _step_gate(pot, masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, dvy, dvz, planar):
+    """The stepped variant: the pair at a step's edge crosses it or bounces back (the reference's steps).
+
+    Returns ``(k1, k2, kind)``: the velocity factors and the event's kind
+    (``CAPTURE``, ``RELEASE`` or ``BOUNCE``), or kind -1 (the pair slides
+    along the edge: nothing to change) or -2 (a bond table is full: the
+    engine widens them); nothing changed then.
+    """
+    if len(pot) != 1:
+        return 0.0, 0.0, COLLISION
+    old = _bond_state(book, a, b)
+    new = old + 1 if kind == CAPTURE else old - 1
+    du = _step_energy(scalars, new) - _step_energy(scalars, old)
+    k1, k2, crossed = cross_step(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, du, planar)
+    if not crossed:
+        return k1, k2, (-1 if k1 == 0.0 else BOUNCE)
+    width = book.shape[1] - BONDS - 1
+    if old == 0 and (book[a, BONDS] >= width or book[b, BONDS] >= width):
+        return k1, k2, -2
+    _bond_set(book, a, b, new)
+    _bond_set(book, b, a, new)
+    if old != 0:
+        counts[C_BONDED + old - 1] -= 1
+    if new != 0:
+        counts[C_BONDED + new - 1] += 1
+    return k1, k2, kind
+
+
 @_inline
 def _scan_start(spheres, book, due, scalars, i):
     """What a scan of sphere ``i``'s pairs starts from.
@@ -1327,9 +1392,9 @@ def _scan_cells(
                 j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
                     if j != i and len(axes[1]) == 1:
-                        best_t, best_key, best_p = _pair_stepped(
-                            spheres, book, scalars, i, oi, j, 0.0, 0.0, 0.0, False, ti, now, soon, clock, n,
-                            best_t, best_key, best_p, axes,
+                        best_t, best_key, best_p = _stepped_gate(
+                            axes[1], spheres, book, scalars, i, oi, j, 0.0, 0.0, 0.0, False, ti, now, soon, clock,
+                            n, best_t, best_key, best_p, axes,
                         )  # fmt: skip
                     elif j != i:
                         best_t, best_key, best_p = _pair(
@@ -1456,9 +1521,9 @@ def _scan_across(
                 j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
                     if j != i and len(axes[1]) == 1:
-                        best_t, best_key, best_p = _pair_stepped(
-                            spheres, book, scalars, i, oi, j, sx, sy, sz, True, ti, now, soon, clock, n,
-                            best_t, best_key, best_p, axes,
+                        best_t, best_key, best_p = _stepped_gate(
+                            axes[1], spheres, book, scalars, i, oi, j, sx, sy, sz, True, ti, now, soon, clock,
+                            n, best_t, best_key, best_p, axes,
                         )  # fmt: skip
                     elif j != i:
                         best_t, best_key, best_p = _pair(
@@ -1486,7 +1551,22 @@ def _scan_across(
                         )
                     j = np.int64(cell_next[j])
     if len(axes[0]) == 1 and strip:
-        best_t, best_key, best_p = _scan_strip(
+        best_t, best_key, best_p = _strip_gate(
+            axes[0],
+            spheres, book, due, cell_head, cell_next, scalars, counts, i, now, soon, clock, one, best_t, best_key,
+            best_p, axes,
+        )  # fmt: skip
+    return best_t, best_key, best_p
+
+
+@_inline
+def _strip_gate(
+    flow, spheres, book, due, cell_head, cell_next, scalars, counts, i, now, soon, clock, one, best_t, best_key, best_p,
+    axes,
+):  # fmt: skip
+    """:func:`_scan_strip` in the sheared variant (``flow = ((),)``); nothing in the others."""
+    if len(flow) == 1:
+        return _scan_strip(
             spheres, book, due, cell_head, cell_next, scalars, counts, i, now, soon, clock, one, best_t, best_key,
             best_p, axes,
         )  # fmt: skip
@@ -1702,6 +1782,13 @@ def _close_flight(spheres, masses, scalars, i, t, axes):
 def _offset(scalars, t):
     """A sheared box's Lees-Edwards offset at time ``t`` (from the origin): the reference's arithmetic."""
     return (scalars[F_SHEAR0] + scalars[F_SHEAR] * t) % scalars[F_EDGE]
+
+
+@_inline
+def _wrap_gate(flow, spheres, masses, book, images, scalars, counts, i, t, step, axes):
+    """:func:`_wrap_sheared` in the sheared variant (``flow = ((),)``); nothing in the others."""
+    if len(flow) == 1:
+        _wrap_sheared(spheres, masses, book, images, scalars, counts, i, t, step, axes)
 
 
 @_jit
@@ -2234,7 +2321,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 # periodic wrap: shift the stored centre by one box side
                 k = (k + nc) % nc
                 if len(axes[0]) == 1 and ax == 1:
-                    _wrap_sheared(spheres, masses, book, images, scalars, counts, i, te, step, axes)
+                    _wrap_gate(axes[0], spheres, masses, book, images, scalars, counts, i, te, step, axes)
                 else:
                     spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
                     images[i, ax] += step
@@ -2370,29 +2457,13 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if len(axes[1]) == 1 and kind != COLLISION:
                 # stepped: the pair at a step's edge crosses it or bounces back
                 # (the reference's _step_factors and _apply_step)
-                old = _bond_state(book, a, b)
-                new = old + 1 if kind == CAPTURE else old - 1
-                du = _step_energy(scalars, new) - _step_energy(scalars, old)
-                k1, k2, crossed = cross_step(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, du, planar)
-                if not crossed and k1 == 0.0:
+                k1, k2, step_kind = _step_gate(
+                    axes[1], masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, dvy, dvz, planar
+                )
+                if step_kind < 0:  # the pair slides along the edge, or a bond table is full
                     scalars[F_CLOCK] = clock_before
                     scalars[F_ANCHOR] = anchor
-                    return done, STOP_SLIDING  # (the pair slides along the edge)
-                if crossed:
-                    width = book.shape[1] - BONDS - 1
-                    if old == 0 and (book[a, BONDS] >= width or book[b, BONDS] >= width):
-                        scalars[F_CLOCK] = clock_before
-                        scalars[F_ANCHOR] = anchor
-                        return done, STOP_BONDS_FULL  # (nothing changed but the own times)
-                    step_kind = kind
-                    _bond_set(book, a, b, new)
-                    _bond_set(book, b, a, new)
-                    if old != 0:
-                        counts[C_BONDED + old - 1] -= 1
-                    if new != 0:
-                        counts[C_BONDED + new - 1] += 1
-                else:
-                    step_kind = BOUNCE
+                    return done, STOP_SLIDING if step_kind == -1 else STOP_BONDS_FULL
             elif scalars[F_GROW] != 0.0:
                 u = (spheres[a, RADIUS] + spheres[b, RADIUS]) * scalars[F_GROW]
                 k1, k2 = collide_grow(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, u, planar)
