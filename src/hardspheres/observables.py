@@ -456,6 +456,26 @@ class Observables:
         scale = 0.5 * f / (1.0 - x) ** 2 * 2.0 / (f * kT * kT) / sim.n  # d C_V / d <dK^2>
         return b._replace(mean=cv, sem=scale * b.sem, sems=scale * b.sems, sem_errors=scale * b.sem_errors)
 
+    def mean_temperature(self) -> float:
+        """A stepped run's ``kT`` averaged since :meth:`reset` [energy] (``2 <K> / f``).
+
+        A periodic box's from the kinetic tensor's time integral (exact); a
+        container's from the kinetic energy sampled at the block ends and now.
+        Hard spheres keep ``kT`` constant: :meth:`temperature`.
+
+        Raises:
+            NoMeasurementError: no time has passed since :meth:`reset`.
+        """
+        if not self._stepped:
+            return self.temperature()
+        now = np.array(self._now())
+        if not now[_T] > self._mark[_T]:
+            raise NoMeasurementError("no time has passed since reset(); run first")
+        if self._sim.container.periodic:
+            return float(self._mean_kT(np.array([self._mark, now]))[0])
+        k = np.array([r[_K_NOW] for r in self._samples] + [now[_K_NOW]])
+        return 2.0 * float(np.mean(k)) / max(self._dof(), 1)
+
     def _mean_kT(self, s: np.ndarray) -> np.ndarray:
         """A stepped run's mean ``kT`` over each block between the rows of samples ``s`` [energy].
 
@@ -501,13 +521,7 @@ class Observables:
         d = np.array(self._delta())
         if not d[_T] > 0:
             raise NoMeasurementError("no time has passed since reset(); run first")
-        kT = None
-        if self._stepped:
-            now = np.array(self._now())
-            kT = self._mean_kT(np.array([self._mark, now]))
-            if not self._sim.container.periodic:  # the snapshots' mean (trapezoid over the blocks)
-                k = np.array([r[_K_NOW] for r in self._samples] + [now[_K_NOW]])
-                kT = np.array([2.0 * float(np.mean(k)) / max(self._dof(), 1)])
+        kT = np.array([self.mean_temperature()]) if self._stepped else None
         values = self._measured(d, kT)
         if name not in values:
             raise ArgumentError(f"no time average {name!r} here: choose one of {', '.join(values)}")
@@ -664,8 +678,9 @@ class Observables:
         (:meth:`energy_drift`; left out with a thermostat, a barostat or a
         thermal wall) and, from :data:`MIN_FLUCTUATION_BLOCKS` blocks on,
         ``heat_capacity`` per sphere (:meth:`heat_capacity`).  Its ``Z``
-        divides by the mean ``kT`` over the run (``temperature`` is ``kT``
-        now, which changes at every capture and release).
+        divides by ``mean_temperature``, the mean ``kT`` over the run
+        (``temperature`` is ``kT`` now, which changes at every capture and
+        release).
         """
         out: dict[str, Any] = {
             "time": self._sim.time,
@@ -728,6 +743,8 @@ class Observables:
     def _stepped_summary(self) -> dict[str, Any]:
         """A stepped run's keys: the potential energy, the energy drift, the heat capacity if measurable."""
         out: dict[str, Any] = {}
+        if self.elapsed > 0:
+            out["mean_temperature"] = self.mean_temperature()
         if self.n_blocks >= 1:
             est = self.potential_energy()
             out["potential_energy"], out["potential_energy_error"] = est.mean, est.sem

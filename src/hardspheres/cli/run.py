@@ -33,7 +33,16 @@ from ..errors import UsageError
 from ..fileio import PathLock
 from ..messages import oserror_line
 from ..progress import Progress
-from .options import count, nonnegative, positive, refuse_existing, restitution, shear_rate, where_args
+from .options import (
+    count,
+    finite,
+    nonnegative,
+    positive,
+    refuse_existing,
+    restitution,
+    shear_rate,
+    where_args,
+)
 from .source import given_container, starting_simulation
 
 if TYPE_CHECKING:
@@ -160,6 +169,11 @@ def _check_args(args: argparse.Namespace) -> None:
                 "--shear-rate/--shear-temperature cannot change a resumed run: the checkpoint keeps its "
                 "shear and its thermostat (leave them out)"
             )
+        if args.well is not None or args.step is not None:
+            raise UsageError(
+                "--well/--step cannot change a resumed run: the checkpoint keeps its pair potential "
+                "(leave them out)"
+            )
     elif not args.scenario:
         raise UsageError("give a scenario file (or --resume CHECKPOINT)")
     elif not given_container(args):
@@ -169,6 +183,7 @@ def _check_args(args: argparse.Namespace) -> None:
     _check_kicks(args)
     _check_wall(args)
     _check_shear(args)
+    _check_steps(args)
     if args.trajectory is None:
         for option, value in (
             ("--every", args.every),
@@ -265,6 +280,53 @@ def _check_shear(args: argparse.Namespace) -> None:
                     else "the barostat's volume moves would change the sheared box; give one or the other"
                 )
             )
+
+
+def _check_steps(args: argparse.Namespace) -> None:
+    """The pair potential's options, ``--well LAMBDA EPS`` or ``--step LAMBDA U`` repeated, as ``args.steps``.
+
+    Refused with what the stepped core does not run yet: restitution below
+    1, a thermal wall, shear, a barostat.
+    """
+    from ..core.reference import check_steps
+    from ..errors import ArgumentError
+
+    args.steps = None
+    if args.well is None and args.step is None:
+        return
+    if args.well is not None and args.step is not None:
+        raise UsageError("--well is one step: give --well LAMBDA EPS or --step LAMBDA U (repeated), not both")
+    if args.well is not None:
+        lam, eps = args.well
+        if not (math.isfinite(lam) and lam > 1.0 and math.isfinite(eps) and eps > 0.0):
+            raise UsageError(
+                f"--well {args.well[0]:g} {args.well[1]:g}: give the width LAMBDA > 1 (in contact distances) "
+                "and the depth EPS > 0 (for a shoulder, --step LAMBDA U with U > 0)"
+            )
+        steps = [(lam, -eps)]
+    else:
+        steps = [tuple(row) for row in args.step]
+    try:
+        check_steps(steps)
+    except ArgumentError as e:
+        raise UsageError(f"--step: {e}") from None
+    if len(steps) > MOST_STEPS:
+        raise UsageError(f"--step given {len(steps)} times: at most {MOST_STEPS} steps")
+    what = "--well" if args.well is not None else "--step"
+    for option, given in (
+        ("--restitution below 1", (args.restitution or 1.0) < 1.0),
+        ("--wall-restitution below 1", (args.wall_restitution or 1.0) < 1.0),
+        ("--wall-temperature", args.wall_temperature is not None),
+        ("--shear-rate", args.shear_rate is not None),
+        ("--pressure", args.pressure is not None),
+    ):
+        if given:
+            raise UsageError(f"{what} with {option}: not built yet (elastic spheres at constant volume only)")
+    args.steps = steps
+
+
+#: Steps the core takes at most (``--step`` repeated).
+MOST_STEPS = 4
 
 
 def add_shear(sim: Simulation, args: argparse.Namespace) -> None:
@@ -511,6 +573,8 @@ def summary_lines(
     kT = f"kT {summary['temperature']:.6g}"
     if "mean_temperature" in summary:  # (a sheared run's: the flow's kinetic energy is not heat)
         kT = f"peculiar kT {summary['mean_temperature']:.6g} (mean; {summary['temperature']:.6g} now)"
+        if not _sheared(sim):  # (a stepped run's: the kinetic energy changes at captures and releases)
+            kT = kT.removeprefix("peculiar ")
     if sim.container.wall_area > 0:
         lines.append(f"wall pressure {_value(summary, 'pressure')}, {kT}")
         term = (
@@ -534,6 +598,36 @@ def summary_lines(
     lines.append(f"mean free path {_value(summary, 'mean_free_path')}")
     if _sheared(sim):
         lines += shear_lines(sim, summary)
+    if sim.steps:
+        lines += step_lines(sim, summary)
+    return lines
+
+
+def _steps_text(steps: tuple[tuple[float, float], ...]) -> str:
+    """``square well lambda 1.5, eps 1`` or the steps' list."""
+    if len(steps) == 1 and steps[0][1] < 0:
+        return f"square well lambda {steps[0][0]:g}, eps {-steps[0][1]:g}"
+    return "steps " + ", ".join(f"(lambda {lam:g}, U {u:g})" for lam, u in steps)
+
+
+def step_lines(sim: Simulation, summary: dict[str, Any]) -> list[str]:
+    """A stepped run's lines: the potential, the potential energy per sphere, the heat capacity."""
+    n = sim.n
+    lines = [f"pair potential: {_steps_text(sim.steps)}"]
+    if "potential_energy" in summary:
+        per = {
+            "u": summary["potential_energy"] / n,
+            "u_error": summary["potential_energy_error"] / n,
+            "u_converged": summary.get("potential_energy_converged"),
+        }
+        lines.append(
+            f"potential energy per sphere U/N {_value(per, 'u')} (sampled at {summary['blocks']} block ends)"
+        )
+    if "heat_capacity" in summary:
+        lines.append(
+            f"heat capacity per sphere C_V/Nk {_value(summary, 'heat_capacity')} (from the kinetic-energy "
+            "fluctuations at constant energy)"
+        )
     return lines
 
 
@@ -790,6 +884,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     if args.trajectory:
         _check_trajectory_size(args, sim)
     e0, dissipated0, injected0 = sim.state().kinetic_energy(), sim.dissipated, _injected(sim)
+    u0 = sim.potential_energy()
     c0 = dict(sim.counters)
     failure = None
     start_time = sim.time
@@ -831,7 +926,8 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             sim.stop_requested = False
             sim.save(checkpoint, lock=False)
     c1 = sim.counters
-    events = (c1["collisions"] - c0["collisions"]) + (c1["reflections"] - c0["reflections"])
+    steps = ("captures", "releases", "bounces")
+    events = sum(c1[k] - c0.get(k, 0) for k in ("collisions", "reflections", *steps) if k in c1)
     e1 = sim.state().kinetic_energy()
     summary = _summary(sim, averaged_from, kinetic0) if sim.time > averaged_from and e1 > 0 else {}
     lines = [
@@ -841,8 +937,9 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         f"{sim.n} {'disks' if sim.container.dimensions == 2 else 'spheres'}, "
         f"{_container_text(sim.container)}",
         f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
-        f"{c1['reflections'] - c0['reflections']} reflections",
-        _energy_line(sim, e0, e1, dissipated0, injected0),
+        f"{c1['reflections'] - c0['reflections']} reflections"
+        + "".join(f", {c1[k] - c0.get(k, 0)} {k}" for k in steps if k in c1),
+        _energy_line(sim, e0, e1, dissipated0, injected0, u0),
     ]
     lines += summary_lines(sim, summary, averaged_from, equilibrated, resumed=bool(args.resume))
     if args.trajectory and equilibrated:
@@ -881,11 +978,20 @@ def _summary(sim: Simulation, averaged_from: float, kinetic0: np.ndarray | None)
     return summary
 
 
-def _energy_line(sim: Simulation, e0: float, e1: float, dissipated0: float, injected0: float = 0.0) -> str:
-    """The energy check: the drift of an elastic run, the balance of a granular one (driven or not)."""
+def _energy_line(
+    sim: Simulation, e0: float, e1: float, dissipated0: float, injected0: float = 0.0, u0: float = 0.0
+) -> str:
+    """The energy check: the drift of an elastic run, the balance of a granular one (driven or not).
+
+    A stepped run's is of the total energy ``K + U`` (``u0`` its potential
+    energy at the start), relative to the kinetic energy at the start.
+    """
     if not sim.inelastic:
         if _sheared(sim):  # (no drift to show: not conserved)
             return "energy: the shear works on the fluid and the thermostat takes the heat out"
+        if sim.steps:
+            drift = abs(e1 + sim.potential_energy() - e0 - u0) / e0 if e0 else 0.0
+            return f"total energy (kinetic + potential) drift {drift:.3g} (relative to the kinetic energy)"
         return f"energy drift {abs(e1 - e0) / e0 if e0 else 0.0:.3g} (relative)"
     lost = sim.dissipated - dissipated0
     if _sheared(sim):
@@ -1040,6 +1146,25 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "('xyz' or 'xy': a crystal's shape relaxes; 'z': only a slab's long side)",
     )
     _rule_args(p)
+    p.add_argument(
+        "--well",
+        nargs=2,
+        type=finite,
+        metavar=("LAMBDA", "EPS"),
+        help="a square well around every sphere: pairs closer than LAMBDA contact distances (LAMBDA > 1) "
+        "gain the energy -EPS [J] (the summary gives the potential energy and the heat capacity; "
+        "elastic spheres at constant volume; the checkpoint keeps it)",
+    )
+    p.add_argument(
+        "--step",
+        nargs=2,
+        type=finite,
+        action="append",
+        metavar=("LAMBDA", "U"),
+        help="one step of a stepped pair potential: the energy U [J] inside LAMBDA contact distances "
+        "(and outside the next step's); repeat it, outermost first, up to 4 times (--well L E is "
+        "--step L -E)",
+    )
     p.set_defaults(func=run)
     return p
 

@@ -121,6 +121,7 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
         restitution=1.0 if e is None else e,
         wall_restitution=getattr(args, "wall_restitution", None),
         tc=getattr(args, "tc", None) or 0.0,
+        steps=getattr(args, "steps", None),  # (run's --well/--step, checked)
     )
 
 
