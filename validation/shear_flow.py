@@ -1,0 +1,315 @@
+"""Shear flow on the compiled core: the flow curve eta(g) at packing 0.3 and 0.45; DynamO's sheared test.
+
+**Flow curve.**  N = 500 equal spheres (sigma = m = kT = 1) in a cubic
+Lees-Edwards box (``PeriodicBox.for_packing(n, phi, (1, 1, 1))
+.sheared_by(g)``), started from random spheres with the linear profile
+added, total momentum zero, held at kT = 1 by isokinetic rescaling of the
+peculiar velocities (``PeculiarRescale``).  Each rate: a transient (at
+least 20 time units and 5 strain units), then production runs, doubled
+until the viscosity's blocking error is below ``--target`` (relative) and
+converged, or ``--max-time`` is reached (then reported as not converged).
+``hs.Simulation``'s summary gives eta = -P_xy / g, N_1 = P_xx - P_yy,
+N_2 = P_yy - P_zz with blocking errors; the mean peculiar kT is sampled
+between rescalings (at phases spread over the interval).
+
+**DynamO's test** (``--dynamo``): its ``src/dynamo/tests/shearing_test.cpp``
+at commit 274a1349: N = 1372 (FCC 7x7x7), number density 0.5, e = 0.9,
+shear rate 1 in its units (the diameter, the mass and the initial kT = 1),
+velocities rescaled to kT = 1 once at the start; 500000 collisions
+dropped, then the mean free time ``t N / (2 N_coll)`` over 1000000
+collisions, expected 0.113195634 (its tolerance 1%).
+
+usage:
+    python3 validation/shear_flow.py                      # both packings, about 50 minutes
+    python3 validation/shear_flow.py --packings 0.3 --rates 0.5 1 --target 0.05   # a quick look
+    python3 validation/shear_flow.py --dynamo --seeds 1 2 3 4 5                   # 5 minutes
+    python3 validation/shear_flow.py --plot docs/images/shear_flow.png            # from the CSV
+
+Results: ``validation/results/shear_flow.csv`` (one row per rate,
+appended as each finishes) and ``validation/results/shear_flow_dynamo.csv``;
+the printed tables are kept in ``validation/results/shear_flow.txt``.
+
+Units: sigma = m = kT = 1 (rates in sqrt(kT/m)/sigma, eta in sqrt(m kT)/sigma^2).
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+import hardspheres as hs
+from hardspheres.dense import PeculiarRescale
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CSV = os.path.join(HERE, "results", "shear_flow.csv")
+DYNAMO_CSV = os.path.join(HERE, "results", "shear_flow_dynamo.csv")
+EQ_CSV = os.path.join(HERE, "results", "shear_flow_equilibrium.csv")
+
+#: rates per packing (1/time)
+RATES = {0.3: (0.05, 0.1, 0.2, 0.5, 1.0, 2.0), 0.45: (0.02, 0.05, 0.1, 0.2, 0.5, 1.0)}
+#: thermostat interval at small rates (about half a mean free time at 0.3, 0.6 at 0.45)
+INTERVAL = {0.3: 0.05, 0.45: 0.02}
+#: the equilibrium viscosity (Einstein-Helfand) for the heating estimate only
+ETA_GUESS = {0.3: 0.73, 0.45: 3.2}
+
+FIELDS = [
+    "packing", "n", "rate", "seed", "interval", "transient", "time", "strain", "collisions",
+    "eta", "eta_error", "eta_converged", "n1", "n1_error", "n2", "n2_error",
+    "kT_mean", "Z", "Z_error", "mean_free_time", "cpu_s",
+]  # fmt: skip
+
+
+def interval_for(phi: float, rate: float) -> float:
+    """The rescaling interval: ``INTERVAL``, shortened so the fluid heats by at most 2% between actions."""
+    heating = 2.0 * ETA_GUESS[phi] * rate**2 * (math.pi / (6.0 * phi)) / 3.0  # d kT / dt
+    return min(INTERVAL[phi], 0.02 / heating)
+
+
+def start(n: int, phi: float, rate: float, seed: int) -> tuple[hs.Simulation, hs.PeriodicBox]:
+    """Random spheres in the sheared cube, kT = 1 peculiar, no drift, on the linear profile."""
+    box = hs.PeriodicBox.for_packing(n, phi, (1, 1, 1)).sheared_by(rate)
+    s = hs.random_spheres(n, phi, box, seed=seed)
+    v = s.velocities - s.velocities.mean(axis=0)
+    v *= math.sqrt(1.0 / (np.sum(v * v) / (3 * n - 3)))
+    v[:, 0] += rate * s.positions[:, 1]
+    s.velocities[:] = v
+    return hs.Simulation(s, box), box
+
+
+def run_for(sim: hs.Simulation, duration: float, chunk: float, kts: list[float]) -> None:
+    """Run ``duration`` in chunks of ``chunk``, sampling the peculiar kT after each."""
+    end = sim.time + duration
+    while sim.time < end - 1e-12:
+        sim.run(until=min(sim.time + chunk, end))
+        kts.append(sim.observables.temperature())
+
+
+def flow_point(
+    phi: float, rate: float, n: int, seed: int, target: float, min_time: float, max_time: float
+) -> dict:
+    cpu0 = time.process_time()
+    sim, _ = start(n, phi, rate, seed)
+    dt = interval_for(phi, rate)
+    sim.set_thermostat(PeculiarRescale(1.0, dt))
+    chunk = 7.37 * dt  # samples of kT at phases spread over the interval
+    transient = max(20.0, 5.0 / rate)
+    run_for(sim, transient, chunk, [])
+    c0 = sim.engine.counters["collisions"]
+    sim.observables.reset()
+    kts: list[float] = []
+    t_prod = min_time
+    run_for(sim, t_prod, chunk, kts)
+    while True:
+        sm = sim.observables.summary()
+        rel = sm["viscosity_error"] / abs(sm["viscosity"])
+        if (rel <= target and sm["viscosity_converged"]) or 2 * t_prod > max_time:
+            break
+        run_for(sim, t_prod, chunk, kts)  # double the production
+        t_prod *= 2
+    coll = sim.engine.counters["collisions"] - c0
+    return {
+        "packing": phi,
+        "n": n,
+        "rate": rate,
+        "seed": seed,
+        "interval": round(dt, 6),
+        "transient": transient,
+        "time": t_prod,
+        "strain": rate * t_prod,
+        "collisions": coll,
+        "eta": sm["viscosity"],
+        "eta_error": sm["viscosity_error"],
+        "eta_converged": bool(sm["viscosity_converged"]),
+        "n1": sm["normal_stress_1"],
+        "n1_error": sm["normal_stress_1_error"],
+        "n2": sm["normal_stress_2"],
+        "n2_error": sm["normal_stress_2_error"],
+        "kT_mean": float(np.mean(kts)),
+        "Z": sm["Z"],
+        "Z_error": sm["Z_error"],
+        "mean_free_time": t_prod * n / (2.0 * coll),
+        "cpu_s": time.process_time() - cpu0,
+    }
+
+
+def dynamo_point(seed: int) -> dict:
+    """DynamO's shearing_test.cpp: 1372 spheres, FCC, n sigma^3 = 0.5, e = 0.9, g = 1; the mean free time."""
+    n, rate = 1372, 1.0
+    cpu0 = time.process_time()
+    side = (n / 0.5) ** (1.0 / 3.0)  # 14.0 diameters
+    box = hs.PeriodicBox(side, shear_rate=rate)
+    a = side / 7.0  # FCC 7x7x7, as DynamO's CUFCC({7, 7, 7}) in its unit cell
+    base = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+    cells = np.stack(np.meshgrid(*(np.arange(7),) * 3, indexing="ij"), -1).reshape(-1, 1, 3)
+    x = ((cells + base) * a).reshape(-1, 3) - 0.5 * side + 0.25 * a
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(n, 3))
+    v -= v.mean(axis=0)
+    v *= math.sqrt(1.0 / (np.sum(v * v) / (3 * n - 3)))  # kT = 1 as DynamO's rescaleVels(1.0)
+    s = hs.State.from_arrays(np.ones(n), np.full(n, 0.5), x, v)
+    sim = hs.Simulation(s, box, restitution=0.9)
+    eng = sim.engine
+    while eng.counters["collisions"] < 500_000:
+        sim.run(until=sim.time + 1.0)
+    t0, c0 = sim.time, eng.counters["collisions"]
+    kts = []
+    while eng.counters["collisions"] - c0 < 1_000_000:
+        sim.run(until=sim.time + 0.2)
+        kts.append(sim.observables.temperature())
+    coll = eng.counters["collisions"] - c0
+    t = sim.time - t0
+    return {
+        "seed": seed,
+        "collisions": coll,
+        "time": t,
+        "mean_free_time": t * n / (2.0 * coll),
+        "kT_mean": float(np.mean(kts)),
+        "cpu_s": time.process_time() - cpu0,
+    }
+
+
+def equilibrium_point(phi: float, n: int, seed: int, duration: float) -> dict:
+    """Einstein-Helfand viscosity of the same system unsheared (``ShearViscosity``, its plateau window)."""
+    from hardspheres.analysis.transport import ShearViscosity
+
+    cpu0 = time.process_time()
+    sim, _ = start(n, phi, 0.0, seed)
+    sim.run(until=20.0)
+    sim.observables.reset(every=0.1 if phi < 0.4 else 0.05)  # about a mean free time
+    sim.run(until=20.0 + duration)
+    eta, err = ShearViscosity().compute(sim).value()
+    return {"packing": phi, "n": n, "seed": seed, "time": duration, "eta": eta, "eta_error": err,
+            "cpu_s": time.process_time() - cpu0}  # fmt: skip
+
+
+def append(path: str, row: dict, fields: list[str]) -> None:
+    new = not os.path.exists(path)
+    with open(path, "a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        if new:
+            w.writeheader()
+        w.writerow(row)
+
+
+def plot(csv_path: str, png: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for phi, colour in ((0.3, "C0"), (0.45, "C3")):
+        r = [x for x in rows if abs(float(x["packing"]) - phi) < 1e-9]
+        if not r:
+            continue
+        g = np.array([float(x["rate"]) for x in r])
+        eta = np.array([float(x["eta"]) for x in r])
+        err = np.array([float(x["eta_error"]) for x in r])
+        ok = np.array([x["eta_converged"] == "True" for x in r])
+        label = f"packing {phi}, N = {r[0]['n']}"
+        ax.errorbar(g[ok], eta[ok], err[ok], fmt="o", color=colour, capsize=3, label=label)
+        if (~ok).any():
+            ax.errorbar(g[~ok], eta[~ok], err[~ok], fmt="o", mfc="none", color=colour, capsize=3)
+        eq, eq_err = EQUILIBRIUM[phi]
+        ax.axhspan(eq - eq_err, eq + eq_err, color=colour, alpha=0.2, lw=0)
+        ax.axhline(eq, color=colour, lw=1, ls="--")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"shear rate $\dot\gamma$  [$\sqrt{kT/m}/\sigma$]")
+    ax.set_ylabel(r"$\eta = -P_{xy}/\dot\gamma$  [$\sqrt{m kT}/\sigma^2$]")
+    ax.set_title("Sheared hard spheres, kT = 1 (peculiar isokinetic); bands: equilibrium", fontsize=9)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(png, dpi=100)
+    print(f"wrote {png}")
+
+
+#: DynamO's expected mean free time (shearing_test.cpp), in its units: sigma = m = 1, shear rate 1
+DYNAMO_MFT = 0.113195634
+
+#: equilibrium Einstein-Helfand viscosity, N = 500 (docs/validation/transport.md): (value, error)
+EQUILIBRIUM = {0.3: (0.746, 0.024), 0.45: (3.198, 0.066)}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--packings", type=float, nargs="+", default=[0.3, 0.45])
+    ap.add_argument("--rates", type=float, nargs="+", help="default: per packing, see RATES")
+    ap.add_argument("-n", type=int, default=500)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--target", type=float, default=0.03, help="relative error of eta to reach")
+    ap.add_argument("--min-time", type=float, default=100.0)
+    ap.add_argument("--max-time", type=float, default=3200.0)
+    ap.add_argument("--csv", default=CSV)
+    ap.add_argument("--dynamo", action="store_true", help="DynamO's sheared granular test instead")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--plot", metavar="PNG", help="draw the flow curve from --csv instead")
+    ap.add_argument("--equilibrium", type=float, metavar="T", help="Einstein-Helfand runs (T time units)")
+    args = ap.parse_args()
+    if args.equilibrium:
+        fields = ["packing", "n", "seed", "time", "eta", "eta_error", "cpu_s"]
+        for phi in args.packings:
+            for seed in args.seeds:
+                r = equilibrium_point(phi, args.n, seed, args.equilibrium)
+                append(EQ_CSV if args.csv == CSV else args.csv, r, fields)
+                print(
+                    f"equilibrium phi {phi} N {args.n} seed {seed} t {args.equilibrium:g}: "
+                    f"eta = {r['eta']:.4f} +- {r['eta_error']:.4f}  ({r['cpu_s']:.0f} s)",
+                    flush=True,
+                )
+        return 0
+    if args.plot:
+        if not os.path.exists(args.csv):
+            print(f"shear_flow: no results file {args.csv}: run the flow curve first", file=sys.stderr)
+            return 1
+        plot(args.csv, args.plot)
+        return 0
+    if args.dynamo:
+        fields = ["seed", "collisions", "time", "mean_free_time", "kT_mean", "cpu_s"]
+        print("seed  collisions  time      mean free time  kT (mean, peculiar)  cpu s")
+        mft = []
+        for seed in args.seeds:
+            r = dynamo_point(seed)
+            append(DYNAMO_CSV if args.csv == CSV else args.csv, r, fields)
+            mft.append(r["mean_free_time"])
+            print(
+                f"{seed:4d}  {r['collisions']:9d}  {r['time']:8.3f}  {r['mean_free_time']:.6f}"
+                f"        {r['kT_mean']:.4f}             {r['cpu_s']:.0f}",
+                flush=True,
+            )
+        if len(mft) >= 2:
+            m, sd = float(np.mean(mft)), float(np.std(mft, ddof=1))
+            se = sd / math.sqrt(len(mft))
+            print(
+                f"mean free time over {len(mft)} runs: {m:.6f} +- {se:.6f} (one run's spread {sd:.6f}); "
+                f"DynamO expects {DYNAMO_MFT} (tolerance 1%): {100 * (m / DYNAMO_MFT - 1):+.2f}%, "
+                f"{(m - DYNAMO_MFT) / se:+.1f} standard errors, "
+                f"{(m - DYNAMO_MFT) / sd:+.1f} single-run spreads"
+            )
+        return 0
+    print(f" phi    g      dt      time    eta{' ' * 15}conv  N1{' ' * 17}N2{' ' * 17}kT_mean  Z        cpu s")
+    for phi in args.packings:
+        if phi not in RATES:
+            print(f"shear_flow: packing {phi} has no rates here: use 0.3 or 0.45", file=sys.stderr)
+            return 1
+        for g in args.rates or RATES[phi]:
+            r = flow_point(phi, g, args.n, args.seed, args.target, args.min_time, args.max_time)
+            append(args.csv, r, FIELDS)
+            print(
+                f"{phi:4.2f}  {g:5.2f}  {r['interval']:.4f}  {r['time']:6.0f}  "
+                f"{r['eta']:.4f} +- {r['eta_error']:.4f}  {'yes' if r['eta_converged'] else 'NO '}   "
+                f"{r['n1']:+.4f} +- {r['n1_error']:.4f}  {r['n2']:+.4f} +- {r['n2_error']:.4f}  "
+                f"{r['kT_mean']:.4f}   {r['Z']:.4f}  {r['cpu_s']:.0f}",
+                flush=True,
+            )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
