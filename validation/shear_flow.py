@@ -293,7 +293,8 @@ def main() -> int:
                 f"{(m - DYNAMO_MFT) / sd:+.1f} single-run spreads"
             )
         return 0
-    print(f" phi    g      dt      time    eta{' ' * 15}conv  N1{' ' * 17}N2{' ' * 17}kT_mean  Z        cpu s")
+    pad = " " * 15
+    print(f" phi    g      dt      time    eta{pad}conv  N1{pad}  N2{pad}  kT_mean  Z        cpu s")
     for phi in args.packings:
         if phi not in RATES:
             print(f"shear_flow: packing {phi} has no rates here: use 0.3 or 0.45", file=sys.stderr)
