@@ -168,6 +168,7 @@ def dynamo_point(seed: int) -> dict:
         "time": t,
         "mean_free_time": t * n / (2.0 * coll),
         "kT_mean": float(np.mean(kts)),
+        "max_overlap": eng.max_overlap(),  # DynamO checks its final state too (checkSystem)
         "cpu_s": time.process_time() - cpu0,
     }
 
@@ -203,31 +204,108 @@ def plot(csv_path: str, png: str) -> None:
 
     with open(csv_path) as f:
         rows = list(csv.DictReader(f))
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for phi, colour in ((0.3, "C0"), (0.45, "C3")):
-        r = [x for x in rows if abs(float(x["packing"]) - phi) < 1e-9]
-        if not r:
-            continue
-        g = np.array([float(x["rate"]) for x in r])
-        eta = np.array([float(x["eta"]) for x in r])
-        err = np.array([float(x["eta_error"]) for x in r])
-        ok = np.array([x["eta_converged"] == "True" for x in r])
-        label = f"packing {phi}, N = {r[0]['n']}"
-        ax.errorbar(g[ok], eta[ok], err[ok], fmt="o", color=colour, capsize=3, label=label)
-        if (~ok).any():
-            ax.errorbar(g[~ok], eta[~ok], err[~ok], fmt="o", mfc="none", color=colour, capsize=3)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10.0, 4.2))
+    groups = sorted({(float(x["packing"]), int(x["n"])) for x in rows})
+    for phi, n in groups:
+        colour = "C0" if phi < 0.4 else "C3"
+        big = n != 500
+        r = [x for x in rows if abs(float(x["packing"]) - phi) < 1e-9 and int(x["n"]) == n]
+        g = np.array([float(x["rate"]) for x in r]) * (1.05 if big else 1.0)  # side by side
+
+        def col(name: str, r: list = r) -> np.ndarray:
+            return np.array([float(x[name]) for x in r])
+
         eq, eq_err = EQUILIBRIUM[phi]
-        ax.axhspan(eq - eq_err, eq + eq_err, color=colour, alpha=0.2, lw=0)
-        ax.axhline(eq, color=colour, lw=1, ls="--")
+        ok = np.array([x["eta_converged"] == "True" for x in r])
+        style = dict(fmt="s" if big else "o", color=colour, capsize=3, ms=4 if big else 5)
+        ratio, ratio_err = col("eta") / eq, col("eta_error") / eq
+        ax.errorbar(g[ok], ratio[ok], ratio_err[ok], label=f"packing {phi}, N = {n}", **style)
+        if (~ok).any():
+            ax.errorbar(g[~ok], ratio[~ok], ratio_err[~ok], mfc="none", **style)
+        if not big:
+            ax.axhspan(1 - eq_err / eq, 1 + eq_err / eq, color=colour, alpha=0.15, lw=0)
+            vol = math.pi / (6.0 * phi)  # volume per sphere, sigma = 1
+            for name, mark, fill in (("n1", "o", colour), ("n2", "^", "none")):
+                y, e = col(name) * vol, col(f"{name}_error") * vol  # per kT per sphere
+                label = f"{'$N_1$' if name == 'n1' else '$N_2$'}, packing {phi}"
+                bx.errorbar(g, y, e, fmt=mark, color=colour, mfc=fill, capsize=3, label=label)
+    ax.axhline(1.0, color="0.4", lw=0.8, ls="--")
     ax.set_xscale("log")
-    ax.set_yscale("log")
     ax.set_xlabel(r"shear rate $\dot\gamma$  [$\sqrt{kT/m}/\sigma$]")
-    ax.set_ylabel(r"$\eta = -P_{xy}/\dot\gamma$  [$\sqrt{m kT}/\sigma^2$]")
-    ax.set_title("Sheared hard spheres, kT = 1 (peculiar isokinetic); bands: equilibrium", fontsize=9)
-    ax.legend()
+    ax.set_ylabel(r"$\eta(\dot\gamma)\,/\,\eta_0$ (Einstein-Helfand, N = 500)")
+    ax.set_title("Viscosity: shear thinning (bands: $\\eta_0$'s error)", fontsize=10)
+    ax.legend(fontsize=8)
+    bx.axhline(0.0, color="0.4", lw=0.8)
+    bx.set_xscale("log")
+    bx.set_xlabel(r"shear rate $\dot\gamma$  [$\sqrt{kT/m}/\sigma$]")
+    bx.set_ylabel(r"normal stress difference $\times V/N$  [kT]")
+    bx.set_title("$N_1 = P_{xx} - P_{yy}$, $N_2 = P_{yy} - P_{zz}$ (N = 500)", fontsize=10)
+    bx.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(png, dpi=100)
     print(f"wrote {png}")
+
+
+def read_csv(path: str) -> list[dict]:
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def _pm(x: float, err: float, digits: int = 4) -> str:
+    """``x(err)`` with the error in units of the last digit."""
+    return f"{x:.{digits}f}({err * 10**digits:.0f})"
+
+
+def tables(csv_path: str) -> None:
+    """The results as markdown tables: the flow curves against the equilibrium viscosity, DynamO's test."""
+    eq_rows = read_csv(EQ_CSV)
+    for phi in (0.3, 0.45):
+        eqs = [r for r in eq_rows if abs(float(r["packing"]) - phi) < 1e-9]
+        if eqs:
+            e = np.array([float(r["eta"]) for r in eqs])
+            w = 1.0 / np.array([float(r["eta_error"]) for r in eqs]) ** 2
+            m, se = float(np.sum(w * e) / np.sum(w)), float(1.0 / math.sqrt(np.sum(w)))
+            runs = ", ".join(_pm(float(r["eta"]), float(r["eta_error"]), 3) for r in eqs)
+            cpu = sum(float(r["cpu_s"]) for r in eqs)
+            head = f"N = {eqs[0]['n']}, {len(eqs)} runs of {float(eqs[0]['time']):g}"
+            print(f"packing {phi}: equilibrium (Einstein-Helfand, {head}: {runs}; {cpu:.0f} s CPU)")
+            print(f"    weighted mean {m:.4f} +- {se:.4f}, spread of the runs {e.std(ddof=1):.4f}")
+    cols = ["packing", "N", "g", "g t_mf", "time", "strain", "eta", "eta / eta_0", "z", "N_1", "N_2"]
+    cols += ["kT (mean)", "Z", "CPU s"]
+    print()
+    print("| " + " | ".join(cols) + " |")
+    print("|" + "---|" * len(cols))
+    for r in read_csv(csv_path):
+        f = {k: float(v) for k, v in r.items() if k != "eta_converged"}
+        e0, e0_err = EQUILIBRIUM[f["packing"]]
+        z = (f["eta"] - e0) / math.hypot(f["eta_error"], e0_err)
+        conv = "" if r["eta_converged"] == "True" else " (not converged)"
+        cells = [f"{f['packing']:g}", r["n"], f"{f['rate']:g}", f"{f['rate'] * f['mean_free_time']:.4f}"]
+        cells += [f"{f['time']:g}", f"{f['strain']:g}", _pm(f["eta"], f["eta_error"]) + conv]
+        cells += [
+            f"{f['eta'] / e0:.3f}",
+            f"{z:+.1f}",
+            _pm(f["n1"], f["n1_error"]),
+            _pm(f["n2"], f["n2_error"]),
+        ]
+        cells += [f"{f['kT_mean']:.4f}", f"{f['Z']:.3f}", f"{f['cpu_s']:.0f}"]
+        print("| " + " | ".join(cells) + " |")
+    dyn = read_csv(DYNAMO_CSV)
+    if len(dyn) >= 2:
+        mft = np.array([float(r["mean_free_time"]) for r in dyn])
+        kt = np.array([float(r["kT_mean"]) for r in dyn])
+        m, sd = float(mft.mean()), float(mft.std(ddof=1))
+        se = sd / math.sqrt(len(mft))
+        cpu = sum(float(r["cpu_s"]) for r in dyn)
+        print()
+        print(f"DynamO's test, {len(dyn)} runs ({cpu:.0f} s CPU): mean free time {m:.6f} +- {se:.6f}")
+        print(f"    one run's spread {sd:.6f}, range {mft.min():.6f} to {mft.max():.6f}")
+        print(f"    expected {DYNAMO_MFT} (tolerance 1%): {100 * (m / DYNAMO_MFT - 1):+.2f}%,")
+        d = m - DYNAMO_MFT
+        print(f"    {d / se:+.1f} standard errors of the mean, {d / sd:+.1f} of one run's spread")
+        print(f"    steady peculiar kT {kt.mean():.4f} +- {kt.std(ddof=1) / math.sqrt(len(kt)):.4f}")
 
 
 #: DynamO's expected mean free time (shearing_test.cpp), in its units: sigma = m = 1, shear rate 1
@@ -251,7 +329,11 @@ def main() -> int:
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--plot", metavar="PNG", help="draw the flow curve from --csv instead")
     ap.add_argument("--equilibrium", type=float, metavar="T", help="Einstein-Helfand runs (T time units)")
+    ap.add_argument("--tables", action="store_true", help="print the results' tables (markdown) instead")
     args = ap.parse_args()
+    if args.tables:
+        tables(args.csv)
+        return 0
     if args.equilibrium:
         fields = ["packing", "n", "seed", "time", "eta", "eta_error", "cpu_s"]
         for phi in args.packings:
@@ -271,8 +353,8 @@ def main() -> int:
         plot(args.csv, args.plot)
         return 0
     if args.dynamo:
-        fields = ["seed", "collisions", "time", "mean_free_time", "kT_mean", "cpu_s"]
-        print("seed  collisions  time      mean free time  kT (mean, peculiar)  cpu s")
+        fields = ["seed", "collisions", "time", "mean_free_time", "kT_mean", "max_overlap", "cpu_s"]
+        print("seed  collisions  time      mean free time  kT (mean, peculiar)  max overlap  cpu s")
         mft = []
         for seed in args.seeds:
             r = dynamo_point(seed)
@@ -280,7 +362,7 @@ def main() -> int:
             mft.append(r["mean_free_time"])
             print(
                 f"{seed:4d}  {r['collisions']:9d}  {r['time']:8.3f}  {r['mean_free_time']:.6f}"
-                f"        {r['kT_mean']:.4f}             {r['cpu_s']:.0f}",
+                f"        {r['kT_mean']:.4f}             {r['max_overlap']:.1e}      {r['cpu_s']:.0f}",
                 flush=True,
             )
         if len(mft) >= 2:
