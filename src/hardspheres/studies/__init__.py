@@ -49,6 +49,7 @@ Study file (every key but ``packing`` and ``n`` is optional)::
     # kick_interval = 0.02      # the time between its kicks (or a list)
     # shear_rate = [0.1, 0.5]   # Lees-Edwards shear rate(s) g of the periodic box (or one)
     # rescale_interval = 0.05   # sheared elastic fluid: time between its rescalings to kT = 1
+    # well = [1.5, 1.0]         # a square well [lambda, eps] around each sphere (or a list of them)
     equilibrate = 50            # collisions per sphere before measuring
     collisions = 500            # collisions per sphere measured (or: time = 20.0)
     blocks = 10                 # blocks for the error bars within a run
@@ -100,6 +101,19 @@ g`` over each block) and ``temperature`` (the peculiar kT at each block's
 end: how far the rescaling lets it rise); ``normal_stress_1`` and (3-D)
 ``normal_stress_2`` may be measured too.  ``hardspheres plot flow
 results.parquet`` draws the flow curve.
+
+Square wells: with ``well`` (``[lambda, eps]``, a width ``lambda > 1`` in
+contact distances and a depth ``eps > 0``, or a list of them; grid columns
+``well_lambda`` and ``well_eps``) each run's pairs closer than ``lambda``
+contact distances have the energy ``-eps`` (elastic spheres at constant
+volume: not with ``restitution`` below 1, ``kicks``, ``shear_rate``,
+``pressure`` or ``method = "ecmc"``).  ``eps`` is in units of the starting
+``kT = 1``; the energy, not the temperature, is held, so ``kT`` moves as
+pairs bond.  ``measure`` defaults to ``Z``, ``potential_energy`` (per
+sphere, ``U / N``, averaged over each block) and ``mean_temperature`` (the
+mean ``kT`` over each block, which ``Z`` divides by); ``energy_drift`` and
+``heat_capacity`` (per sphere, from each block's kinetic-energy
+fluctuations: 32 samples a block at least) may be measured too.
 
 Constant pressure: with ``pressure`` (``beta P sigma^3``, one or a list) each
 run holds it with a :class:`~hardspheres.barostat.Barostat` (isotropic

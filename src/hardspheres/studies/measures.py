@@ -66,6 +66,9 @@ OBSERVABLES: dict[str, Measure] = {
     "viscosity": lambda sim, o: o.estimate("viscosity").mean,
     "normal_stress_1": lambda sim, o: o.estimate("normal_stress_1").mean,
     "normal_stress_2": lambda sim, o: o.estimate("normal_stress_2").mean,
+    # a square well's: the potential energy per sphere U/N, the heat capacity per sphere C_V/(N k)
+    "potential_energy": lambda sim, o: o.potential_energy().mean / sim.n,
+    "heat_capacity": lambda sim, o: o.heat_capacity().mean,
 }
 _NOT_OBSERVABLES = {"reset", "summary", "speed_histogram", "elapsed"}
 

@@ -42,6 +42,8 @@ GRID: tuple[str, ...] = (
     "kicks",
     "kick_interval",
     "shear_rate",
+    "well_lambda",
+    "well_eps",
     "seed",
 )
 
@@ -73,6 +75,8 @@ _KEYS: dict[str, str] = {
     "shear_rate": "Lees-Edwards shear rate(s) g, finite number(s) other than 0 (a periodic box)",
     "rescale_interval": "time between rescalings of the peculiar velocities to kT = 1 in a sheared "
     "elastic fluid, a number > 0 (default min(0.05, 0.02 / shear_rate^2))",
+    "well": "a square well [lambda, eps] (width lambda > 1 in contact distances, depth eps > 0 in units "
+    "of the starting kT), or a list of them",
     "equilibrate": "collisions per sphere before measuring, number >= 0",
     "collisions": "collisions per sphere measured, number > 0",
     "time": "time measured per run, number > 0",
@@ -107,6 +111,7 @@ class Study(TypedDict):
     kick_interval: list[float] | None
     shear_rate: list[float] | None
     rescale_interval: float | None
+    well: list[tuple[float, float]] | None
     equilibrate: float
     collisions: float | None
     time: float | None
@@ -128,6 +133,8 @@ class _TaskSpace(TypedDict, total=False):
     kick_interval: float
     shear_rate: float
     rescale_interval: float
+    well_lambda: float
+    well_eps: float
 
 
 class Task(_TaskSpace):
@@ -305,6 +312,7 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
             )
     kicks, kick_interval = _kicks(data, restitution, source)
     shear_rate, rescale_interval = _shear(data, container, method, pressure, kicks, source)
+    well = _well(data, method, pressure, restitution, kicks, shear_rate, source)
     if "collisions" in data and "time" in data:
         raise StudyError(f"{_where(source)}give collisions or time, not both")
     length: dict[str, Any] = {}
@@ -335,6 +343,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         if kicks
         else ["cooling_per_collision", "a2"]
         if granular
+        else ["Z", "potential_energy", "mean_temperature"]
+        if well
         else ["Z"]
     )
     measure = data.get("measure", usual)
@@ -350,6 +360,8 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
             raise StudyError(
                 f"{_where(source)}measure: {m} is measured in a sheared box: give shear_rate too"
             )
+        if m in WELL_MEASURES and not well:
+            raise StudyError(f"{_where(source)}measure: {m} is measured with a well: give well too")
         if m == "normal_stress_2" and 2 in dimensions:
             raise StudyError(f"{_where(source)}measure: normal_stress_2 (P_yy - P_zz) is 3-D only")
         if shear_rate and m in ("cooling_rate", "cooling_per_collision", "a2"):
@@ -398,6 +410,7 @@ def parse_study(data: Any, source: str | None = None, base: str | os.PathLike[st
         kick_interval=kick_interval,
         shear_rate=shear_rate,
         rescale_interval=rescale_interval,
+        well=well,
         equilibrate=length["equilibrate"],
         collisions=length["collisions"],
         time=length["time"],
@@ -487,6 +500,52 @@ def _shear(
         if bad:
             raise StudyError(f"{_where(source)}shear_rate needs {why}")
     return rates, None if interval is None else float(interval)
+
+
+#: What only a study with a well measures (:data:`hardspheres.studies.measures.OBSERVABLES`).
+WELL_MEASURES = ("potential_energy", "heat_capacity", "energy_drift")
+
+
+def _well(
+    data: Any,
+    method: str,
+    pressure: list[float] | None,
+    restitution: list[float] | None,
+    kicks: Any,
+    shear_rate: Any,
+    source: str | None,
+) -> list[tuple[float, float]] | None:
+    """The square wells ``[(lambda, eps), ...]`` a study runs over (``None``: hard spheres).
+
+    ``well = [1.5, 1.0]`` is one; ``well = [[1.5, 1.0], [1.5, 0.5]]`` a list.
+    """
+    raw = data.get("well")
+    if raw is None:
+        return None
+    rows = raw if isinstance(raw, list) and raw and all(isinstance(w, list) for w in raw) else [raw]
+
+    def ok(w: Any) -> bool:
+        return (
+            isinstance(w, list)
+            and len(w) == 2
+            and all(_is_number(x) for x in w)
+            and w[0] > 1.0
+            and w[1] > 0.0
+        )
+
+    wells = [(float(w[0]), float(w[1])) for w in _list_of(rows, "well", ok, _KEYS["well"], source)]
+    if len(set(wells)) != len(wells):
+        raise StudyError(f"{_where(source)}well lists a well twice: {[list(w) for w in wells]}")
+    for bad, why in (
+        (method != "edmd", 'method = "edmd" (event-chain Monte Carlo has no steps yet)'),
+        (pressure is not None, "constant volume (leave out pressure: no barostat with steps yet)"),
+        (restitution is not None and min(restitution) < 1.0, "elastic collisions (restitution 1)"),
+        (kicks is not None, "no kicks (they drive a granular gas)"),
+        (shear_rate is not None, "no shear (steps in a sheared box are not built yet)"),
+    ):
+        if bad:
+            raise StudyError(f"{_where(source)}well needs {why}")
+    return wells
 
 
 def _space(data: Any, container: str, source: str | None) -> tuple[list[int], list[tuple[float, ...] | None]]:

@@ -60,8 +60,11 @@ def tasks(study: Study) -> list[Task]:
     )
     given_rates = study.get("shear_rate")
     rates: list[float | None] = [*given_rates] if given_rates else [None]
-    driven = [*itertools.product(drives, rates)]  # (one argument less: product's types go to 10)
-    for pressure, d, aspect, packing, n, rr, mr, e, (drive, g), seed in itertools.product(
+    given_wells = study.get("well")
+    wells: list[tuple[float, float] | None] = [*given_wells] if given_wells else [None]
+    # (fewer arguments: product's types go to 10)
+    driven = [*itertools.product(drives, rates, wells)]
+    for pressure, d, aspect, packing, n, rr, mr, e, (drive, g, w), seed in itertools.product(
         pressures,
         study.get("dimensions", [3]),
         study.get("aspect", [None]),
@@ -115,6 +118,8 @@ def tasks(study: Study) -> list[Task]:
             t["shear_rate"] = g
             if e is None or e >= 1.0:
                 t["rescale_interval"] = study.get("rescale_interval") or rescale_interval(g)
+        if w is not None:  # (and again: tasks with a well only)
+            t["well_lambda"], t["well_eps"] = w
         t["key"] = _key(t)
         out.append(t)
     return out
@@ -160,7 +165,8 @@ def _build(task: Task) -> Simulation | EventChain:
 
         return EventChain(state, container, seed=task["seed"])
     # (a granular gas cools with the builder's total momentum zero: no flow it cannot dissipate)
-    sim = Simulation(state, container, restitution=task.get("restitution", 1.0))
+    steps = [(task["well_lambda"], -task["well_eps"])] if "well_lambda" in task else None
+    sim = Simulation(state, container, restitution=task.get("restitution", 1.0), steps=steps)
     if "kicks" in task:
         from ..dense import RandomKicks
 
