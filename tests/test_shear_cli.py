@@ -8,6 +8,7 @@ refused in one line with nothing on stdout; the GSD frames carry the
 Lees-Edwards offset and the rate.
 """
 
+import argparse
 import math
 import re
 
@@ -145,3 +146,35 @@ def test_xyz_frames_carry_the_shear_offset_and_read_back(folder, sheared):
         assert offset == pytest.approx(math.fmod(0.5 * ly * t, lx), abs=1e-9)
     frames = read_trajectory(folder / "t.xyz")
     assert np.allclose(frames.times, [12, 12.5, 13]) and frames.container.shear_rate == 0.5
+
+
+@pytest.mark.parametrize(
+    ("where", "extra", "variant"),
+    [
+        (["--box", "5.6", "5.6"], {"shear_rate": 0.5}, (2, False, True)),
+        (["--box", "5.6"], {"restitution": 0.9, "shear_rate": 0.5}, (3, True, True)),
+        (["--box", "5.6"], {}, (3, False, False)),
+    ],
+)
+def test_a_run_compiles_first_the_variant_it_needs_not_the_plain_one(
+    folder, monkeypatch, where, extra, variant
+):
+    """A sheared (or 2-D, or granular) run compiled the plain 3-D core first, then its own: twice the wait."""
+    from hardspheres.cli import source
+    from hardspheres.core import warmup
+
+    asked = []
+    monkeypatch.setattr(
+        warmup, "ensure_compiled", lambda dimensions=3, inelastic=False, sheared=False, **k: asked.append(
+            (dimensions, inelastic, sheared)) or 0.0
+    )  # fmt: skip
+    scenario = folder / ("d.txt" if where.count("5.6") == 2 else "s.txt")
+    if not scenario.exists():
+        scenario.write_text(hs.random_spheres(40, 0.3, box=(5.6, 5.6), seed=3).to_text())
+    args = argparse.Namespace(
+        resume=None, scenario=str(scenario), container=None, circle=None, box=where[1:], dimensions=None,
+        restitution=extra.get("restitution"), wall_restitution=None, tc=None, shear_rate=extra.get("shear_rate"),
+    )  # fmt: skip
+    sim = source.starting_simulation(args)
+    assert asked[0] == variant
+    assert sim.container.dimensions == variant[0] and bool(sim.container.shear_rate) == variant[2]

@@ -240,11 +240,17 @@ def note(text: str) -> None:
     print(text, file=sys.stderr, flush=True)
 
 
-def compile_first() -> None:
-    """Compile the event core now if needed (said on stderr), so no timing includes it."""
+def compile_first(dimensions: int = 3, inelastic: bool = False, sheared: bool = False) -> None:
+    """Compile the event core's variant a run needs now if needed (said on stderr), so no timing includes it.
+
+    Args:
+        dimensions: 3, or 2 for disks.
+        inelastic: the inelastic collision rule's variant.
+        sheared: the Lees-Edwards variant (a sheared box).
+    """
     from ..core.warmup import ensure_compiled
 
-    ensure_compiled()
+    ensure_compiled(dimensions=dimensions, inelastic=inelastic, sheared=sheared)
 
 
 def picture_args(q: argparse.ArgumentParser, output_default: str | None, output_help: str) -> None:

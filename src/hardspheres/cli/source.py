@@ -88,7 +88,8 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
 
     if getattr(args, "resume", None):
         sim = Simulation.load(args.resume)
-        compile_first()
+        sheared = bool(getattr(sim.container, "shear_rate", 0.0))
+        compile_first(sim.container.dimensions, inelastic=sim.inelastic, sheared=sheared)
         return sim
     name = scenario if scenario is not None else args.scenario
     container = container_from(args)
@@ -113,8 +114,10 @@ def starting_simulation(args: argparse.Namespace, scenario: str | None = None) -
     g = getattr(args, "shear_rate", None)  # (run's option: a periodic box, checked)
     if g is not None:
         container = container.sheared_by(g)  # type: ignore[attr-defined]
-    compile_first()  # before any clock starts: no rate includes compilation
     e = getattr(args, "restitution", None)  # (the collision rule: run's options)
+    inelastic = (1.0 if e is None else e) < 1.0 or (getattr(args, "wall_restitution", None) or 1.0) < 1.0
+    # before any clock starts, the variant the run needs: no rate includes compilation
+    compile_first(container.dimensions, inelastic=inelastic, sheared=g is not None)
     return Simulation(
         State.from_scenario(scn, dimensions=container.dimensions),
         container,
