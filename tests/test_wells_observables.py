@@ -111,3 +111,11 @@ def test_a_checkpoint_keeps_the_samples(tmp_path):
     back = hs.Simulation.load(tmp_path / "w.npz")
     assert back.observables.n_blocks == sim.observables.n_blocks
     assert back.observables.potential_energy().mean == sim.observables.potential_energy().mean
+
+
+def test_the_energy_moment_is_refused_with_steps_and_the_momentum_one_kept():
+    sim = well_run(until=2.0)
+    with pytest.raises(NoMeasurementError, match="thermal conductivity is not built for steps"):
+        sim.observables.helfand_moments("energy")
+    t, m = sim.observables.helfand_moments("momentum")
+    assert m.shape == (len(t), 3)
