@@ -51,7 +51,9 @@ def pair_events(sim: hs.Simulation) -> int:
     return c["collisions"] + c["captures"] + c["releases"] + c["bounces"]
 
 
-def window(sim: hs.Simulation, duration: float, blocks: int, samples: int, kT: float) -> dict[str, np.ndarray]:
+def window(
+    sim: hs.Simulation, duration: float, blocks: int, samples: int, kT: float
+) -> dict[str, np.ndarray]:
     """Run ``duration`` [time] in ``blocks`` equal blocks: per block Z, Z_ex, U/N, kT and the pair events.
 
     ``Z = (W + 2 int K dt) / (3 t N kT)`` with the set ``kT`` (the thermostat's), ``W`` the
@@ -131,10 +133,18 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", type=int, default=10, help="independent runs of the protocol")
     ap.add_argument("--long", type=int, default=40, help="further blocks of events on the first seed")
-    ap.add_argument("--block", type=int, default=500_000, help="events (pairs + kicks), about, a block of the continued run")
+    ap.add_argument(
+        "--block",
+        type=int,
+        default=500_000,
+        help="events (pairs + kicks), about, a block of the continued run",
+    )
     args = ap.parse_args()
     cpu = time.process_time()
-    print(f"N = 1372 (FCC 7x7x7), rho = {RHO}, lambda = {LAM}, eps = {EPS}, Andersen kT = 1, kicks = 5 % of events")
+    print(
+        f"N = 1372 (FCC 7x7x7), rho = {RHO}, lambda = {LAM}, eps = {EPS}, Andersen kT = 1,"
+        " kicks = 5 % of events"
+    )
     print("DynamO's protocol: 3e5 events (pairs + kicks) of equilibration, then 1e5 measured")
     print("seed  duration   pairs    kicks   MFT = tN/(2 pairs + kicks)   kT (end)  U/N (end)")
     rows = []
@@ -149,7 +159,10 @@ def main() -> None:
     mft = np.array([r["mft"] for r in rows])
     mean = mft.mean()
     err = mft.std(ddof=1) / math.sqrt(len(mft)) if len(mft) > 1 else math.nan
-    print(f"mean over {len(mft)} seeds: MFT = {mean:.5f} +- {err:.5f} (standard error; spread {mft.std(ddof=1):.5f})")
+    print(
+        f"mean over {len(mft)} seeds: MFT = {mean:.5f} +- {err:.5f}"
+        f" (standard error; spread {mft.std(ddof=1):.5f})"
+    )
     print(f"DynamO's value 0.0368185: ratio {mean / DYNAMO_MFT:.4f} ({(mean / DYNAMO_MFT - 1) * 100:+.2f} %)")
     if args.long:
         sim, thermo = rows[0]["sim"], rows[0]["thermo"]
