@@ -106,10 +106,14 @@ def test_the_flow_curve_is_drawn_on_log_axes_when_the_rates_span_a_decade(tmp_pa
     out = plots.plot_flow(table, tmp_path / "flow.png")
     assert out.read_bytes()[:4] == b"\x89PNG"
     ax = figures[-1].axes[0]
-    assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
+    assert ax.get_xscale() == "log" and ax.get_yscale() == "linear"  # (eta within a decade)
     assert len(ax.get_legend().get_texts()) == 2  # a series per packing
     plots.plot_flow(_table(tmp_path / "narrow.csv", rates=(0.5, 1.0, 2.0)), tmp_path / "narrow.png")
     assert figures[-1].axes[0].get_xscale() == "linear"
+    thinning = pd.read_csv(_table(tmp_path / "wide.csv", rates=(0.01, 1.0, 100.0)))
+    thinning["viscosity"] = 1.0 / (1.0 + thinning["shear_rate"])
+    plots.plot_flow(thinning, tmp_path / "thinning.png")
+    assert figures[-1].axes[0].get_xscale() == "log" and figures[-1].axes[0].get_yscale() == "log"
 
 
 def test_plot_flow_command_writes_the_picture_or_refuses_in_one_line(tmp_path):
@@ -133,3 +137,16 @@ def test_a_results_csv_with_the_cubes_empty_aspect_is_plotted(tmp_path):
     table = _table(tmp_path / "results.csv", packings=(0.2, 0.3))
     assert plots.read_table(table)["aspect"].tolist() == [""] * 16
     plots.plot_sweep(table, tmp_path / "sweep.png", x="packing", y="viscosity")
+
+
+def test_the_sweeps_progress_names_each_tasks_grid_point():
+    """The tasks of a shear_rate (or restitution) list were all said alike: 'box packing=0.3 n=64 seed=0'."""
+    from hardspheres.studies.dispatch import _describe
+
+    ts = tasks(parse_study({**BASE, "shear_rate": [0.1, 1.0], "restitution": 0.9, "dimensions": 2}))
+    said = [_describe(t) for t in ts]
+    assert said == [
+        "box packing=0.3 n=64 seed=0 dimensions=2 restitution=0.9 shear_rate=0.1",
+        "box packing=0.3 n=64 seed=0 dimensions=2 restitution=0.9 shear_rate=1",
+    ]
+    assert _describe(tasks(parse_study(BASE))[0]) == "box packing=0.3 n=64 seed=0"

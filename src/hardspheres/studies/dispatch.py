@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any, TextIO
 from ..errors import StudyError
 from .cluster import local_client
 from .files import row_path, write_table
-from .spec import load_study, parse_study
+from .spec import GRID, load_study, parse_study
 from .tables import collect, summarize
 from .task import run_task, tasks
 
@@ -34,7 +34,16 @@ def _describe(task: Task) -> str:
         f"seed={task['seed']}"
         + (f" radius_ratio={task['radius_ratio']:g}" if task["radius_ratio"] != 1 else "")
         + (f" mass_ratio={task['mass_ratio']:g}" if task["mass_ratio"] != 1 else "")
+        + "".join(f" {k}={_text(task.get(k))}" for k in GRID if k not in _SAID and k in task)
     )
+
+
+#: The grid's entries :func:`_describe` says in its own words (the others follow as ``key=value``).
+_SAID = ("container", "betaP", "packing", "n", "seed", "radius_ratio", "mass_ratio")
+
+
+def _text(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def sweep(

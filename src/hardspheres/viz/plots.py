@@ -396,8 +396,6 @@ def read_table(path: str | os.PathLike[str]) -> Any:
     """A study's results or summary (``.parquet`` or ``.csv``) as a DataFrame."""
     import pandas as pd
 
-    from ..studies import GRID_DEFAULTS
-
     path = str(path)
     try:
         df = pd.read_csv(path) if path.endswith(".csv") else pd.read_parquet(path)
@@ -406,9 +404,20 @@ def read_table(path: str | os.PathLike[str]) -> Any:
             raise OSError(f"{path}: no such file") from None
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise StudyError(f"{path}: not a study's results table (.parquet or .csv): {reason}") from None
-    for k, v in GRID_DEFAULTS.items():  # a CSV reads the empty aspect "" back as NaN (rows then drop)
+    return _grid_defaults(df)
+
+
+def _grid_defaults(df: Any) -> Any:
+    """``df`` with the grid's defaults where a column is missing a value.
+
+    A CSV reads a 3-D study's empty ``aspect`` (the cube) back as NaN, and
+    rows with NaN in a grid column drop out of the averages over seeds.
+    """
+    from ..studies import GRID_DEFAULTS
+
+    for k, v in GRID_DEFAULTS.items():
         if k in df.columns and df[k].isna().any():
-            df[k] = df[k].astype(object).where(df[k].notna(), v)
+            df = df.assign(**{k: df[k].astype(object).where(df[k].notna(), v)})
     return df
 
 
@@ -449,7 +458,7 @@ def plot_sweep(
     """
     from ..studies import GRID, measured, summarize
 
-    df = read_table(table) if not hasattr(table, "columns") else table
+    df = read_table(table) if not hasattr(table, "columns") else _grid_defaults(table)
     if "seed" in df.columns:
         df = summarize(df)
     params = [c for c in GRID if c in df.columns and c != "seed"]
@@ -522,8 +531,8 @@ def plot_flow(
     are the means, error bars one standard error; one series per value of
     the other parameters that vary (packing, N, ...).  Rates of both signs
     are drawn at ``|g|`` (the viscosity is even in ``g``).  When the rates
-    span a decade or more the axes are logarithmic (the viscosity's too,
-    if every mean is above 0).
+    span a decade or more the rate's axis is logarithmic, and the
+    viscosity's when its means (all above 0) span a decade.
 
     Args:
         table: path of the results or summary table (or a DataFrame).
@@ -545,7 +554,7 @@ def plot_flow(
     """
     from ..studies import GRID, measured, summarize
 
-    df = read_table(table) if not hasattr(table, "columns") else table
+    df = read_table(table) if not hasattr(table, "columns") else _grid_defaults(table)
     name = table if isinstance(table, (str, os.PathLike)) else "the table"
     if "shear_rate" not in df.columns:
         raise StudyError(f"{name}: no shear_rate column: a flow curve is drawn from a sheared study")
@@ -572,11 +581,11 @@ def plot_flow(
         label = ", ".join(f"{c} = {v}" for c, v in zip(others, key)) or "simulation"
         ax.errorbar(g["rate"], g["viscosity"], yerr=g["viscosity_err"], fmt="o-", ms=4, capsize=3,
                     lw=0.8, color=f"C{k % 10}", label=label)  # fmt: skip
-    rates = df["rate"].to_numpy(float)
+    rates, eta = df["rate"].to_numpy(float), df["viscosity"].to_numpy(float)
     if rates.max() >= 10.0 * rates.min():
         ax.set_xscale("log")
-        if (df["viscosity"] > 0).all():
-            ax.set_yscale("log")
+    if (eta > 0).all() and eta.max() >= 10.0 * eta.min():  # (strong thinning: a log scale too)
+        ax.set_yscale("log")
     ax.set_xlabel("|shear rate| |g|" if both else "shear rate g")
     ax.set_ylabel("viscosity eta = -P_xy / g")
     ax.grid(alpha=0.3, which="both")
