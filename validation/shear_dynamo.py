@@ -14,11 +14,16 @@ the shear's work balances the dissipation).
 
 Here: the same system (``hs.crystal("fcc", (7, 7, 7), pi/12)``, kT = 1,
 total momentum zero), ``restitution=0.9``, a box sheared at g = 1, no
-thermostat; 500000 collisions to the steady state (DynamO counts its cell
-crossings among its events: a shorter start), then 1000000 collisions;
-seeds of the starting velocities 1, 2, 3 (DynamO's are drawn afresh each
-run).  Also printed: the mean peculiar kT at the end and the viscosity
-``-P_xy / g`` with its blocking error.
+thermostat; 500000 collisions to the steady state, then 1000000
+collisions, as DynamO's: its ``endEventCount`` counts ``Sim->eventCount``,
+which only the interactions' ``runEvent`` (here ``IHardSphere``'s, one per
+collision) increments; its neighbour list's cell crossings are virtual
+events, neither counted there nor in ``OPMisc``'s mean free time
+``t N / (2 N_pairs + N_single)`` (``N_single`` counts non-virtual events of
+one sphere: none here).  Seeds of the starting velocities 1, 2, 3 (DynamO's
+are drawn afresh each run).  Also printed: the peculiar kT at the end and
+the viscosity ``-P_xy / g`` with its blocking error; with two seeds or
+more, the mean over the runs and its standard error against DynamO's value.
 
 usage:
     python3 validation/shear_dynamo.py              # about 40 s once the core is compiled
@@ -29,6 +34,7 @@ Units: sigma = m = 1, kT = 1 at the start (rates in 1/time).
 
 import argparse
 import math
+import statistics
 import time
 
 import hardspheres as hs
@@ -58,14 +64,27 @@ def main() -> None:
     args = p.parse_args()
     print(f"DynamO's mean free time {DYNAMO_MFT} (within {TOLERANCE:.0%})")
     print("seed | mean free time | against DynamO | kT at the end | eta = -P_xy/g | wall [s]")
+    mfts, kts = [], []
     for seed in range(1, args.seeds + 1):
         t0 = time.perf_counter()
         mft, kT, eta, err, converged = run(seed)
+        mfts.append(mft)
+        kts.append(kT)
         ok = "within" if abs(mft / DYNAMO_MFT - 1.0) <= TOLERANCE else "OUTSIDE"
         print(
             f"{seed} | {mft:.6f} | {100.0 * (mft / DYNAMO_MFT - 1.0):+.2f}% ({ok}) | {kT:.4f} | "
             f"{eta:.4f} +- {err:.4f}{'' if converged else ' (not converged)'} | "
-            f"{time.perf_counter() - t0:.1f}"
+            f"{time.perf_counter() - t0:.1f}",
+            flush=True,
+        )
+    if len(mfts) >= 2:
+        m, sd = statistics.fmean(mfts), statistics.stdev(mfts)
+        se = sd / math.sqrt(len(mfts))
+        print(
+            f"mean over {len(mfts)} runs: {m:.6f} +- {se:.6f} (one run's spread {sd:.6f}): "
+            f"{100.0 * (m / DYNAMO_MFT - 1.0):+.2f}% from DynamO's, {(m - DYNAMO_MFT) / se:+.1f} standard "
+            f"errors of the mean, {(m - DYNAMO_MFT) / sd:+.1f} of one run's spread; "
+            f"kT at the end {statistics.fmean(kts):.4f} +- {statistics.stdev(kts) / math.sqrt(len(kts)):.4f}"
         )
 
 

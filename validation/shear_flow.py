@@ -1,4 +1,4 @@
-"""Shear flow on the compiled core: the flow curve eta(g) at packing 0.3 and 0.45; DynamO's sheared test.
+"""Shear flow on the compiled core: the flow curve eta(g) at packing 0.3 and 0.45.
 
 **Flow curve.**  N = 500 equal spheres (sigma = m = kT = 1) in a cubic
 Lees-Edwards box (``PeriodicBox.for_packing(n, phi, (1, 1, 1))
@@ -12,21 +12,19 @@ converged, or ``--max-time`` is reached (then reported as not converged).
 N_2 = P_yy - P_zz with blocking errors; the mean peculiar kT is sampled
 between rescalings (at phases spread over the interval).
 
-**DynamO's test** (``--dynamo``): its ``src/dynamo/tests/shearing_test.cpp``
-at commit 274a1349: N = 1372 (FCC 7x7x7), number density 0.5, e = 0.9,
-shear rate 1 in its units (the diameter, the mass and the initial kT = 1),
-velocities rescaled to kT = 1 once at the start; 500000 collisions
-dropped, then the mean free time ``t N / (2 N_coll)`` over 1000000
-collisions, expected 0.113195634 (its tolerance 1%).
+**Equilibrium** (``--equilibrium T``): the Einstein-Helfand viscosity of
+the same system unsheared (``ShearViscosity``), the zero-rate reference.
+DynamO's sheared granular test is ``validation/shear_dynamo.py``.
 
 usage:
     python3 validation/shear_flow.py                      # both packings, about 50 minutes
     python3 validation/shear_flow.py --packings 0.3 --rates 0.5 1 --target 0.05   # a quick look
-    python3 validation/shear_flow.py --dynamo --seeds 1 2 3 4 5                   # 5 minutes
+    python3 validation/shear_flow.py --equilibrium 3000 --seeds 1 2 3           # zero rate, 5 minutes
+    python3 validation/shear_flow.py --tables                                     # the tables
     python3 validation/shear_flow.py --plot docs/images/shear_flow.png            # from the CSV
 
 Results: ``validation/results/shear_flow.csv`` (one row per rate,
-appended as each finishes) and ``validation/results/shear_flow_dynamo.csv``;
+appended as each finishes) and ``validation/results/shear_flow_equilibrium.csv``;
 the printed tables are kept in ``validation/results/shear_flow.txt``.
 
 Units: sigma = m = kT = 1 (rates in sqrt(kT/m)/sigma, eta in sqrt(m kT)/sigma^2).
@@ -46,7 +44,6 @@ from hardspheres.dense import PeculiarRescale
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CSV = os.path.join(HERE, "results", "shear_flow.csv")
-DYNAMO_CSV = os.path.join(HERE, "results", "shear_flow_dynamo.csv")
 EQ_CSV = os.path.join(HERE, "results", "shear_flow_equilibrium.csv")
 
 #: rates per packing (1/time)
@@ -132,43 +129,6 @@ def flow_point(
         "Z": sm["Z"],
         "Z_error": sm["Z_error"],
         "mean_free_time": t_prod * n / (2.0 * coll),
-        "cpu_s": time.process_time() - cpu0,
-    }
-
-
-def dynamo_point(seed: int) -> dict:
-    """DynamO's shearing_test.cpp: 1372 spheres, FCC, n sigma^3 = 0.5, e = 0.9, g = 1; the mean free time."""
-    n, rate = 1372, 1.0
-    cpu0 = time.process_time()
-    side = (n / 0.5) ** (1.0 / 3.0)  # 14.0 diameters
-    box = hs.PeriodicBox(side, shear_rate=rate)
-    a = side / 7.0  # FCC 7x7x7, as DynamO's CUFCC({7, 7, 7}) in its unit cell
-    base = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
-    cells = np.stack(np.meshgrid(*(np.arange(7),) * 3, indexing="ij"), -1).reshape(-1, 1, 3)
-    x = ((cells + base) * a).reshape(-1, 3) - 0.5 * side + 0.25 * a
-    rng = np.random.default_rng(seed)
-    v = rng.normal(size=(n, 3))
-    v -= v.mean(axis=0)
-    v *= math.sqrt(1.0 / (np.sum(v * v) / (3 * n - 3)))  # kT = 1 as DynamO's rescaleVels(1.0)
-    s = hs.State.from_arrays(np.ones(n), np.full(n, 0.5), x, v)
-    sim = hs.Simulation(s, box, restitution=0.9)
-    eng = sim.engine
-    while eng.counters["collisions"] < 500_000:
-        sim.run(until=sim.time + 1.0)
-    t0, c0 = sim.time, eng.counters["collisions"]
-    kts = []
-    while eng.counters["collisions"] - c0 < 1_000_000:
-        sim.run(until=sim.time + 0.2)
-        kts.append(sim.observables.temperature())
-    coll = eng.counters["collisions"] - c0
-    t = sim.time - t0
-    return {
-        "seed": seed,
-        "collisions": coll,
-        "time": t,
-        "mean_free_time": t * n / (2.0 * coll),
-        "kT_mean": float(np.mean(kts)),
-        "max_overlap": eng.max_overlap(),  # DynamO checks its final state too (checkSystem)
         "cpu_s": time.process_time() - cpu0,
     }
 
@@ -259,7 +219,7 @@ def _pm(x: float, err: float, digits: int = 4) -> str:
 
 
 def tables(csv_path: str) -> None:
-    """The results as markdown tables: the flow curves against the equilibrium viscosity, DynamO's test."""
+    """The results as markdown tables: the equilibrium runs, the flow curves against them."""
     eq_rows = read_csv(EQ_CSV)
     for phi in (0.3, 0.45):
         eqs = [r for r in eq_rows if abs(float(r["packing"]) - phi) < 1e-9]
@@ -292,24 +252,7 @@ def tables(csv_path: str) -> None:
         ]
         cells += [f"{f['kT_mean']:.4f}", f"{f['Z']:.3f}", f"{f['cpu_s']:.0f}"]
         print("| " + " | ".join(cells) + " |")
-    dyn = read_csv(DYNAMO_CSV)
-    if len(dyn) >= 2:
-        mft = np.array([float(r["mean_free_time"]) for r in dyn])
-        kt = np.array([float(r["kT_mean"]) for r in dyn])
-        m, sd = float(mft.mean()), float(mft.std(ddof=1))
-        se = sd / math.sqrt(len(mft))
-        cpu = sum(float(r["cpu_s"]) for r in dyn)
-        print()
-        print(f"DynamO's test, {len(dyn)} runs ({cpu:.0f} s CPU): mean free time {m:.6f} +- {se:.6f}")
-        print(f"    one run's spread {sd:.6f}, range {mft.min():.6f} to {mft.max():.6f}")
-        print(f"    expected {DYNAMO_MFT} (tolerance 1%): {100 * (m / DYNAMO_MFT - 1):+.2f}%,")
-        d = m - DYNAMO_MFT
-        print(f"    {d / se:+.1f} standard errors of the mean, {d / sd:+.1f} of one run's spread")
-        print(f"    steady peculiar kT {kt.mean():.4f} +- {kt.std(ddof=1) / math.sqrt(len(kt)):.4f}")
 
-
-#: DynamO's expected mean free time (shearing_test.cpp), in its units: sigma = m = 1, shear rate 1
-DYNAMO_MFT = 0.113195634
 
 #: equilibrium Einstein-Helfand viscosity, N = 500 (docs/validation/transport.md): (value, error)
 EQUILIBRIUM = {0.3: (0.746, 0.024), 0.45: (3.198, 0.066)}
@@ -325,7 +268,6 @@ def main() -> int:
     ap.add_argument("--min-time", type=float, default=100.0)
     ap.add_argument("--max-time", type=float, default=3200.0)
     ap.add_argument("--csv", default=CSV)
-    ap.add_argument("--dynamo", action="store_true", help="DynamO's sheared granular test instead")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--plot", metavar="PNG", help="draw the flow curve from --csv instead")
     ap.add_argument("--equilibrium", type=float, metavar="T", help="Einstein-Helfand runs (T time units)")
@@ -351,29 +293,6 @@ def main() -> int:
             print(f"shear_flow: no results file {args.csv}: run the flow curve first", file=sys.stderr)
             return 1
         plot(args.csv, args.plot)
-        return 0
-    if args.dynamo:
-        fields = ["seed", "collisions", "time", "mean_free_time", "kT_mean", "max_overlap", "cpu_s"]
-        print("seed  collisions  time      mean free time  kT (mean, peculiar)  max overlap  cpu s")
-        mft = []
-        for seed in args.seeds:
-            r = dynamo_point(seed)
-            append(DYNAMO_CSV if args.csv == CSV else args.csv, r, fields)
-            mft.append(r["mean_free_time"])
-            print(
-                f"{seed:4d}  {r['collisions']:9d}  {r['time']:8.3f}  {r['mean_free_time']:.6f}"
-                f"        {r['kT_mean']:.4f}             {r['max_overlap']:.1e}      {r['cpu_s']:.0f}",
-                flush=True,
-            )
-        if len(mft) >= 2:
-            m, sd = float(np.mean(mft)), float(np.std(mft, ddof=1))
-            se = sd / math.sqrt(len(mft))
-            print(
-                f"mean free time over {len(mft)} runs: {m:.6f} +- {se:.6f} (one run's spread {sd:.6f}); "
-                f"DynamO expects {DYNAMO_MFT} (tolerance 1%): {100 * (m / DYNAMO_MFT - 1):+.2f}%, "
-                f"{(m - DYNAMO_MFT) / se:+.1f} standard errors, "
-                f"{(m - DYNAMO_MFT) / sd:+.1f} single-run spreads"
-            )
         return 0
     pad = " " * 15
     print(f" phi    g      dt      time    eta{pad}conv  N1{pad}  N2{pad}  kT_mean  Z        cpu s")
