@@ -294,12 +294,13 @@ def main() -> int:
             return 1
         plot(args.csv, args.plot)
         return 0
+    bad = [phi for phi in args.packings if phi not in RATES]
+    if bad:
+        print(f"shear_flow: packing {bad[0]} has no rates or interval here: use 0.3 or 0.45", file=sys.stderr)
+        return 1
     pad = " " * 15
     print(f" phi    g      dt      time    eta{pad}conv  N1{pad}  N2{pad}  kT_mean  Z        cpu s")
     for phi in args.packings:
-        if phi not in RATES:
-            print(f"shear_flow: packing {phi} has no rates here: use 0.3 or 0.45", file=sys.stderr)
-            return 1
         for g in args.rates or RATES[phi]:
             r = flow_point(phi, g, args.n, args.seed, args.target, args.min_time, args.max_time)
             append(args.csv, r, FIELDS)
