@@ -99,14 +99,14 @@ def test_a_stepped_engine_resumes_from_its_checkpoint_and_damage_is_refused():
     assert b.steps == a.steps and b.pair_states == a.pair_states
     assert same_events(a.advance(events=3000), b.advance(events=3000))
     bonded = np.nonzero(saved["book"][:, core.BONDS])[0]
-    for damage in ("asymmetric", "count", "steps"):
+    for damage in ("asymmetric", "species", "steps"):
         bad = {k: np.copy(w) for k, w in saved.items()}
         if damage == "asymmetric":
             bad["book"][bonded[0], core.BONDS + 1] ^= 1  # (another state on one side)
-        elif damage == "count":
-            bad["counts"][core.C_BONDED] += 1
+        elif damage == "species":
+            bad["book"][0, core.SPECIES] = 7
         else:
-            bad["scalars"][core.F_STEP] = 0.5
+            bad["scalars"][core.F_STEP + 1] = 0.5  # (species 0 with 0: its outermost lambda)
         with pytest.raises(checkpoint.CheckpointError, match="damaged checkpoint"):
             Engine.restore(bad)
 
@@ -152,3 +152,31 @@ def test_hard_spheres_keep_their_loop():
     )
     assert eng.axes == ((), (), ()) and eng.steps == () and eng.potential_energy() == 0.0
     assert "captures" not in eng.counters and eng.book.shape[1] == core.BOOK_COLS
+
+
+@pytest.mark.parametrize("where", [PeriodicBox(11.0), CircularContainer(10.0)], ids=["cube", "circle"])
+def test_steps_per_pair_of_species_are_the_references(where):
+    """A binary mixture: a well between 0 and 0, a deeper narrower one between 0 and 1, hard spheres 1 with 1."""
+    table = {(0, 0): [(1.5, -1.0)], (0, 1): [(1.3, -2.0)], (1, 1): []}
+    m, r, x, v = _pair(where, 60, 0.25, seed=4)
+    species = np.random.default_rng(4).integers(0, 2, len(m))
+    kw = dict(container=where, steps=table, species=species)
+    eng = Engine(m, r, x, v, rebase=False, reorder=0.0, **kw)
+    ref = CompiledReference(m, r, np.asarray(x).tolist(), np.asarray(v).tolist(), **kw)
+    assert eng.pair_states == ref.pair_states
+    assert same_events(eng.advance(events=800), ref.advance(events=800))
+    assert eng.pair_states == ref.pair_states and eng.potential_energy() == ref.potential_energy()
+    states = eng.pair_states
+    assert not any(species[i] == species[j] == 1 for i, j in states)  # (no well between 1 and 1)
+    assert {species[i] + species[j] for i, j in states} == {0, 1}
+    assert np.array_equal(eng.species, species) and eng.step_table[(1, 0)] == ((1.3, -2.0),)
+
+
+def test_species_without_a_table_and_bad_species_are_refused():
+    x, v = [[0.0, 0, 0], [3.0, 0, 0]], [[1.0, 0, 0], [0.0, 0, 0]]
+    with pytest.raises(ArgumentError, match="give each sphere's species"):
+        Engine([1.0, 1.0], [0.5, 0.5], x, v, container=10.0, steps={(0, 1): [(1.5, -1.0)]})
+    with pytest.raises(ArgumentError, match="one integer >= 0 per sphere"):
+        Engine([1.0, 1.0], [0.5, 0.5], x, v, container=10.0, steps=WELL, species=[0, -1])
+    with pytest.raises(ArgumentError, match="at most 4"):
+        Engine([1.0, 1.0], [0.5, 0.5], x, v, container=10.0, steps={(0, 4): WELL}, species=[0, 4])

@@ -313,11 +313,13 @@ NEIGHBOURS = 12  # lists: length of its neighbour list (the first entries of its
 # are on input indices, never on i (here, in a row the event touches anyway)
 ORIGIN = 13
 BOOK_COLS = 14
-# the stepped variant (``len(axes[1]) == 1``): each sphere's bond table in
-# its book row from BONDS on: the count, then ``partner << 3 | state`` for
-# each partner in a step (state 1..K, the edges the pair is inside; the
-# partner an engine index, renamed when the spheres are reordered)
-BONDS = BOOK_COLS
+# the stepped variant (``len(axes[1]) == 1``): each sphere's species in its
+# book row at SPECIES, and its bond table from BONDS on: the count, then
+# ``partner << 3 | state`` for each partner in a step (state 1..K, the edges
+# the pair is inside; the partner an engine index, renamed when the spheres
+# are reordered)
+SPECIES = BOOK_COLS
+BONDS = BOOK_COLS + 1
 # a stepped prediction's partner carries its kind above bit KIND_SHIFT (_store)
 KIND_SHIFT = 29
 #: CROSS_FACE of a sphere (neighbour lists) that leaves the periodic box before its shell
@@ -363,11 +365,15 @@ F_SHEAR = 58  # the boundary speed w = g L_y: the images across the upper y face
 F_SHEAR0 = 59  # the offset at the time origin, in [0, L_x]: delta(t) = (F_SHEAR0 + w t) % L_x
 F_SHEAR_G = 60  # the shear rate g (w = g L_y)
 F_PEC_INT = 61  # the time integral of sum m c c (c = v - g y e_x) over the closed flights (xx yy zz xy xz yz)
-# steps (the stepped variant): K steps, outermost first: lambda_k at F_STEP + 2k, U_k at F_STEP + 2k + 1
-F_NSTEP = 67
-F_STEP = 68
+# steps (the stepped variant), per pair of species (s, t): from F_STEP + (s SPECIES_MAX + t) STEP_STRIDE,
+# the number of steps K_st, then lambda_k and U_k for k = 0..K_st - 1, outermost first
+F_NSTEP = 67  # the most steps of any pair (0: hard spheres, not the stepped variant)
+F_NSPECIES = 68  # the species
+F_STEP = 69
 STEP_MAX = 4
-N_SCALARS = 76
+SPECIES_MAX = 4
+STEP_STRIDE = 1 + 2 * STEP_MAX
+N_SCALARS = F_STEP + SPECIES_MAX * SPECIES_MAX * STEP_STRIDE
 
 # indices into `counts`
 C_CELLS = 0  # cells per axis (nc)
@@ -384,9 +390,8 @@ C_QUEUED = 10  # entries in the buckets' lists (not the heap, not the overflow)
 C_GRID = 11  # cells per axis (x, y, z); C_CELLS is the x axis's
 C_WALL_SEED = 14  # the thermal wall's generator: its seed (0 <= seed < 2^32)
 C_WALL_DRAWS = 15  # ... and the draws made so far (the next draw's number)
-C_BONDED = 16  # the stepped variant: pairs in state k + 1 now, k = 0..STEP_MAX - 1
-C_STEP_EVENTS = 20  # ... and the captures, releases and bounces so far
-N_COUNTS = 23
+C_STEP_EVENTS = 16  # the stepped variant: captures, releases and bounces so far
+N_COUNTS = 19
 
 # stop reasons of run() beyond 0..3 (see its docstring)
 STOP_FROZEN = int(events.StopReason.FROZEN)
@@ -1099,9 +1104,15 @@ def _bond_set(book, i, j, state):
 
 
 @_inline
-def _step_energy(scalars, state):
-    """The potential energy of a pair in ``state`` (0: outside every step)."""
-    return 0.0 if state == 0 else scalars[F_STEP + 2 * (state - 1) + 1]
+def _steps_of(book, i, j):
+    """Where the steps of the pair ``(i, j)``'s species begin among the scalars (at their count)."""
+    return F_STEP + (book[i, SPECIES] * SPECIES_MAX + book[j, SPECIES]) * STEP_STRIDE
+
+
+@_inline
+def _step_energy(scalars, base, state):
+    """The potential energy of a pair in ``state`` (0: outside every step), its steps from ``base``."""
+    return 0.0 if state == 0 else scalars[base + 2 * state]
 
 
 @_inline
@@ -1171,18 +1182,18 @@ def _pair_stepped(
         dvz = spheres[i, VZ] - spheres[j, VZ]
     sigma = spheres[i, RADIUS] + spheres[j, RADIUS]
     state = _bond_state(book, i, j)
-    nstep = np.int64(scalars[F_NSTEP])
-    if state == nstep:
+    base = _steps_of(book, i, j)
+    if state == np.int64(scalars[base]):
         inner = sigma
         kind = COLLISION
     else:
-        inner = scalars[F_STEP + 2 * state] * sigma
+        inner = scalars[base + 1 + 2 * state] * sigma
         kind = CAPTURE
     dt = pair_time(dx, dy, dz, dvx, dvy, dvz, inner, planar)
     if not dt < np.inf:
         if state == 0:
             return best_t, best_key, best_p
-        dt = wall_time(dx, dy, dz, dvx, dvy, dvz, scalars[F_STEP + 2 * (state - 1)] * sigma, planar)
+        dt = wall_time(dx, dy, dz, dvx, dvy, dvz, scalars[base + 1 + 2 * (state - 1)] * sigma, planar)
         kind = RELEASE
     te = t0 + dt
     if te < soon:
@@ -1246,7 +1257,8 @@ def _step_gate(pot, masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, 
         return 0.0, 0.0, COLLISION
     old = _bond_state(book, a, b)
     new = old + 1 if kind == CAPTURE else old - 1
-    du = _step_energy(scalars, new) - _step_energy(scalars, old)
+    base = _steps_of(book, a, b)
+    du = _step_energy(scalars, base, new) - _step_energy(scalars, base, old)
     k1, k2, crossed = cross_step(masses[a], masses[b], dx, dy, dz, dvx, dvy, dvz, du, planar)
     if not crossed:
         return k1, k2, (-1 if k1 == 0.0 else BOUNCE)
@@ -1255,10 +1267,6 @@ def _step_gate(pot, masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, 
         return k1, k2, -2
     _bond_set(book, a, b, new)
     _bond_set(book, b, a, new)
-    if old != 0:
-        counts[C_BONDED + old - 1] -= 1
-    if new != 0:
-        counts[C_BONDED + new - 1] += 1
     return k1, k2, kind
 
 

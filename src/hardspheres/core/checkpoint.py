@@ -286,17 +286,31 @@ def scalars_of(data: Mapping[str, np.ndarray]) -> np.ndarray:
 
 
 def _check_bonds(book: np.ndarray, scalars: np.ndarray, counts: np.ndarray, n: int) -> None:
-    """The steps and the bond tables: steps in order, entries in range, symmetric, counted per step."""
-    k = scalars[core.F_NSTEP]
-    if not (k == int(k) and 1 <= k <= core.STEP_MAX):
-        _bad(f"{k} steps, expected 1 to {core.STEP_MAX}")
-    k = int(k)
-    lams = scalars[core.F_STEP : core.F_STEP + 2 * k : 2]
-    us = scalars[core.F_STEP + 1 : core.F_STEP + 2 * k : 2]
-    if not (np.all(np.isfinite(lams)) and np.all(np.isfinite(us)) and np.all(lams > 1.0)) or np.any(
-        np.diff(lams) >= 0.0
-    ):
-        _bad("the steps are not finite with lambda decreasing from the outermost and above 1")
+    """The steps and the bond tables: steps in order, species in range, entries in range and symmetric."""
+    k, m = scalars[core.F_NSTEP], scalars[core.F_NSPECIES]
+    if not (k == int(k) and 1 <= k <= core.STEP_MAX and m == int(m) and 1 <= m <= core.SPECIES_MAX):
+        _bad(f"{k} steps and {m} species, expected 1 to {core.STEP_MAX} and 1 to {core.SPECIES_MAX}")
+    m = int(m)
+    nsteps = np.zeros((m, m), np.int64)
+    for s in range(m):
+        for t in range(m):
+            base = core.F_STEP + (s * core.SPECIES_MAX + t) * core.STEP_STRIDE
+            kst = scalars[base]
+            if not (kst == int(kst) and 0 <= kst <= k):
+                _bad(f"{kst} steps for species {s} and {t}")
+            kst = int(kst)
+            lams = scalars[base + 1 : base + 1 + 2 * kst : 2]
+            us = scalars[base + 2 : base + 2 + 2 * kst : 2]
+            if not (np.all(np.isfinite(lams)) and np.all(np.isfinite(us)) and np.all(lams > 1.0)) or np.any(
+                np.diff(lams) >= 0.0
+            ):
+                _bad("the steps are not finite with lambda decreasing from the outermost and above 1")
+            nsteps[s, t] = kst
+    if not np.array_equal(nsteps, nsteps.T):
+        _bad("the steps of a pair of species differ with its order")
+    species = book[:, core.SPECIES]
+    if np.any((species < 0) | (species >= m)):
+        _bad("a species out of range")
     width = book.shape[1] - core.BONDS - 1
     count = book[:, core.BONDS]
     if np.any((count < 0) | (count > width)):
@@ -305,16 +319,14 @@ def _check_bonds(book: np.ndarray, scalars: np.ndarray, counts: np.ndarray, n: i
     entries = book[:, core.BONDS + 1 :]
     rows = np.repeat(np.arange(n), count)
     partner, state = entries[held] >> 3, entries[held] & 7
-    if np.any((partner < 0) | (partner >= n) | (partner == rows) | (state < 1) | (state > k)):
+    if np.any((partner < 0) | (partner >= n) | (partner == rows) | (state < 1)):
+        _bad("a bond entry out of range")
+    if np.any(state > nsteps[species[rows], species[np.clip(partner, 0, n - 1)]]):
         _bad("a bond entry out of range")
     there = np.sort((rows * n + partner) * 8 + state)
     back = np.sort((partner * n + rows) * 8 + state)
     if not np.array_equal(there, back) or np.any(np.diff(there // 8) == 0):
         _bad("the bond tables are not symmetric")
-    if counts.shape[0] >= core.C_BONDED + core.STEP_MAX:
-        per_step = np.bincount(state, minlength=core.STEP_MAX + 1)[1 : core.STEP_MAX + 1] // 2
-        if np.any(counts[core.C_BONDED : core.C_BONDED + core.STEP_MAX] != per_step):
-            _bad("the counts of pairs per step disagree with the bond tables")
 
 
 def _check_cells(

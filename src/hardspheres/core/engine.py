@@ -162,7 +162,10 @@ class Engine:
             outside the next edge), 0 outside every edge.  The core's stepped
             variant (cells only; not with shear, restitution below 1 or
             growth); each pair's state starts from the distances, as the
-            reference's.
+            reference's.  Per pair of species: a dict ``{(s, t): [(lambda_k,
+            U_k), ...]}`` (each unordered pair once; left out: hard spheres).
+        species: ``(N,)`` each sphere's species ``0..3`` (with a table of
+            steps per pair of species).
 
     Example:
         >>> eng = Engine([1.0, 1.0], [1.0, 1.0], [[-5.0, 0, 0], [5.0, 0, 0]],
@@ -190,7 +193,8 @@ class Engine:
         wall_temperature: float = 0.0,
         wall_seed: int = 0,
         shear_offset: float = 0.0,
-        steps: Sequence[Sequence[float]] | None = None,
+        steps: Any = None,
+        species: ArrayLike | None = None,
     ) -> None:
         self.container: Container = as_container(container, box)
         self._masses = np.array(masses, dtype=np.float64).reshape(-1)
@@ -236,7 +240,7 @@ class Engine:
         self.hit_t = np.zeros(0)
         self.set_restitution(restitution, wall_restitution, tc)
         self.set_wall_temperature(wall_temperature, wall_seed)
-        self._set_steps(steps)
+        self._set_steps(steps, species)
         self._grid(n)
         self._set_shear(shear_offset)
         self._into_box()
@@ -270,57 +274,96 @@ class Engine:
         return _AXES[self.dimensions]
 
     # ---- steps (square wells) ---------------------------------------------------
-    def _set_steps(self, steps: Sequence[Sequence[float]] | None) -> None:
-        """The stepped potential into the scalars, and a bond table in the book (none: hard spheres)."""
+    def _set_steps(self, steps: Any, species: ArrayLike | None) -> None:
+        """The stepped potential into the scalars, the species and bond tables into the book (none: none)."""
         if steps is None or len(steps) == 0:
+            if species is not None:
+                raise ArgumentError("species are for the steps' table: give steps too")
             return
-        from .reference import check_steps
+        from .reference import step_table
 
-        lams, us = check_steps(steps)
-        if len(lams) > core.STEP_MAX:
-            raise ArgumentError(f"{len(lams)} steps: the engine takes at most {core.STEP_MAX}")
+        table = step_table(steps)
+        n = self.n
+        if species is None:
+            if len(table) > 1 or (0, 0) not in table:
+                raise ArgumentError("steps per pair of species: give each sphere's species too")
+            kinds = np.zeros(n, np.int64)
+        else:
+            kinds = np.asarray(species).reshape(-1)
+            if kinds.shape[0] != n or kinds.dtype.kind not in "iu" or (n and kinds.min() < 0):
+                raise ArgumentError(f"species: give one integer >= 0 per sphere ({n})")
+            kinds = kinds.astype(np.int64)
+        n_species = max(int(kinds.max()) if n else 0, *(s for s, _ in table)) + 1
+        if n_species > core.SPECIES_MAX:
+            raise ArgumentError(f"{n_species} species: the engine takes at most {core.SPECIES_MAX}")
+        most = max(len(lams) for lams, _ in table.values())
+        if most > core.STEP_MAX:
+            raise ArgumentError(f"{most} steps: the engine takes at most {core.STEP_MAX}")
+        if not most:
+            return  # (steps for no pair: hard spheres)
         if getattr(self.container, "shear_rate", 0.0):
             raise ShearError("steps in a sheared box are not built yet: give shear_rate=0 or no steps")
         if self.inelastic:
             raise ArgumentError("steps with restitution below 1 are not built yet: give restitution=1")
+        outer = max(lams[0] for lams, _ in table.values() if lams)
         edges = self._edges_of_container()
-        if edges and self.n:
-            reach = lams[0] * 2.0 * float(np.max(self.spheres[:, core.RADIUS]))
+        if edges and n:
+            reach = outer * 2.0 * float(np.max(self.spheres[:, core.RADIUS]))
             side = min(edges)
             if not reach < 0.5 * side:
                 raise BoxShapeError(
                     f"the outermost step reaches {reach:g}, not less than half the box's side {side:g}: "
                     "give a larger box or a narrower step"
                 )
-        self.scalars[core.F_NSTEP] = len(lams)
-        for k, (lam, u) in enumerate(zip(lams, us)):
-            self.scalars[core.F_STEP + 2 * k] = lam
-            self.scalars[core.F_STEP + 2 * k + 1] = u
-        self.book = np.concatenate([self.book, np.zeros((self.n, 1 + BONDS_FIRST), np.int64)], axis=1)
+        f = self.scalars
+        f[core.F_NSTEP], f[core.F_NSPECIES] = most, n_species
+        for (s, t), (lams, us) in table.items():
+            base = core.F_STEP + (s * core.SPECIES_MAX + t) * core.STEP_STRIDE
+            f[base] = len(lams)
+            for k, (lam, u) in enumerate(zip(lams, us)):
+                f[base + 1 + 2 * k], f[base + 2 + 2 * k] = lam, u
+        self.book = np.concatenate([self.book, np.zeros((n, 2 + BONDS_FIRST), np.int64)], axis=1)
+        self.book[:, core.SPECIES] = kinds
 
     def _edges_of_container(self) -> list[float]:
         """The periodic box's sides (empty: a container with a wall)."""
         params = _core_params(self.container)
         return [float(e) for e in params["edges"] if e] if not params["wall_radius"] else []
 
+    def _pair_steps(self, s: int, t: int) -> tuple[tuple[float, float], ...]:
+        """The steps ``((lambda_k, U_k), ...)`` of species ``s`` and ``t``."""
+        f = self.scalars
+        base = core.F_STEP + (s * core.SPECIES_MAX + t) * core.STEP_STRIDE
+        return tuple((float(f[base + 1 + 2 * k]), float(f[base + 2 + 2 * k])) for k in range(int(f[base])))
+
     @property
     def steps(self) -> tuple[tuple[float, float], ...]:
-        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
-        f = self.scalars
-        return tuple(
-            (float(f[core.F_STEP + 2 * k]), float(f[core.F_STEP + 2 * k + 1]))
-            for k in range(int(f[core.F_NSTEP]))
-        )
+        """The stepped pair potential ``((lambda_k, U_k), ...)`` of species 0 with itself, outermost first."""
+        return self._pair_steps(0, 0) if self.scalars[core.F_NSTEP] else ()
+
+    @property
+    def step_table(self) -> dict[tuple[int, int], tuple[tuple[float, float], ...]]:
+        """The steps of every pair of species ``{(s, t): ((lambda_k, U_k), ...)}`` (empty: hard spheres)."""
+        m = int(self.scalars[core.F_NSPECIES]) if self.scalars[core.F_NSTEP] else 0
+        return {(s, t): self._pair_steps(s, t) for s in range(m) for t in range(m)}
+
+    @property
+    def species(self) -> np.ndarray:
+        """``(N,)`` each sphere's species, in the input order (zeros without steps)."""
+        if not self.scalars[core.F_NSTEP]:
+            return np.zeros(self.n, np.int64)
+        return self._shown(self.book[:, core.SPECIES])
 
     def _bond_from_distances(self) -> None:
         """Each pair's state from the distances now (the reference's ``step_state``, the same arithmetic)."""
-        n, lams = self.n, [lam for lam, _ in self.steps]
+        n = self.n
         x = self.spheres[:, core.X : core.X + 3]
         r = self.spheres[:, core.RADIUS]
+        kinds = self.book[:, core.SPECIES]
         edges = self._edges[:3]
         width = self.book.shape[1] - core.BONDS - 1
         rows: list[list[int]] = [[] for _ in range(n)]
-        self.counts[core.C_BONDED : core.C_BONDED + core.STEP_MAX] = 0
+        tables = {(s, t): [lam for lam, _ in steps] for (s, t), steps in self.step_table.items()}
         for i in range(n - 1):
             d2 = np.zeros(n - 1 - i)
             for ax in range(3):
@@ -330,14 +373,16 @@ class Engine:
                 d2 = d2 + dx * dx
             sigma = r[i] + r[i + 1 :]
             state = np.zeros(n - 1 - i, np.int64)
-            for lam in lams:
-                edge = lam * sigma
-                state += d2 < edge * edge
+            others = kinds[i + 1 :]
+            for t in np.unique(others).tolist():
+                mine = others == t
+                for lam in tables[(int(kinds[i]), t)]:
+                    edge = lam * sigma[mine]
+                    state[mine] += d2[mine] < edge * edge
             for q in np.nonzero(state)[0]:
                 j, st = i + 1 + int(q), int(state[q])
                 rows[i].append((j << 3) | st)
                 rows[j].append((i << 3) | st)
-                self.counts[core.C_BONDED + st - 1] += 1
         longest = max((len(row) for row in rows), default=0)
         if longest > width:
             extra = max(longest - width, width)
@@ -352,15 +397,36 @@ class Engine:
         width = self.book.shape[1] - core.BONDS - 1
         self.book = np.concatenate([self.book, np.zeros((self.n, width), np.int64)], axis=1)
 
+    def _bonds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every bond once: ``(a, b, state)`` in engine indices, ``a < b``."""
+        width = self.book.shape[1] - core.BONDS - 1
+        count = self.book[:, core.BONDS]
+        held = np.arange(width)[None, :] < count[:, None]
+        entries = self.book[:, core.BONDS + 1 :][held]
+        a = np.repeat(np.arange(self.n), count)
+        b, state = entries >> 3, entries & 7
+        once = a < b
+        return a[once], b[once], state[once]
+
     def potential_energy(self) -> float:
         """The stepped potential's energy now [mass*length^2/time^2] (0 for hard spheres).
 
-        Formed afresh from the count of pairs in each step, in a fixed order
-        (the reference's): it cannot drift.
+        Formed afresh from the count of pairs in each step of each pair of
+        species, in a fixed order (the reference's): it cannot drift.
         """
+        if not self.scalars[core.F_NSTEP]:
+            return 0.0
+        a, b, state = self._bonds()
+        kinds = self.book[:, core.SPECIES]
+        sa, sb = kinds[a], kinds[b]
+        lo, hi = np.minimum(sa, sb), np.maximum(sa, sb)
+        m = int(self.scalars[core.F_NSPECIES])
+        counts = np.bincount((lo * m + hi) * core.STEP_MAX + state - 1, minlength=m * m * core.STEP_MAX)
         u = 0.0
-        for k, (_, energy) in enumerate(self.steps):
-            u += int(self.counts[core.C_BONDED + k]) * energy
+        for s in range(m):
+            for t in range(s, m):
+                for k, (_, energy) in enumerate(self._pair_steps(s, t)):
+                    u += int(counts[(s * m + t) * core.STEP_MAX + k]) * energy
         return u
 
     @property
@@ -368,11 +434,9 @@ class Engine:
         """Each pair ``(i, j)`` of input indices, ``i < j``, in a step, and its state (edges it is inside)."""
         out: dict[tuple[int, int], int] = {}
         order = self.order
-        for a in range(self.n):
-            for q in range(int(self.book[a, core.BONDS])):
-                e = int(self.book[a, core.BONDS + 1 + q])
-                i, j = int(order[a]), int(order[e >> 3])
-                out[(min(i, j), max(i, j))] = e & 7
+        for a, b, st in zip(*(x.tolist() for x in self._bonds())):
+            i, j = int(order[a]), int(order[b])
+            out[(min(i, j), max(i, j))] = st
         return out
 
     def _set_shear(self, offset: float) -> None:
@@ -725,7 +789,7 @@ class Engine:
             shell = 0.0  # a sheared box: cells (the strip across a sliding face), no lists yet
         if self.scalars[core.F_NSTEP]:
             shell = 0.0  # steps: cells as wide as the outermost step, no lists yet
-            sigma *= float(self.scalars[core.F_STEP])
+            sigma *= max((steps[0][0] for steps in self.step_table.values() if steps), default=1.0)
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma

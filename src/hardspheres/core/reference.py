@@ -58,7 +58,7 @@ the same functions with numba to check the engine at larger ``N``.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..containers import Container, as_container, require_periodic
@@ -314,6 +314,38 @@ def next_event_periodic(
 # sections 2-4, and docs/numerics.md, "Steps: wells and shoulders".
 
 
+def step_table(
+    steps: Sequence[Sequence[float]] | Mapping[tuple[int, int], Sequence[Sequence[float]]],
+) -> dict[tuple[int, int], tuple[tuple[float, ...], tuple[float, ...]]]:
+    """Steps for every pair of species: ``{(s, t): (lambdas, energies)}``, symmetric.
+
+    ``steps`` is one list ``[(lambda_k, U_k), ...]`` for every pair (one
+    species, or all alike), or a dict ``{(s, t): [(lambda_k, U_k), ...]}``
+    per pair of species (each unordered pair once; a pair left out, or
+    given ``[]``, is hard spheres).
+
+    Raises:
+        ArgumentError: steps out of order (:func:`check_steps`), a species
+            pair given twice or with a negative species.
+
+    Example:
+        >>> step_table({(0, 1): [(1.5, -1.0)]})[(1, 0)]
+        ((1.5,), (-1.0,))
+    """
+    if not isinstance(steps, Mapping):
+        return {(0, 0): check_steps(steps)}
+    out: dict[tuple[int, int], tuple[tuple[float, ...], tuple[float, ...]]] = {}
+    for key, rows in steps.items():
+        try:
+            s, t = (int(x) for x in key)
+        except (TypeError, ValueError):
+            raise ArgumentError(f"steps key {key!r}: give a pair of species (s, t)") from None
+        if s < 0 or t < 0 or (s, t) in out:
+            raise ArgumentError(f"steps key {key!r}: give each pair of species >= 0 once")
+        out[(s, t)] = out[(t, s)] = check_steps(rows) if len(rows) else ((), ())
+    return out
+
+
 def check_steps(steps: Sequence[Sequence[float]]) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """The steps ``[(lambda_k, U_k), ...]`` (outermost first) as ``(lambdas, energies)``.
 
@@ -404,8 +436,9 @@ def next_event_stepped(
     window: float,
     now: float,
     planar: bool,
-    lams: Sequence[float],
+    table: Sequence[Sequence[Sequence[float]]],
     states: dict[tuple[int, int], int],
+    species: Sequence[int],
 ) -> tuple[float, int, int, int]:
     """:func:`next_event` (``edges`` zeros) or :func:`next_event_periodic` with steps.
 
@@ -417,7 +450,9 @@ def next_event_stepped(
     can reach it first); a pair outside every step at each image next to it,
     pruned as :func:`next_event_periodic` with the outermost edge for the
     contact distance.  Kinds as :func:`pair_step_time`; all pair events tie
-    as collisions.
+    as collisions.  ``table[s][t]``: the edges' factors ``lambda_k`` of a
+    pair of species ``s`` and ``t`` (empty: hard spheres for that pair);
+    ``species``: each sphere's.
     """
     n = len(p)
     soon = clock + window
@@ -436,10 +471,11 @@ def next_event_stepped(
         if _earlier(te, REFLECTION, i, -1, best, _tie(best_kind), best_i, best_j):
             best, best_kind, best_i, best_j = te, REFLECTION, i, -1
     m = [1 if edges[ax] != 0.0 else 0 for ax in range(3)]
-    outer = lams[0]
     for i in range(n):
         pi, vi, ri, ti = p[i], v[i], radii[i], tloc[i]
         for j in range(i + 1, n):
+            pair_lams = table[species[i]][species[j]]  # the pair's species' edges, outermost first
+            outer = pair_lams[0] if pair_lams else 1.0
             pj, vj, tj = p[j], v[j], tloc[j]
             t0 = ti if ti > tj else tj
             di, dj = t0 - ti, t0 - tj
@@ -455,7 +491,9 @@ def next_event_stepped(
                     raw = xi[ax] - xj[ax]
                     k = round(raw / edges[ax]) if m[ax] else 0
                     d[ax] = xi[ax] - (xj[ax] + k * edges[ax]) if k else raw
-                dt, kind = pair_step_time(d[0], d[1], d[2], dv[0], dv[1], dv[2], sigma, lams, state, planar)
+                dt, kind = pair_step_time(
+                    d[0], d[1], d[2], dv[0], dv[1], dv[2], sigma, pair_lams, state, planar
+                )
                 te = t0 + dt
                 if kind >= 0 and te < soon:
                     te = clock
@@ -478,7 +516,9 @@ def next_event_stepped(
                         dz = xi[2] - (xj[2] + kz * edges[2])
                         if abs(dz) > (reach + abs(dv[2]) * bound) * (1.0 + 1e-9):
                             continue
-                        dt, kind = pair_step_time(dx, dy, dz, dv[0], dv[1], dv[2], sigma, lams, 0, planar)
+                        dt, kind = pair_step_time(
+                            dx, dy, dz, dv[0], dv[1], dv[2], sigma, pair_lams, 0, planar
+                        )
                         te = t0 + dt
                         if kind >= 0 and te < soon:
                             te = clock
@@ -844,9 +884,10 @@ class Reference:
         tc: float = 0.0,
         shear_rate: float | None = None,
         offset: float = 0.0,
-        steps: Sequence[Sequence[float]] | None = None,
+        steps: Sequence[Sequence[float]] | Mapping[tuple[int, int], Sequence[Sequence[float]]] | None = None,
         wall_temperature: float = 0.0,
         wall_seed: int = 0,
+        species: Sequence[int] | None = None,
     ) -> None:
         where, own = _sheared(as_container(container, box), shear_rate)
         self.container: Container = where
@@ -899,7 +940,7 @@ class Reference:
         self._kin_t = [0.0] * 6
         self._kt = [self._clock] * n
         self._crossed = -INF  # every crossing of a face up to this time is made
-        self._set_steps(steps)
+        self._set_steps(steps, species)
 
     def _set_rule(self, restitution: float, wall_restitution: float | None, tc: float) -> None:
         """The collision rule (the engine's set_restitution, which checks the same)."""
@@ -972,22 +1013,46 @@ class Reference:
                 self._img[k][1] += m
                 self._xshift[k] += m * now_off
 
-    def _set_steps(self, steps: Sequence[Sequence[float]] | None) -> None:
+    def _set_steps(
+        self,
+        steps: Sequence[Sequence[float]] | Mapping[tuple[int, int], Sequence[Sequence[float]]] | None,
+        species: Sequence[int] | None = None,
+    ) -> None:
         """The stepped pair potential (none: hard spheres) and every pair's state at the start.
 
-        Each pair's state is the number of edges ``lambda_k (R_i + R_j)`` its
-        centres are inside (strictly) at its nearest image, kept in a dict
-        for the pairs in a step; ``bonded[s - 1]`` counts the pairs in state
-        ``s``.
+        Each pair's state is the number of edges ``lambda_k (R_i + R_j)`` of
+        its pair of species that its centres are inside (strictly) at its
+        nearest image, kept in a dict for the pairs in a step;
+        ``bonded[(s, t, k)]`` counts the pairs of species ``s <= t`` in state
+        ``k + 1``.
         """
-        self._lams: tuple[float, ...] = ()
+        self._lams: tuple[float, ...] = ()  # (any steps: the first pair of species')
         self._us: tuple[float, ...] = ()
         self._states: dict[tuple[int, int], int] = {}
-        self._bonded: list[int] = []
+        self._bonded: dict[tuple[int, int, int], int] = {}
         self._stepc = {CAPTURE: 0, RELEASE: 0, BOUNCE: 0}
+        self._species = [0] * len(self._p)
+        self._table: list[list[tuple[float, ...]]] = [[()]]
+        self._energies: list[list[tuple[float, ...]]] = [[()]]
         if steps is None or len(steps) == 0:
+            if species is not None:
+                raise ArgumentError("species are for the steps' table: give steps too")
             return
-        lams, us = check_steps(steps)
+        table = step_table(steps)
+        if species is not None:
+            self._species = [int(x) for x in species]
+            if len(self._species) != len(self._p) or min(self._species, default=0) < 0:
+                raise ArgumentError(f"species: give one integer >= 0 per sphere ({len(self._p)})")
+        elif len(table) > 1 or (0, 0) not in table:
+            raise ArgumentError("steps per pair of species: give each sphere's species too")
+        n_species = max([*self._species, *(s for s, _ in table)], default=0) + 1
+        self._table = [[table.get((s, t), ((), ()))[0] for t in range(n_species)] for s in range(n_species)]
+        self._energies = [
+            [table.get((s, t), ((), ()))[1] for t in range(n_species)] for s in range(n_species)
+        ]
+        lams = max((row for rows in self._table for row in rows), key=lambda r: r[0] if r else 0.0)
+        if not lams:
+            return  # (steps for no pair: hard spheres)
         if self._speed:
             raise ShearError("steps in a sheared box are not built yet: give shear_rate=0 or no steps")
         if self._inelastic:
@@ -1001,9 +1066,12 @@ class Reference:
                     f"the outermost step reaches {reach:g}, not less than half the box's side {side:g}: "
                     "give a larger box or a narrower step"
                 )
-        self._lams, self._us = lams, us
-        self._bonded = [0] * len(lams)
-        p, radii = self._p, self._radii
+        self._lams = lams
+        for s in range(n_species):
+            for t in range(s, n_species):
+                for k in range(len(self._table[s][t])):
+                    self._bonded[(s, t, k)] = 0
+        p, radii, sp = self._p, self._radii, self._species
         for i in range(len(p)):
             for j in range(i + 1, len(p)):
                 d2 = 0.0
@@ -1012,15 +1080,20 @@ class Reference:
                     if edges[ax]:
                         dx -= edges[ax] * round(dx / edges[ax])
                     d2 += dx * dx
-                state = step_state(d2, radii[i] + radii[j], lams)
+                state = step_state(d2, radii[i] + radii[j], self._table[sp[i]][sp[j]])
                 if state:
                     self._states[(i, j)] = state
-                    self._bonded[state - 1] += 1
+                    self._bonded[self._bond_key(i, j, state)] += 1
+
+    def _bond_key(self, i: int, j: int, state: int) -> tuple[int, int, int]:
+        """The count a pair in ``state`` belongs to: its species in order, and its step."""
+        s, t = self._species[i], self._species[j]
+        return (s, t, state - 1) if s <= t else (t, s, state - 1)
 
     @property
     def steps(self) -> tuple[tuple[float, float], ...]:
-        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
-        return tuple(zip(self._lams, self._us))
+        """The stepped pair potential ``((lambda_k, U_k), ...)`` of species 0 with itself, outermost first."""
+        return tuple(zip(self._table[0][0], self._energies[0][0]))
 
     @property
     def pair_states(self) -> dict[tuple[int, int], int]:
@@ -1034,13 +1107,13 @@ class Reference:
         order, never accumulated: it cannot drift.
         """
         u = 0.0
-        for count, energy in zip(self._bonded, self._us):
-            u += count * energy
+        for (s, t, k), count in sorted(self._bonded.items()):
+            u += count * self._energies[s][t][k]
         return u
 
-    def _pot(self, state: int) -> float:
-        """The potential energy of a pair in ``state``."""
-        return self._us[state - 1] if state else 0.0
+    def _pot(self, i: int, j: int, state: int) -> float:
+        """The potential energy of the pair ``(i, j)`` in ``state``."""
+        return self._energies[self._species[i]][self._species[j]][state - 1] if state else 0.0
 
     # ---- what the engine also tells ---------------------------------------------
     @property
@@ -1344,8 +1417,9 @@ class Reference:
                 self._window,
                 self._now,
                 self.dimensions == 2,
-                self._lams,
+                self._table,
                 self._states,
+                self._species,
             )
         if self._speed:
             return self._next_event_sheared(
@@ -1454,7 +1528,7 @@ class Reference:
                 d[ax] -= edges[ax] * round(d[ax] / edges[ax])
         old = self._states.get((i, j), 0)
         new = old + 1 if kind == CAPTURE else old - 1
-        du = self._pot(new) - self._pot(old)
+        du = self._pot(i, j, new) - self._pot(i, j, old)
         k1, k2, crossed = cross_step(
             self.masses[i],
             self.masses[j],
@@ -1491,9 +1565,9 @@ class Reference:
         if crossed:
             kind = CAPTURE if new > old else RELEASE
             if old:
-                self._bonded[old - 1] -= 1
+                self._bonded[self._bond_key(i, j, old)] -= 1
             if new:
-                self._bonded[new - 1] += 1
+                self._bonded[self._bond_key(i, j, new)] += 1
                 self._states[(i, j)] = new
             else:
                 del self._states[(i, j)]
