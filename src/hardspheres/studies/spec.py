@@ -503,7 +503,7 @@ def _shear(
 
 
 #: What only a study with a well measures (:data:`hardspheres.studies.measures.OBSERVABLES`).
-WELL_MEASURES = ("potential_energy", "heat_capacity", "energy_drift")
+WELL_MEASURES = ("potential_energy", "heat_capacity")
 
 
 def _well(
