@@ -686,9 +686,12 @@ def shear_lines(sim: Simulation, summary: dict[str, Any]) -> list[str]:
         if isinstance(th, PeculiarRescale)
         else ""
     )
+    lx = sim.container.sides[0]  # type: ignore[attr-defined]
+    offset = sim.engine.shear_offset(sim.time)
+    offset = 0.0 if abs(offset - lx * round(offset / lx)) < 1e-9 * lx else offset  # (a whole L_x: none)
     lines = [
-        f"sheared at rate {g:g} (Lees-Edwards; flow along x, gradient along y): offset "
-        f"{sim.engine.shear_offset():.6g} now{held}"
+        f"sheared at rate {g:g} (Lees-Edwards; flow along x, gradient along y): the images above "
+        f"shifted by {offset:.6g} along x now{held}"
     ]
     if "viscosity" not in summary:
         summary = {**summary, **_shear_estimates(sim)}
@@ -891,8 +894,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
     progress = Progress(args.until - start_time)
     t0 = time.perf_counter()
     equilibrated = ""
-    averaged_from = sim.time
-    kinetic0 = None
+    averaged_from, kinetic0 = sim.time, None
     with _Stopper(sim) as stopper:
         try:
             writer, warn = _trajectory_writer(args, sim, start_time)
@@ -951,15 +953,19 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         lines.append(barostat_line(sim))
     if e1 == 0:
         lines.append("all spheres at rest: no pressure or rates")
-    lines.append(
-        f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s (compilation excluded)"
-    )
+    lines += _last_lines(args, checkpoint, events, wall)
+    print("\n".join(lines))
+    return _exit_status(failure, signum, checkpoint)
+
+
+def _last_lines(args: argparse.Namespace, checkpoint: str | None, events: int, wall: float) -> list[str]:
+    """The summary's last lines: the rate of events, where the checkpoint and the trajectory went."""
+    lines = [f"{events / wall if wall > 0 else 0.0:.4g} events/s over {wall:.3g} s (compilation excluded)"]
     if checkpoint:
         lines.append(f"checkpoint {checkpoint}")
     if args.trajectory:
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
-    print("\n".join(lines))
-    return _exit_status(failure, signum, checkpoint)
+    return lines
 
 
 def _start_averages(sim: Simulation) -> tuple[float, np.ndarray | None]:
@@ -1100,26 +1106,7 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     eq.add_argument(
         "--equilibrate-time", type=positive, metavar="T", help="time [s] to run before the averages start"
     )
-    p.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
-    p.add_argument(
-        "--every",
-        type=positive,
-        help="time between trajectory frames [s] (default: the run / 100); with --log-frames, "
-        "between time origins (default: the run / 10)",
-    )
-    p.add_argument(
-        "--log-frames",
-        type=positive,
-        metavar="FIRST",
-        help="frames at log-spaced lags FIRST, ..., --every (10 per decade) from a new time origin "
-        "every --every: what F_s, tau_alpha and chi_4 need (plot fs, plot chi4) to resolve short "
-        "times with few frames",
-    )
-    p.add_argument(
-        "--events",
-        action="store_true",
-        help="also store every event in the .gsd (large: about 40 bytes each)",
-    )
+    _trajectory_args(p)
     p.add_argument(
         "--checkpoint",
         help="save the run here at the end or on Ctrl-C (with --resume: the resumed file, unless given)",
@@ -1167,6 +1154,30 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
     )
     p.set_defaults(func=run)
     return p
+
+
+def _trajectory_args(p: argparse.ArgumentParser) -> None:
+    """The trajectory's options."""
+    p.add_argument("--trajectory", help="write frames to this .gsd (or .xyz) file")
+    p.add_argument(
+        "--every",
+        type=positive,
+        help="time between trajectory frames [s] (default: the run / 100); with --log-frames, "
+        "between time origins (default: the run / 10)",
+    )
+    p.add_argument(
+        "--log-frames",
+        type=positive,
+        metavar="FIRST",
+        help="frames at log-spaced lags FIRST, ..., --every (10 per decade) from a new time origin "
+        "every --every: what F_s, tau_alpha and chi_4 need (plot fs, plot chi4) to resolve short "
+        "times with few frames",
+    )
+    p.add_argument(
+        "--events",
+        action="store_true",
+        help="also store every event in the .gsd (large: about 40 bytes each)",
+    )
 
 
 def _rule_args(p: argparse.ArgumentParser) -> None:

@@ -45,7 +45,6 @@ def tasks(study: Study) -> list[Task]:
     observables, its ``key`` (a hash of everything that decides its
     result) and the study's ``folder``.
     """
-    from ..eos import packing_at_pressure
 
     out = []
     # (.get: a study made by hand before the space and pressure keys existed)
@@ -77,14 +76,7 @@ def tasks(study: Study) -> list[Task]:
         study["seeds"],
     ):
         if packing is None:
-            if pressure is None:
-                raise StudyError("a study without packing needs pressure: give one (parse_study checks them)")
-            if d == 2:
-                from ..eos import kolafa_rottner
-
-                packing = packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
-            else:
-                packing = packing_at_pressure(min(pressure, FREEZING_START))
+            packing = _starting_packing(pressure, d)
         t = Task(
             container=study["container"],
             packing=packing,
@@ -110,19 +102,49 @@ def tasks(study: Study) -> list[Task]:
             t["betaP"] = pressure
         if study.get("method", "edmd") != "edmd":  # (absent for the default: the keys are unchanged)
             t["method"] = study["method"]
-        if e is not None:  # (the same: studies without the key keep their tasks' keys)
-            t["restitution"] = e
-        if drive is not None:  # (the same again: driven tasks only)
-            t["kicks"], t["kick_interval"] = drive
-        if g is not None:  # (and again: sheared tasks only; an elastic one holds kT = 1 by rescaling)
-            t["shear_rate"] = g
-            if e is None or e >= 1.0:
-                t["rescale_interval"] = study.get("rescale_interval") or rescale_interval(g)
-        if w is not None:  # (and again: tasks with a well only)
-            t["well_lambda"], t["well_eps"] = w
+        _add_rule(t, study, e, drive, g, w)
         t["key"] = _key(t)
         out.append(t)
     return out
+
+
+def _starting_packing(pressure: float | None, d: int) -> float:
+    """Where a constant-pressure task without a packing starts: the fluid's packing at ``pressure``."""
+    from ..eos import packing_at_pressure
+
+    if pressure is None:
+        raise StudyError("a study without packing needs pressure: give one (parse_study checks them)")
+    if d == 2:
+        from ..eos import kolafa_rottner
+
+        return packing_at_pressure(min(pressure, FREEZING_START_2D), kolafa_rottner, (0.0, 0.7), 2)
+    return packing_at_pressure(min(pressure, FREEZING_START))
+
+
+def _add_rule(
+    t: Task,
+    study: Study,
+    e: float | None,
+    drive: tuple[float, float] | None,
+    g: float | None,
+    w: tuple[float, float] | None,
+) -> None:
+    """The task's collision rule, driving, shear and well, each only where given.
+
+    Studies without a key keep their tasks' keys: a restitution, the kicks,
+    a shear rate (an elastic sheared task also holds kT = 1 by rescaling)
+    and a well enter a task only when the study gives them.
+    """
+    if e is not None:
+        t["restitution"] = e
+    if drive is not None:
+        t["kicks"], t["kick_interval"] = drive
+    if g is not None:
+        t["shear_rate"] = g
+        if e is None or e >= 1.0:
+            t["rescale_interval"] = study.get("rescale_interval") or rescale_interval(g)
+    if w is not None:
+        t["well_lambda"], t["well_eps"] = w
 
 
 def _key(task: Task) -> str:
