@@ -23,6 +23,7 @@ printed.  Output kept in validation/results/square_well_eos.txt
 usage:
     python3 validation/square_well_eos.py                      # about 6 minutes of CPU
     python3 validation/square_well_eos.py --events 1e6 --equil 2e5   # a quick look
+    python3 validation/square_well_eos.py --cells 8 --points 0 1     # N = 2048: the size effect
 """
 
 import argparse
@@ -52,9 +53,11 @@ def reference(kt: float, rho: float) -> tuple[float, float] | None:
     return 1.0 + model.get_Ar01(kt, rho, z), kt * model.get_Ar10(kt, rho, z)
 
 
-def measure(kt: float, rho: float, events: float, equil: float, seed: int) -> dict[str, float]:
+def measure(
+    kt: float, rho: float, events: float, equil: float, seed: int, cells: int = 5
+) -> dict[str, float]:
     """One state point: the blocked means of Z and U/N, their errors and the halves' test."""
-    state, box = crystal("fcc", (5, 5, 5), rho * math.pi / 6.0, radius=0.5, kT=kt, seed=seed)
+    state, box = crystal("fcc", (cells,) * 3, rho * math.pi / 6.0, radius=0.5, kT=kt, seed=seed)
     sim = hs.Simulation(state, box, steps=[(LAM, -EPS)])
     sim.set_thermostat(Andersen(kT=kt, rate=0.5, seed=seed))
     t0, p0 = sim.time, pair_events(sim)
@@ -82,18 +85,22 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--events", type=float, default=6e6, help="pair events measured per state point")
     ap.add_argument("--equil", type=float, default=1e6, help="pair events of equilibration")
+    ap.add_argument("--cells", type=int, default=5, help="FCC cells per side: N = 4 cells^3 (5: N = 500)")
+    ap.add_argument("--points", type=int, nargs="*", help="which state points (0-3; default all)")
     args = ap.parse_args()
     cpu = time.process_time()
     print(
-        f"N = 500, lambda = {LAM}, eps = {EPS}, Andersen at kT; {args.equil:.0e} events equilibration, "
-        f"{args.events:.1e} measured"
+        f"N = {4 * args.cells**3}, lambda = {LAM}, eps = {EPS}, Andersen at kT;"
+        f" {args.equil:.0e} events equilibration, {args.events:.1e} measured"
     )
     print(
         "kT   rho   Z measured         Z (EOS fit)  dev/err  U/N measured       U/N (EOS fit) dev/err  "
         "halves Z, U  <kT>     events"
     )
     for k, (kt, rho) in enumerate(POINTS):
-        r = measure(kt, rho, args.events, args.equil, seed=11 + k)
+        if args.points and k not in args.points:
+            continue
+        r = measure(kt, rho, args.events, args.equil, seed=11 + k, cells=args.cells)
         ref = reference(kt, rho)
         drift = max(abs(r["Z_halves"]), abs(r["U_halves"])) > 3.0
         flags = ("" if r["Z_conv"] and r["U_conv"] else " (blocking without plateau)") + (
