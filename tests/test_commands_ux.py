@@ -65,7 +65,9 @@ def test_spheres_says_it_compiles_when_the_cache_is_cold(monkeypatch, capsys):
     from hardspheres.core import warmup
 
     monkeypatch.setenv("HARDSPHERES_ENGINE", "compiled")
-    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3, inelastic=False: True)
+    monkeypatch.setattr(
+        warmup, "is_cold", lambda dimensions=3, inelastic=False, sheared=False, stepped=False: True
+    )
     out = io.StringIO()
     data = (ROOT / "examples" / "three.txt").read_bytes()
     assert run_spheres(["120", "105"], io.BytesIO(data), out) == 0
@@ -95,7 +97,9 @@ def test_cold_cache_detection_per_dimension(tmp_path, monkeypatch):
     monkeypatch.setattr(
         warmup,
         "_marker",
-        lambda d, inelastic=False: str(tmp_path / f"compiled-{d}d{'-inelastic' * inelastic}"),
+        lambda d, inelastic=False, sheared=False, stepped=False: str(
+            tmp_path / f"compiled-{d}d{'-inelastic' * inelastic}{'-sheared' * sheared}{'-stepped' * stepped}"
+        ),
     )
     assert warmup.is_cold(2) and warmup.is_cold(3)
     (tmp_path / "compiled-2d").write_text("compiled\n")

@@ -575,7 +575,7 @@ class Simulation:
         """
         if (
             thermostat is not None
-            and getattr(self.container, "shear_rate", 0.0)
+            and bool(getattr(self.container, "shear_rate", 0.0))
             and type(thermostat).__name__ not in ("PeculiarRescale", "PeculiarAndersen")
         ):
             raise ShearError(
