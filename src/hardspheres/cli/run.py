@@ -928,8 +928,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
             sim.stop_requested = False
             sim.save(checkpoint, lock=False)
     c1 = sim.counters
-    steps = ("captures", "releases", "bounces")
-    events = sum(c1[k] - c0.get(k, 0) for k in ("collisions", "reflections", *steps) if k in c1)
+    events, events_text = _events(c0, c1)
     e1 = sim.state().kinetic_energy()
     summary = _summary(sim, averaged_from, kinetic0) if sim.time > averaged_from and e1 > 0 else {}
     lines = [
@@ -938,9 +937,7 @@ def _run(args: argparse.Namespace, sim: Simulation, checkpoint: str | None) -> i
         + (" (stopped: trajectory not written)" if failure is not None else ""),
         f"{sim.n} {'disks' if sim.container.dimensions == 2 else 'spheres'}, "
         f"{_container_text(sim.container)}",
-        f"events {events}: {c1['collisions'] - c0['collisions']} collisions, "
-        f"{c1['reflections'] - c0['reflections']} reflections"
-        + "".join(f", {c1[k] - c0.get(k, 0)} {k}" for k in steps if k in c1),
+        events_text,
         _energy_line(sim, e0, e1, dissipated0, injected0, u0),
     ]
     lines += summary_lines(sim, summary, averaged_from, equilibrated, resumed=bool(args.resume))
@@ -966,6 +963,16 @@ def _last_lines(args: argparse.Namespace, checkpoint: str | None, events: int, w
     if args.trajectory:
         lines.append(f"trajectory {args.trajectory}" + (" (with events)" if args.events else ""))
     return lines
+
+
+def _events(c0: dict[str, int], c1: dict[str, int]) -> tuple[int, str]:
+    """The events between two counters, and the summary's line of them (with a stepped run's kinds)."""
+    steps = [k for k in ("captures", "releases", "bounces") if k in c1]
+    kinds = ["collisions", "reflections", *steps]
+    counts = {k: c1[k] - c0.get(k, 0) for k in kinds}
+    return sum(counts.values()), f"events {sum(counts.values())}: " + ", ".join(
+        f"{counts[k]} {k}" for k in kinds
+    )
 
 
 def _start_averages(sim: Simulation) -> tuple[float, np.ndarray | None]:
@@ -1133,6 +1140,13 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "('xyz' or 'xy': a crystal's shape relaxes; 'z': only a slab's long side)",
     )
     _rule_args(p)
+    _step_args(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def _step_args(p: argparse.ArgumentParser) -> None:
+    """The pair potential's options (square wells, stepped potentials)."""
     p.add_argument(
         "--well",
         nargs=2,
@@ -1152,8 +1166,6 @@ def add_parser(sub: Subcommands) -> argparse.ArgumentParser:
         "(and outside the next step's); repeat it, outermost first, up to 4 times (--well L E is "
         "--step L -E)",
     )
-    p.set_defaults(func=run)
-    return p
 
 
 def _trajectory_args(p: argparse.ArgumentParser) -> None:
