@@ -35,10 +35,10 @@ if hasattr(_core, "ARRAYS"):
         arrays = e.arrays
 
     def call():
-        return _core.run(arrays, now, big, big, rec, True)
+        return _core.run(arrays, now, big, big, rec, True, (), ())
 
     def call_fresh():  # as the engine calls it: the tuple made per call
-        return _core.run(e.arrays, now, big, big, rec, True)
+        return _core.run(e.arrays, now, big, big, rec, True, (), ())
 else:
     args = (
         e.spheres,
@@ -60,7 +60,7 @@ else:
     )
 
     def call():
-        return _core.run(*args, now, big, big, *e._event_buffers)
+        return _core.run(*args, now, big, big, *e._event_buffers, (), ())
 
     call_fresh = call
 assert call() == (0, 0)

@@ -423,9 +423,9 @@ def test_no_record_same_events_and_not_limited_by_the_buffer(packing):
     assert np.array_equal(a.positions_at(), b.positions_at())
     assert np.array_equal(a.velocities, b.velocities)
     assert a.counters == b.counters
-    done, reason = core.run(b.arrays, np.inf, 2 * cap, 2**62, b._event_buffers, False)
+    done, reason = core.run(b.arrays, np.inf, 2 * cap, 2**62, b._event_buffers, False, (), ())
     assert (done, reason) == (2 * cap, StopReason.MAX_EVENTS)
-    done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._event_buffers, True)
+    done, reason = core.run(a.arrays, np.inf, 2 * cap, 2**62, a._event_buffers, True, (), ())
     assert (done, reason) == (cap, StopReason.RECORD_FULL)
 
 

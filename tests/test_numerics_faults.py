@@ -173,7 +173,7 @@ def test_nan_until_returns():
         "    print('refused', e)\n"
         "from hardspheres.core import _core\n"
         "e = s._engine\n"
-        "print(_core.run(e.arrays, np.nan, 10**9, 10**9, e._event_buffers, True))\n"
+        "print(_core.run(e.arrays, np.nan, 10**9, 10**9, e._event_buffers, True, (), ()))\n"
     )
     assert done.returncode == 0, done.stderr
     refused, core_returns = done.stdout.splitlines()

@@ -180,3 +180,23 @@ def test_species_without_a_table_and_bad_species_are_refused():
         Engine([1.0, 1.0], [0.5, 0.5], x, v, container=10.0, steps=WELL, species=[0, -1])
     with pytest.raises(ArgumentError, match="at most 4"):
         Engine([1.0, 1.0], [0.5, 0.5], x, v, container=10.0, steps={(0, 4): WELL}, species=[0, 4])
+
+
+def test_a_simulation_takes_steps_per_pair_of_species_and_refuses_what_is_not_built():
+    import hardspheres as hs
+
+    box = PeriodicBox(12.0)
+    state = hs.random_spheres(80, 0.2, box, seed=2)
+    species = np.arange(80) % 2
+    table = {(0, 0): [(1.5, -1.0)], (0, 1): [(1.3, -2.0)]}
+    sim = hs.Simulation(state, box, steps=table, species=species)
+    e0 = sim.total_energy()
+    sim.run(until=5.0)
+    assert abs(sim.total_energy() - e0) <= 1e-12 * abs(e0) and np.array_equal(sim.engine.species, species)
+    assert not any(species[i] == species[j] == 1 for i, j in sim.engine.pair_states)
+    with pytest.raises(ArgumentError, match="restitution"):
+        sim.set_restitution(0.9)
+    circle = CircularContainer(10.0)
+    walled = hs.Simulation(hs.random_spheres(30, 0.1, circle, seed=1), circle, steps=WELL)
+    with pytest.raises(ArgumentError, match="thermal wall"):
+        walled.set_wall_temperature(1.0)

@@ -111,7 +111,11 @@ class Simulation:
             ``eps`` is ``[(lambda, -eps)]``; each pair ``(i, j)`` has the
             energy ``U_k`` inside ``lambda_k (R_i + R_j)`` and outside the
             next edge, 0 outside every edge (docs/numerics.md, "Steps:
-            wells and shoulders").  Default: none (hard spheres).
+            wells and shoulders").  Default: none (hard spheres).  Per
+            pair of species: ``{(s, t): [(lambda_k, U_k), ...]}`` (each
+            unordered pair once; left out: hard spheres), with ``species``.
+        species: ``(N,)`` each sphere's species ``0..3``, in input order
+            (with steps per pair of species).
 
     Attributes:
         container: the :class:`SphericalContainer` or :class:`PeriodicBox`.
@@ -148,7 +152,8 @@ class Simulation:
         restitution: float = 1.0,
         wall_restitution: float | None = None,
         tc: float = 0.0,
-        steps: Sequence[Sequence[float]] | None = None,
+        steps: Any = None,
+        species: ArrayLike | None = None,
     ) -> None:
         container = as_container(container)
         state.check()
@@ -194,6 +199,7 @@ class Simulation:
             wall_restitution=wall_restitution,
             tc=tc,
             steps=steps,
+            species=species,
         )
         self._engine.images = images
         if state.n > 1:

@@ -1460,6 +1460,8 @@ def _scan_cells(
             best_t,
             best_key,
             best_p,
+            axes[0],
+            axes[1],
             axes,
         )
     _store(due, book, i, best_t, best_key, best_p, axes)
@@ -1489,6 +1491,8 @@ def _scan_across(
     best_t,
     best_key,
     best_p,
+    flow,
+    pot,
     axes,
 ):
     """:func:`_scan_cells`'s cells across the periodic box: sphere ``i``'s best event so far improved.
@@ -1518,7 +1522,7 @@ def _scan_across(
             ny, sy, there = _cell_step(cy0, oy, ncy, by)
             if not there:
                 continue
-            if len(axes[0]) == 1 and ny != cy0 + oy:
+            if len(flow) == 1 and ny != cy0 + oy:
                 strip = True
                 continue
             across = across_z or ny != cy0 + oy
@@ -1528,9 +1532,9 @@ def _scan_across(
                     continue  # (this side of the box: _scan_cells's)
                 j = np.int64(cell_head[(nz * ncy + ny) * ncx + nx])
                 while j >= 0:
-                    if j != i and len(axes[1]) == 1:
+                    if j != i and len(pot) == 1:
                         best_t, best_key, best_p = _stepped_gate(
-                            axes[1], spheres, book, scalars, i, oi, j, sx, sy, sz, True, ti, now, soon, clock,
+                            pot, spheres, book, scalars, i, oi, j, sx, sy, sz, True, ti, now, soon, clock,
                             n, best_t, best_key, best_p, axes,
                         )  # fmt: skip
                     elif j != i:
@@ -1558,9 +1562,9 @@ def _scan_across(
                             axes,
                         )
                     j = np.int64(cell_next[j])
-    if len(axes[0]) == 1 and strip:
+    if len(flow) == 1 and strip:
         best_t, best_key, best_p = _strip_gate(
-            axes[0],
+            flow,
             spheres, book, due, cell_head, cell_next, scalars, counts, i, now, soon, clock, one, best_t, best_key,
             best_p, axes,
         )  # fmt: skip
@@ -2239,12 +2243,17 @@ def kinetic_sums(axes, spheres, masses, scalars):
 
 
 @_jit
-def run(arrays, until, max_events, max_collisions, buffers, record):
+def run(arrays, until, max_events, max_collisions, buffers, record, flow, pot):
     """Process events in order until one of the limits.
 
     Longer than 80 lines: the event loop, kept as one compiled function
     with its helpers inlined into it (benchmarks/README.md measures that);
     it is split only where an A/B shows no loss.
+
+    ``flow`` and ``pot`` are ``axes[0]`` and ``axes[1]`` (the sheared and
+    stepped variants' markers) as arguments of their own: numba drops the
+    branches on them before typing, so each variant's code is typed only in
+    its own loop.
 
     ``arrays`` is the tuple of the engine's arrays in :data:`ARRAYS`'s order; ``buffers`` the tuple of
     :func:`hardspheres.events.empty_buffers` (``rec_t, rec_kind, rec_i,
@@ -2328,8 +2337,8 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if wrap:
                 # periodic wrap: shift the stored centre by one box side
                 k = (k + nc) % nc
-                if len(axes[0]) == 1 and ax == 1:
-                    _wrap_gate(axes[0], spheres, masses, book, images, scalars, counts, i, te, step, axes)
+                if len(flow) == 1 and ax == 1:
+                    _wrap_gate(flow, spheres, masses, book, images, scalars, counts, i, te, step, axes)
                 else:
                     spheres[i, X + ax] -= step * scalars[F_EDGE + ax]
                     images[i, ax] += step
@@ -2353,13 +2362,13 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             zh = step if ax == 2 else 1
             yh = step if ax == 1 else 1
             xh = step if ax == 0 else 1
-            if len(axes[0]) == 1:
+            if len(flow) == 1:
                 # sheared: the crossing first (the strip's images are swept up to it)
                 _crossing(spheres, book, due, scalars, counts, i, te, axes)
             _scan_cells(
                 spheres, book, due, cell_head, cell_next, scalars, counts, i, zl, zh, yl, yh, xl, xh, axes
             )
-            if len(axes[0]) != 1:
+            if len(flow) != 1:
                 _crossing(spheres, book, due, scalars, counts, i, te, axes)
             _schedule(heap, heap_t, heap_key, calendar, due, book, scalars, counts, i)
             continue
@@ -2404,7 +2413,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             stale = True  # (not an event: predict i, then on)
         else:
             kind = book[i, EVENT_KIND]
-        if kind == COLLISION or (len(axes[1]) == 1 and kind >= CAPTURE):
+        if kind == COLLISION or (len(pot) == 1 and kind >= CAPTURE):
             j = book[i, PARTNER]
             if book[j, CHANGES] != book[i, PARTNER_CHANGES]:
                 # stale: the partner has changed course since
@@ -2421,12 +2430,12 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             else:
                 counts[C_FROZEN] = 0
                 scalars[F_STREAK] = te
-        if (kind == COLLISION or (len(axes[1]) == 1 and kind >= CAPTURE)) and not stale:
+        if (kind == COLLISION or (len(pot) == 1 and kind >= CAPTURE)) and not stale:
             clock_before = scalars[F_CLOCK]  # (the stepped variant's, should it stop here)
             counts[C_FROZEN] += 1
             scalars[F_CLOCK] = te
             scalars[F_ANCHOR] = te
-            if len(axes[0]) == 1:
+            if len(flow) == 1:
                 _close_flight(spheres, masses, scalars, i, te, axes)
                 _close_flight(spheres, masses, scalars, j, te, axes)
             _advance(spheres, i, te, axes)
@@ -2443,7 +2452,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                 # the partner may be an image across the box
                 # (the sides read here: kept out of the loop's registers)
                 bx, by, bz = scalars[F_EDGE], scalars[F_EDGE + 1], scalars[F_EDGE + 2]
-                if len(axes[0]) == 1:
+                if len(flow) == 1:
                     # sheared: the image across the nearest y face, then along x
                     ky = np.round(dy / by)
                     dy -= by * ky
@@ -2454,7 +2463,7 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
                     dy -= by * np.round(dy / by)
                 if not planar:
                     dz -= bz * np.round(dz / bz)
-            if len(axes[0]) == 1:
+            if len(flow) == 1:
                 dvx = spheres[a, VX] - (spheres[b, VX] + ky * scalars[F_SHEAR])
             else:
                 dvx = spheres[a, VX] - spheres[b, VX]
@@ -2462,11 +2471,11 @@ def run(arrays, until, max_events, max_collisions, buffers, record):
             if not planar:
                 dvz = spheres[a, VZ] - spheres[b, VZ]
             step_kind = COLLISION
-            if len(axes[1]) == 1 and kind != COLLISION:
+            if len(pot) == 1 and kind != COLLISION:
                 # stepped: the pair at a step's edge crosses it or bounces back
                 # (the reference's _step_factors and _apply_step)
                 k1, k2, step_kind = _step_gate(
-                    axes[1], masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, dvy, dvz, planar
+                    pot, masses, book, scalars, counts, a, b, kind, dx, dy, dz, dvx, dvy, dvz, planar
                 )
                 if step_kind < 0:  # the pair slides along the edge, or a bond table is full
                     scalars[F_CLOCK] = clock_before

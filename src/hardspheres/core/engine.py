@@ -525,6 +525,10 @@ class Engine:
             raise ArgumentError(f"wall temperature must be a finite energy >= 0 (0: off), got {kt}")
         if kt > 0.0 and not self.container.wall_area > 0:
             raise ArgumentError("a wall temperature needs a wall: use a spherical or circular container")
+        if kt > 0.0 and self.scalars[core.F_NSTEP]:
+            raise ArgumentError(
+                "a thermal wall with steps (square wells) is not built yet: give no wall temperature"
+            )
         if kt > 0.0 and self.scalars[core.F_GROW]:
             raise ArgumentError("a thermal wall while the radii grow: stop the growth first")
         if seed is not None:
@@ -577,6 +581,8 @@ class Engine:
         if not (tc >= 0.0 and np.isfinite(tc)):
             raise ArgumentError(f"tc must be a finite time >= 0 (0: no TC model), got {tc}")
         inelastic = e != 1.0 or ew != 1.0
+        if inelastic and self.scalars[core.F_NSTEP]:
+            raise ArgumentError("steps with restitution below 1 are not built yet: give restitution=1")
         if inelastic and self.scalars[core.F_GROW]:
             raise ArgumentError("restitution below 1 while the radii grow: stop the growth first")
         f = self.scalars
@@ -1148,7 +1154,9 @@ class Engine:
                 reorder_due = max(int(self._reorder_every * self.n), 1)
                 left_ev = min(left_ev, reorder_due - self._since_reorder)
             left_coll = max_coll - (int(self.counts[core.C_COLLISIONS]) - coll0)
-            done, reason = core.run(self.arrays, stop - self.offset, left_ev, left_coll, buffers, record)
+            done, reason = core.run(
+                self.arrays, stop - self.offset, left_ev, left_coll, buffers, record, *self.axes[:2]
+            )
             done_total += done
             self._since_rebase += done
             self._since_queue += done
