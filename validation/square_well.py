@@ -40,6 +40,7 @@ usage:
     python3 validation/square_well.py              # about 7 minutes on a loaded core
     python3 validation/square_well.py --scale 0.2  # a quick look
     python3 validation/square_well.py --compiled   # N = 2000 on the compiled core, B2 and B3
+    python3 validation/square_well.py --compiled --rho 0.02 --another 1   # one row, another seed
 """
 
 import argparse
@@ -137,13 +138,15 @@ def compiled(rho: float, events: float, seed: int, n: int = 2000) -> dict[str, f
     }
 
 
-def main_compiled(scale: float) -> None:
-    """The ``--compiled`` table."""
+def main_compiled(scale: float, densities: list[float] | None = None, another: int = 0) -> None:
+    """The ``--compiled`` table (``another``: a different seed for each row)."""
     cpu = time.process_time()
     print(f"N = 2000, 3-D, lambda = {LAM}, eps = {EPS}, Andersen kT = 1; B3(kT = 1) = {b3(EPS):.6f}")
     print("rho     Z_ex measured        B2 (N-1)/V   + B3 rho^2   z(B2)   z(B2+B3)  halves  <kT>    events")
     for k, rho in enumerate((0.005, 0.01, 0.02, 0.05)):
-        r = compiled(rho, 6e6 * scale, seed=31 + k)
+        if densities and rho not in densities:
+            continue
+        r = compiled(rho, 6e6 * scale, seed=31 + k + 100 * another)
         flag = "" if r["converged"] else "  (blocking without plateau)"
         flag += "  DRIFT" if abs(r["halves"]) > 3 else ""
         print(
@@ -220,9 +223,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--scale", type=float, default=1.0, help="fraction of the events (1: 10 minutes)")
     ap.add_argument("--compiled", action="store_true", help="N = 2000 on the compiled core, B2 and B3")
+    ap.add_argument("--rho", type=float, nargs="*", help="with --compiled: only these of its densities")
+    ap.add_argument("--another", type=int, default=0, help="with --compiled: another seed (1, 2, ...)")
     args = ap.parse_args()
     if args.compiled:
-        main_compiled(args.scale)
+        main_compiled(args.scale, args.rho, args.another)
         return
     print(f"N = {N}, lambda = {LAM}, eps = {EPS} (kT = 1 at the start), sigma = m = 1")
     print("d  rho    kT      beta_eps  Z_ex measured      B2 (N-1)/V   z      |E drift|")
