@@ -175,7 +175,7 @@ def plot(csv_path: str, png: str) -> None:
         def col(name: str, r: list = r) -> np.ndarray:
             return np.array([float(x[name]) for x in r])
 
-        eq, eq_err = EQUILIBRIUM[phi]
+        eq, eq_err = equilibrium(phi)
         ok = np.array([x["eta_converged"] == "True" for x in r])
         style = dict(fmt="s" if big else "o", color=colour, capsize=3, ms=4 if big else 5)
         ratio, ratio_err = col("eta") / eq, col("eta_error") / eq
@@ -213,9 +213,44 @@ def read_csv(path: str) -> list[dict]:
         return list(csv.DictReader(f))
 
 
+def equilibrium(phi: float, n: int = 500) -> tuple[float, float]:
+    """The zero-rate viscosity: the weighted mean of the Einstein-Helfand runs in ``EQ_CSV`` and its error.
+
+    Raises:
+        SystemExit: no such run: run ``--equilibrium`` first.
+    """
+    rows = [r for r in read_csv(EQ_CSV) if abs(float(r["packing"]) - phi) < 1e-9 and int(r["n"]) == n]
+    if not rows:
+        raise SystemExit(f"shear_flow: no equilibrium run at packing {phi}, N = {n}: run --equilibrium first")
+    e = np.array([float(r["eta"]) for r in rows])
+    w = 1.0 / np.array([float(r["eta_error"]) for r in rows]) ** 2
+    return float(np.sum(w * e) / np.sum(w)), float(1.0 / math.sqrt(np.sum(w)))
+
+
 def _pm(x: float, err: float, digits: int = 4) -> str:
     """``x(err)`` with the error in units of the last digit."""
     return f"{x:.{digits}f}({err * 10**digits:.0f})"
+
+
+def fits(rows: list[dict], phi: float, n: int = 500) -> list[str]:
+    """Weighted straight lines eta = eta_0 + A g^p through all rates, p = 1/2, 1, 2: eta_0, A and chi^2."""
+    r = [x for x in rows if abs(float(x["packing"]) - phi) < 1e-9 and int(x["n"]) == n]
+    if len(r) < 3:
+        return []
+    g = np.array([float(x["rate"]) for x in r])
+    eta = np.array([float(x["eta"]) for x in r])
+    err = np.array([float(x["eta_error"]) for x in r])
+    out = []
+    for p in (0.5, 1.0, 2.0):
+        a = np.vstack([np.ones_like(g), g**p]).T / err[:, None]
+        coef = np.linalg.lstsq(a, eta / err, rcond=None)[0]
+        cov = np.linalg.inv(a.T @ a)
+        chi2 = float(np.sum((a @ coef - eta / err) ** 2))
+        out.append(
+            f"    eta = eta_0 + A g^{p:g}: eta_0 = {_pm(coef[0], math.sqrt(cov[0, 0]))}, "
+            f"A = {_pm(coef[1], math.sqrt(cov[1, 1]))}, chi^2 = {chi2:.1f} for {len(g) - 2} d.o.f."
+        )
+    return out
 
 
 def tables(csv_path: str) -> None:
@@ -239,7 +274,7 @@ def tables(csv_path: str) -> None:
     print("|" + "---|" * len(cols))
     for r in read_csv(csv_path):
         f = {k: float(v) for k, v in r.items() if k != "eta_converged"}
-        e0, e0_err = EQUILIBRIUM[f["packing"]]
+        e0, e0_err = equilibrium(f["packing"])
         z = (f["eta"] - e0) / math.hypot(f["eta_error"], e0_err)
         conv = "" if r["eta_converged"] == "True" else " (not converged)"
         cells = [f"{f['packing']:g}", r["n"], f"{f['rate']:g}", f"{f['rate'] * f['mean_free_time']:.4f}"]
@@ -252,10 +287,12 @@ def tables(csv_path: str) -> None:
         ]
         cells += [f"{f['kT_mean']:.4f}", f"{f['Z']:.3f}", f"{f['cpu_s']:.0f}"]
         print("| " + " | ".join(cells) + " |")
-
-
-#: equilibrium Einstein-Helfand viscosity, N = 500 (docs/validation/transport.md): (value, error)
-EQUILIBRIUM = {0.3: (0.746, 0.024), 0.45: (3.198, 0.066)}
+    rows = read_csv(csv_path)
+    for phi in (0.3, 0.45):
+        lines = fits(rows, phi)
+        if lines:
+            print(f"\npacking {phi}, N = 500: fits through all rates")
+            print("\n".join(lines))
 
 
 def main() -> int:
