@@ -216,6 +216,8 @@ def read_csv(path: str) -> list[dict]:
 def equilibrium(phi: float, n: int = 500) -> tuple[float, float]:
     """The zero-rate viscosity: the weighted mean of the Einstein-Helfand runs in ``EQ_CSV`` and its error.
 
+    The error is the larger of the weighted mean's and the runs' spread over sqrt(runs).
+
     Raises:
         SystemExit: no such run: run ``--equilibrium`` first.
     """
@@ -224,7 +226,8 @@ def equilibrium(phi: float, n: int = 500) -> tuple[float, float]:
         raise SystemExit(f"shear_flow: no equilibrium run at packing {phi}, N = {n}: run --equilibrium first")
     e = np.array([float(r["eta"]) for r in rows])
     w = 1.0 / np.array([float(r["eta_error"]) for r in rows]) ** 2
-    return float(np.sum(w * e) / np.sum(w)), float(1.0 / math.sqrt(np.sum(w)))
+    spread = float(np.std(e, ddof=1) / math.sqrt(e.size)) if e.size > 1 else 0.0
+    return float(np.sum(w * e) / np.sum(w)), max(float(1.0 / math.sqrt(np.sum(w))), spread)
 
 
 def _pm(x: float, err: float, digits: int = 4) -> str:
@@ -259,20 +262,21 @@ def tables(csv_path: str) -> None:
     for phi in (0.3, 0.45):
         eqs = [r for r in eq_rows if abs(float(r["packing"]) - phi) < 1e-9]
         if eqs:
-            e = np.array([float(r["eta"]) for r in eqs])
-            w = 1.0 / np.array([float(r["eta_error"]) for r in eqs]) ** 2
-            m, se = float(np.sum(w * e) / np.sum(w)), float(1.0 / math.sqrt(np.sum(w)))
+            m, se = equilibrium(phi)
             runs = ", ".join(_pm(float(r["eta"]), float(r["eta_error"]), 3) for r in eqs)
             cpu = sum(float(r["cpu_s"]) for r in eqs)
             head = f"N = {eqs[0]['n']}, {len(eqs)} runs of {float(eqs[0]['time']):g}"
             print(f"packing {phi}: equilibrium (Einstein-Helfand, {head}: {runs}; {cpu:.0f} s CPU)")
-            print(f"    weighted mean {m:.4f} +- {se:.4f}, spread of the runs {e.std(ddof=1):.4f}")
+            print(
+                f"    eta_0 = {m:.4f} +- {se:.4f} (weighted mean; error: its own or spread/sqrt(runs), the larger)"
+            )
     cols = ["packing", "N", "g", "g t_mf", "time", "strain", "eta", "eta / eta_0", "z", "N_1", "N_2"]
     cols += ["kT (mean)", "Z", "CPU s"]
     print()
     print("| " + " | ".join(cols) + " |")
     print("|" + "---|" * len(cols))
-    for r in read_csv(csv_path):
+    order = sorted(read_csv(csv_path), key=lambda r: (float(r["packing"]), int(r["n"]), float(r["rate"])))
+    for r in order:
         f = {k: float(v) for k, v in r.items() if k != "eta_converged"}
         e0, e0_err = equilibrium(f["packing"])
         z = (f["eta"] - e0) / math.hypot(f["eta_error"], e0_err)
