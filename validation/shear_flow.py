@@ -267,9 +267,7 @@ def tables(csv_path: str) -> None:
             cpu = sum(float(r["cpu_s"]) for r in eqs)
             head = f"N = {eqs[0]['n']}, {len(eqs)} runs of {float(eqs[0]['time']):g}"
             print(f"packing {phi}: equilibrium (Einstein-Helfand, {head}: {runs}; {cpu:.0f} s CPU)")
-            print(
-                f"    eta_0 = {m:.4f} +- {se:.4f} (weighted mean; error: its own or spread/sqrt(runs), the larger)"
-            )
+            print(f"    eta_0 = {m:.4f} +- {se:.4f} (weighted; error: its own or spread/sqrt(runs))")
     cols = ["packing", "N", "g", "g t_mf", "time", "strain", "eta", "eta / eta_0", "z", "N_1", "N_2"]
     cols += ["kT (mean)", "Z", "CPU s"]
     print()
