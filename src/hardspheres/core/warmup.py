@@ -2,7 +2,7 @@
 
 numba compiles the core (:mod:`hardspheres.core._core`) the first time it runs and
 caches the machine code on disk; later processes load it in well under a
-second.  The first compilation takes a while (about 31 s of one core), so the
+second.  The first compilation takes a while (about 30 s of one core), so the
 commands call :func:`ensure_compiled` before they start any clock: when the
 cache is cold it says so once on stderr and compiles the core on a two-sphere
 system, so that no rate a command reports includes compilation.
@@ -29,7 +29,7 @@ import time
 from typing import TextIO
 
 #: What the first compilation takes on the reference machine [s] (the note quotes it).
-TYPICAL_SECONDS = 31
+TYPICAL_SECONDS = 30
 
 # the core's functions called from Python (each has its own cache index)
 _ENTRY_POINTS = ("build", "run", "positions_at", "rebase", "max_overlap")
