@@ -646,3 +646,15 @@ def test_a_sheared_granular_gas_and_a_thermostatted_flow_are_the_references(d, n
     for engine in (eng, ref):
         ShearFlow(engine, thermostat=PeculiarRescale(kT=1.0, interval=0.3)).run(4.0)
     _same_state(eng, ref)
+
+
+def test_the_barostat_refuses_a_sheared_box_and_steps():
+    from hardspheres.errors import BarostatError
+
+    box = PeriodicBox.for_packing(50, 0.2, (1.0, 1.0, 1.0))
+    sheared = hs.Simulation(hs.random_spheres(50, 0.2, box, seed=1), box.sheared_by(0.1))
+    with pytest.raises(BarostatError, match="sheared"):
+        sheared.set_barostat(hs.Barostat(pressure=1.0))
+    wells = hs.Simulation(hs.random_spheres(50, 0.2, box, seed=1), box, steps=[(1.5, -1.0)])
+    with pytest.raises(BarostatError, match="steps"):
+        wells.set_barostat(hs.Barostat(pressure=1.0))

@@ -342,6 +342,14 @@ class Barostat:
     def check(self, sim: HeldSimulation) -> None:
         """:class:`BarostatError` if ``sim`` cannot be held at constant pressure."""
         require_box(sim.container)
+        if getattr(sim.container, "shear_rate", 0.0):
+            raise BarostatError(
+                "barostat: not in a sheared box (its volume moves would move the flow); give shear_rate=0"
+            )
+        if getattr(sim.engine, "steps", ()):
+            raise BarostatError(
+                "barostat: not with steps (square wells) yet; its volume moves would change bonds"
+            )
         if sim.engine.window > 0.0:
             raise BarostatError("barostat: not with a simultaneity window (window=0)")
         d = len(_sides(sim.container))
