@@ -1360,7 +1360,10 @@ class Engine:
 
         Periodic box: the centre in the box plus ``images * box``, with
         :attr:`img` the exact count of box crossings of each sphere; in a
-        spherical container the same as :meth:`positions_at`.
+        spherical container the same as :meth:`positions_at`.  A sheared box:
+        along y and z the same; along x the shifts by the offset at each
+        crossing of a y face are not added (not kept by the core yet), so x
+        is unwrapped by whole sides only.
         """
         if self.dimensions == 3:
             return self._unwrapped_at(t, out)
