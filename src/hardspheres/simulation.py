@@ -309,7 +309,7 @@ class Simulation:
 
     @property
     def steps(self) -> tuple[tuple[float, float], ...]:
-        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first (empty: hard spheres)."""
+        """The stepped pair potential ``((lambda_k, U_k), ...)``, outermost first; empty for hard spheres."""
         return self._engine.steps
 
     def potential_energy(self) -> float:
@@ -322,12 +322,12 @@ class Simulation:
 
     @property
     def wall_temperature(self) -> float:
-        """The thermal wall's temperature ``kT_w`` [energy] (0: the wall reflects)."""
+        """The thermal wall's temperature ``kT_w`` [energy]; 0 when the wall reflects."""
         return self._engine.wall_temperature
 
     @property
     def wall_heat(self) -> float:
-        """Kinetic energy the thermal wall gave the spheres since the start [energy] (negative: took)."""
+        """Kinetic energy the thermal wall gave the spheres since the start [energy]; negative if it took."""
         return self._engine.wall_heat
 
     def set_wall_temperature(self, kt: float, seed: int = 0) -> Simulation:

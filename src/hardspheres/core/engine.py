@@ -454,7 +454,7 @@ class Engine:
 
     @property
     def shear_rate(self) -> float:
-        """The shear rate ``g`` of a sheared box [1/time] (0: not sheared)."""
+        """The shear rate ``g`` of a sheared box [1/time]; 0 when not sheared."""
         return float(getattr(self.container, "shear_rate", 0.0))
 
     def shear_offset(self, t: float | None = None) -> float:
@@ -484,12 +484,12 @@ class Engine:
 
     @property
     def wall_temperature(self) -> float:
-        """The thermal wall's temperature ``kT_w`` [energy] (0: not a thermal wall)."""
+        """The thermal wall's temperature ``kT_w`` [energy]; 0 when not a thermal wall."""
         return float(self.scalars[core.F_WALL_KT])
 
     @property
     def wall_heat(self) -> float:
-        """Kinetic energy the thermal wall gave the spheres so far [energy] (negative: took)."""
+        """Kinetic energy the thermal wall gave the spheres so far [energy]; negative if it took."""
         return float(self.scalars[core.F_WALL_HEAT])
 
     def set_wall_temperature(self, kt: float = 0.0, seed: int | None = None) -> None:
