@@ -54,7 +54,7 @@ FIELDS = [
     "e", "packing", "n", "rate", "seed", "transient", "time", "strain", "collisions",
     "kT", "kT_error", "eta", "eta_error", "eta_converged", "pxx", "pyy", "pzz", "pxy",
     "collision_rate", "collision_rate_error", "a_star", "a_star_error", "eta_star",
-    "eta_star_error", "cpu_s",
+    "eta_star_error", "zeta_star", "work_over_dissipation", "cpu_s",
 ]  # fmt: skip
 
 
@@ -97,6 +97,8 @@ def run(e: float, phi: float, n: int, rate: float, seed: int, strain: float, tra
         sim.run(until=min(sim.time + sample / rate, t_end))
         kts.append(sim.observables.temperature())
     coll = sim.engine.counters["collisions"] - c0
+    lost = sim.observables.dissipated()
+    elapsed = strain / rate
     bt = blocking(np.array(kts))
     eta = sim.observables.estimate("viscosity")
     cr = sim.observables.estimate("collision_rate")
@@ -114,6 +116,10 @@ def run(e: float, phi: float, n: int, rate: float, seed: int, strain: float, tra
         "a_star": a_star, "a_star_error": 0.5 * a_star * kT_err / kT,
         "eta_star": e_star,
         "eta_star_error": e_star * math.hypot(eta.sem / eta.mean, 0.5 * kT_err / kT),
+        # the cooling rate measured: zeta = (energy lost per time) / (peculiar kinetic energy (3N - 3) T / 2)
+        "zeta_star": lost / elapsed / (1.5 * (n - 1) * kT) / nu0(density, kT),
+        # the shear's work -g P_xy V over the energy lost: 1 in a steady state
+        "work_over_dissipation": -rate * p[0, 1] * box.volume * elapsed / lost,
         "cpu_s": time.process_time() - cpu0,
     }  # fmt: skip
 
@@ -122,8 +128,8 @@ def tables(path: str) -> None:
     with open(path) as f:
         rows = list(csv.DictReader(f))
     print("| e | packing | N | g | strain | collisions | a* | a* Grad | eta* | eta* Grad | "
-          "nu_coll / nu_0 | converged | CPU s |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "zeta* | zeta* Grad | work / loss | nu_coll / nu_0 | converged | CPU s |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in sorted(rows, key=lambda r: (-float(r["e"]), float(r["packing"]), float(r["rate"]))):
         e, phi = float(r["e"]), float(r["packing"])
         ag, eg = grad(e)
@@ -133,7 +139,9 @@ def tables(path: str) -> None:
             f"| {e:g} | {phi:g} | {r['n']} | {float(r['rate']):g} | {float(r['strain']):g} | "
             f"{int(r['collisions']):.2e} | {float(r['a_star']):.4f}({1e4 * float(r['a_star_error']):.0f}) | "
             f"{ag:.4f} | {float(r['eta_star']):.4f}({1e4 * float(r['eta_star_error']):.0f}) | {eg:.4f} | "
-            f"{ratio:.4f} | {r['eta_converged']} | {float(r['cpu_s']):.0f} |"
+            f"{float(r['zeta_star']):.4f} | {5.0 / 12.0 * (1.0 - e * e):.4f} | "
+            f"{float(r['work_over_dissipation']):.4f} | {ratio:.4f} | {r['eta_converged']} | "
+            f"{float(r['cpu_s']):.0f} |"
         )
     print()
     print("Straight lines in the packing to packing 0 (per e and g, two packings or more):")
@@ -179,6 +187,8 @@ def main() -> None:
         f"e {args.e:g} packing {args.packing:g} N {args.n} g {args.rate:g}: kT {row['kT']:.5g}"
         f"({row['kT_error']:.2g}), a* {row['a_star']:.4f}({row['a_star_error']:.4f}) [Grad {ag:.4f}], "
         f"eta* {row['eta_star']:.4f}({row['eta_star_error']:.4f}) [Grad {eg:.4f}], "
+        f"zeta* {row['zeta_star']:.4f} [{5.0 / 12.0 * (1.0 - args.e**2):.4f}], "
+        f"work/loss {row['work_over_dissipation']:.4f}, "
         f"{row['collisions']} collisions, converged {row['eta_converged']}, CPU {row['cpu_s']:.0f} s",
         flush=True,
     )
