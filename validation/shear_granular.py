@@ -22,12 +22,13 @@ see docs/validation/shear.md for the source and the definitions.
 Measured: T, the peculiar kT sampled every ``--sample`` time units over
 the production run (blocking error); eta = -P_xy / g (the pressure
 tensor's kinetic and collisional parts, blocking error); the collision
-rate per sphere.  The finite packing adds Enskog's corrections (about
-+4% to eta* and the collision rate at packing 0.01): two packings per e
-and a straight line to packing 0 separate them.
+rate per sphere; the cooling rate (the energy lost in collisions).  The
+finite packing adds Enskog's corrections (at packing 0.01 about +1% to
+a* and eta* and +3% to the collision rate and zeta*, measured): three
+packings per e and a straight line to packing 0 separate them.
 
 usage:
-    python3 validation/shear_granular.py --e 0.9 --packing 0.01     # one point, a few minutes
+    python3 validation/shear_granular.py --e 0.9 --packing 0.01 --strain 10000   # one row, about a minute
     python3 validation/shear_granular.py --tables                   # the table from the CSV
 
 Results: ``validation/results/shear_granular.csv`` (one row per run,
