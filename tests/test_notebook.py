@@ -62,8 +62,12 @@ def test_progress_bar_draws_in_a_notebook():
 
 def test_first_simulation_announces_the_compilation(monkeypatch, capsys):
     monkeypatch.setattr(simulation, "_WARM", set())
-    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3, inelastic=False: True)
-    monkeypatch.setattr(warmup, "_compile", lambda dimensions=3, inelastic=False: None)
+    monkeypatch.setattr(
+        warmup, "is_cold", lambda dimensions=3, inelastic=False, sheared=False, stepped=False: True
+    )
+    monkeypatch.setattr(
+        warmup, "_compile", lambda dimensions=3, inelastic=False, sheared=False, stepped=False: None
+    )
     box = hs.PeriodicBox(8.0)
     hs.Simulation(hs.random_spheres(20, 0.1, box, seed=1), box)
     hs.Simulation(hs.random_spheres(20, 0.1, box, seed=2), box)

@@ -79,8 +79,12 @@ def test_the_assignment_program_runs_scan_while_the_cache_is_cold(monkeypatch):
     from hardspheres.cli.assignment import SMALL, choose_engine
 
     monkeypatch.delenv("HARDSPHERES_ENGINE", raising=False)
-    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3, inelastic=False: True)
+    monkeypatch.setattr(
+        warmup, "is_cold", lambda dimensions=3, inelastic=False, sheared=False, stepped=False: True
+    )
     assert choose_engine(SMALL) == "reference"
     assert choose_engine(SMALL + 1) == choose_engine(1000) == "scan"
-    monkeypatch.setattr(warmup, "is_cold", lambda dimensions=3, inelastic=False: False)
+    monkeypatch.setattr(
+        warmup, "is_cold", lambda dimensions=3, inelastic=False, sheared=False, stepped=False: False
+    )
     assert choose_engine(SMALL + 1) == "compiled"
