@@ -554,7 +554,7 @@ class CoexistenceDensities(Compute):
                     )
             hi, lo = float(rho[liq].mean()), float(rho[vap].mean())
         self.interface, self.width, self.liquid_bins, self.vapour_bins = z0, w, liq, vap
-        self.checks = {}
+        self.checks: dict[str, float] = {}
         for name, bins in (("liquid", liq), ("vapour", vap)):
             mean, err = self._plateau(name, frames[:, bins])
             setattr(self, name, mean)
@@ -566,10 +566,6 @@ class CoexistenceDensities(Compute):
         """A plateau's blocked mean over frames ``(F, bins)`` and its error; refused unless flat, steady."""
         series = frames.mean(axis=1)
         b = blocking(series)
-        if not b.converged:
-            raise AnalysisInputError(
-                f"the {name}'s density: blocking found no plateau in {len(series)} frames; run longer"
-            )
         k = frames.shape[1] // 2
         inner, outer = frames[:, :k].mean(axis=1), frames[:, frames.shape[1] - k :].mean(axis=1)
         step = blocking(inner - outer)
@@ -589,6 +585,10 @@ class CoexistenceDensities(Compute):
                 f"the {name}'s density drifts: the run's second half minus its first is "
                 f"{c.mean - a.mean:.3g} "
                 f"({drift:+.1f} joint errors); equilibrate longer"
+            )
+        if not b.converged:
+            raise AnalysisInputError(
+                f"the {name}'s density: blocking found no plateau in {len(series)} frames; run longer"
             )
         return b.mean, b.sem
 
