@@ -711,7 +711,8 @@ class Engine:
         if not built:
             return
         self.due = self.due[perm]
-        self.shells = self.shells[perm]
+        if self.shells.shape[0]:
+            self.shells = self.shells[perm]
         partner = book[:, core.PARTNER]
         book[:, core.PARTNER] = np.where(partner >= 0, new[np.maximum(partner, 0)], partner)
         if self.scalars[core.F_NSTEP]:  # the bond tables' partners renamed
@@ -821,6 +822,8 @@ class Engine:
             self.scalars[core.F_WIDTH + ax] = span / nc
         self.scalars[core.F_SHELL] = shell
         self.scalars[core.F_HEADROOM] = headroom
+        # shells are read with neighbour lists alone: none kept for cells (32 bytes a sphere)
+        self.shells = np.zeros((self.n if shell else 0, core.SHELL_COLS))
         self.counts[core.C_CELLS] = self.counts[core.C_GRID]
         self.scalars[core.F_LO] = self.scalars[core.F_LOW]
         self.scalars[core.F_W] = self.scalars[core.F_WIDTH]
@@ -1240,6 +1243,8 @@ class Engine:
         book = self.book.copy()
         book[order, core.HEAP_POS] = np.arange(n)
         out["heap"], out["heap_t"], out["heap_key"], out["book"] = order, t[order], key[order], book
+        if not self.shells.shape[0]:  # (cells: files keep a zero row a sphere, as before)
+            out["shells"] = np.zeros((n, core.SHELL_COLS))
         for k in _LINKED:  # (files keep int64: the same format at any N)
             out[k] = out[k].astype(np.int64)
         # the calendar's own counters and width (the last of each) are made anew on restore
@@ -1284,6 +1289,8 @@ class Engine:
         n = len(data["masses"])
         for k in cls._SAVED:
             setattr(eng, _INTERNAL.get(k, k), np.array(data[k], dtype=LINK if k in _LINKED else None))
+        if not eng.scalars[core.F_SHELL]:  # (cells: no shells kept)
+            eng.shells = np.zeros((0, core.SHELL_COLS))
         eng._reorder_every, eng._since_reorder = data["reorder"][0], int(data["reorder"][1])
         eng._set_rank()
         offset, since, rebase_on, radius, box = data["meta"].tolist()
