@@ -72,6 +72,8 @@ FIELDS = (
     "vapour_flat",
     "liquid_drift",
     "vapour_drift",
+    "liquid_plateau",
+    "vapour_plateau",
     "frames",
     "time",
     "n",
@@ -88,12 +90,18 @@ def start_density(kt: float) -> float:
     return 0.65 - 1.0 * (kt - 1.0)
 
 
-def densities(profile: VapourLiquidProfile) -> tuple[CoexistenceDensities | None, float, str]:
+def densities(
+    profile: VapourLiquidProfile | tuple[np.ndarray, np.ndarray], min_blocks: int, strict: bool = False
+) -> tuple[CoexistenceDensities | None, float, str]:
     """The coexistence densities at the first of :data:`MARGINS` accepted, its margin, or the refusals."""
     why = []
     for margin in MARGINS:
         try:
-            return CoexistenceDensities(margin=margin).compute(profile), margin, ""
+            return (
+                CoexistenceDensities(margin=margin, min_blocks=min_blocks, strict=strict).compute(profile),
+                margin,
+                "",
+            )
         except AnalysisInputError as err:
             why.append(f"margin {margin:g}: {err}")
     return None, math.nan, "; ".join(why)
@@ -127,18 +135,47 @@ def run_temperature(kt: float, args: argparse.Namespace, seed: int) -> tuple[dic
             centres=profile.centres,
             u=u,
         )
-    c, margin, why = densities(profile)
-    row = {"kT": kt, "margin": margin, "frames": frames, "time": args.time, "n": args.n}
+    row = {"kT": kt, "frames": frames - args.skip, "time": args.time, "n": args.n}
     row["kT_measured"] = float(k_int / (3.0 * sim.n * (sim.time - t0)))
     row["U_per_sphere"] = float(np.mean(u))
-    if c is not None:
-        row.update({"liquid": c.liquid, "liquid_error": c.liquid_error, "vapour": c.vapour})
-        row.update({"vapour_error": c.vapour_error, "interface": c.interface, "width": c.width})
-        row.update(c.checks)
-    else:
-        print(f"kT {kt}: refused: {why}", flush=True)
+    update(row, (profile.z, profile.profiles[args.skip :]), args.min_blocks, args.strict)
     row["cpu_s"] = time.process_time() - cpu
     return row, profile
+
+
+def update(row: dict, profile: tuple[np.ndarray, np.ndarray], min_blocks: int, strict: bool) -> None:
+    """The row's densities from ``(z, profiles)``, or NaN and the refusals printed."""
+    c, row["margin"], why = densities(profile, min_blocks, strict)
+    names = ("liquid", "liquid_error", "vapour", "vapour_error", "interface", "width")
+    if c is not None:
+        row.update({k: getattr(c, k) for k in names})
+        row.update(c.checks)
+    else:
+        row.update(
+            {
+                k: math.nan
+                for k in names
+                + (
+                    "liquid_flat",
+                    "vapour_flat",
+                    "liquid_drift",
+                    "vapour_drift",
+                    "liquid_plateau",
+                    "vapour_plateau",
+                )
+            }
+        )
+        print(f"kT {row['kT']}: refused: {why}", flush=True)
+
+
+def reanalyse(args: argparse.Namespace) -> None:
+    """The csv's densities again from the frames saved by ``--save-frames`` (``--skip``, ``--min-blocks``)."""
+    rows = sorted(read(args.out + ".csv"), key=lambda r: r["kT"])
+    for r in rows:
+        d = np.load(f"{args.save_frames}/frames_{r['kT']:g}.npz")
+        update(r, (d["z"], d["profiles"][args.skip :]), args.min_blocks, args.strict)
+        r["frames"] = len(d["profiles"]) - args.skip
+    write_rows(args.out + ".csv", rows)
 
 
 def write_rows(path: str, rows: list[dict]) -> None:
@@ -199,12 +236,16 @@ def table(rows: list[dict]) -> str:
         if math.isnan(r["liquid"]):
             out.append(f"{r['kT']:.3f} refused")
             continue
+        marks = "".join("*" if r.get(f"{k}_plateau", 1.0) == 0.0 else " " for k in ("liquid", "vapour"))
         out.append(
-            f"{r['kT']:.3f} {r['liquid']:.4f} +- {r['liquid_error']:.4f}  {r['vapour']:.5f} +- "
-            f"{r['vapour_error']:.5f}  {r['margin']:.0f}       {r['interface']:5.2f}  {r['width']:.2f}   "
+            f"{r['kT']:.3f} {r['liquid']:.4f} +- {r['liquid_error']:.4f}{marks[0]} {r['vapour']:.5f} +- "
+            f"{r['vapour_error']:.5f}{marks[1]} {r['margin']:.0f}       {r['interface']:5.2f}  "
+            f"{r['width']:.2f}   "
             f"{r['liquid_flat']:+.1f} {r['vapour_flat']:+.1f}   {r['liquid_drift']:+.1f} "
             f"{r['vapour_drift']:+.1f}   {r['kT_measured']:.4f}  {vapour_from_psat(r['kT']):.5f}"
         )
+    if any("*" in line for line in out[1:]):
+        out.append("* blocking found no plateau: the error is the largest of the levels with enough blocks")
     return "\n".join(out)
 
 
@@ -246,8 +287,16 @@ def main() -> None:
     ap.add_argument("--fit", action="store_true", help="only the fit, from the csv")
     ap.add_argument("--append", action="store_true", help="keep the csv's other temperatures")
     ap.add_argument("--save-frames", default=None, help="a folder for every frame's profile (npz per kT)")
+    ap.add_argument("--skip", type=int, default=0, help="measured frames left out at the start")
+    ap.add_argument(
+        "--min-blocks", type=int, default=6, help="blocking's fewest blocks to decide (16: strict)"
+    )
+    ap.add_argument("--strict", action="store_true", help="refuse a density whose blocking finds no plateau")
+    ap.add_argument("--reanalyse", action="store_true", help="the densities again from --save-frames' files")
     args = ap.parse_args()
-    if args.fit:
+    if args.reanalyse:
+        reanalyse(args)
+    if args.fit or args.reanalyse:
         rows = sorted(read(args.out + ".csv"), key=lambda r: r["kT"])
         print(table(rows))
         print(fit(rows))
