@@ -3,12 +3,14 @@
 Two checks of the dense fluid's equation of state that need no fitted
 equation of state (docs/validation/square-well.md, section 4):
 
-* ``cross``: the state point kT = 3, rho = 0.8 of HOOMD-blue's validation
-  suite (github.com/glotzerlab/hoomd-validation,
-  ``hoomd_validation/patchy_particle_pressure.py``, ``job_statepoints``: hard
-  spheres with a full-coverage Kern-Frenkel patch of range 1.5 and depth kT /
-  3, i.e. the square well at T* = 3; N = 4096; ``betaP`` measured there by NVT
-  Monte Carlo with the scale distribution function, no error given).
+* ``cross``, ``cross2``: the state points kT = 3 and kT = 1 at rho = 0.8 of
+  HOOMD-blue's validation suite (github.com/glotzerlab/hoomd-validation,
+  ``hoomd_validation/patchy_particle_pressure.py``, ``job_statepoints``, at
+  commit f0e6510 of 2023-10-08; the kT = 3 row is still there at f1dd040):
+  hard spheres with a full-coverage Kern-Frenkel patch of range 1.5 and
+  depth 1 / T*, i.e. the square well at T* = 3 and 1; N = 4096; ``betaP``
+  measured there by NVT Monte Carlo (the scale distribution function), no
+  error given.
 * ``maxwell``: the mixed second derivative of the excess free energy
   ``f(beta, rho) = beta A_ex / N`` two ways.  ``Z - 1 = rho df/drho`` and
   ``U/N = df/dbeta``, so ``dZ/dbeta (at rho) = rho dU/drho (at beta)``: the
@@ -38,15 +40,16 @@ import time
 
 from square_well_eos import measure, reference
 
-HOOMD = (3.0, 0.8, 4.837436833423719)  # kT, rho, betaP of hoomd-validation (NVT MC, N = 4096)
+# (kT, rho, betaP) of hoomd-validation (NVT Monte Carlo, N = 4096), by row name
+HOOMD = {"cross": (3.0, 0.8, 4.837436833423719), "cross2": (1.0, 0.8, 2.2766339608381325)}
 CENTRES = {"": (1.5, 0.5), "2": (2.0, 0.7)}  # the Maxwell relation's centres (kT, rho), by name suffix
 DBETA, DRHO = 0.06, 0.05
 FIELDS = ("name", "kT", "rho", "Z", "Z_err", "U", "U_err", "Z_halves", "U_halves", "converged", "kT_meas")
 
 
 def points() -> list[tuple[str, float, float]]:
-    """The state points: ``(name, kT, rho)``."""
-    out = [("cross", HOOMD[0], HOOMD[1])]
+    """The state points: ``(name, kT, rho)`` (in the order their seeds follow)."""
+    out = [("cross", HOOMD["cross"][0], HOOMD["cross"][1])]
     for suffix, (kt, rho) in CENTRES.items():
         out += [
             ("beta-" + suffix, 1.0 / (1.0 / kt - DBETA), rho),
@@ -54,7 +57,7 @@ def points() -> list[tuple[str, float, float]]:
             ("rho-" + suffix, kt, rho - DRHO),
             ("rho+" + suffix, kt, rho + DRHO),
         ]
-    return out
+    return out + [("cross2", HOOMD["cross2"][0], HOOMD["cross2"][1])]
 
 
 def load(path: str) -> dict[str, dict[str, float]]:
@@ -84,9 +87,9 @@ def run(args: argparse.Namespace) -> dict[str, dict[str, float]]:
     return rows
 
 
-def cross_report(r: dict[str, float]) -> list[str]:
+def cross_report(r: dict[str, float], name: str) -> list[str]:
     """Our Z at HOOMD's state point against its betaP / rho (no error there: z from ours alone)."""
-    kt, rho, beta_p = HOOMD
+    kt, rho, beta_p = HOOMD[name]
     zh = beta_p / rho
     fit = reference(kt, rho)
     lines = [
@@ -151,7 +154,7 @@ def main() -> None:
             f"  U/N {r['U']:.4f} +- {r['U_err']:.4f}  halves {r['Z_halves']:+.1f} {r['U_halves']:+.1f}"
             f"  <kT> {r['kT_meas']:.4f}{flag}{drift}"
         )
-    out = cross_report(rows["cross"]) if "cross" in rows else []
+    out = [line for name in HOOMD if name in rows for line in cross_report(rows[name], name)]
     for suffix in CENTRES:
         out += maxwell_report(rows, suffix)
     print("\n".join(out))
