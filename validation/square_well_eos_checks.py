@@ -24,11 +24,11 @@ equation of state (docs/validation/square-well.md, section 4):
 Each state point: N = 1372 (FCC 7 x 7 x 7 start), Andersen thermostat at kT,
 ``--equil`` pair events of equilibration, then about ``--events`` in 256 blocks
 (:func:`square_well_eos.measure`: blocking errors, the halves' test).  One state
-point at a time; rows are appended to ``--csv`` as they finish, and a row
-already there is not run again (``--fresh`` starts over).
+point at a time; ``--csv`` is rewritten with every row as each finishes,
+and a row already there is not run again (``--fresh`` starts over).
 
 usage:
-    python3 validation/square_well_eos_checks.py                 # about 45 minutes of CPU
+    python3 validation/square_well_eos_checks.py                 # about 40 minutes of CPU
     python3 validation/square_well_eos_checks.py --events 2e6 --equil 2e5 --csv /tmp/sw.csv  # a quick look
 """
 
@@ -38,6 +38,7 @@ import math
 import os
 import time
 
+from hardspheres.fileio import atomic_write
 from square_well_eos import measure, reference
 
 # (kT, rho, betaP) of hoomd-validation (NVT Monte Carlo, N = 4096), by row name
@@ -68,21 +69,26 @@ def load(path: str) -> dict[str, dict[str, float]]:
         return {r["name"]: {k: float(v) for k, v in r.items() if k != "name"} for r in csv.DictReader(f)}
 
 
+def save(path: str, rows: dict[str, dict[str, float]]) -> None:
+    """Write every row measured so far (through :func:`hardspheres.fileio.atomic_write`)."""
+    with atomic_write(path, "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(FIELDS)
+        for name, r in rows.items():
+            out.writerow([name] + [f"{r[key]:.10g}" for key in FIELDS[1:]])
+
+
 def run(args: argparse.Namespace) -> dict[str, dict[str, float]]:
-    """Measure every state point not yet in the csv, appending each row as it ends."""
+    """Measure every state point not yet in the csv, saving the rows after each."""
     rows = {} if args.fresh else load(args.csv)
-    if args.fresh or not os.path.exists(args.csv):
-        with open(args.csv, "w", newline="") as f:
-            csv.writer(f).writerow(FIELDS)
     for k, (name, kt, rho) in enumerate(points()):
         if name in rows:
             continue
         cpu = time.process_time()
         r = measure(kt, rho, args.events, args.equil, seed=31 + k, cells=7)
         r["converged"] = float(r["Z_conv"] and r["U_conv"])
-        with open(args.csv, "a", newline="") as f:
-            csv.writer(f).writerow([name] + [f"{r[key]:.10g}" for key in FIELDS[1:]])
         rows[name] = r
+        save(args.csv, rows)
         print(f"{name}: kT {kt:.4f} rho {rho:.3f} done in {time.process_time() - cpu:.0f} s", flush=True)
     return rows
 
