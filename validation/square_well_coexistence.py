@@ -11,8 +11,20 @@ profile along z, centred on the slab's centre of the frame and folded
 (:class:`~hardspheres.analysis.coexistence.VapourLiquidProfile`), and from
 the plateaus the two coexistence densities with blocking errors
 (:class:`~hardspheres.analysis.coexistence.CoexistenceDensities`, margin 3
-interface widths; refused when not flat, drifting or too short, then
-tried again at margin 4 and 5, and the margin used is in the table).
+interface widths; refused when not flat or drifting, then tried again at
+margin 4 and 5, and the margin used is in the table).  The plateaus'
+densities are slow (the vapour exchanges spheres with the slab over about
+100 time units): blocking decides among levels of ``--min-blocks`` (6)
+blocks or more, and where it finds no plateau the error is the largest of
+those levels' (marked ``*``; ``--strict`` refuses instead).
+``--save-frames`` keeps every frame's profile, and ``--reanalyse``
+computes the table again from them (``--skip``, ``--min-blocks``).
+
+The vapour's density is also compared with the one that Singh et al.'s
+saturation pressure implies by the virial series to B3 (their fit ``ln p
+= 3.5211 - 7.1939 / T``, as coded in the etomica package,
+github.com/etomica/etomica, ``etomica.modules.adsorption.EOSSW``, which
+cites the paper).
 
 Then the critical point: the rectilinear diameter ``(rho_l + rho_v) / 2 =
 rho_c + A (T_c - T)`` and the scaling law ``rho_l - rho_v = B (T_c -
@@ -24,12 +36,16 @@ against Singh, Kofke and Errington, J. Chem. Phys. 119, 3405 (2003):
 Output: validation/results/square_well_coexistence.csv (one row per
 temperature, written after each), ..._profiles.csv (the mean profiles) and
 ..._coexistence.txt (this script's printout: ``--fit`` re-reads the csv and
-prints the fit alone).  docs/validation/square-well.md, section 5.
+prints the fit alone).  docs/validation/square-well.md, section 6.
 
-usage:
-    nice -n 10 python3 validation/square_well_coexistence.py > validation/results/square_well_coexistence.txt
+usage (about 8 minutes of CPU per temperature):
+    for t in 1.0 0.9 1.1 0.95 1.05 1.15; do
+        nice -n 10 python3 validation/square_well_coexistence.py --n 2000 --width 12 --length 48 \
+            --equil 400 --time 1600 --rate 0.2 --temperatures $t --append --save-frames /tmp/swc/frames
+    done
+    python3 validation/square_well_coexistence.py --reanalyse --save-frames /tmp/swc/frames  # table, fit
     python3 validation/square_well_coexistence.py --n 1000 --width 10 --length 40 --equil 50 --time 200 \
-        --temperatures 1.0 --out /tmp/quick      # a quick look (about a minute)
+        --temperatures 1.0 --out /tmp/quick      # a quick look (about a minute; refused: too short)
     python3 validation/square_well_coexistence.py --fit          # the fit from the csv
 """
 
@@ -249,9 +265,20 @@ def table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-def fit(rows: list[dict], samples: int = 2000) -> str:
-    """The critical point from the rows, against Singh, Kofke and Errington (2003)."""
+def fit(rows: list[dict], samples: int = 2000, drop: int = 1) -> str:
+    """The critical point from the rows, against Singh, Kofke and Errington (2003).
+
+    Then the same without the ``drop`` lowest temperatures: how much the result depends on the range.
+    """
     ok = [r for r in rows if not math.isnan(r["liquid"])]
+    out = fit_rows(ok, samples)
+    if drop and len(ok) - drop >= 3:
+        out += f"\nwithout the lowest {drop} (kT >= {ok[drop]['kT']:g}):\n" + fit_rows(ok[drop:], samples)
+    return out
+
+
+def fit_rows(ok: list[dict], samples: int) -> str:
+    """:func:`fit` on rows that all have densities, sorted by temperature."""
     if len(ok) < 3:
         return f"critical point: {len(ok)} temperatures with densities, 3 or more needed: no fit"
     cols = [np.array([r[k] for r in ok]) for k in ("kT", "liquid", "vapour", "liquid_error", "vapour_error")]
