@@ -1317,29 +1317,35 @@ def _scan_list(spheres, book, due, neighbours, scalars, i, axes):
         sx = _IMAGE_STEPS[code, 0] * bx
         sy = _IMAGE_STEPS[code, 1] * by
         sz = _IMAGE_STEPS[code, 2] * bz if len(axes) == 3 else 0.0
-        best_t, best_key, best_p = _pair(
-            spheres,
-            book,
-            i,
-            oi,
-            j,
-            sx,
-            sy,
-            sz,
-            code != 13,
-            ti,
-            now,
-            soon,
-            clock,
-            grow,
-            one,
-            n,
-            best_t,
-            best_key,
-            best_p,
-            0.0,
-            axes,
-        )
+        if len(axes[1]) == 1:
+            best_t, best_key, best_p = _stepped_gate(
+                axes[1], spheres, book, scalars, i, oi, j, sx, sy, sz, code != 13, ti, now, soon, clock, n,
+                best_t, best_key, best_p, axes,
+            )  # fmt: skip
+        else:
+            best_t, best_key, best_p = _pair(
+                spheres,
+                book,
+                i,
+                oi,
+                j,
+                sx,
+                sy,
+                sz,
+                code != 13,
+                ti,
+                now,
+                soon,
+                clock,
+                grow,
+                one,
+                n,
+                best_t,
+                best_key,
+                best_p,
+                0.0,
+                axes,
+            )
     _store(due, book, i, best_t, best_key, best_p, axes)
 
 

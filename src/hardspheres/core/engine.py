@@ -160,7 +160,7 @@ class Engine:
             -eps)]``; at most four steps): each pair ``(i, j)`` has the
             potential energy ``U_k`` inside ``lambda_k (R_i + R_j)`` (and
             outside the next edge), 0 outside every edge.  The core's stepped
-            variant (cells only; not with shear, restitution below 1 or
+            variant (not with shear, restitution below 1 or
             growth); each pair's state starts from the distances, as the
             reference's.  Per pair of species: a dict ``{(s, t): [(lambda_k,
             U_k), ...]}`` (each unordered pair once; left out: hard spheres).
@@ -795,8 +795,10 @@ class Engine:
         if getattr(self.container, "shear_rate", 0.0):
             shell = 0.0  # a sheared box: cells (the strip across a sliding face), no lists yet
         if self.scalars[core.F_NSTEP]:
-            shell = 0.0  # steps: cells as wide as the outermost step, no lists yet
-            sigma *= max((steps[0][0] for steps in self.step_table.values() if steps), default=1.0)
+            # steps: cells, and each sphere's reach for its list, widened to the outermost step
+            outer = max((steps[0][0] for steps in self.step_table.values() if steps), default=1.0)
+            sigma *= outer
+            headroom *= outer
         if box and shell and shell * sigma * 3.0 > box:
             shell = 0.0  # a box too small for three cells of lists: cells
         reach = sigma * shell if shell else sigma
