@@ -162,6 +162,23 @@ def test_the_critical_point_of_exact_densities():
     assert abs(noisy.t_c - 1.22) < 5 * noisy.t_c_error
 
 
+def test_the_correction_to_scaling_recovers_a_corrected_law():
+    """Densities with Wegner's term: the corrected fit finds T_c, the leading law alone puts it high."""
+    t = np.array([0.9, 0.95, 1.0, 1.05, 1.1])
+    dt = 1.22 - t
+    mid, half = 0.31 + 0.2 * dt, 0.5 * 0.9 * dt**0.326 * (1.0 - 0.3 * dt**0.524)
+    err = np.full(5, 1e-3)
+    cp = critical_point(t, mid + half, mid - half, err, err, samples=50, seed=2, correction=0.524)
+    assert cp.t_c == pytest.approx(1.22, abs=1e-4) and cp.rho_c == pytest.approx(0.31, abs=1e-4)
+    assert cp.b1 == pytest.approx(-0.3, abs=1e-3) and cp.correction == 0.524 and cp.dof == 5
+    plain = critical_point(t, mid + half, mid - half, err, err, samples=10, seed=2)
+    assert plain.t_c > 1.23 and plain.b1 == 0.0 and plain.correction == 0.0
+    with pytest.raises(AnalysisInputError, match="correction"):
+        critical_point(t[:3], (mid + half)[:3], (mid - half)[:3], err[:3], err[:3], correction=0.524)
+    with pytest.raises(AnalysisInputError, match="correction"):
+        critical_point(t, mid + half, mid - half, err, err, correction=-1.0)
+
+
 def test_bad_critical_fits_are_refused():
     t, r, e = np.array([1.0, 1.1]), np.array([0.6, 0.5]), np.full(2, 1e-3)
     with pytest.raises(AnalysisInputError, match="3 or more"):
