@@ -30,7 +30,7 @@ TYPE_FIELD = re.compile(
 EXPANDED = ("_SupportsArray", "_NestedSequence", "_Buffer")
 REMOTE = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="(?:https?:)?//[^"]+"', re.I)
 MATH = re.compile(r'class="math[" ]')
-MATHJAX_LOCAL = re.compile(r'<script[^>]*src="(?:\.\./)*_static/mathjax/[a-z-]+\.js"')
+MATHJAX_LOCAL = re.compile(r'<script[^>]*src="(?:\.\./)*_static/mathjax/[a-z-]+\.js(?:\?v=[0-9a-f]+)?"')
 
 
 def _text(fragment: str) -> str:
