@@ -170,20 +170,8 @@ def update(row: dict, profile: tuple[np.ndarray, np.ndarray], min_blocks: int, s
         row.update({k: getattr(c, k) for k in names})
         row.update(c.checks)
     else:
-        row.update(
-            {
-                k: math.nan
-                for k in names
-                + (
-                    "liquid_flat",
-                    "vapour_flat",
-                    "liquid_drift",
-                    "vapour_drift",
-                    "liquid_plateau",
-                    "vapour_plateau",
-                )
-            }
-        )
+        checks = FIELDS[FIELDS.index("liquid_flat") : FIELDS.index("vapour_plateau") + 1]
+        row.update({k: math.nan for k in names + checks})
         print(f"kT {row['kT']}: refused: {why}", flush=True)
 
 
