@@ -73,3 +73,24 @@ def test_extras_split_the_user_from_the_test_stack():
     assert {"Programming Language :: Python :: 3", "Operating System :: Microsoft :: Windows"} <= set(
         meta["classifiers"]
     )
+
+
+def test_an_installed_wheel_ships_the_compiled_core():
+    """``pip install .`` compiles the elastic core in 3-D and 2-D into the package (setup.py's build
+    step), so the first run loads it (``.ci/run`` runs this against the built wheel; in a checkout,
+    where the sources change, it is skipped)."""
+    import pathlib
+    from importlib import metadata
+
+    import pytest
+
+    import hardspheres
+    from hardspheres.core import warmup
+
+    checkout = pathlib.Path(__file__).resolve().parents[1] / "src"
+    if pathlib.Path(hardspheres.__file__).resolve().is_relative_to(checkout):
+        pytest.skip("the package is imported from this checkout, not from an installed wheel")
+    shipped = [str(f) for f in metadata.files("hardspheres") or ()]
+    assert any("/__pycache__/numba-" in f and "_core.run-" in f and f.endswith(".nbi") for f in shipped)
+    assert any(f.endswith("compiled-3d") for f in shipped) and any(f.endswith("compiled-2d") for f in shipped)
+    assert not warmup.is_cold(3) and not warmup.is_cold(2)

@@ -50,9 +50,6 @@ Lubachevsky, as in the fastest public codes):
   long runs keep the precision of short ones.
 """
 
-import hashlib
-import os
-
 import numba
 import numba.core.cpu
 import numba.extending
@@ -61,27 +58,15 @@ from llvmlite import ir
 from numba.core import cgutils, types
 
 from .. import events, physics
+from .._jitcache import cache_dir, cached_compiler, source_digest
 
 
-def _cache_dir():
-    """Where numba caches this module's machine code, keyed to the kernels' source.
-
-    numba's on-disk cache checks only the stamp of the file that defines a
-    function, so loops compiled with an older ``physics.py`` inlined would
-    be reused after it changed.  A directory named after a hash of both
-    files keeps them apart.  ``NUMBA_CACHE_DIR``, if set, is the user's
-    choice and is left alone.
-    """
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return numba.config.CACHE_DIR
-    digest = hashlib.sha256()
-    for path in (__file__, physics.__file__, events.__file__):
-        with open(path, "rb") as fh:
-            digest.update(fh.read())
-    return os.path.join(os.path.dirname(__file__), "__pycache__", f"numba-{digest.hexdigest()[:16]}")
-
-
-_CACHE_DIR = _cache_dir()
+# Cached in a folder keyed to a digest of this file and the two it inlines
+# (physics' kernels, the events' codes), stamped with it: the cache is valid
+# wherever the package is installed (hardspheres._jitcache).
+_DIGEST = source_digest(__file__, physics.__file__, events.__file__)
+_CACHE_DIR = cache_dir(__file__, _DIGEST)
+_cached = cached_compiler(__file__, _DIGEST)
 
 # numba's private switch for its runtime (see below); a numba without it
 # still compiles the core, only slower
@@ -89,23 +74,16 @@ _NO_NRT = {"_nrt": False} if hasattr(numba.core.cpu.CPUTargetOptions, "_nrt") el
 
 
 def _compiler(**options):
-    """``njit(cache=True, **options)`` caching in :data:`_CACHE_DIR`."""
-
-    def decorate(fn):
-        saved = numba.config.CACHE_DIR
-        numba.config.CACHE_DIR = _CACHE_DIR  # read when the cache is set up
-        try:
-            return numba.njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT, **options)(fn)
-        finally:
-            numba.config.CACHE_DIR = saved
-
-    return decorate
+    """``njit(**options)`` with the core's options, cached in :data:`_CACHE_DIR`."""
+    return _cached(nogil=True, error_model="numpy", **_NO_NRT, **options)
 
 
 # error_model="numpy": IEEE division (x/0 = inf) without a zero check per division.
 # _nrt=False: nothing here allocates, and without numba's runtime no array
 # argument is reference-counted per call.
 _jit = _compiler()
+# functions kept out of line but called from compiled code only: no Python wrapper
+_jit_inner = _compiler(no_cpython_wrapper=True, no_cfunc_wrapper=True)
 # The event loop's helpers are inlined into it: a call would pass every
 # array as a struct of 7-9 words on the stack.  LLVM inlines them
 # (forceinline: numba compiles each helper once and marks it alwaysinline);
@@ -113,7 +91,10 @@ _jit = _compiler()
 # and typed each helper again at every call site: the first compilation
 # took about 200 s instead of about 25 s.  (What each of these
 # choices gained: benchmarks/README.md, "history of the core's speed".)
-_inline = _compiler(forceinline=True)
+# They are called from compiled code only, so numba builds no Python
+# wrapper for them (about a tenth of the first compilation, and no change
+# to the loops' machine code).
+_inline = _compiler(forceinline=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 
 # the kernels too are inlined by LLVM, not copied into each caller as numba
 # IR: they compile once each, the first compilation is about a fifth shorter,
@@ -1473,7 +1454,7 @@ def _scan_cells(
     _store(due, book, i, best_t, best_key, best_p, axes)
 
 
-@_jit
+@_jit_inner
 def _scan_across(
     spheres,
     book,
@@ -1591,7 +1572,7 @@ def _strip_gate(
     return best_t, best_key, best_p
 
 
-@_jit
+@_jit_inner
 def _scan_strip(
     spheres,
     book,
@@ -1760,7 +1741,7 @@ def predict(spheres, book, due, shells, neighbours, cell_head, cell_next, scalar
         _crossing(spheres, book, due, scalars, counts, i, t, axes)
 
 
-@_jit
+@_jit_inner
 def predict_one(spheres, book, due, shells, neighbours, cell_head, cell_next, scalars, counts, i, t, axes):
     """:func:`predict`, called rather than inlined: for the callers outside the event loop.
 
@@ -1809,7 +1790,7 @@ def _wrap_gate(flow, spheres, masses, book, images, scalars, counts, i, t, step,
         _wrap_sheared(spheres, masses, book, images, scalars, counts, i, t, step, axes)
 
 
-@_jit
+@_jit_inner
 def _wrap_sheared(spheres, masses, book, images, scalars, counts, i, t, step, axes):
     """A sheared box: sphere ``i`` leaves through a y face (``step`` +1: the upper) at its time ``t``.
 

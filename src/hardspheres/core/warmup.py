@@ -181,3 +181,24 @@ def ensure_compiled(
         stream.write(f" done in {seconds:.1f} s\n")
         stream.flush()
     return seconds
+
+
+def precompile(dimensions: tuple[int, ...] = (3, 2), stream: TextIO | None = None) -> None:
+    """Compile the elastic core for each of ``dimensions`` into its cache, whatever is there.
+
+    The install's build step (``setup.py``) runs this as ``python -m
+    hardspheres.core.warmup`` on the files it is about to install, so that
+    the first run after ``pip install`` loads machine code instead of
+    compiling it (:mod:`hardspheres._jitcache` makes that cache valid where
+    pip puts the files).  The other variants (inelastic, sheared, with
+    steps) still compile on their first use.
+    """
+    for d in dimensions:
+        t0 = time.perf_counter()
+        _compile(d)
+        if stream is not None:
+            stream.write(f"hardspheres: compiled the {d}-D event core in {time.perf_counter() - t0:.1f} s\n")
+
+
+if __name__ == "__main__":
+    precompile(tuple(int(a) for a in sys.argv[1:]) or (3, 2), stream=sys.stderr)

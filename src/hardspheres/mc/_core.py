@@ -68,15 +68,14 @@ The arrays (owned by :class:`~hardspheres.mc.chain.EventChain`):
     axes    ((),) * d       the dimension as a type: ``len(axes)`` folds at compile time
 """
 
-import hashlib
 import math
-import os
 
 import numba
 import numba.core.cpu
 import numpy as np
 
 from .. import physics
+from .._jitcache import cache_dir, cached_compiler, source_digest
 from ..core import _core as edmd  # registers physics' kernels with numba
 
 INF = math.inf
@@ -118,18 +117,10 @@ _S31 = np.uint64(31)
 _S11 = np.uint64(11)
 
 
-def _cache_dir():
-    """Where numba caches this module's machine code: keyed to its source and the kernels'."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return numba.config.CACHE_DIR
-    digest = hashlib.sha256()
-    for path in (__file__, physics.__file__):
-        with open(path, "rb") as fh:
-            digest.update(fh.read())
-    return os.path.join(os.path.dirname(__file__), "__pycache__", f"numba-{digest.hexdigest()[:16]}")
-
-
-_CACHE_DIR = _cache_dir()
+# cached as the event core is (hardspheres._jitcache): keyed to this file and the kernels
+_DIGEST = source_digest(__file__, physics.__file__)
+_CACHE_DIR = cache_dir(__file__, _DIGEST)
+_cached = cached_compiler(__file__, _DIGEST)
 
 
 # numba's private switch for its runtime, as in the event core: nothing here
@@ -140,17 +131,8 @@ _NO_NRT = {"_nrt": False} if hasattr(numba.core.cpu.CPUTargetOptions, "_nrt") el
 
 
 def _compiler(**options):
-    """``njit(cache=True, **options)`` caching in :data:`_CACHE_DIR` (no fastmath, no runtime)."""
-
-    def decorate(fn):
-        saved = numba.config.CACHE_DIR
-        numba.config.CACHE_DIR = _CACHE_DIR
-        try:
-            return numba.njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT, **options)(fn)
-        finally:
-            numba.config.CACHE_DIR = saved
-
-    return decorate
+    """``njit(**options)`` cached in :data:`_CACHE_DIR` (no fastmath, no runtime)."""
+    return _cached(nogil=True, error_model="numpy", **_NO_NRT, **options)
 
 
 _jit = _compiler()
