@@ -54,7 +54,7 @@ def cache_dir(module_file: str, digest: str) -> str:
     """The folder a core's machine code is cached in (see the module's docstring)."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         name = os.path.basename(os.path.dirname(os.path.abspath(module_file)))
-        return os.path.join(os.path.abspath(numba.config.CACHE_DIR), f"{name}-{digest}")
+        return os.path.join(os.path.abspath(os.environ["NUMBA_CACHE_DIR"]), f"{name}-{digest}")
     return os.path.join(os.path.dirname(os.path.abspath(module_file)), "__pycache__", f"numba-{digest}")
 
 
@@ -96,7 +96,7 @@ def cached_compiler(module_file: str, digest: str) -> Callable[..., Callable[[An
         return _Locator
 
     class _Impl(caching.CompileResultCacheImpl):
-        _locator_classes = [locator(folder) for folder in folders]
+        _locator_classes: list[Any] = [locator(folder) for folder in folders]
 
     class _Cache(caching.FunctionCache):
         _impl_class = _Impl
