@@ -26,8 +26,6 @@ class BuildPyCompiled(build_py):
 
     def run(self) -> None:
         super().run()
-        if os.environ.get("HARDSPHERES_PRECOMPILE", "1") == "0":
-            return
         if getattr(self, "editable_mode", False):
             root = os.path.dirname(os.path.abspath(self.get_package_dir("hardspheres")))
         else:
@@ -38,6 +36,8 @@ class BuildPyCompiled(build_py):
                 for name in os.listdir(cache) if os.path.isdir(cache) else ():
                     if name.startswith("numba-"):
                         shutil.rmtree(os.path.join(cache, name), ignore_errors=True)
+        if os.environ.get("HARDSPHERES_PRECOMPILE", "1") == "0":
+            return
         env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH")) if p)
         command = [sys.executable, "-m", "hardspheres.core.warmup", "3", "2"]

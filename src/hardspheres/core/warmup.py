@@ -2,7 +2,11 @@
 
 numba compiles the core (:mod:`hardspheres.core._core`) the first time it runs and
 caches the machine code on disk; later processes load it in well under a
-second.  The first compilation takes a while (about 30 s of one core), so the
+second.  ``pip install`` compiles the elastic core in 3-D and 2-D into the
+installed package (:func:`precompile`, run by ``setup.py``), so a first run
+usually finds it there.  Where it does not (another CPU or numba than the
+install's, the other collision rules, ``HARDSPHERES_PRECOMPILE=0``), the
+first compilation takes a while (about 25 s of one core), so the
 commands call :func:`ensure_compiled` before they start any clock: when the
 cache is cold it says so once on stderr and compiles the core on a two-sphere
 system, so that no rate a command reports includes compilation.
@@ -29,7 +33,7 @@ import time
 from typing import TextIO
 
 #: What the first compilation takes on the reference machine [s] (the note quotes it).
-TYPICAL_SECONDS = 30
+TYPICAL_SECONDS = 25
 
 # the core's functions called from Python (each has its own cache index)
 _ENTRY_POINTS = ("build", "run", "positions_at", "rebase", "max_overlap")
