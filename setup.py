@@ -3,7 +3,8 @@
 Everything else about the package is in pyproject.toml.  After the files
 are laid out for installation (or, for an editable install, in place),
 ``python -m hardspheres.core.warmup`` compiles the elastic event core in 3-D
-and 2-D into the numba cache that ships beside them, so that the first
+and 2-D into the numba cache that ships beside them, and ``python -m
+hardspheres.mc.warmup`` the straight event chains, so that the first
 simulation after ``pip install`` loads machine code rather than waiting for
 it (see docs/getting-started.md).  The cache is keyed to the sources'
 content and checked against this machine's CPU and numba's version on
@@ -40,16 +41,17 @@ class BuildPyCompiled(build_py):
             return
         env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH")) if p)
-        command = [sys.executable, "-m", "hardspheres.core.warmup", "3", "2"]
-        try:
-            done = subprocess.run(command, env=env, cwd=root, check=False).returncode == 0
-        except OSError:
-            done = False
-        if not done:
-            print(
-                "hardspheres: compiling the event core at install failed; it compiles on first use instead",
-                file=sys.stderr,
-            )
+        for module, what in (("core", "the event core"), ("mc", "the event chains")):
+            command = [sys.executable, "-m", f"hardspheres.{module}.warmup", "3", "2"]
+            try:
+                done = subprocess.run(command, env=env, cwd=root, check=False).returncode == 0
+            except OSError:
+                done = False
+            if not done:
+                print(
+                    f"hardspheres: compiling {what} at install failed; it compiles on first use instead",
+                    file=sys.stderr,
+                )
 
 
 setup(cmdclass={"build_py": BuildPyCompiled})

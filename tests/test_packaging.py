@@ -76,9 +76,9 @@ def test_extras_split_the_user_from_the_test_stack():
 
 
 def test_an_installed_wheel_ships_the_compiled_core():
-    """``pip install .`` compiles the elastic core in 3-D and 2-D into the package (setup.py's build
-    step), so the first run loads it (``.ci/run`` runs this against the built wheel; in a checkout,
-    where the sources change, it is skipped)."""
+    """``pip install .`` compiles the elastic core and the chains in 3-D and 2-D into the package
+    (setup.py's build step), so the first run loads them (``.ci/run`` runs this against the built
+    wheel; in a checkout, where the sources change, it is skipped)."""
     import pathlib
     from importlib import metadata
 
@@ -91,6 +91,9 @@ def test_an_installed_wheel_ships_the_compiled_core():
     if pathlib.Path(hardspheres.__file__).resolve().is_relative_to(checkout):
         pytest.skip("the package is imported from this checkout, not from an installed wheel")
     shipped = [str(f) for f in metadata.files("hardspheres") or ()]
-    assert any("/__pycache__/numba-" in f and "_core.run-" in f and f.endswith(".nbi") for f in shipped)
+    for family in ("core", "mc"):  # the event core and the event chains
+        assert any(
+            f"{family}/__pycache__/numba-" in f and "_core.run-" in f and f.endswith(".nbi") for f in shipped
+        ), family
     assert any(f.endswith("compiled-3d") for f in shipped) and any(f.endswith("compiled-2d") for f in shipped)
     assert not warmup.is_cold(3) and not warmup.is_cold(2)

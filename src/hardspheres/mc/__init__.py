@@ -19,6 +19,7 @@ Modules:
         :class:`~hardspheres.Simulation`.
     observables: :class:`~hardspheres.mc.observables.ChainObservables`, the
         pressure per axis from the chains, with blocking errors.
+    warmup: the chains compiled at install (``python -m hardspheres.mc.warmup``).
 
 Importing this package imports nothing (numba loads with ``chain``).
 """
