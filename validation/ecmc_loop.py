@@ -42,13 +42,16 @@ resumed from its last chunk, bit for bit (a run of half a CPU-hour or more
 then survives an interruption); the files go once its row is
 written.  A run resumes into any length of the same ``--equilibrate`` and
 lifts per chunk (``--lifts / --chunks``) that it has not passed: the
-first k chunks of a longer run are a run of k chunks.  ``table`` prints the table of the CSV again.
+first k chunks of a longer run are a run of k chunks.  ``table`` prints the table of the CSV again;
+``plot`` draws the runs of one or more CSVs over the published loop, one panel per box
+(where a longer run has the same box, packing and start, the shorter is drawn open and faded).
 
 usage:
     nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
         [--starts liquid crystal] [--equilibrate 300000] [--lifts 3000000] [--chunks 40] [--budget 3600]
         [--deadline 4200] [--csv FILE] [--checkpoint DIR]
     python3 validation/ecmc_loop.py table [--csv FILE]
+    python3 validation/ecmc_loop.py plot --csv FILE [FILE ...] [--png docs/images/ecmc_loop.png]
 """
 
 from __future__ import annotations
@@ -59,12 +62,16 @@ import json
 import math
 import os
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 import hardspheres as hs
 from hardspheres import fileio
 from hardspheres.blocking import blocking
+
+if TYPE_CHECKING:
+    import matplotlib.axes
 
 CELLS = (29, 30)
 N = CELLS[0] * CELLS[1]
@@ -364,10 +371,65 @@ def table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+PLOT_STYLE = {"liquid": ("^", "tab:blue", -0.0003), "crystal": ("s", "tab:red", 0.0003)}
+
+
+def draw(ax: matplotlib.axes.Axes, rows: list[dict], box: str) -> None:
+    """Li et al.'s loop in ``box`` and the runs of ``rows`` in it on the axes ``ax``."""
+    p, v, e = zip(*LI_870[box], strict=True)
+    ax.errorbar(p, v, e, fmt="-", color="0.5", lw=1.5, label="Li et al. 2022 (ECMC, N = 870)")
+    mine = [r for r in rows if r["box"] == box]
+
+    def same(r: dict) -> tuple[float, str]:
+        return (round(r["phi"], 6), r["start"])
+
+    longest: dict[tuple[float, str], float] = {}
+    for r in mine:
+        longest[same(r)] = max(longest.get(same(r), 0.0), r["equilibrate"] + r["lifts"])
+    for start, (marker, colour, dx) in PLOT_STYLE.items():
+        for short in (False, True):  # superseded runs open and faded
+            pts = [
+                r
+                for r in mine
+                if r["start"] == start and (r["equilibrate"] + r["lifts"] < longest[same(r)]) == short
+            ]
+            if pts:
+                ax.errorbar(
+                    [r["phi"] + dx for r in pts],
+                    [r["bp"] for r in pts],
+                    [r["error"] for r in pts],
+                    fmt=marker,
+                    ms=4,
+                    color=colour,
+                    mfc="none" if short else None,
+                    alpha=0.5 if short else 1.0,
+                    capsize=3,
+                    label=f"hs.EventChain, {start} start" + (", shorter runs" if short else ""),
+                )
+    ax.set(title=f"870 disks, {BOXES[box]} box", xlabel="packing fraction", ylabel="beta P d^2")
+    ax.legend(fontsize=7, loc="best")
+
+
+def plot(rows: list[dict], png: str) -> None:
+    """Both boxes' panels (:func:`draw`) written to ``png``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    for ax, box in zip(axes, BOXES, strict=True):
+        draw(ax, rows, box)
+    with fileio.atomic_path(png) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("command", choices=["run", "table"])
-    ap.add_argument("--csv", default="validation/results/ecmc_loop_870.csv")
+    ap.add_argument("command", choices=["run", "table", "plot"])
+    ap.add_argument("--csv", nargs="+", default=["validation/results/ecmc_loop_870.csv"])
+    ap.add_argument("--png", default="docs/images/ecmc_loop.png", help="plot: the picture written")
     ap.add_argument("--box", choices=list(BOXES), default="crystal")
     ap.add_argument("--packings", type=float, nargs="+", default=[0.700, 0.716, 0.708, 0.712, 0.704])
     ap.add_argument("--starts", nargs="+", choices=STARTS, default=list(STARTS))
@@ -386,8 +448,17 @@ def main() -> None:
             os.makedirs(args.checkpoint, exist_ok=True)
         except OSError as e:
             raise SystemExit(f"ecmc_loop.py: --checkpoint {args.checkpoint}: cannot make it ({e})") from None
-    rows = read(args.csv)
-    root, ext = os.path.splitext(args.csv)
+    if args.command == "plot":
+        for path in args.csv:
+            if not os.path.exists(path):
+                ap.error(f"--csv {path}: no such file")
+        plot([r for path in args.csv for r in read(path)], args.png)
+        return
+    if len(args.csv) != 1:
+        ap.error(f"{args.command}: give one --csv (plot takes several)")
+    csv_path = args.csv[0]
+    rows = read(csv_path)
+    root, ext = os.path.splitext(csv_path)
     series_path, md_path = f"{root}_series{ext}", f"{root}.md"
     if args.command == "table":
         print(table(rows))
@@ -424,7 +495,7 @@ def main() -> None:
             share = max(0.1, (time.process_time() - t0) / (time.time() - w0))  # CPU per wall second here
             rows.append(row)
             series.extend(s)
-            write(args.csv, rows, FIELDS)
+            write(csv_path, rows, FIELDS)
             write(series_path, series, SERIES_FIELDS)
             with fileio.atomic_write(md_path, "w") as fh:
                 fh.write(table(rows) + "\n")
