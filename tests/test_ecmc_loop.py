@@ -76,3 +76,18 @@ def test_a_checkpoint_resumes_into_a_shorter_run_of_the_same_chunks(loop, tmp_pa
     assert [s["bp"] for s in series] == [s["bp"] for s in short_series]
     for key in ("bp", "error_run", "error_chunks", "psi6_mean"):
         assert row[key] == short[key], key
+
+
+def test_the_plot_draws_both_boxes_and_refuses_a_missing_file(loop, tmp_path, monkeypatch, capsys):
+    """``plot`` reads the committed runs into a picture; a CSV that is not there is one line, exit 2."""
+    pytest.importorskip("matplotlib")
+    rows = loop.read(str(ROOT / "validation" / "results" / "ecmc_loop_870.csv"))
+    assert {r["box"] for r in rows} == set(loop.BOXES)
+    loop.plot(rows, str(tmp_path / "loop.png"))
+    assert (tmp_path / "loop.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    monkeypatch.setattr("sys.argv", ["ecmc_loop.py", "plot", "--csv", str(tmp_path / "none.csv")])
+    with pytest.raises(SystemExit) as stop:
+        loop.main()
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == f"ecmc_loop.py: error: --csv {tmp_path / 'none.csv'}: no such file"
