@@ -91,3 +91,25 @@ def test_the_plot_draws_both_boxes_and_refuses_a_missing_file(loop, tmp_path, mo
     assert stop.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1] == f"ecmc_loop.py: error: --csv {tmp_path / 'none.csv'}: no such file"
+
+
+def test_states_counts_the_switches_and_averages_the_two_starts(loop):
+    """A series that goes low, high, low: two switches, a third above; the starts' mean and its z."""
+    ref, ref_err = loop.reference("crystal", 0.718)
+    series = [
+        {"box": "crystal", "phi": 0.718, "start": start, "seed": 2.0, "bp": bp, "psi6": psi}
+        for start in ("liquid", "crystal")
+        for bp, psi in ((9.0, 0.75), (9.2, 0.72), (9.0, 0.75))
+    ]
+    rows = [
+        {"box": "crystal", "phi": 0.718, "start": "liquid", "seed": 2.0, "bp": ref - 0.03, "error": 0.03},
+        {"box": "crystal", "phi": 0.718, "start": "crystal", "seed": 2.0, "bp": ref + 0.01, "error": 0.04},
+    ]
+    text = loop.states(rows, series, "crystal", 0.718, 2, 9.1).splitlines()
+    assert text[0] == (
+        "liquid: 3 chunks, 2 switches, 33% above 9.1; above: beta P d^2 9.200, |Psi6| 0.720; "
+        "below: beta P d^2 9.000, |Psi6| 0.750"
+    )
+    z = -0.01 / (0.025**2 + ref_err**2) ** 0.5
+    assert text[2] == f"the two starts' average: {ref - 0.01:.4f} +- 0.0250, z = {z:+.2f}"
+    assert loop.states(rows, series, "square", 0.718, 2, 9.1) == "no chunks of square 0.718 seed 2"

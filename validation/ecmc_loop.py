@@ -44,7 +44,8 @@ written.  A run resumes into any length of the same ``--equilibrate`` and
 lifts per chunk (``--lifts / --chunks``) that it has not passed: the
 first k chunks of a longer run are a run of k chunks.  ``table`` prints the table of the CSV again;
 ``plot`` draws the runs of one or more CSVs over the published loop, one panel per box
-(where a longer run has the same box, packing and start, the shorter is drawn open and faded).
+(where a longer run has the same box, packing and start, the shorter is drawn open and faded);
+``states`` splits one packing's chunk series between the two states of the loop's minimum.
 
 usage:
     nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
@@ -52,6 +53,7 @@ usage:
         [--deadline 4200] [--csv FILE] [--checkpoint DIR]
     python3 validation/ecmc_loop.py table [--csv FILE]
     python3 validation/ecmc_loop.py plot --csv FILE [FILE ...] [--png docs/images/ecmc_loop.png]
+    python3 validation/ecmc_loop.py states --csv FILE --packings 0.718 [--seed 2] [--split 9.1]
 """
 
 from __future__ import annotations
@@ -425,9 +427,48 @@ def plot(rows: list[dict], png: str) -> None:
     plt.close(fig)
 
 
+def states(rows: list[dict], series: list[dict], box: str, phi: float, seed: int, split: float) -> str:
+    """Each start's chunks split at ``split`` in beta P d^2: switches, shares, and the starts' average.
+
+    Near the loop's minimum a run moves between a more ordered, lower-pressure
+    state and a less ordered one; a chunk above ``split`` counts as the
+    latter.  The average of the two starts' results carries half their
+    errors combined.
+    """
+    out = []
+    for start in STARTS:
+        s = [
+            c
+            for c in series
+            if (c["box"], round(c["phi"], 6), c["start"], int(c["seed"])) == (box, round(phi, 6), start, seed)
+        ]
+        if not s:
+            continue
+        bp = np.array([c["bp"] for c in s])
+        ps = np.array([c["psi6"] for c in s])
+        high = bp > split
+        switches = int(np.sum(high[1:] != high[:-1]))
+        line = f"{start}: {bp.size} chunks, {switches} switches, {high.mean():.0%} above {split}"
+        for name, part in (("above", high), ("below", ~high)):
+            if part.any():
+                line += f"; {name}: beta P d^2 {bp[part].mean():.3f}, |Psi6| {ps[part].mean():.3f}"
+        out.append(line)
+    two = [r for r in rows if (r["box"], round(r["phi"], 6), int(r["seed"])) == (box, round(phi, 6), seed)]
+    if len({r["start"] for r in two}) == 2 and len(two) == 2:
+        mean = (two[0]["bp"] + two[1]["bp"]) / 2
+        err = math.hypot(two[0]["error"], two[1]["error"]) / 2
+        ref, ref_err = reference(box, phi)
+        out.append(
+            f"the two starts' average: {mean:.4f} +- {err:.4f}, "
+            f"z = {(mean - ref) / math.hypot(err, ref_err):+.2f}"
+        )
+    return "\n".join(out) if out else f"no chunks of {box} {phi} seed {seed}"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("command", choices=["run", "table", "plot"])
+    ap.add_argument("command", choices=["run", "table", "plot", "states"])
+    ap.add_argument("--split", type=float, default=9.1, help="states: beta P d^2 between the two states")
     ap.add_argument("--csv", nargs="+", default=["validation/results/ecmc_loop_870.csv"])
     ap.add_argument("--png", default="docs/images/ecmc_loop.png", help="plot: the picture written")
     ap.add_argument("--box", choices=list(BOXES), default="crystal")
@@ -462,6 +503,9 @@ def main() -> None:
     series_path, md_path = f"{root}_series{ext}", f"{root}.md"
     if args.command == "table":
         print(table(rows))
+        return
+    if args.command == "states":
+        print(states(rows, read(series_path), args.box, args.packings[0], args.seed, args.split))
         return
     series = read(series_path)
     done = {(r["box"], round(r["phi"], 6), r["start"], int(r["seed"])) for r in rows}
