@@ -82,7 +82,7 @@ def test_the_plot_draws_both_boxes_and_refuses_a_missing_file(loop, tmp_path, mo
     """``plot`` reads the committed runs into a picture; a CSV that is not there is one line, exit 2."""
     pytest.importorskip("matplotlib")
     rows = loop.read(str(ROOT / "validation" / "results" / "ecmc_loop_870.csv"))
-    assert {r["box"] for r in rows} == set(loop.BOXES)
+    assert {r["box"] for r in rows} == {"crystal", "square"}
     loop.plot(rows, str(tmp_path / "loop.png"))
     assert (tmp_path / "loop.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     monkeypatch.setattr("sys.argv", ["ecmc_loop.py", "plot", "--csv", str(tmp_path / "none.csv")])
@@ -113,3 +113,15 @@ def test_states_counts_the_switches_and_averages_the_two_starts(loop):
     z = -0.01 / (0.025**2 + ref_err**2) ** 0.5
     assert text[2] == f"the two starts' average: {ref - 0.01:.4f} +- 0.0250, z = {z:+.2f}"
     assert loop.states(rows, series, "square", 0.718, 2, 9.1) == "no chunks of square 0.718 seed 2"
+
+
+def test_the_solid_start_is_the_grown_solid_expanded_to_the_packing(loop, monkeypatch):
+    """``solid``: grown to 0.74, chains there, every position scaled into the packing's box, no overlap."""
+    monkeypatch.setattr(loop, "SOLID_LIFTS", 20)
+    chain = loop.start_chain("square", 0.716, "solid", 1)  # (EventChain refuses an overlap)
+    box = loop.make_box("square", 0.716)
+    assert chain.container.sides == pytest.approx(box.sides, rel=1e-15)
+    radii = chain.state().radii
+    assert radii.size == loop.N and radii == pytest.approx(0.5, rel=1e-12)
+    assert float(3.141592653589793 * (radii**2).sum() / box.volume) == pytest.approx(0.716, rel=1e-12)
+    assert loop.size("large") == 128**2 and loop.reference("large", 0.698) == (9.17441, 0.00057)

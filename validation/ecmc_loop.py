@@ -1,10 +1,11 @@
-"""The hard-disk pressure loop at N = 870 by straight event chains, against Li et al. 2022.
+"""The hard-disk pressure loop at N = 870 (and 128^2) by straight event chains, against Li et al. 2022.
 
 870 disks (diameter 1) in a periodic box of the published shapes: ``crystal``,
 the 29 : 30 sqrt(3)/2 box of the 29 x 30 triangular crystal
-(``hs.hexagonal((29, 30), phi)``), or ``square`` (1 : 1).  Straight event
-chains (``hs.EventChain``, variant "straight", chain length 0.24 of the
-box's square root: Li et al.'s StraightECMC), from two starts:
+(``hs.hexagonal((29, 30), phi)``), or ``square`` (1 : 1); or ``large``:
+128^2 = 16384 disks in the 1 : sqrt(3)/2 box of the 128 x 128 crystal.
+Straight event chains (``hs.EventChain``, variant "straight", chain length
+0.24 of the box's square root: Li et al.'s StraightECMC), from these starts:
 
 * ``liquid``: random disks at packing 0.60, 500 collisions per disk of event
   dynamics, grown to the packing (``Simulation.compress``, rate 10^-3), then
@@ -12,7 +13,12 @@ box's square root: Li et al.'s StraightECMC), from two starts:
 * ``crystal``: the perfect triangular crystal filling the crystal box
   (``hs.hexagonal``); in the square box, where no crystal fits,
   ``hs.random_spheres`` at the packing (a triangular lattice with vacancies,
-  aligned with the box).
+  aligned with the box);
+* ``solid``: the liquid start's disks grown to 0.74 instead, 2x10^5 lifts
+  per disk of chains there (a solid that chooses its own fit to the box),
+  then expanded to the packing (every position scaled by the ratio of the
+  boxes' sides): the ordered start of the square box, where the lattice
+  start can stay stuck in a strained crystal.
 
 Each run: ``--equilibrate`` lifts per disk, then ``--lifts`` lifts per disk
 measured in ``--chunks`` equal pieces; per chunk its own beta P sigma^2 (from
@@ -27,8 +33,9 @@ The published values: jellyfysh/HistoricDisks at commit 3afcb07,
 ``DigitizedData/ThisWork.csv`` ("original data provided by the authors" of
 B. Li, Y. Nishikawa, P. Hoellmer, L. Carillo, A. C. Maggs and W. Krauth, J.
 Chem. Phys. 157, 234111 (2022)), the sets "ECMC, rift formula, N = 870",
-aspect ratios 29 : 30 sqrt(3)/2 and 1 : 1, in ``beta P (2 sigma)^2`` with
-sigma a radius: our ``beta P d^2``, d the diameter.
+aspect ratios 29 : 30 sqrt(3)/2 and 1 : 1, and at 128^2 "MPMC, rift
+formula, N = 128^2" (validation/disks_loop.py's ``LI_16384``), in ``beta P
+(2 sigma)^2`` with sigma a radius: our ``beta P d^2``, d the diameter.
 
 Results: one row per run appended to ``--csv`` (default
 validation/results/ecmc_loop_870.csv; the chunk series beside it, ``_series``)
@@ -48,8 +55,8 @@ first k chunks of a longer run are a run of k chunks.  ``table`` prints the tabl
 ``states`` splits one packing's chunk series between the two states of the loop's minimum.
 
 usage:
-    nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square] [--packings 0.700 0.716 ...]
-        [--starts liquid crystal] [--equilibrate 300000] [--lifts 3000000] [--chunks 40] [--budget 3600]
+    nice -n 10 python3 validation/ecmc_loop.py run [--box crystal|square|large] [--packings 0.700 0.716 ...]
+        [--starts liquid crystal solid] [--equilibrate 300000] [--lifts 3000000] [--chunks 40] [--budget 3600]
         [--deadline 4200] [--csv FILE] [--checkpoint DIR]
     python3 validation/ecmc_loop.py table [--csv FILE]
     python3 validation/ecmc_loop.py plot --csv FILE [FILE ...] [--png docs/images/ecmc_loop.png]
@@ -72,11 +79,20 @@ import hardspheres as hs
 from hardspheres import fileio
 from hardspheres.blocking import blocking
 
+try:
+    from disks_loop import LI_16384  # run as a script: validation/ is on the path
+except ImportError:  # loaded from a file (the tests)
+    import sys
+
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from disks_loop import LI_16384
+
 if TYPE_CHECKING:
     import matplotlib.axes
 
 CELLS = (29, 30)
 N = CELLS[0] * CELLS[1]
+LARGE_CELLS = (128, 128)
 
 # (packing, beta P d^2, its error): jellyfysh/HistoricDisks at commit 3afcb07,
 # DigitizedData/ThisWork.csv, "ECMC, rift formula, N = 870", the two boxes.
@@ -96,9 +112,12 @@ LI_870 = {
         (0.714, 9.0310, 0.0032), (0.716, 9.0272, 0.0049), (0.718, 9.0507, 0.0040),
     ],
 }  # fmt: skip
-BOXES = {"crystal": "29 : 30 sqrt(3)/2", "square": "1 : 1"}
-STARTS = ("liquid", "crystal")
+LI = {**LI_870, "large": LI_16384}
+BOXES = {"crystal": "29 : 30 sqrt(3)/2", "square": "1 : 1", "large": "128 : 128 sqrt(3)/2"}
+STARTS = ("liquid", "crystal", "solid")
 START_PACKING = 0.60
+SOLID_PACKING = 0.74  # the solid start: grown to here, chains, then expanded
+SOLID_LIFTS = 200_000  # lifts per disk of chains at SOLID_PACKING
 FIELDS = [
     "box", "phi", "start", "seed", "bp", "error", "error_run", "error_chunks", "chunks_converged",
     "ref", "ref_error", "z", "bp_first_half", "bp_second_half", "psi6_mean", "psi6_last",
@@ -107,33 +126,51 @@ FIELDS = [
 SERIES_FIELDS = ["box", "phi", "start", "seed", "chunk", "per_disk", "bp", "psi6"]
 
 
+def size(box: str) -> int:
+    """The number of disks in ``box``: 870, or 128^2 in the ``large`` box."""
+    return LARGE_CELLS[0] * LARGE_CELLS[1] if box == "large" else N
+
+
 def reference(box: str, phi: float) -> tuple[float, float]:
     """Li et al.'s beta P d^2 and its error at ``phi`` in ``box`` (``nan`` if not published)."""
-    for p, v, e in LI_870[box]:
+    for p, v, e in LI[box]:
         if abs(p - phi) < 1e-9:
             return v, e
     return math.nan, math.nan
 
 
 def make_box(box: str, phi: float) -> hs.PeriodicBox:
-    """The periodic box of 870 disks of diameter 1 at area fraction ``phi``."""
-    if box == "crystal":
-        return hs.hexagonal(CELLS, phi)[1]
+    """The periodic box of the disks (diameter 1) of ``box`` at area fraction ``phi``."""
+    if box in ("crystal", "large"):
+        return hs.hexagonal(CELLS if box == "crystal" else LARGE_CELLS, phi)[1]
     return hs.PeriodicBox.for_packing(N, phi, (1.0, 1.0))
+
+
+def grown(box: str, phi: float, seed: int) -> hs.Simulation:
+    """Random disks at packing 0.60, 500 collisions per disk of event dynamics, grown to ``phi``."""
+    n, pbox = size(box), make_box(box, phi)
+    sim = hs.Simulation(hs.random_spheres(n, START_PACKING, pbox, seed=seed), pbox)
+    sim.run(collisions=500 * n)
+    res = sim.compress(packing=phi, rate=1e-3, pressure=None)
+    if res.reason != "packing" or abs(sim.packing - phi) > 1e-9:
+        raise RuntimeError(f"compression to {phi} stopped at {sim.packing} ({res.reason})")
+    return sim
 
 
 def start_chain(box: str, phi: float, start: str, seed: int) -> hs.EventChain:
     """Straight event chains at ``phi`` from one of :data:`STARTS`."""
     pbox = make_box(box, phi)
     if start == "liquid":
-        sim = hs.Simulation(hs.random_spheres(N, START_PACKING, pbox, seed=seed), pbox)
-        sim.run(collisions=500 * N)
-        res = sim.compress(packing=phi, rate=1e-3, pressure=None)
-        if res.reason != "packing" or abs(sim.packing - phi) > 1e-9:
-            raise RuntimeError(f"compression to {phi} stopped at {sim.packing} ({res.reason})")
-        return hs.EventChain.from_simulation(sim, seed=seed, variant="straight")
-    if box == "crystal":
-        state = hs.hexagonal(CELLS, phi)[0]
+        return hs.EventChain.from_simulation(grown(box, phi, seed), seed=seed, variant="straight")
+    if start == "solid":
+        chain = hs.EventChain.from_simulation(grown(box, SOLID_PACKING, seed), seed=seed, variant="straight")
+        chain.run(events=SOLID_LIFTS * size(box)).run(chains=1)
+        dense = chain.state()
+        scale = np.asarray(pbox.sides) / np.asarray(chain.container.sides)  # the same shape: one factor
+        state = hs.State.from_arrays(dense.masses, dense.radii, dense.positions * scale, dense.velocities)
+        return hs.EventChain(state, pbox, seed=seed, variant="straight")
+    if box in ("crystal", "large"):
+        state = hs.hexagonal(CELLS if box == "crystal" else LARGE_CELLS, phi)[0]
     else:
         state = hs.random_spheres(N, phi, pbox, seed=seed)
     return hs.EventChain(state, pbox, seed=seed, variant="straight")
@@ -225,13 +262,14 @@ def measure(
     """One run: its row and its chunk series; with ``folder``, saved after every chunk and resumed."""
     t0, w0 = time.process_time(), time.time()
     path = checkpoint_path(folder, box, phi, start, seed) if folder else None
+    n = size(box)
     lengths = {"equilibrate": equilibrate, "lifts": lifts, "chunks": chunks}
     rec = read_checkpoint(path) if path else None
     if rec is not None:
         was = rec["lengths"]
         if not (
             was["equilibrate"] == equilibrate
-            and was["lifts"] * N // was["chunks"] == lifts * N // chunks
+            and was["lifts"] * n // was["chunks"] == lifts * n // chunks
             and rec["chunk"] <= chunks
         ):
             raise CheckpointProblem(
@@ -252,7 +290,7 @@ def measure(
         chain = start_chain(box, phi, start, seed)
         cpu_start = time.process_time() - t0
         cpu_before = wall_before = 0.0
-        chain.run(events=equilibrate * N).run(chains=1)
+        chain.run(events=equilibrate * n).run(chains=1)
         chain.observables.reset()
         series, k0 = [], 0
         base = chain.totals()
@@ -272,19 +310,19 @@ def measure(
         keep(0)
     now = last
     for k in range(k0, chunks):
-        chain.run(events=lifts * N // chunks).run(chains=1)
+        chain.run(events=lifts * n // chunks).run(chains=1)
         now = chain.totals()
         d = now - last
         z_k = 1.0 + d[2:4].sum() / d[4:6].sum()
         series.append({"box": box, "phi": phi, "start": start, "seed": seed, "chunk": k,
-                       "per_disk": (now[0] - base[0]) / N, "bp": z_k * scale,
+                       "per_disk": (now[0] - base[0]) / n, "bp": z_k * scale,
                        "psi6": psi6(chain)})  # fmt: skip
         last = now
         keep(k + 1)
     est = chain.observables.estimate("Z")
     bp = np.array([s["bp"] for s in series])
     half = (now - base) / 2.0
-    mid = [s for s in series if s["per_disk"] * N <= half[0]]
+    mid = [s for s in series if s["per_disk"] * n <= half[0]]
     blocked = blocking(bp, min_blocks=8)
     tau = autocorrelation_time(bp)
     err_chunks = max(blocked.sem, float(np.std(bp, ddof=1)) * math.sqrt(2.0 * tau / bp.size))
@@ -360,12 +398,15 @@ def table(rows: list[dict]) -> str:
         pairs = []
         for key in sorted({(r["box"], round(r["phi"], 6)) for r in rows}):
             two = {r["start"]: r for r in rows if (r["box"], round(r["phi"], 6)) == key}
-            if len(two) == 2:
-                a, b = two["liquid"], two["crystal"]
-                where = f"{key[1]:.3f}" + (" (1 : 1)" if key[0] == "square" else "")
-                pairs.append(f"{where}: {(a['bp'] - b['bp']) / math.hypot(a['error'], b['error']):+.2f}")
+            a = two.get("liquid")
+            for other in ("crystal", "solid"):
+                if a is not None and other in two:
+                    b = two[other]
+                    where = f"{key[1]:.3f}" + {"square": " (1 : 1)", "large": " (128^2)"}.get(key[0], "")
+                    where += " solid" if other == "solid" else ""
+                    pairs.append(f"{where}: {(a['bp'] - b['bp']) / math.hypot(a['error'], b['error']):+.2f}")
         if pairs:
-            out.append("liquid against crystal start, z: " + "; ".join(pairs) + ".")
+            out.append("liquid against crystal (or solid) start, z: " + "; ".join(pairs) + ".")
         out.append(
             "beta P d^2 with its error in the 4th decimal in brackets; * marks a chunk series whose blocking "
             "had no plateau (its error a lower bound)."
@@ -373,13 +414,18 @@ def table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-PLOT_STYLE = {"liquid": ("^", "tab:blue", -0.0003), "crystal": ("s", "tab:red", 0.0003)}
+PLOT_STYLE = {
+    "liquid": ("^", "tab:blue", -0.0003),
+    "crystal": ("s", "tab:red", 0.0003),
+    "solid": ("D", "tab:green", 0.0006),
+}
 
 
 def draw(ax: matplotlib.axes.Axes, rows: list[dict], box: str) -> None:
     """Li et al.'s loop in ``box`` and the runs of ``rows`` in it on the axes ``ax``."""
-    p, v, e = zip(*LI_870[box], strict=True)
-    ax.errorbar(p, v, e, fmt="-", color="0.5", lw=1.5, label="Li et al. 2022 (ECMC, N = 870)")
+    p, v, e = zip(*LI[box], strict=True)
+    kind = "MPMC, N = 128^2" if box == "large" else "ECMC, N = 870"
+    ax.errorbar(p, v, e, fmt="-", color="0.5", lw=1.5, label=f"Li et al. 2022 ({kind})")
     mine = [r for r in rows if r["box"] == box]
 
     def same(r: dict) -> tuple[float, str]:
@@ -408,7 +454,7 @@ def draw(ax: matplotlib.axes.Axes, rows: list[dict], box: str) -> None:
                     capsize=3,
                     label=f"hs.EventChain, {start} start" + (", shorter runs" if short else ""),
                 )
-    ax.set(title=f"870 disks, {BOXES[box]} box", xlabel="packing fraction", ylabel="beta P d^2")
+    ax.set(title=f"{size(box)} disks, {BOXES[box]} box", xlabel="packing fraction", ylabel="beta P d^2")
     ax.legend(fontsize=7, loc="best")
 
 
@@ -419,8 +465,9 @@ def plot(rows: list[dict], png: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
-    for ax, box in zip(axes, BOXES, strict=True):
+    boxes = [b for b in BOXES if b != "large" or any(r["box"] == "large" for r in rows)]
+    fig, axes = plt.subplots(1, len(boxes), figsize=(5.5 * len(boxes), 4.5), layout="constrained")
+    for ax, box in zip(axes, boxes, strict=True):
         draw(ax, rows, box)
     with fileio.atomic_path(png) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
@@ -473,7 +520,7 @@ def main() -> None:
     ap.add_argument("--png", default="docs/images/ecmc_loop.png", help="plot: the picture written")
     ap.add_argument("--box", choices=list(BOXES), default="crystal")
     ap.add_argument("--packings", type=float, nargs="+", default=[0.700, 0.716, 0.708, 0.712, 0.704])
-    ap.add_argument("--starts", nargs="+", choices=STARTS, default=list(STARTS))
+    ap.add_argument("--starts", nargs="+", choices=STARTS, default=["liquid", "crystal"])
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--equilibrate", type=int, default=300_000, help="lifts per disk before measuring")
     ap.add_argument("--lifts", type=int, default=3_000_000, help="lifts per disk measured")
@@ -516,7 +563,7 @@ def main() -> None:
             if (args.box, round(phi, 6), start, args.seed) in done:
                 continue
             spent = time.process_time() - t0
-            guess = per_lift * (args.equilibrate + args.lifts) * N
+            guess = per_lift * (args.equilibrate + args.lifts) * size(args.box)
             guess = guess if math.isfinite(guess) else 0.0
             if spent + guess > args.budget or time.time() - w0 + guess / share > args.deadline:
                 print(f"budget: {spent:.0f} CPU s spent, the next run would take about {guess:.0f}; stopping")
@@ -535,7 +582,9 @@ def main() -> None:
                 )
             except CheckpointProblem as e:
                 raise SystemExit(f"ecmc_loop.py: {e}") from None
-            per_lift = (row["cpu_s"] - row["cpu_s_start"]) / ((args.equilibrate + args.lifts) * N)
+            per_lift = (row["cpu_s"] - row["cpu_s_start"]) / (
+                (args.equilibrate + args.lifts) * size(args.box)
+            )
             share = max(0.1, (time.process_time() - t0) / (time.time() - w0))  # CPU per wall second here
             rows.append(row)
             series.extend(s)
