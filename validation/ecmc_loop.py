@@ -455,12 +455,13 @@ def draw(ax: matplotlib.axes.Axes, rows: list[dict], box: str) -> None:
                     label=f"hs.EventChain, {start} start" + (", shorter runs" if short else ""),
                 )
     top = max(v) + 0.15  # a run far above the loop (a stuck start) is named at the top, not drawn
-    for r in mine:
-        if r["bp"] - r["error"] > top:
-            text = f"{r['start']} start: {r['bp']:.3f}, off the scale"
-            ax.annotate(text, (r["phi"], top), (r["phi"] - 0.008, top - 0.03),
-                        fontsize=7, arrowprops={"arrowstyle": "->", "color": "0.3"})  # fmt: skip
-    ax.set_ylim(top=top + 0.01)
+    off = [r for r in mine if r["bp"] - r["error"] > top]
+    for r in off:
+        text = f"{r['start']} start: {r['bp']:.3f}, off the scale"
+        ax.annotate(text, (r["phi"], top), (r["phi"] - 0.008, top - 0.03),
+                    fontsize=7, arrowprops={"arrowstyle": "->", "color": "0.3"})  # fmt: skip
+    if off:
+        ax.set_ylim(top=top + 0.01)
     ax.set(title=f"{size(box)} disks, {BOXES[box]} box", xlabel="packing fraction", ylabel="beta P d^2")
     ax.legend(fontsize=7, loc="best")
 
