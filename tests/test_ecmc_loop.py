@@ -125,3 +125,16 @@ def test_the_solid_start_is_the_grown_solid_expanded_to_the_packing(loop, monkey
     assert radii.size == loop.N and radii == pytest.approx(0.5, rel=1e-12)
     assert float(3.141592653589793 * (radii**2).sum() / box.volume) == pytest.approx(0.716, rel=1e-12)
     assert loop.size("large") == 128**2 and loop.reference("large", 0.698) == (9.17441, 0.00057)
+
+
+def test_the_event_dynamics_loop_draws_the_longest_chain_run_of_each_start(tmp_path):
+    """validation/disks_loop.py ``plot --ecmc``: one point per packing and start, the longest; no 1 : 1 box."""
+    spec = importlib.util.spec_from_file_location("disks_loop", ROOT / "validation" / "disks_loop.py")
+    disks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(disks)
+    results = ROOT / "validation" / "results"
+    paths = [str(results / f"ecmc_loop_{name}.csv") for name in ("870", "870_long", "16384")]
+    points = disks._ecmc_points(paths)
+    assert len(points["small"]) == 30 and len(points["large"]) == 2  # 15 packings x 2 starts; 2 at 128^2
+    at_718 = sorted(r["length"] for r in points["small"] if abs(r["phi"] - 0.718) < 1e-9)
+    assert at_718 == [41_000_000, 41_800_000]  # seed 2's runs, not the shorter ones

@@ -648,7 +648,28 @@ STYLE = {
 COLOURS = ("tab:red", "tab:blue", "tab:purple", "tab:orange", "tab:cyan", "tab:brown")
 
 
-def plot(paths: list[str], png: str) -> None:
+def _ecmc_points(paths: list[str]) -> dict[str, list[dict]]:
+    """validation/ecmc_loop.py's runs in the published boxes: the longest of each packing and start."""
+    longest: dict[tuple[str, float, str], dict] = {}
+    for path in paths:
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                size = {"crystal": "small", "large": "large"}.get(r["box"])
+                if size is None:
+                    continue  # (the 1 : 1 box: no event dynamics there)
+                row = {"phi": float(r["phi"]), "bp": float(r["bp"]), "error": float(r["error"]),
+                       "length": float(r["equilibrate"]) + float(r["lifts"])}  # fmt: skip
+                k = (size, round(row["phi"], 6), r["start"])
+                if k not in longest or row["length"] > longest[k]["length"]:
+                    longest[k] = row
+    out: dict[str, list[dict]] = {"small": [], "large": []}
+    for (size, _, _), row in longest.items():
+        out[size].append(row)
+    return out
+
+
+def plot(paths: list[str], png: str, ecmc: list[str] | None = None) -> None:
+    """The loop at both sizes: our runs over the published sets; ``ecmc``: event-chain CSVs drawn too."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -660,6 +681,7 @@ def plot(paths: list[str], png: str) -> None:
         ("large", LI_16384, "N = 128^2 = 16384, sqrt(3)/2 box", [("Zollweg & Chester 1992", ZOLLWEG_16384)]),
     ]
     rows = [r for p in paths if not p.endswith("_series.csv") for r in _read(p)]  # a glob takes the series
+    chains = _ecmc_points([p for p in ecmc or [] if not p.endswith("_series.csv")])
     for ax, (size, ref, title, extra) in zip(axes, sets, strict=True):
         n = SIZES[size]["cells"][0] * SIZES[size]["cells"][1]
         p, v, e = zip(*ref, strict=True)
@@ -701,6 +723,11 @@ def plot(paths: list[str], png: str) -> None:
                     label=label,
                 )
                 label = "_nolegend_"
+        if chains[size]:
+            pts = chains[size]
+            ax.errorbar([r["phi"] - 0.0003 for r in pts], [r["bp"] for r in pts], [r["error"] for r in pts],
+                        fmt="D", ms=3.5, color="black", capsize=2,
+                        label="hardspheres event chains, longest run of each start")  # fmt: skip
         ax.set(title=title, xlabel="packing fraction", ylabel="beta P sigma^2 (sigma: diameter)")
         ax.legend(fontsize=6.5, loc="best")
     with fileio.atomic_path(png) as tmp:
@@ -719,6 +746,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3, help="rate: timed runs of --measure per disk")
     ap.add_argument("--rate", type=float, default=5e5, help="budget: collisions per CPU second at 16384")
     ap.add_argument("--png", default="docs/images/disks_loop.png")
+    ap.add_argument("--ecmc", nargs="+", help="plot: validation/ecmc_loop.py CSVs drawn over the loop too")
     ap.add_argument("--start", choices=STARTS, default="random", help="the start (see _start)")
     ap.add_argument("--compressed", action="store_true", help="the same as --start compressed")
     ap.add_argument("--seeds", type=int, nargs="+", help="independent runs at each packing (default: 1)")
@@ -735,7 +763,7 @@ def main() -> None:
     if args.what != "rate" and not args.csv:
         ap.error(f"{args.what}: give --csv")
     if args.what == "plot":
-        plot(args.csv, args.png)
+        plot(args.csv, args.png, args.ecmc)
     elif args.what == "table":
         for p in args.csv:
             if not p.endswith("_series.csv"):
