@@ -124,6 +124,11 @@ def test_the_solid_start_is_the_grown_solid_expanded_to_the_packing(loop, monkey
     radii = chain.state().radii
     assert radii.size == loop.N and radii == pytest.approx(0.5, rel=1e-12)
     assert float(3.141592653589793 * (radii**2).sum() / box.volume) == pytest.approx(0.716, rel=1e-12)
+    dense = loop.hs.EventChain.from_simulation(loop.grown("square", 0.74, 1), seed=1, variant="straight")
+    dense.run(events=20 * loop.N).run(chains=1)
+    ratio = box.sides[0] / dense.container.sides[0]
+    assert ratio > 1.01  # the positions of the solid at 0.74, spread over the larger box
+    assert (chain.state().positions == dense.state().positions * ratio).all()
     assert loop.size("large") == 128**2 and loop.reference("large", 0.698) == (9.17441, 0.00057)
 
 

@@ -80,11 +80,13 @@ from hardspheres import fileio
 from hardspheres.blocking import blocking
 
 try:
-    from disks_loop import LI_16384  # run as a script: validation/ is on the path
+    from disks_loop import LI_870 as LI_870_CRYSTAL_BOX  # run as a script: validation/ is on the path
+    from disks_loop import LI_16384
 except ImportError:  # loaded from a file (the tests)
     import sys
 
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from disks_loop import LI_870 as LI_870_CRYSTAL_BOX
     from disks_loop import LI_16384
 
 if TYPE_CHECKING:
@@ -92,18 +94,13 @@ if TYPE_CHECKING:
 
 CELLS = (29, 30)
 N = CELLS[0] * CELLS[1]
-LARGE_CELLS = (128, 128)
+CRYSTAL_CELLS = {"crystal": CELLS, "large": (128, 128)}  # the boxes a perfect crystal fills
 
 # (packing, beta P d^2, its error): jellyfysh/HistoricDisks at commit 3afcb07,
-# DigitizedData/ThisWork.csv, "ECMC, rift formula, N = 870", the two boxes.
+# DigitizedData/ThisWork.csv, "ECMC, rift formula, N = 870", the two boxes (the
+# crystal box's set is validation/disks_loop.py's LI_870).
 LI_870 = {
-    "crystal": [
-        (0.690, 8.969476, 0.000097), (0.692, 9.036875, 0.000060), (0.694, 9.08915, 0.00012),
-        (0.696, 9.12293, 0.00012), (0.698, 9.13490, 0.00015), (0.700, 9.12956, 0.00017),
-        (0.702, 9.11236, 0.00021), (0.704, 9.09028, 0.00038), (0.706, 9.06621, 0.00034),
-        (0.708, 9.04532, 0.00089), (0.710, 9.0272, 0.0010), (0.712, 9.0122, 0.0022),
-        (0.714, 9.0158, 0.0018), (0.716, 9.0450, 0.0026), (0.718, 9.0818, 0.0048),
-    ],
+    "crystal": LI_870_CRYSTAL_BOX,
     "square": [
         (0.690, 8.969898, 0.000075), (0.692, 9.03666, 0.00011), (0.694, 9.089054, 0.000083),
         (0.696, 9.12212, 0.00016), (0.698, 9.13414, 0.00022), (0.700, 9.12966, 0.00015),
@@ -128,7 +125,8 @@ SERIES_FIELDS = ["box", "phi", "start", "seed", "chunk", "per_disk", "bp", "psi6
 
 def size(box: str) -> int:
     """The number of disks in ``box``: 870, or 128^2 in the ``large`` box."""
-    return LARGE_CELLS[0] * LARGE_CELLS[1] if box == "large" else N
+    cells = CRYSTAL_CELLS.get(box, CELLS)
+    return cells[0] * cells[1]
 
 
 def reference(box: str, phi: float) -> tuple[float, float]:
@@ -141,8 +139,8 @@ def reference(box: str, phi: float) -> tuple[float, float]:
 
 def make_box(box: str, phi: float) -> hs.PeriodicBox:
     """The periodic box of the disks (diameter 1) of ``box`` at area fraction ``phi``."""
-    if box in ("crystal", "large"):
-        return hs.hexagonal(CELLS if box == "crystal" else LARGE_CELLS, phi)[1]
+    if box in CRYSTAL_CELLS:
+        return hs.hexagonal(CRYSTAL_CELLS[box], phi)[1]
     return hs.PeriodicBox.for_packing(N, phi, (1.0, 1.0))
 
 
@@ -169,8 +167,8 @@ def start_chain(box: str, phi: float, start: str, seed: int) -> hs.EventChain:
         scale = np.asarray(pbox.sides) / np.asarray(chain.container.sides)  # the same shape: one factor
         state = hs.State.from_arrays(dense.masses, dense.radii, dense.positions * scale, dense.velocities)
         return hs.EventChain(state, pbox, seed=seed, variant="straight")
-    if box in ("crystal", "large"):
-        state = hs.hexagonal(CELLS if box == "crystal" else LARGE_CELLS, phi)[0]
+    if box in CRYSTAL_CELLS:
+        state = hs.hexagonal(CRYSTAL_CELLS[box], phi)[0]
     else:
         state = hs.random_spheres(N, phi, pbox, seed=seed)
     return hs.EventChain(state, pbox, seed=seed, variant="straight")
